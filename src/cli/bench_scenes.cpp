@@ -1,0 +1,180 @@
+#include "cli/bench_scenes.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <stdexcept>
+
+#include "dem/core/world.h"
+#include "dem/io/csv.h"
+#include "dem/walls/facet_sets.h"
+
+namespace cli {
+
+namespace {
+
+// Materials and contact model shared by both scenes (bench README, 'Materials').
+dem::Material grain_material() {
+    dem::Material m;
+    m.name = "grain";
+    m.density = 2689.639;    // [kg/m^3]
+    m.young = 2300e6;        // [Pa]
+    m.stiffness_ratio = 0.5;
+    m.friction = 0.6;
+    m.restitution = 1.0;
+    return m;
+}
+
+dem::Material foil_material() {
+    dem::Material m;
+    m.name = "foil";
+    m.density = 151.77;      // [kg/m^3]
+    m.young = 18.545e6;      // [Pa] E_s
+    m.stiffness_ratio = 0.5;
+    m.friction = 0.0;
+    m.restitution = 1.0;
+    return m;
+}
+
+void configure(dem::World& w, int threads) {
+    w.params.dt = 2e-6;              // [s]
+    w.params.gravity = {0, 0, -9.81};
+    w.params.local_damping = 0.2;
+    w.params.threads = threads;
+}
+
+struct Timing {
+    double wall_s = 0;
+    std::size_t contacts_start = 0, contacts_end = 0;
+    uint64_t rebuilds = 0;
+};
+
+Timing run(dem::World& w, long warmup, long steps) {
+    for (long s = 0; s < warmup; ++s) w.step();
+    w.compute_forces();  // count contacts at the start of the timed window
+    Timing t;
+    t.contacts_start = w.contact_count();
+    const uint64_t r0 = w.rebuild_count();
+    const auto t0 = std::chrono::steady_clock::now();
+    w.integrate();
+    for (long s = 1; s < steps; ++s) w.step();
+    t.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    w.compute_forces();
+    t.contacts_end = w.contact_count();
+    t.rebuilds = w.rebuild_count() - r0;
+    return t;
+}
+
+void print_result(const BenchOptions& opt, std::size_t particles, const Timing& t, std::size_t pp_contacts) {
+    const double sps = double(opt.steps) / t.wall_s;
+    std::printf(
+        "{\"scene\": \"%s\", \"particles\": %zu, \"steps\": %ld, \"warmup\": %ld, \"threads\": %d, "
+        "\"wall_s\": %.6g, \"steps_per_s\": %.6g, \"particle_steps_per_s\": %.6g, \"contacts\": %zu, "
+        "\"contacts_start\": %zu, \"particle_contacts\": %zu, \"rebuilds\": %llu, \"underpressure\": %g}\n",
+        opt.scene.c_str(), particles, opt.steps, opt.warmup, opt.threads, t.wall_s, sps,
+        sps * double(particles), t.contacts_end, t.contacts_start, pp_contacts,
+        (unsigned long long)t.rebuilds, opt.underpressure);
+    std::fflush(stdout);
+}
+
+void grains_in_cylinder(const BenchOptions& opt) {
+    dem::World w;
+    configure(w, opt.threads);
+    const uint32_t grain = w.add_material(grain_material());
+    double top = 0;
+    for (const auto& r : dem::read_numeric_csv(opt.grains, 4)) {
+        dem::SphereDef d;
+        d.position = {r[0], r[1], r[2]};
+        d.radius = r[3];
+        d.material = grain;
+        w.add_sphere(d);
+        top = std::max(top, r[2] + r[3]);
+    }
+    // As Yade's geom.facetCylinder(radius=0.0255, height=H_wall, segmentsNumber=72) and a
+    // floor utils.wall(0, axis=2).
+    const double h_wall = top + 0.01;  // [m]
+    for (dem::Facet f : dem::make_cylinder_facets({0, 0, 0}, 0.0255, h_wall, 72, true)) {
+        f.material = grain;
+        w.add_facet(f);
+    }
+    dem::Plane floor;
+    floor.point = {0, 0, 0};
+    floor.normal = {0, 0, 1};
+    floor.material = grain;
+    w.add_plane(floor);
+    // Yade's default Verlet distance: half the smallest radius.
+    const Timing t = run(w, opt.warmup, opt.steps);
+    print_result(opt, w.particles.size(), t, w.particle_contact_count());
+}
+
+void foil_plus_grains(const BenchOptions& opt) {
+    namespace fs = std::filesystem;
+    const fs::path dir(opt.scene_dir);
+    dem::World w;
+    configure(w, opt.threads);
+    const uint32_t grain = w.add_material(grain_material());
+    const uint32_t foil = w.add_material(foil_material());
+    // Masks: bit 0 = grains and foil meet each other; bit 1 = grains and caps. Caps never
+    // touch the foil (Yade: body masks).
+    constexpr uint32_t kGrainMask = 0b11, kFoilMask = 0b01, kCapMask = 0b10;
+    const auto nodes = dem::read_numeric_csv((dir / "foil_nodes.csv").string(), 8);
+    double ztop = 0;
+    for (const auto& r : nodes) {
+        dem::SphereDef d;
+        d.position = {r[0], r[1], r[2]};
+        d.radius = r[3];
+        d.material = foil;
+        d.mask = kFoilMask;
+        if (r[5] != 0.0) d.flags |= dem::kFixed;
+        w.add_sphere(d);
+        ztop = std::max(ztop, r[2]);
+    }
+    const double r_f = nodes.at(0)[3];
+    const double kn_bond = foil_material().young * r_f;  // Yade sphere convention (bench README)
+    for (const auto& r : dem::read_numeric_csv((dir / "foil_bonds.csv").string(), 2))
+        w.add_bond(uint32_t(r[0]), uint32_t(r[1]), kn_bond, 0.5 * kn_bond);
+    for (const auto& r : dem::read_numeric_csv((dir / "foil_grains_1010.csv").string(), 4)) {
+        dem::SphereDef d;
+        d.position = {r[0], r[1], r[2]};
+        d.radius = r[3];
+        d.material = grain;
+        d.mask = kGrainMask;
+        w.add_sphere(d);
+    }
+    for (double z : {0.0, ztop}) {
+        dem::Plane cap;
+        cap.point = {0, 0, z};
+        cap.normal = {0, 0, 1};
+        cap.material = grain;
+        cap.mask = kCapMask;
+        w.add_plane(cap);
+    }
+    if (opt.underpressure != 0.0) {
+        for (const auto& r : dem::read_numeric_csv((dir / "foil_pressure.csv").string(), 5))
+            w.pressure.nodes.push_back({uint32_t(r[0]), {uint32_t(r[1]), uint32_t(r[2]), uint32_t(r[3]), uint32_t(r[4])}});
+        w.pressure.dp = opt.underpressure;
+    }
+    const Timing t = run(w, opt.warmup, opt.steps);
+    print_result(opt, w.particles.size(), t, w.particle_contact_count());
+}
+
+}  // namespace
+
+void run_bench(const BenchOptions& opt) {
+    if (opt.steps < 1) throw std::invalid_argument("--steps must be >= 1");
+    if (opt.warmup < 0) throw std::invalid_argument("--warmup must be >= 0");
+    if (opt.threads < 1) throw std::invalid_argument("--threads must be >= 1");
+    if (opt.scene == "grains-in-cylinder") {
+        if (opt.grains.empty()) throw std::invalid_argument("grains-in-cylinder needs --grains FILE");
+        grains_in_cylinder(opt);
+    } else if (opt.scene == "foil-plus-grains") {
+        if (opt.scene_dir.empty()) throw std::invalid_argument("foil-plus-grains needs --scene-dir DIR");
+        foil_plus_grains(opt);
+    } else {
+        throw std::invalid_argument("unknown bench scene '" + opt.scene +
+                                    "' (allowed: grains-in-cylinder, foil-plus-grains)");
+    }
+}
+
+}  // namespace cli

@@ -1,0 +1,21 @@
+// `vppdem bench`: the shared benchmark scenes of ../shared/bench/README.md, timed.
+#pragma once
+
+#include <string>
+
+namespace cli {
+
+struct BenchOptions {
+    std::string scene;        // "grains-in-cylinder" or "foil-plus-grains"
+    std::string grains;       // grains-in-cylinder: CSV x,y,z,r
+    std::string scene_dir;    // foil-plus-grains: folder with foil_*.csv
+    long warmup = 0;          // steps before timing
+    long steps = 1000;        // timed steps
+    int threads = 1;
+    double underpressure = 0; // [Pa] foil-plus-grains: follower pressure on the foil
+};
+
+// Runs the benchmark and prints one JSON line last (a contract read by outside tools).
+void run_bench(const BenchOptions& opt);
+
+}  // namespace cli

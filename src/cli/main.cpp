@@ -1,0 +1,57 @@
+// The vppdem command line.
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "cli/bench_scenes.h"
+#include "cli/config.h"
+#include "cli/scene_runner.h"
+
+int main(int argc, char** argv) {
+    CLI::App app{"vppdem: discrete element simulation of vacuum-packed particle dampers"};
+    app.require_subcommand(1);
+
+    // vppdem scene FILE.toml --out DIR [--set key=value ...] [--overwrite]
+    auto* scene = app.add_subcommand("scene", "Run a generic DEM scene described in TOML (docs/scene.md)");
+    std::string scene_file, out_dir;
+    std::vector<std::string> sets;
+    bool overwrite = false, quiet = false;
+    scene->add_option("file", scene_file, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
+    scene->add_option("--out", out_dir, "Output directory")->required();
+    scene->add_option("--set", sets, "Override a config key: section.key=value (repeatable)");
+    scene->add_flag("--overwrite", overwrite, "Replace files in a non-empty output directory");
+    scene->add_flag("--quiet", quiet, "No progress output");
+
+    // vppdem bench SCENE ...
+    auto* bench = app.add_subcommand("bench", "Time a shared benchmark scene (../shared/bench/README.md)");
+    cli::BenchOptions bo;
+    bench->add_option("scene", bo.scene, "grains-in-cylinder | foil-plus-grains")
+        ->required()
+        ->check(CLI::IsMember({"grains-in-cylinder", "foil-plus-grains"}));
+    bench->add_option("--grains", bo.grains, "grains_N.csv (grains-in-cylinder)")->check(CLI::ExistingFile);
+    bench->add_option("--scene-dir", bo.scene_dir, "folder with foil_*.csv (foil-plus-grains)")
+        ->check(CLI::ExistingDirectory);
+    bench->add_option("--warmup", bo.warmup, "untimed steps first")->check(CLI::NonNegativeNumber);
+    bench->add_option("--steps", bo.steps, "timed steps")->check(CLI::PositiveNumber);
+    bench->add_option("--threads", bo.threads, "OpenMP threads")->check(CLI::PositiveNumber);
+    bench->add_option("--underpressure", bo.underpressure, "[Pa] follower pressure on the foil");
+
+    CLI11_PARSE(app, argc, argv);
+    try {
+        if (*scene) {
+            const auto root = cfg::load(scene_file, sets);
+            const std::string base = std::filesystem::path(scene_file).parent_path().string();
+            cli::Scene sc = cli::build_scene(root, base.empty() ? "." : base);
+            cli::run_scene(sc, {out_dir, overwrite, quiet});
+        } else if (*bench) {
+            cli::run_bench(bo);
+        }
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "vppdem: error: %s\n", e.what());
+        return 2;
+    }
+    return 0;
+}

@@ -1,0 +1,336 @@
+#include "cli/scene_runner.h"
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+#include "cli/config.h"
+#include "cli/progress.h"
+#include "dem/io/csv.h"
+#include "dem/io/vtk.h"
+#include "dem/walls/facet_sets.h"
+
+namespace cli {
+
+namespace fs = std::filesystem;
+using cfg::ConfigError;
+using cfg::Section;
+using dem::Vec3;
+
+namespace {
+
+uint32_t material_index(Section& s, const std::map<std::string, uint32_t>& by_name) {
+    const std::string m = s.string("material");
+    auto it = by_name.find(m);
+    if (it == by_name.end()) {
+        std::string known;
+        for (const auto& [k, v] : by_name) known += (known.empty() ? "" : ", ") + k;
+        s.fail("material", "unknown material (defined: " + (known.empty() ? std::string("none") : known) + ")");
+    }
+    return it->second;
+}
+
+uint32_t read_mask(Section& s) {
+    const int64_t m = s.integer("mask", 1);
+    if (m <= 0 || m > int64_t(0xffffffffu)) s.fail("mask", "must be a positive 32-bit bit mask");
+    return uint32_t(m);
+}
+
+// velocity = [..] or displacement = [[t, dx, dy, dz], ...] (piecewise linear, t increasing).
+dem::Motion read_motion(Section& s) {
+    dem::Motion m;
+    m.velocity = s.vec3("velocity", {});
+    if (const toml::node* n = s.node("displacement")) {
+        if (s.has("velocity")) s.fail("displacement", "give either velocity or displacement, not both");
+        const toml::array* a = n->as_array();
+        if (!a || a->empty()) s.fail("displacement", "must be an array of [time, dx, dy, dz] rows");
+        for (const auto& row : *a) {
+            const toml::array* r = row.as_array();
+            if (!r || r->size() != 4) s.fail("displacement", "each row must be [time, dx, dy, dz]");
+            double v[4];
+            for (int k = 0; k < 4; ++k) {
+                auto x = r->get(k)->value<double>();
+                if (!x) s.fail("displacement", "each row must hold 4 numbers");
+                v[k] = *x;
+            }
+            if (!m.history.empty() && !(v[0] > m.history.back().time))
+                s.fail("displacement", "times must increase strictly");
+            m.history.push_back({v[0], {v[1], v[2], v[3]}});
+        }
+    }
+    return m;
+}
+
+fs::path resolve(const std::string& base, const std::string& p) {
+    fs::path q(p);
+    return q.is_absolute() ? q : fs::path(base) / q;
+}
+
+}  // namespace
+
+Scene build_scene(const toml::table& root, const std::string& base_dir) {
+    Scene sc;
+    dem::World& w = sc.world;
+    Section top(&root, "");
+
+    Section sim = top.table("simulation");
+    const toml::node* dtn = sim.node("dt");
+    if (!dtn) {
+        w.params.dt = 1e-7;
+    } else if (auto s = dtn->as_string()) {
+        if (s->get() != "auto") sim.fail("dt", "must be a time step in seconds (> 0) or \"auto\"");
+        sc.dt_auto = true;
+    } else if (auto v = dtn->value<double>()) {
+        w.params.dt = sim.positive("dt", *v);
+    } else {
+        sim.fail("dt", "must be a time step in seconds (> 0) or \"auto\"");
+    }
+    sc.dt_safety = sim.number("dt_safety", 0.3);
+    if (!(sc.dt_safety > 0.0 && sc.dt_safety <= 1.0)) sim.fail("dt_safety", "must be in (0, 1]");
+    sc.duration = sim.positive("duration", sim.number("duration", 1e-3));
+    w.params.gravity = sim.vec3("gravity", {0, 0, -9.81});
+    w.params.local_damping = sim.number("local_damping", 0.0);
+    if (!(w.params.local_damping >= 0.0 && w.params.local_damping < 1.0))
+        sim.fail("local_damping", "must be in [0, 1)");
+    const int64_t threads = sim.integer("threads", 1);
+    if (threads < 1 || threads > 1024) sim.fail("threads", "must be an integer >= 1");
+    w.params.threads = int(threads);
+    sc.output_interval = sim.positive("output_interval", sim.number("output_interval", 1e-6));
+    w.params.skin = sim.non_negative("skin", sim.number("skin", 0.0));
+    sim.finish();
+
+    Section out = top.table("output");
+    sc.vtk_interval = out.number("vtk_interval", 0.0);
+    if (sc.vtk_interval < 0.0) out.fail("vtk_interval", "must be >= 0 (0 = no VTK output)");
+    out.finish();
+
+    std::map<std::string, uint32_t> by_name;
+    for (Section m : top.array_of_tables("materials")) {
+        dem::Material mat;
+        mat.name = m.string("name");
+        if (by_name.count(mat.name)) m.fail("name", "duplicate material name");
+        mat.density = m.positive("density", m.number("density", mat.density));
+        mat.young = m.positive("young", m.number("young", mat.young));
+        mat.stiffness_ratio = m.non_negative("stiffness_ratio", m.number("stiffness_ratio", mat.stiffness_ratio));
+        mat.friction = m.non_negative("friction", m.number("friction", mat.friction));
+        mat.restitution = m.number("restitution", mat.restitution);
+        if (!(mat.restitution > 0.0 && mat.restitution <= 1.0)) m.fail("restitution", "must be in (0, 1]");
+        m.finish();
+        by_name[mat.name] = w.add_material(mat);
+    }
+
+    for (Section s : top.array_of_tables("spheres")) {
+        dem::SphereDef d;
+        d.material = material_index(s, by_name);
+        d.radius = s.positive("radius", s.number("radius"));
+        d.position = s.vec3("position");
+        d.velocity = s.vec3("velocity", {});
+        d.angular_velocity = s.vec3("angular_velocity", {});
+        d.mask = read_mask(s);
+        if (s.boolean("fixed", false)) d.flags |= dem::kFixed;
+        const bool track = s.boolean("track", false);
+        s.finish();
+        const uint32_t id = w.add_sphere(d);
+        if (track) sc.tracked.push_back(id);
+    }
+    for (Section s : top.array_of_tables("sphere_files")) {
+        const fs::path path = resolve(base_dir, s.string("path"));
+        dem::SphereDef d;
+        d.material = material_index(s, by_name);
+        d.velocity = s.vec3("velocity", {});
+        d.mask = read_mask(s);
+        if (s.boolean("fixed", false)) d.flags |= dem::kFixed;
+        const bool track = s.boolean("track", false);
+        s.finish();
+        std::vector<std::vector<double>> rows;
+        try {
+            rows = dem::read_numeric_csv(path.string(), 4);
+        } catch (const std::exception& e) {
+            s.fail("path", e.what());
+        }
+        for (std::size_t k = 0; k < rows.size(); ++k) {
+            d.position = {rows[k][0], rows[k][1], rows[k][2]};
+            d.radius = rows[k][3];
+            if (!(d.radius > 0.0))
+                s.fail("path", "row " + std::to_string(k + 1) + " of '" + path.string() + "' has radius <= 0");
+            const uint32_t id = w.add_sphere(d);
+            if (track) sc.tracked.push_back(id);
+        }
+    }
+
+    for (Section s : top.array_of_tables("planes")) {
+        dem::Plane p;
+        p.material = material_index(s, by_name);
+        p.point = s.vec3("point");
+        p.normal = s.vec3("normal");
+        if (dem::norm(p.normal) == 0.0) s.fail("normal", "must not be the zero vector");
+        p.one_sided = s.boolean("one_sided", false);
+        p.mask = read_mask(s);
+        p.motion = read_motion(s);
+        s.finish();
+        sc.wall_members.push_back({uint32_t(w.add_plane(p))});
+        sc.wall_names.push_back(s.path());
+    }
+    const uint32_t nplanes = uint32_t(w.planes.size());
+    for (Section s : top.array_of_tables("facets")) {
+        dem::Facet f;
+        f.material = material_index(s, by_name);
+        const toml::node* n = s.node("vertices");
+        const toml::array* a = n ? n->as_array() : nullptr;
+        if (!a || a->size() != 3) s.fail("vertices", "must be 3 points [[x,y,z],[x,y,z],[x,y,z]]");
+        for (int v = 0; v < 3; ++v) {
+            const toml::array* r = a->get(v)->as_array();
+            if (!r || r->size() != 3) s.fail("vertices", "must be 3 points [[x,y,z],[x,y,z],[x,y,z]]");
+            for (int k = 0; k < 3; ++k) {
+                auto x = r->get(k)->value<double>();
+                if (!x) s.fail("vertices", "coordinates must be numbers");
+                f.vertices[v][k] = *x;
+            }
+        }
+        if (dem::norm(dem::cross(f.vertices[1] - f.vertices[0], f.vertices[2] - f.vertices[0])) == 0.0)
+            s.fail("vertices", "the triangle has zero area");
+        f.one_sided = s.boolean("one_sided", false);
+        f.mask = read_mask(s);
+        f.motion = read_motion(s);
+        s.finish();
+        sc.wall_members.push_back({nplanes + w.add_facet(f)});
+        sc.wall_names.push_back(s.path());
+    }
+    for (Section s : top.array_of_tables("facet_sets")) {
+        const std::string type = s.string("type");
+        std::vector<dem::Facet> fs;
+        try {
+            if (type == "cylinder") {
+                fs = dem::make_cylinder_facets(s.vec3("base", {}), s.positive("radius", s.number("radius")),
+                                               s.positive("height", s.number("height")),
+                                               int(s.integer("segments", 72)), s.boolean("inward", true));
+            } else if (type == "funnel") {
+                fs = dem::make_funnel_facets(s.vec3("base", {}),
+                                             s.positive("bottom_radius", s.number("bottom_radius")),
+                                             s.positive("top_radius", s.number("top_radius")),
+                                             s.positive("height", s.number("height")),
+                                             int(s.integer("segments", 72)), s.boolean("inward", true));
+            } else if (type == "stl") {
+                fs = dem::read_stl(resolve(base_dir, s.string("path")).string(),
+                                   s.positive("scale", s.number("scale", 1.0)));
+            } else {
+                s.fail("type", "must be \"cylinder\", \"funnel\" or \"stl\"");
+            }
+        } catch (const std::invalid_argument& e) {
+            s.fail("type", e.what());
+        } catch (const std::runtime_error& e) {
+            if (dynamic_cast<const ConfigError*>(&e)) throw;
+            s.fail("path", e.what());
+        }
+        const uint32_t material = material_index(s, by_name);
+        const bool one_sided = s.boolean("one_sided", false);
+        const uint32_t mask = read_mask(s);
+        const dem::Motion motion = read_motion(s);
+        s.finish();
+        std::vector<uint32_t> members;
+        for (dem::Facet f : fs) {
+            f.material = material;
+            f.one_sided = one_sided;
+            f.mask = mask;
+            f.motion = motion;
+            members.push_back(nplanes + w.add_facet(f));
+        }
+        sc.wall_members.push_back(members);
+        sc.wall_names.push_back(s.path());
+    }
+    top.finish();
+    if (w.particles.size() == 0) throw ConfigError("the scene has no spheres: add [[spheres]] or [[sphere_files]]");
+
+    if (sc.dt_auto) w.params.dt = sc.dt_safety * w.critical_dt();
+    return sc;
+}
+
+void prepare_output_dir(const std::string& dir, bool overwrite) {
+    fs::path p(dir);
+    if (fs::exists(p)) {
+        if (!fs::is_directory(p)) throw ConfigError("--out '" + dir + "' exists and is not a directory");
+        if (!fs::is_empty(p) && !overwrite)
+            throw ConfigError("--out '" + dir + "' exists and is not empty; pass --overwrite to replace its files");
+    }
+    fs::create_directories(p);
+}
+
+void run_scene(Scene& sc, const RunOptions& opt) {
+    dem::World& w = sc.world;
+    prepare_output_dir(opt.out_dir, opt.overwrite);
+    const fs::path out(opt.out_dir);
+    const double dt = w.params.dt;
+    const uint64_t nsteps = uint64_t(std::llround(sc.duration / dt));
+    if (!opt.quiet)
+        std::fprintf(stderr, "scene: %zu spheres, %zu planes, %zu facets; dt = %.4g s%s (critical %.4g s); %llu steps\n",
+                     w.particles.size(), w.planes.size(), w.facets.size(), dt,
+                     sc.dt_auto ? " (auto)" : "", w.critical_dt(), (unsigned long long)nsteps);
+
+    dem::CsvWriter tracked((out / "tracked.csv").string(), "time,id,x,y,z,vx,vy,vz,wx,wy,wz");
+    dem::CsvWriter walls((out / "walls.csv").string(), "time,wall,fx,fy,fz,tx,ty,tz");
+    if (sc.vtk_interval > 0.0) fs::create_directories(out / "vtk");
+
+    // Output times are multiples of the interval; a step records when it first reaches one.
+    uint64_t next_out = 0, next_vtk = 0, vtk_frame = 0;
+    const double eps = 0.5 * dt;
+    Progress progress("scene", nsteps, opt.quiet);
+    const auto t0 = std::chrono::steady_clock::now();
+    for (uint64_t s = 0; s <= nsteps; ++s) {
+        w.compute_forces();
+        const double t = w.time;
+        if (t + eps >= double(next_out) * sc.output_interval) {
+            for (uint32_t id : sc.tracked) {
+                const Vec3 x = w.particles.pos[id], v = w.velocity_at_time(id), om = w.angular_velocity_at_time(id);
+                tracked.row({t, double(id), x.x, x.y, x.z, v.x, v.y, v.z, om.x, om.y, om.z});
+            }
+            for (std::size_t k = 0; k < sc.wall_members.size(); ++k) {
+                Vec3 f, tq;
+                for (uint32_t m : sc.wall_members[k]) {
+                    f += w.wall_force(m);
+                    tq += w.wall_torque(m);
+                }
+                walls.row({t, double(k), f.x, f.y, f.z, tq.x, tq.y, tq.z});
+            }
+            while (t + eps >= double(next_out) * sc.output_interval) ++next_out;
+        }
+        if (sc.vtk_interval > 0.0 && t + eps >= double(next_vtk) * sc.vtk_interval) {
+            char name[64];
+            std::snprintf(name, sizeof name, "particles_%06llu.vtk", (unsigned long long)vtk_frame);
+            dem::write_particles_vtk((out / "vtk" / name).string(), w);
+            std::snprintf(name, sizeof name, "walls_%06llu.vtk", (unsigned long long)vtk_frame);
+            dem::write_walls_vtk((out / "vtk" / name).string(), w, 0.05);
+            ++vtk_frame;
+            while (t + eps >= double(next_vtk) * sc.vtk_interval) ++next_vtk;
+        }
+        if (s == nsteps) break;
+        w.integrate();
+        progress.update(s + 1, w.time);
+    }
+    tracked.close();
+    walls.close();
+    const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    progress.finish();
+
+    std::ostringstream js;
+    js.precision(10);
+    js << "{\n  \"dt\": " << dt << ",\n  \"dt_auto\": " << (sc.dt_auto ? "true" : "false")
+       << ",\n  \"critical_dt\": " << w.critical_dt() << ",\n  \"steps\": " << nsteps
+       << ",\n  \"duration\": " << sc.duration << ",\n  \"particles\": " << w.particles.size()
+       << ",\n  \"planes\": " << w.planes.size() << ",\n  \"facets\": " << w.facets.size()
+       << ",\n  \"contacts_end\": " << w.contact_count() << ",\n  \"rebuilds\": " << w.rebuild_count()
+       << ",\n  \"threads\": " << w.params.threads << ",\n  \"wall_s\": " << wall_s
+       << ",\n  \"steps_per_s\": " << double(nsteps) / std::max(wall_s, 1e-9) << ",\n  \"walls\": [";
+    for (std::size_t k = 0; k < sc.wall_names.size(); ++k)
+        js << (k ? ", " : "") << "\"" << sc.wall_names[k] << "\"";
+    js << "]\n}\n";
+    dem::write_text_atomic((out / "summary.json").string(), js.str());
+    if (!opt.quiet)
+        std::fprintf(stderr, "done: %llu steps in %.2f s (%.0f steps/s); outputs in %s\n",
+                     (unsigned long long)nsteps, wall_s, double(nsteps) / std::max(wall_s, 1e-9),
+                     opt.out_dir.c_str());
+}
+
+}  // namespace cli

@@ -1,0 +1,43 @@
+// `vppdem scene`: a generic DEM scene from a TOML file (see docs/scene.md).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <toml++/toml.h>
+
+#include "dem/core/world.h"
+
+namespace cli {
+
+// A scene read from TOML: the World plus what the runner needs around it.
+struct Scene {
+    dem::World world;
+    double duration = 1e-3;             // [s]
+    double output_interval = 1e-6;      // [s]
+    double vtk_interval = 0.0;          // [s], 0 = no VTK frames
+    bool dt_auto = false;
+    double dt_safety = 0.3;             // [-] dt = safety * critical step when dt = "auto"
+    std::vector<uint32_t> tracked;      // particle indices written to tracked.csv
+    // Output walls: planes, then [[facets]], then each [[facet_sets]] entry as one wall;
+    // wall_members[k] lists the World wall indices summed into output wall k.
+    std::vector<std::vector<uint32_t>> wall_members;
+    std::vector<std::string> wall_names;
+};
+
+// Builds a scene; relative file paths are resolved against `base_dir`.
+Scene build_scene(const toml::table& root, const std::string& base_dir);
+
+struct RunOptions {
+    std::string out_dir;
+    bool overwrite = false;
+    bool quiet = false;
+};
+
+// Runs the scene and writes tracked.csv, walls.csv, summary.json and VTK frames.
+void run_scene(Scene& scene, const RunOptions& opt);
+
+// Refuses an existing non-empty directory unless overwrite; creates it.
+void prepare_output_dir(const std::string& dir, bool overwrite);
+
+}  // namespace cli

@@ -1,0 +1,52 @@
+// Spheres as struct-of-arrays. The integrator and contact loops touch only the hot arrays
+// (pos, vel, angvel, force, torque, radius, inverse mass/inertia); names and tracking
+// flags stay in the cold part.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "dem/core/vec3.h"
+
+namespace dem {
+
+// Per-particle flag bits.
+enum ParticleFlag : uint32_t {
+    kFixed = 1u << 0,       // never moves (all six degrees of freedom blocked)
+    kPrescribed = 1u << 1,  // translation follows a Motion (see World::prescribed); no rotation
+    kTracked = 1u << 2,     // written to tracked output
+};
+
+struct SphereDef {
+    Vec3 position;          // [m]
+    Vec3 velocity;          // [m/s]
+    Vec3 angular_velocity;  // [rad/s]
+    double radius = 0.01;   // [m]
+    uint32_t material = 0;  // index into World::materials
+    uint32_t mask = 1;      // collision mask: two bodies interact when their masks share a bit
+    uint32_t flags = 0;     // ParticleFlag bits
+};
+
+struct Particles {
+    // hot
+    std::vector<Vec3> pos;          // [m]
+    std::vector<Vec3> vel;          // [m/s] at the half step t - dt/2 (leapfrog)
+    std::vector<Vec3> angvel;       // [rad/s] at the half step
+    std::vector<Vec3> force;        // [N] gathered from contacts this step (without gravity)
+    std::vector<Vec3> torque;       // [N m]
+    std::vector<Vec3> ext_force;    // [N] extra external force set by the application each step
+    std::vector<double> radius;     // [m]
+    std::vector<double> mass;       // [kg]
+    std::vector<double> inv_mass;   // [1/kg], 0 for fixed and prescribed particles
+    std::vector<double> inv_inertia;  // [1/(kg m^2)], solid sphere I = 2/5 m r^2; 0 if not free
+    std::vector<uint32_t> material;
+    std::vector<uint32_t> mask;
+    std::vector<uint32_t> flags;
+    // cold
+    std::vector<int32_t> motion;    // index into World::motions for kPrescribed, else -1
+    std::vector<Vec3> ref_pos;      // [m] reference position for prescribed motion
+
+    std::size_t size() const { return pos.size(); }
+};
+
+}  // namespace dem

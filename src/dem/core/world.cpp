@@ -1,0 +1,569 @@
+#include "dem/core/world.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <stdexcept>
+
+#include "dem/detect/geometry.h"
+#include "dem/integrate/leapfrog.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace dem {
+
+namespace {
+constexpr uint32_t kSideBit = 1u << 31;  // marks "this particle is body 2" in gather entries
+}
+
+uint32_t World::add_material(const Material& m) {
+    materials.push_back(m);
+    physics_dirty_ = true;
+    return uint32_t(materials.size() - 1);
+}
+
+uint32_t World::add_sphere(const SphereDef& d) {
+    if (!(d.radius > 0.0)) throw std::invalid_argument("sphere radius must be > 0");
+    if (d.material >= materials.size()) throw std::invalid_argument("sphere material index out of range");
+    Particles& p = particles;
+    const double m = materials[d.material].density * 4.0 / 3.0 * std::numbers::pi * d.radius * d.radius * d.radius;
+    const bool free = !(d.flags & (kFixed | kPrescribed));
+    p.pos.push_back(d.position);
+    p.vel.push_back(d.flags & kFixed ? Vec3{} : d.velocity);
+    p.angvel.push_back(free ? d.angular_velocity : Vec3{});
+    p.force.emplace_back();
+    p.torque.emplace_back();
+    p.ext_force.emplace_back();
+    p.radius.push_back(d.radius);
+    p.mass.push_back(m);
+    p.inv_mass.push_back(free ? 1.0 / m : 0.0);
+    p.inv_inertia.push_back(free ? 1.0 / (0.4 * m * d.radius * d.radius) : 0.0);
+    p.material.push_back(d.material);
+    p.mask.push_back(d.mask);
+    p.flags.push_back(d.flags);
+    p.motion.push_back(-1);
+    p.ref_pos.push_back(d.position);
+    candidates_dirty_ = true;
+    return uint32_t(p.size() - 1);
+}
+
+uint32_t World::add_plane(const Plane& pl) {
+    Plane q = pl;
+    q.normal = normalized(pl.normal);
+    planes.push_back(q);
+    candidates_dirty_ = true;
+    return uint32_t(planes.size() - 1);
+}
+
+uint32_t World::add_facet(const Facet& f) {
+    facets.push_back(f);
+    candidates_dirty_ = true;
+    return uint32_t(facets.size() - 1);
+}
+
+uint32_t World::add_motion(const Motion& m) {
+    motions.push_back(m);
+    return uint32_t(motions.size() - 1);
+}
+
+uint32_t World::add_bond(uint32_t i, uint32_t j, double kn, double ks, double rest_length) {
+    if (i == j || i >= particles.size() || j >= particles.size())
+        throw std::invalid_argument("bond between invalid particle indices");
+    if (i > j) std::swap(i, j);
+    bonds_.i.push_back(i);
+    bonds_.j.push_back(j);
+    const double L = rest_length >= 0.0 ? rest_length : norm(particles.pos[j] - particles.pos[i]);
+    bonds_.phys.push_back({kn, ks, L});
+    bonds_.hist.emplace_back();
+    bonds_.force.emplace_back();
+    bonds_.torque1.emplace_back();
+    bonds_.torque2.emplace_back();
+    bonds_dirty_ = candidates_dirty_ = true;
+    return uint32_t(bonds_.size() - 1);
+}
+
+void World::build_bond_tables() {
+    const std::size_t n = particles.size(), nb = bonds_.size();
+    bond_start_.assign(n + 1, 0);
+    for (std::size_t b = 0; b < nb; ++b) {
+        ++bond_start_[bonds_.i[b] + 1];
+        ++bond_start_[bonds_.j[b] + 1];
+    }
+    for (std::size_t i = 0; i < n; ++i) bond_start_[i + 1] += bond_start_[i];
+    bond_entries_.resize(bond_start_.back());
+    bonded_with_.resize(bond_start_.back());
+    std::vector<uint32_t> fill(bond_start_.begin(), bond_start_.end() - 1);
+    for (std::size_t b = 0; b < nb; ++b) {
+        const uint32_t i = bonds_.i[b], j = bonds_.j[b];
+        bonded_with_[fill[i]] = j;
+        bond_entries_[fill[i]++] = uint32_t(b);
+        bonded_with_[fill[j]] = i;
+        bond_entries_[fill[j]++] = uint32_t(b) | kSideBit;
+    }
+    bonded_start_ = bond_start_;
+    bonds_dirty_ = false;
+}
+
+double World::effective_skin() const {
+    if (params.skin > 0.0) return params.skin;
+    double rmin = std::numeric_limits<double>::max();
+    for (double r : particles.radius) rmin = std::min(rmin, r);
+    return particles.size() ? 0.5 * rmin : 1e-3;
+}
+
+double World::critical_dt() const {
+    const Particles& p = particles;
+    // Stiffest partner per material: E * r_max of that material's particles.
+    std::vector<double> er_max(materials.size(), 0.0);
+    for (std::size_t i = 0; i < p.size(); ++i)
+        er_max[p.material[i]] = std::max(er_max[p.material[i]], materials[p.material[i]].young * p.radius[i]);
+    double wall_e = 0.0;
+    for (const Plane& pl : planes) wall_e = std::max(wall_e, materials[pl.material].young);
+    for (const Facet& f : facets) wall_e = std::max(wall_e, materials[f.material].young);
+    std::vector<double> kbond(p.size(), 0.0);
+    for (std::size_t b = 0; b < bonds_.size(); ++b) {
+        kbond[bonds_.i[b]] = std::max(kbond[bonds_.i[b]], bonds_.phys[b].kn);
+        kbond[bonds_.j[b]] = std::max(kbond[bonds_.j[b]], bonds_.phys[b].kn);
+    }
+    double best = std::numeric_limits<double>::infinity();
+    const double partner_er = *std::max_element(er_max.begin(), er_max.end());
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.inv_mass[i] == 0.0) continue;
+        const double a = materials[p.material[i]].young * p.radius[i];
+        const double b = std::max(partner_er, wall_e * p.radius[i]);
+        const double kn = std::max(harmonic_stiffness(a, b), kbond[i]);
+        best = std::min(best, std::sqrt(p.mass[i] / kn));
+    }
+    return best;
+}
+
+// ---------------------------------------------------------------- phases
+
+void World::move_walls() {
+    const std::size_t nw = wall_count();
+    plane_point_.resize(planes.size());
+    facet_now_.resize(facets.size());
+    wall_vel_.resize(nw);
+    // The velocity over the last step matches the particles' half-step velocity v(t - dt/2).
+    const double t0 = time - params.dt, t1 = time;
+    for (std::size_t k = 0; k < planes.size(); ++k) {
+        plane_point_[k] = planes[k].point + planes[k].motion.displacement(time);
+        wall_vel_[k] = planes[k].motion.mean_velocity(t0, t1);
+    }
+    for (std::size_t k = 0; k < facets.size(); ++k) {
+        const Vec3 d = facets[k].motion.displacement(time);
+        for (int v = 0; v < 3; ++v) facet_now_[k][v] = facets[k].vertices[v] + d;
+        wall_vel_[planes.size() + k] = facets[k].motion.mean_velocity(t0, t1);
+    }
+}
+
+bool World::needs_rebuild() const {
+    if (candidates_dirty_ || ref_pos_.size() != particles.size()) return true;
+    const double skin = effective_skin();
+    if (2.0 * max_disp_ > skin) return true;
+    double wall_move = 0.0;
+    for (std::size_t k = 0; k < planes.size(); ++k)
+        wall_move = std::max(wall_move, norm(planes[k].motion.displacement(time) - wall_ref_disp_[k]));
+    for (std::size_t k = 0; k < facets.size(); ++k)
+        wall_move = std::max(wall_move,
+                             norm(facets[k].motion.displacement(time) - wall_ref_disp_[planes.size() + k]));
+    return max_disp_ + wall_move > skin;
+}
+
+void World::rebuild_candidates() {
+    const Particles& p = particles;
+    const std::size_t n = p.size();
+    const double skin = effective_skin();
+    if (bonds_dirty_ || bond_start_.size() != n + 1) build_bond_tables();
+    double rmax = 0.0;
+    for (double r : p.radius) rmax = std::max(rmax, r);
+    grid_.build(p.pos, 2.0 * rmax + skin, std::max<int64_t>(int64_t(4 * n), 4096));
+
+    // Facets are registered in every cell their box (grown by rmax + skin) touches, so a
+    // particle only has to look at its own cell's list.
+    std::vector<uint32_t> fstart(std::size_t(grid_.ncells() + 1), 0), fitems;
+    if (!facets.empty()) {
+        const double grow = rmax + skin;
+        std::vector<std::array<int64_t, 6>> range(facets.size());
+        std::vector<uint8_t> inside(facets.size(), 0);
+        for (std::size_t f = 0; f < facets.size(); ++f) {
+            Vec3 lo = facet_now_[f][0], hi = lo;
+            for (int v = 1; v < 3; ++v)
+                for (int d = 0; d < 3; ++d) {
+                    lo[d] = std::min(lo[d], facet_now_[f][v][d]);
+                    hi[d] = std::max(hi[d], facet_now_[f][v][d]);
+                }
+            bool ok = true;
+            for (int d = 0; d < 3; ++d) {
+                const double a = (lo[d] - grow - grid_.origin[d]) / grid_.cell;
+                const double b = (hi[d] + grow - grid_.origin[d]) / grid_.cell;
+                if (b < 0.0 || a >= double(grid_.dims[d])) ok = false;
+                range[f][d] = std::clamp<int64_t>(int64_t(std::floor(a)), 0, grid_.dims[d] - 1);
+                range[f][d + 3] = std::clamp<int64_t>(int64_t(std::floor(b)), 0, grid_.dims[d] - 1);
+            }
+            inside[f] = ok;
+        }
+        for (int pass = 0; pass < 2; ++pass) {
+            std::vector<uint32_t> fill;
+            if (pass == 1) {
+                for (int64_t c = 0; c < grid_.ncells(); ++c) fstart[c + 1] += fstart[c];
+                fitems.resize(fstart.back());
+                fill.assign(fstart.begin(), fstart.end() - 1);
+            }
+            for (std::size_t f = 0; f < facets.size(); ++f) {
+                if (!inside[f]) continue;
+                const auto& r = range[f];
+                for (int64_t z = r[2]; z <= r[5]; ++z)
+                    for (int64_t y = r[1]; y <= r[4]; ++y)
+                        for (int64_t x = r[0]; x <= r[3]; ++x) {
+                            const int64_t c = grid_.index({x, y, z});
+                            if (pass == 0) ++fstart[c + 1];
+                            else fitems[fill[c]++] = uint32_t(f);
+                        }
+            }
+        }
+    }
+
+    const int nt = std::max(1, params.threads);
+    std::vector<std::vector<uint64_t>> pp_keys(nt), pw_keys(nt);
+    const uint32_t nplanes = uint32_t(planes.size());
+#pragma omp parallel num_threads(nt)
+    {
+#ifdef _OPENMP
+        const int tid = omp_get_thread_num();
+#else
+        const int tid = 0;
+#endif
+        std::vector<uint32_t> local;
+        // schedule(static) hands out contiguous blocks of i in thread order, so concatenating
+        // the per-thread lists in thread order gives keys sorted by i for any thread count.
+#pragma omp for schedule(static)
+        for (std::size_t i = 0; i < n; ++i) {
+            const Vec3 xi = p.pos[i];
+            const double ri = p.radius[i];
+            const auto c = grid_.coords(xi);
+            local.clear();
+            for (int64_t dz = -1; dz <= 1; ++dz)
+                for (int64_t dy = -1; dy <= 1; ++dy)
+                    for (int64_t dx = -1; dx <= 1; ++dx) {
+                        const std::array<int64_t, 3> q{c[0] + dx, c[1] + dy, c[2] + dz};
+                        if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= grid_.dims[0] ||
+                            q[1] >= grid_.dims[1] || q[2] >= grid_.dims[2])
+                            continue;
+                        const int64_t cell = grid_.index(q);
+                        for (uint32_t k = grid_.start[cell]; k < grid_.start[cell + 1]; ++k) {
+                            const uint32_t j = grid_.items[k];
+                            if (j <= i || !(p.mask[i] & p.mask[j])) continue;
+                            if (p.inv_mass[i] == 0.0 && p.inv_mass[j] == 0.0) continue;
+                            bool bonded = false;
+                            for (uint32_t b = bonded_start_[i]; b < bonded_start_[i + 1]; ++b)
+                                bonded |= bonded_with_[b] == j;
+                            if (bonded) continue;
+                            const double reach = ri + p.radius[j] + skin;
+                            if (norm2(p.pos[j] - xi) < reach * reach) local.push_back(j);
+                        }
+                    }
+            std::sort(local.begin(), local.end());
+            for (uint32_t j : local) pp_keys[tid].push_back(pair_key(uint32_t(i), j));
+
+            if (p.inv_mass[i] == 0.0 && !(p.flags[i] & kPrescribed)) continue;  // fixed: no wall contacts
+            for (uint32_t w = 0; w < nplanes; ++w) {
+                if (!(planes[w].mask & p.mask[i])) continue;
+                const double s = dot(xi - plane_point_[w], planes[w].normal);
+                const bool near = planes[w].one_sided ? s < ri + skin : std::abs(s) < ri + skin;
+                if (near) pw_keys[tid].push_back(pair_key(uint32_t(i), w));
+            }
+            if (!facets.empty()) {
+                const int64_t cell = grid_.index(c);
+                for (uint32_t k = fstart[cell]; k < fstart[cell + 1]; ++k) {
+                    const uint32_t f = fitems[k];
+                    if (!(facets[f].mask & p.mask[i])) continue;
+                    const double reach = ri + skin;
+                    if (distance2_to_triangle(xi, facet_now_[f]) < reach * reach)
+                        pw_keys[tid].push_back(pair_key(uint32_t(i), nplanes + f));
+                }
+            }
+        }
+    }
+    std::vector<uint64_t> all_pp, all_pw;
+    for (int t = 0; t < nt; ++t) {
+        all_pp.insert(all_pp.end(), pp_keys[t].begin(), pp_keys[t].end());
+        all_pw.insert(all_pw.end(), pw_keys[t].begin(), pw_keys[t].end());
+    }
+    std::vector<uint8_t> existed_pp, existed_pw;
+    pp_.merge_from(all_pp, false, existed_pp);
+    pw_.merge_from(all_pw, true, existed_pw);
+    refresh_physics(physics_dirty_, existed_pp, existed_pw);
+    physics_dirty_ = false;
+
+    // Gather CSR: entries in contact order, so the summation order is fixed.
+    pp_start_.assign(n + 1, 0);
+    for (uint64_t k : pp_.key) {
+        ++pp_start_[key_first(k) + 1];
+        ++pp_start_[key_second(k) + 1];
+    }
+    for (std::size_t i = 0; i < n; ++i) pp_start_[i + 1] += pp_start_[i];
+    pp_entries_.resize(pp_start_.back());
+    {
+        std::vector<uint32_t> fill(pp_start_.begin(), pp_start_.end() - 1);
+        for (std::size_t c = 0; c < pp_.size(); ++c) {
+            pp_entries_[fill[key_first(pp_.key[c])]++] = uint32_t(c);
+            pp_entries_[fill[key_second(pp_.key[c])]++] = uint32_t(c) | kSideBit;
+        }
+    }
+    pw_start_.assign(n + 1, 0);
+    for (uint64_t k : pw_.key) ++pw_start_[key_first(k) + 1];
+    for (std::size_t i = 0; i < n; ++i) pw_start_[i + 1] += pw_start_[i];
+
+    ref_pos_ = p.pos;
+    wall_ref_disp_.resize(wall_count());
+    for (std::size_t k = 0; k < planes.size(); ++k) wall_ref_disp_[k] = planes[k].motion.displacement(time);
+    for (std::size_t k = 0; k < facets.size(); ++k)
+        wall_ref_disp_[planes.size() + k] = facets[k].motion.displacement(time);
+    max_disp_ = 0.0;
+    candidates_dirty_ = false;
+    ++rebuilds_;
+}
+
+void World::refresh_physics(bool all, const std::vector<uint8_t>& existed_pp,
+                            const std::vector<uint8_t>& existed_pw) {
+    const Particles& p = particles;
+    for (std::size_t c = 0; c < pp_.size(); ++c) {
+        if (!all && existed_pp[c]) continue;
+        const uint32_t i = key_first(pp_.key[c]), j = key_second(pp_.key[c]);
+        // Against a fixed or prescribed particle the moving one meets an infinite mass.
+        double m_eff;
+        if (p.inv_mass[i] == 0.0) m_eff = p.mass[j];
+        else if (p.inv_mass[j] == 0.0) m_eff = p.mass[i];
+        else m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+        pp_.phys[c] = make_contact_phys(materials[p.material[i]], p.radius[i],
+                                        materials[p.material[j]], p.radius[j], m_eff);
+    }
+    for (std::size_t c = 0; c < pw_.size(); ++c) {
+        if (!all && existed_pw[c]) continue;
+        const uint32_t i = key_first(pw_.key[c]), w = key_second(pw_.key[c]);
+        const uint32_t wm = w < planes.size() ? planes[w].material : facets[w - planes.size()].material;
+        pw_.phys[c] = make_contact_phys(materials[wm], p.radius[i], materials[p.material[i]],
+                                        p.radius[i], p.mass[i]);
+    }
+}
+
+void World::particle_contact_forces() {
+    const Particles& p = particles;
+    const double dt = params.dt;
+    const int64_t nc = int64_t(pp_.size());
+#pragma omp parallel for num_threads(params.threads) schedule(static)
+    for (int64_t c = 0; c < nc; ++c) {
+        const uint32_t i = key_first(pp_.key[c]), j = key_second(pp_.key[c]);
+        ContactGeom g;
+        if (!sphere_sphere(p.pos[i], p.radius[i], p.pos[j], p.radius[j], g)) {
+            // An opened contact loses its shear spring (Yade deletes the interaction).
+            pp_.hist[c] = ShearHistory{};
+            pp_.force[c] = pp_.torque1[c] = pp_.torque2[c] = Vec3{};
+            pp_.touching[c] = 0;
+            continue;
+        }
+        const Vec3& n = g.normal;
+        // Relative velocity at the contact with the lever arms at the full radii (Yade's
+        // avoidGranularRatcheting), body 2 relative to body 1.
+        const Vec3 vrel = (p.vel[j] + cross(p.angvel[j], n * -p.radius[j])) -
+                          (p.vel[i] + cross(p.angvel[i], n * p.radius[i]));
+        const double spin_n = 0.5 * dot(n, p.angvel[i] + p.angvel[j]);
+        const Vec3 f = linear_contact_force(pp_.phys[c], g, vrel, spin_n, dt, pp_.hist[c]);
+        const Vec3 nxf = cross(n, -f);
+        pp_.force[c] = f;
+        pp_.torque1[c] = nxf * g.arm1;
+        pp_.torque2[c] = nxf * g.arm2;
+        pp_.touching[c] = 1;
+    }
+}
+
+void World::wall_contact_forces() {
+    const Particles& p = particles;
+    const double dt = params.dt;
+    const uint32_t nplanes = uint32_t(planes.size());
+    const int64_t nc = int64_t(pw_.size());
+#pragma omp parallel for num_threads(params.threads) schedule(static)
+    for (int64_t c = 0; c < nc; ++c) {
+        const uint32_t i = key_first(pw_.key[c]), w = key_second(pw_.key[c]);
+        ContactGeom g;
+        bool touch;
+        if (w < nplanes)
+            touch = sphere_plane(p.pos[i], p.radius[i], plane_point_[w], planes[w].normal,
+                                 planes[w].one_sided, g);
+        else
+            touch = sphere_facet(p.pos[i], p.radius[i], facet_now_[w - nplanes],
+                                 facets[w - nplanes].one_sided, g);
+        if (!touch) {
+            pw_.hist[c] = ShearHistory{};
+            pw_.force[c] = pw_.torque2[c] = Vec3{};
+            pw_.touching[c] = 0;
+            continue;
+        }
+        const Vec3& n = g.normal;  // from the wall to the sphere
+        const Vec3 vrel = (p.vel[i] + cross(p.angvel[i], n * -p.radius[i])) - wall_vel_[w];
+        const double spin_n = 0.5 * dot(n, p.angvel[i]);
+        const Vec3 f = linear_contact_force(pw_.phys[c], g, vrel, spin_n, dt, pw_.hist[c]);
+        pw_.force[c] = f;
+        pw_.torque2[c] = cross(n, -f) * g.arm2;
+        pw_.point[c] = p.pos[i] - n * g.arm2;
+        pw_.touching[c] = 1;
+    }
+}
+
+void World::bond_forces() {
+    const Particles& p = particles;
+    const double dt = params.dt;
+    const int64_t nb = int64_t(bonds_.size());
+#pragma omp parallel for num_threads(params.threads) schedule(static)
+    for (int64_t b = 0; b < nb; ++b) {
+        const uint32_t i = bonds_.i[b], j = bonds_.j[b];
+        const Vec3 d = p.pos[j] - p.pos[i];
+        const double dist = norm(d);
+        const Vec3 n = d / dist;
+        // Lever arms as for a contact: the bond point sits where the spheres would touch.
+        const double half_gap = 0.5 * (p.radius[i] + p.radius[j] - dist);
+        const Vec3 vrel = (p.vel[j] + cross(p.angvel[j], n * -p.radius[j])) -
+                          (p.vel[i] + cross(p.angvel[i], n * p.radius[i]));
+        const double spin_n = 0.5 * dot(n, p.angvel[i] + p.angvel[j]);
+        const Vec3 f = bond_force(bonds_.phys[b], n, dist, vrel, spin_n, dt, bonds_.hist[b]);
+        const Vec3 nxf = cross(n, -f);
+        bonds_.force[b] = f;
+        bonds_.torque1[b] = nxf * (p.radius[i] - half_gap);
+        bonds_.torque2[b] = nxf * (p.radius[j] - half_gap);
+    }
+}
+
+void World::apply_pressure() {
+    if (pressure.dp == 0.0 || pressure.nodes.empty()) return;
+    Particles& p = particles;
+    const int64_t nn = int64_t(pressure.nodes.size());
+    // Each node appears once in the list, so every iteration writes its own particle.
+#pragma omp parallel for num_threads(params.threads) schedule(static)
+    for (int64_t k = 0; k < nn; ++k) {
+        const PressureNode& q = pressure.nodes[k];
+        p.force[q.node] -= tributary_area(p.pos, q) * pressure.dp;
+    }
+}
+
+void World::gather_forces() {
+    Particles& p = particles;
+    const int64_t n = int64_t(p.size());
+#pragma omp parallel for num_threads(params.threads) schedule(static)
+    for (int64_t i = 0; i < n; ++i) {
+        Vec3 f, t;
+        for (uint32_t k = pp_start_[i]; k < pp_start_[i + 1]; ++k) {
+            const uint32_t e = pp_entries_[k];
+            const uint32_t c = e & ~kSideBit;
+            if (e & kSideBit) {
+                f += pp_.force[c];
+                t += pp_.torque2[c];
+            } else {
+                f -= pp_.force[c];
+                t += pp_.torque1[c];
+            }
+        }
+        for (uint32_t c = pw_start_[i]; c < pw_start_[i + 1]; ++c) {
+            f += pw_.force[c];
+            t += pw_.torque2[c];
+        }
+        for (uint32_t k = bond_start_[i]; k < bond_start_[i + 1]; ++k) {
+            const uint32_t e = bond_entries_[k];
+            const uint32_t b = e & ~kSideBit;
+            if (e & kSideBit) {
+                f += bonds_.force[b];
+                t += bonds_.torque2[b];
+            } else {
+                f -= bonds_.force[b];
+                t += bonds_.torque1[b];
+            }
+        }
+        p.force[i] = f;
+        p.torque[i] = t;
+    }
+}
+
+void World::sum_wall_reactions() {
+    wall_force_.assign(wall_count(), Vec3{});
+    wall_torque_.assign(wall_count(), Vec3{});
+    for (std::size_t c = 0; c < pw_.size(); ++c) {
+        if (!pw_.touching[c]) continue;
+        const uint32_t w = key_second(pw_.key[c]);
+        wall_force_[w] -= pw_.force[c];
+        wall_torque_[w] += cross(pw_.point[c], -pw_.force[c]);
+    }
+}
+
+void World::compute_forces() {
+    move_walls();
+    if (needs_rebuild()) rebuild_candidates();
+    if (physics_dirty_) {
+        refresh_physics(true, {}, {});
+        physics_dirty_ = false;
+    }
+    particle_contact_forces();
+    wall_contact_forces();
+    bond_forces();
+    gather_forces();
+    apply_pressure();
+    sum_wall_reactions();
+}
+
+Vec3 World::total_force(std::size_t i) const {
+    const Particles& p = particles;
+    return p.force[i] + p.ext_force[i] + params.gravity * p.mass[i];
+}
+
+Vec3 World::velocity_at_time(std::size_t i) const {
+    const Particles& p = particles;
+    if (p.inv_mass[i] == 0.0) return p.vel[i];
+    const Vec3 a = damped_acceleration(total_force(i), p.inv_mass[i], p.vel[i], params.dt, params.local_damping);
+    return p.vel[i] + a * (0.5 * params.dt);
+}
+
+Vec3 World::angular_velocity_at_time(std::size_t i) const {
+    const Particles& p = particles;
+    if (p.inv_inertia[i] == 0.0) return p.angvel[i];
+    const Vec3 a = damped_angular_acceleration(p.torque[i], p.inv_inertia[i], p.angvel[i], params.local_damping);
+    return p.angvel[i] + a * (0.5 * params.dt);
+}
+
+void World::integrate() {
+    Particles& p = particles;
+    const double dt = params.dt, lambda = params.local_damping;
+    const double t1 = time + dt;
+    const int64_t n = int64_t(p.size());
+    double max_d2 = 0.0;
+#pragma omp parallel for num_threads(params.threads) schedule(static) reduction(max : max_d2)
+    for (int64_t i = 0; i < n; ++i) {
+        const uint32_t fl = p.flags[i];
+        if (fl & kFixed) continue;
+        if (fl & kPrescribed) {
+            const Motion& m = motions[p.motion[i]];
+            p.vel[i] = m.mean_velocity(time, t1);
+            p.pos[i] = p.ref_pos[i] + m.displacement(t1);
+        } else {
+            const Vec3 a = damped_acceleration(total_force(i), p.inv_mass[i], p.vel[i], dt, lambda);
+            p.vel[i] += a * dt;
+            p.pos[i] += p.vel[i] * dt;
+            const Vec3 al = damped_angular_acceleration(p.torque[i], p.inv_inertia[i], p.angvel[i], lambda);
+            p.angvel[i] += al * dt;
+        }
+        max_d2 = std::max(max_d2, norm2(p.pos[i] - ref_pos_[i]));
+    }
+    max_disp_ = std::sqrt(max_d2);
+    time = t1;
+    ++steps;
+}
+
+void World::step() {
+    compute_forces();
+    integrate();
+}
+
+std::size_t World::contact_count() const { return pp_.count_touching() + pw_.count_touching(); }
+
+}  // namespace dem

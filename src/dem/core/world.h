@@ -1,0 +1,120 @@
+// The World: particles, walls, materials and contacts, advanced by step().
+// step() reads like the method (see docs/model.md):
+//   move walls -> rebuild candidates if anything moved more than half the skin ->
+//   contact forces (sphere-sphere, sphere-wall; history updated) -> gather per particle ->
+//   wall reactions -> integrate (gravity, external forces, local damping, leapfrog).
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "dem/bonds/bond_list.h"
+#include "dem/contact/contact_list.h"
+#include "dem/core/material.h"
+#include "dem/core/particles.h"
+#include "dem/core/pressure.h"
+#include "dem/core/vec3.h"
+#include "dem/detect/cell_grid.h"
+#include "dem/walls/motion.h"
+#include "dem/walls/wall.h"
+
+namespace dem {
+
+struct SimulationParams {
+    double dt = 1e-7;                // [s] time step
+    Vec3 gravity{0.0, 0.0, -9.81};   // [m/s^2]
+    double local_damping = 0.0;      // [-] Yade's non-viscous damping coefficient lambda
+    double skin = 0.0;               // [m] Verlet distance; 0 = half the smallest radius (Yade)
+    int threads = 1;                 // OpenMP threads; results do not depend on it
+};
+
+class World {
+public:
+    std::vector<Material> materials;
+    Particles particles;
+    std::vector<Plane> planes;
+    std::vector<Facet> facets;
+    std::vector<Motion> motions;     // motions of prescribed particles
+    MembranePressure pressure;       // follower pressure on membrane nodes (empty: none)
+    SimulationParams params;
+
+    double time = 0.0;               // [s]
+    uint64_t steps = 0;
+
+    uint32_t add_material(const Material& m);
+    uint32_t add_sphere(const SphereDef& d);
+    uint32_t add_plane(const Plane& p);
+    uint32_t add_facet(const Facet& f);
+    uint32_t add_motion(const Motion& m);
+    // Permanent bond; rest_length < 0 takes the current centre distance.
+    uint32_t add_bond(uint32_t i, uint32_t j, double kn, double ks, double rest_length = -1.0);
+    const BondList& bonds() const { return bonds_; }
+    std::size_t wall_count() const { return planes.size() + facets.size(); }
+
+    // Contact physics depends on materials; call after changing them mid-run.
+    void invalidate_contact_physics() { physics_dirty_ = true; }
+    // Call after moving particles by hand (teleporting, adding) so the candidates are rebuilt.
+    void invalidate_candidates() { candidates_dirty_ = true; }
+
+    void step();            // compute_forces() then integrate()
+    void compute_forces();  // forces at the current time t (positions x(t), velocities v(t-dt/2))
+    void integrate();       // advance to t + dt
+
+    // Largest stable step [s] for a lone contact pair: min over particles of
+    // sqrt(m / kn_max), kn_max the stiffest pair the particle can form with any material
+    // present or with a wall. Multiply by a safety factor (< 1) for dense packings.
+    double critical_dt() const;
+
+    // Results of the last compute_forces():
+    Vec3 wall_force(std::size_t w) const { return wall_force_[w]; }    // [N] particles on wall
+    Vec3 wall_torque(std::size_t w) const { return wall_torque_[w]; }  // [N m] about the origin
+    std::size_t contact_count() const;           // touching pairs, particle-particle and wall
+    std::size_t particle_contact_count() const { return pp_.count_touching(); }
+    // v(t) = v(t-dt/2) + dt/2 a(t): synchronous velocity for output (after compute_forces()).
+    Vec3 velocity_at_time(std::size_t i) const;
+    Vec3 angular_velocity_at_time(std::size_t i) const;
+    // Current geometry of the walls at time t.
+    Vec3 plane_point(std::size_t p) const { return plane_point_[p]; }
+    const std::array<Vec3, 3>& facet_vertices(std::size_t f) const { return facet_now_[f]; }
+
+    uint64_t rebuild_count() const { return rebuilds_; }
+    const ContactList& particle_contacts() const { return pp_; }
+    const ContactList& wall_contacts() const { return pw_; }
+
+private:
+    void move_walls();
+    bool needs_rebuild() const;
+    void rebuild_candidates();
+    void refresh_physics(bool all, const std::vector<uint8_t>& existed_pp,
+                         const std::vector<uint8_t>& existed_pw);
+    void particle_contact_forces();
+    void wall_contact_forces();
+    void bond_forces();
+    void gather_forces();
+    void apply_pressure();
+    void sum_wall_reactions();
+    double effective_skin() const;
+    Vec3 total_force(std::size_t i) const;
+
+    ContactList pp_, pw_;
+    BondList bonds_;
+    std::vector<uint32_t> bond_start_, bond_entries_;  // gather CSR (bit 31: body 2)
+    std::vector<uint32_t> bonded_start_, bonded_with_;   // partners per particle (exclusions)
+    bool bonds_dirty_ = false;
+    void build_bond_tables();
+    CellGrid grid_;
+    // gather CSR for pp_: per particle, contact indices with bit 31 set when it is body 2
+    std::vector<uint32_t> pp_start_, pp_entries_;
+    std::vector<uint32_t> pw_start_;   // pw_ is sorted by particle: ranges per particle
+    std::vector<Vec3> ref_pos_;        // positions at the last rebuild
+    std::vector<Vec3> wall_ref_disp_;  // wall displacement at the last rebuild
+    std::vector<Vec3> plane_point_, wall_vel_;
+    std::vector<std::array<Vec3, 3>> facet_now_;
+    std::vector<Vec3> wall_force_, wall_torque_;
+    double max_disp_ = 0.0;            // [m] largest particle move since the last rebuild
+    bool candidates_dirty_ = true;
+    bool physics_dirty_ = false;
+    uint64_t rebuilds_ = 0;
+};
+
+}  // namespace dem

@@ -1,0 +1,119 @@
+#include "dem/io/csv.h"
+
+#include <charconv>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace dem {
+
+void append_number(std::string& out, double v) {
+    char tmp[32];
+    auto res = std::to_chars(tmp, tmp + sizeof tmp, v);
+    out.append(tmp, res.ptr);
+}
+
+void CsvWriter::open(const std::string& path, std::string_view header) {
+    close();
+    path_ = path;
+    file_ = std::fopen((path + ".part").c_str(), "wb");
+    if (!file_) throw std::runtime_error("cannot write '" + path + ".part': " + std::strerror(errno));
+    buf_.assign(header);
+    buf_ += '\n';
+}
+
+void CsvWriter::row(std::initializer_list<double> values) {
+    bool first = true;
+    for (double v : values) {
+        if (!first) buf_ += ',';
+        first = false;
+        append_number(buf_, v);
+    }
+    buf_ += '\n';
+    if (buf_.size() > (1u << 20)) flush();
+}
+
+void CsvWriter::row(const std::vector<double>& values) {
+    for (std::size_t k = 0; k < values.size(); ++k) {
+        if (k) buf_ += ',';
+        append_number(buf_, values[k]);
+    }
+    buf_ += '\n';
+    if (buf_.size() > (1u << 20)) flush();
+}
+
+void CsvWriter::flush() {
+    if (!file_) return;
+    if (!buf_.empty() && std::fwrite(buf_.data(), 1, buf_.size(), file_) != buf_.size())
+        throw std::runtime_error("write failed for '" + path_ + ".part'");
+    buf_.clear();
+    std::fflush(file_);
+}
+
+void CsvWriter::close() {
+    if (!file_) return;
+    flush();
+    std::fclose(file_);
+    file_ = nullptr;
+    std::filesystem::rename(path_ + ".part", path_);
+}
+
+std::vector<std::vector<double>> read_numeric_csv(const std::string& path, std::size_t min_columns,
+                                                  std::vector<std::string>* header) {
+    std::ifstream in(path);
+    if (!in) throw std::runtime_error("cannot read CSV file '" + path + "'");
+    std::vector<std::vector<double>> rows;
+    std::string line;
+    std::size_t lineno = 0;
+    while (std::getline(in, line)) {
+        ++lineno;
+        if (!line.empty() && line.back() == '\r') line.pop_back();
+        if (line.empty() || line[0] == '#') continue;
+        std::vector<double> vals;
+        std::vector<std::string> cells;
+        std::stringstream ss(line);
+        std::string cell;
+        bool numeric = true;
+        while (std::getline(ss, cell, ',')) {
+            const auto b = cell.find_first_not_of(" \t"), e = cell.find_last_not_of(" \t");
+            cell = b == std::string::npos ? "" : cell.substr(b, e - b + 1);
+            cells.push_back(cell);
+            double v = 0;
+            const char* s = cell.data();
+            if (!cell.empty() && *s == '+') ++s;
+            auto r = std::from_chars(s, cell.data() + cell.size(), v);
+            if (cell.empty() || r.ec != std::errc() || r.ptr != cell.data() + cell.size()) numeric = false;
+            vals.push_back(v);
+        }
+        if (!numeric) {
+            if (rows.empty() && header && header->empty()) {
+                *header = cells;
+                continue;
+            }
+            if (rows.empty() && !header) continue;  // a header nobody asked for
+            throw std::runtime_error("CSV file '" + path + "' line " + std::to_string(lineno) +
+                                     ": not a number in '" + line + "'");
+        }
+        if (vals.size() < min_columns)
+            throw std::runtime_error("CSV file '" + path + "' line " + std::to_string(lineno) + ": " +
+                                     std::to_string(vals.size()) + " columns, need at least " +
+                                     std::to_string(min_columns));
+        rows.push_back(std::move(vals));
+    }
+    return rows;
+}
+
+void write_text_atomic(const std::string& path, const std::string& text) {
+    const std::string tmp = path + ".part";
+    {
+        std::ofstream out(tmp, std::ios::binary);
+        if (!out) throw std::runtime_error("cannot write '" + tmp + "'");
+        out << text;
+        if (!out) throw std::runtime_error("write failed for '" + tmp + "'");
+    }
+    std::filesystem::rename(tmp, path);
+}
+
+}  // namespace dem

@@ -1,0 +1,47 @@
+// CSV output written under a temporary name and renamed into place when closed, so a reader
+// never sees a half-written file under the final name; and CSV input of sphere lists.
+#pragma once
+
+#include <array>
+#include <cstdio>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace dem {
+
+class CsvWriter {
+public:
+    CsvWriter() = default;
+    CsvWriter(const std::string& path, std::string_view header) { open(path, header); }
+    ~CsvWriter() { close(); }
+    CsvWriter(const CsvWriter&) = delete;
+    CsvWriter& operator=(const CsvWriter&) = delete;
+
+    void open(const std::string& path, std::string_view header);
+    // Appends one row; numbers in shortest round-trip form.
+    void row(std::initializer_list<double> values);
+    void row(const std::vector<double>& values);
+    void flush();
+    void close();  // flush, then rename PATH.part -> PATH
+    bool is_open() const { return file_ != nullptr; }
+
+private:
+    std::string path_;
+    std::FILE* file_ = nullptr;
+    std::string buf_;
+};
+
+// Appends the shortest decimal form of v that reads back to the same double.
+void append_number(std::string& out, double v);
+
+// Reads rows of numbers from a CSV file (comma separated; an optional first line that is not
+// numeric is taken as a header; blank lines and lines starting with '#' are skipped). Every row
+// must have at least `min_columns` values. Throws std::runtime_error naming path and line.
+std::vector<std::vector<double>> read_numeric_csv(const std::string& path, std::size_t min_columns,
+                                                  std::vector<std::string>* header = nullptr);
+
+// Writes `text` to `path` atomically (temporary file, then rename).
+void write_text_atomic(const std::string& path, const std::string& text);
+
+}  // namespace dem

@@ -1,0 +1,16 @@
+// Legacy-format VTK (ASCII PolyData) frames that ParaView opens directly: particles as points
+// with radius/velocity/id fields (use a Glyph filter with 'radius' as scale), walls as triangles.
+#pragma once
+
+#include <string>
+
+#include "dem/core/world.h"
+
+namespace dem {
+
+// Writes particles of `world` to `path` (atomically).
+void write_particles_vtk(const std::string& path, const World& world);
+// Writes the facets at their current position, and planes as squares of half-size `plane_size` [m].
+void write_walls_vtk(const std::string& path, const World& world, double plane_size);
+
+}  // namespace dem
