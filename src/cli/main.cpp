@@ -9,6 +9,9 @@
 #include "cli/bench_scenes.h"
 #include "cli/config.h"
 #include "cli/scene_runner.h"
+#include "vpp/config.h"
+#include "vpp/envelope.h"
+#include "vpp/tension.h"
 
 int main(int argc, char** argv) {
     CLI::App app{"vppdem: discrete element simulation of vacuum-packed particle dampers"};
@@ -39,6 +42,26 @@ int main(int argc, char** argv) {
     bench->add_option("--threads", bo.threads, "OpenMP threads")->check(CLI::PositiveNumber);
     bench->add_option("--underpressure", bo.underpressure, "[Pa] follower pressure on the foil");
 
+    // vppdem tension|envelope [CONFIG] --out DIR [--set ...]: the foil checks of the paper.
+    struct VppCommand {
+        CLI::App* app = nullptr;
+        std::string config, out;
+        std::vector<std::string> sets;
+        bool overwrite = false, quiet = false;
+    };
+    auto add_vpp = [&](const char* name, const char* help, VppCommand& c) {
+        c.app = app.add_subcommand(name, help);
+        c.app->add_option("config", c.config, "Config file (TOML); defaults are the paper's values")
+            ->check(CLI::ExistingFile);
+        c.app->add_option("--out", c.out, "Output directory")->required();
+        c.app->add_option("--set", c.sets, "Override a config key: section.key=value (repeatable)");
+        c.app->add_flag("--overwrite", c.overwrite, "Replace files in a non-empty output directory");
+        c.app->add_flag("--quiet", c.quiet, "No progress output");
+    };
+    VppCommand tension, envelope;
+    add_vpp("tension", "Uniaxial tension of a foil strip (the paper's 37 x 12 test)", tension);
+    add_vpp("envelope", "Empty foil cylinder under a ramped underpressure (the paper's sanity check)", envelope);
+
     CLI11_PARSE(app, argc, argv);
     try {
         if (*scene) {
@@ -48,6 +71,14 @@ int main(int argc, char** argv) {
             cli::run_scene(sc, {out_dir, overwrite, quiet});
         } else if (*bench) {
             cli::run_bench(bo);
+        } else if (*tension.app) {
+            const vpp::Config c = vpp::load_config(tension.config, tension.sets, 0.01e6);
+            cli::prepare_output_dir(tension.out, tension.overwrite);
+            vpp::run_tension(c, tension.out, tension.quiet);
+        } else if (*envelope.app) {
+            const vpp::Config c = vpp::load_config(envelope.config, envelope.sets, 0.01e6);
+            cli::prepare_output_dir(envelope.out, envelope.overwrite);
+            vpp::run_envelope(c, envelope.out, envelope.quiet);
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "vppdem: error: %s\n", e.what());

@@ -69,6 +69,26 @@ uint32_t World::add_motion(const Motion& m) {
     return uint32_t(motions.size() - 1);
 }
 
+void World::set_fixed(uint32_t i) {
+    Particles& p = particles;
+    p.flags[i] = (p.flags[i] | kFixed) & ~uint32_t(kPrescribed);
+    p.inv_mass[i] = p.inv_inertia[i] = 0.0;
+    p.vel[i] = p.angvel[i] = Vec3{};
+    p.motion[i] = -1;
+    physics_dirty_ = true;  // reduced masses of its contacts change
+}
+
+void World::set_prescribed(uint32_t i, uint32_t motion) {
+    Particles& p = particles;
+    p.flags[i] = (p.flags[i] | kPrescribed) & ~uint32_t(kFixed);
+    p.inv_mass[i] = p.inv_inertia[i] = 0.0;
+    p.angvel[i] = Vec3{};
+    p.motion[i] = int32_t(motion);
+    // The motion's displacement is measured from where the particle is at time 0 of the motion.
+    p.ref_pos[i] = p.pos[i] - motions[motion].displacement(time);
+    physics_dirty_ = true;
+}
+
 uint32_t World::add_bond(uint32_t i, uint32_t j, double kn, double ks, double rest_length) {
     if (i == j || i >= particles.size() || j >= particles.size())
         throw std::invalid_argument("bond between invalid particle indices");

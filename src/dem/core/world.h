@@ -46,6 +46,10 @@ public:
     uint32_t add_plane(const Plane& p);
     uint32_t add_facet(const Facet& f);
     uint32_t add_motion(const Motion& m);
+    // Blocks all six degrees of freedom of particle i from now on.
+    void set_fixed(uint32_t i);
+    // Particle i follows motions[motion] from its current position (no rotation).
+    void set_prescribed(uint32_t i, uint32_t motion);
     // Permanent bond; rest_length < 0 takes the current centre distance.
     uint32_t add_bond(uint32_t i, uint32_t j, double kn, double ks, double rest_length = -1.0);
     const BondList& bonds() const { return bonds_; }

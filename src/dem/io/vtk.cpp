@@ -15,28 +15,49 @@ void add_vec(std::string& s, const Vec3& v) {
 }
 }  // namespace
 
-void write_particles_vtk(const std::string& path, const World& world) {
+void write_particles_vtk(const std::string& path, const World& world, bool with_bonds,
+                         const std::vector<uint32_t>* subset) {
     const Particles& p = world.particles;
-    const std::size_t n = p.size();
+    std::vector<uint32_t> all;
+    if (!subset) {
+        all.resize(p.size());
+        for (std::size_t i = 0; i < p.size(); ++i) all[i] = uint32_t(i);
+        subset = &all;
+    }
+    const std::vector<uint32_t>& ids = *subset;
+    const std::size_t n = ids.size();
+    std::vector<int64_t> local(p.size(), -1);  // particle index -> point index in this file
+    for (std::size_t k = 0; k < n; ++k) local[ids[k]] = int64_t(k);
     std::string s = "# vtk DataFile Version 3.0\nvppdem particles t=";
     append_number(s, world.time);
     s += "\nASCII\nDATASET POLYDATA\nPOINTS " + std::to_string(n) + " double\n";
-    for (std::size_t i = 0; i < n; ++i) add_vec(s, p.pos[i]);
+    for (uint32_t i : ids) add_vec(s, p.pos[i]);
     s += "VERTICES " + std::to_string(n) + " " + std::to_string(2 * n) + "\n";
-    for (std::size_t i = 0; i < n; ++i) s += "1 " + std::to_string(i) + "\n";
+    for (std::size_t k = 0; k < n; ++k) s += "1 " + std::to_string(k) + "\n";
+    if (with_bonds) {
+        const BondList& b = world.bonds();
+        std::string lines;
+        std::size_t nl = 0;
+        for (std::size_t k = 0; k < b.size(); ++k) {
+            if (local[b.i[k]] < 0 || local[b.j[k]] < 0) continue;
+            lines += "2 " + std::to_string(local[b.i[k]]) + " " + std::to_string(local[b.j[k]]) + "\n";
+            ++nl;
+        }
+        s += "LINES " + std::to_string(nl) + " " + std::to_string(3 * nl) + "\n" + lines;
+    }
     s += "POINT_DATA " + std::to_string(n) + "\nSCALARS radius double 1\nLOOKUP_TABLE default\n";
-    for (std::size_t i = 0; i < n; ++i) {
+    for (uint32_t i : ids) {
         append_number(s, p.radius[i]);
         s += '\n';
     }
     s += "SCALARS id int 1\nLOOKUP_TABLE default\n";
-    for (std::size_t i = 0; i < n; ++i) s += std::to_string(i) + "\n";
+    for (uint32_t i : ids) s += std::to_string(i) + "\n";
     s += "SCALARS material int 1\nLOOKUP_TABLE default\n";
-    for (std::size_t i = 0; i < n; ++i) s += std::to_string(p.material[i]) + "\n";
+    for (uint32_t i : ids) s += std::to_string(p.material[i]) + "\n";
     s += "VECTORS velocity double\n";
-    for (std::size_t i = 0; i < n; ++i) add_vec(s, p.vel[i]);
+    for (uint32_t i : ids) add_vec(s, p.vel[i]);
     s += "VECTORS angular_velocity double\n";
-    for (std::size_t i = 0; i < n; ++i) add_vec(s, p.angvel[i]);
+    for (uint32_t i : ids) add_vec(s, p.angvel[i]);
     write_text_atomic(path, s);
 }
 

@@ -8,8 +8,10 @@
 
 namespace dem {
 
-// Writes particles of `world` to `path` (atomically).
-void write_particles_vtk(const std::string& path, const World& world);
+// Writes particles of `world` to `path` (atomically); with_bonds adds the bonds as lines.
+// `subset` (optional) restricts the output to those particle indices.
+void write_particles_vtk(const std::string& path, const World& world, bool with_bonds = false,
+                         const std::vector<uint32_t>* subset = nullptr);
 // Writes the facets at their current position, and planes as squares of half-size `plane_size` [m].
 void write_walls_vtk(const std::string& path, const World& world, double plane_size);
 

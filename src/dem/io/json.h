@@ -1,0 +1,42 @@
+// Minimal JSON object writer for summaries (flat keys, numbers, strings, nested raw JSON).
+#pragma once
+
+#include <cmath>
+#include <string>
+
+#include "dem/io/csv.h"
+
+namespace dem {
+
+class JsonObject {
+public:
+    JsonObject& num(const std::string& key, double v) {
+        std::string s;
+        if (std::isfinite(v)) append_number(s, v);
+        else s = "null";
+        return raw(key, s);
+    }
+    JsonObject& str(const std::string& key, const std::string& v) { return raw(key, quote(v)); }
+    JsonObject& boolean(const std::string& key, bool v) { return raw(key, v ? "true" : "false"); }
+    JsonObject& raw(const std::string& key, const std::string& json) {
+        body_ += body_.empty() ? "\n  " : ",\n  ";
+        body_ += quote(key) + ": " + json;
+        return *this;
+    }
+    std::string text() const { return "{" + body_ + "\n}\n"; }
+
+    static std::string quote(const std::string& s) {
+        std::string out = "\"";
+        for (char c : s) {
+            if (c == '"' || c == '\\') out += '\\';
+            if (c == '\n') { out += "\\n"; continue; }
+            out += c;
+        }
+        return out + "\"";
+    }
+
+private:
+    std::string body_;
+};
+
+}  // namespace dem

@@ -1,0 +1,80 @@
+// Configuration of the VPP commands (tension, envelope, damper): one schema for all, so a
+// damper config can be handed to any of them. Defaults are the paper's calibrated values
+// (docs/model.md, ../shared/spec/model.md section 7). Every key is checked.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <toml++/toml.h>
+
+#include "vpp/foil.h"
+
+namespace vpp {
+
+struct GrainsDef {
+    double radius = 2.965e-3;       // [m] r_k
+    double density = 2689.639;      // [kg/m^3]
+    double young = 2.3e9;           // [Pa] E_k
+    double friction = 0.6;          // [-] mu_k
+    double stiffness_ratio = 0.5;   // [-] ks/kn
+    double volume_fraction = 0.54;  // [-] phi
+};
+
+struct DamperDef {
+    double radius = 0.0255;  // [m] r_p
+    double height = 0.100;   // [m] H_p
+};
+
+struct ProcessDef {
+    double underpressure = 0.06e6;  // [Pa] dp (the envelope command defaults to 0.01e6)
+    double ramp_time = 0.02;        // [s] dp rises linearly from 0 over this time
+    double hold_time = 0.08;        // [s] envelope: time held at full dp after the ramp
+    double amplitude = 0.010;       // [m] dz
+    double velocity = 3.33e-4;      // [m/s] v_z
+    int64_t cycles = 4;
+    int64_t samples_per_cycle = 500;
+    double sample_window = 2e-4;    // [s]
+};
+
+struct TensionDef {
+    int64_t sites_along = 37;   // sites in the pulling direction (paper: 37)
+    int64_t sites_across = 12;  // sites across (paper: 12)
+    double strain = 0.02;       // [-] final engineering strain
+    double speed = 0.05;        // [m/s] pulling speed (quasi-static: << bond wave speed ~ 500 m/s)
+};
+
+struct SimulationDef {
+    bool dt_auto = true;
+    double dt = 0.0;            // [s] when not auto
+    double dt_safety = 0.3;     // [-] dt = safety * critical step when auto
+    double local_damping = 0.2; // [-]
+    int threads = 1;
+    uint64_t seed = 1;
+    double skin = 0.0;          // [m] 0 = half the smallest radius
+};
+
+struct OutputDef {
+    double interval = 0.0;      // [s] rows of the time series; 0 = command default
+    double vtk_interval = 0.0;  // [s] VTK frames; 0 = command default
+};
+
+struct Config {
+    GrainsDef grains;
+    FoilDef foil;
+    DamperDef damper;
+    ProcessDef process;
+    TensionDef tension;
+    SimulationDef simulation;
+    OutputDef output;
+};
+
+// Reads the config (empty path: all defaults) with --set overrides. `default_underpressure`
+// is the command's default for process.underpressure when the file does not set it.
+Config load_config(const std::string& path, const std::vector<std::string>& overrides,
+                   double default_underpressure);
+
+// Time step for a world built from this config: fixed, or safety * critical step.
+double resolve_dt(const SimulationDef& s, const dem::World& w);
+
+}  // namespace vpp
