@@ -1,5 +1,6 @@
 #include "cli/config.h"
 
+#include <cmath>
 #include <sstream>
 
 namespace cfg {
@@ -162,12 +163,12 @@ std::vector<Section> Section::array_of_tables(const std::string& key) {
 }
 
 double Section::positive(const std::string& key, double v) const {
-    if (!(v > 0.0)) fail(key, "must be > 0");
+    if (!(v > 0.0) || !std::isfinite(v)) fail(key, "must be > 0 and finite");
     return v;
 }
 
 double Section::non_negative(const std::string& key, double v) const {
-    if (!(v >= 0.0)) fail(key, "must be >= 0");
+    if (!(v >= 0.0) || !std::isfinite(v)) fail(key, "must be >= 0 and finite");
     return v;
 }
 

@@ -24,7 +24,9 @@ int main(int argc, char** argv) {
     bool overwrite = false, quiet = false;
     scene->add_option("file", scene_file, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
     scene->add_option("--out", out_dir, "Output directory")->required();
-    scene->add_option("--set", sets, "Override a config key: section.key=value (repeatable)");
+    // allow_extra_args(false): one value per --set, so positionals may follow it.
+    scene->add_option("--set", sets, "Override a config key: section.key=value (repeatable)")
+        ->allow_extra_args(false);
     scene->add_flag("--overwrite", overwrite, "Replace files in a non-empty output directory");
     scene->add_flag("--quiet", quiet, "No progress output");
 
@@ -54,7 +56,8 @@ int main(int argc, char** argv) {
         c.app->add_option("config", c.config, "Config file (TOML); defaults are the paper's values")
             ->check(CLI::ExistingFile);
         c.app->add_option("--out", c.out, "Output directory")->required();
-        c.app->add_option("--set", c.sets, "Override a config key: section.key=value (repeatable)");
+        c.app->add_option("--set", c.sets, "Override a config key: section.key=value (repeatable)")
+            ->allow_extra_args(false);
         c.app->add_flag("--overwrite", c.overwrite, "Replace files in a non-empty output directory");
         c.app->add_flag("--quiet", c.quiet, "No progress output");
     };

@@ -1,5 +1,6 @@
 #include "cli/scene_runner.h"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -244,7 +245,11 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     top.finish();
     if (w.particles.size() == 0) throw ConfigError("the scene has no spheres: add [[spheres]] or [[sphere_files]]");
 
-    if (sc.dt_auto) w.params.dt = sc.dt_safety * w.critical_dt();
+    if (sc.dt_auto) {
+        w.params.dt = sc.dt_safety * w.critical_dt();
+        if (!std::isfinite(w.params.dt))  // no free sphere: nothing sets a critical step
+            sim.fail("dt", "\"auto\" needs at least one sphere that is not fixed; give dt in seconds");
+    }
     return sc;
 }
 
@@ -262,6 +267,16 @@ void run_scene(Scene& sc, const RunOptions& opt) {
     dem::World& w = sc.world;
     prepare_output_dir(opt.out_dir, opt.overwrite);
     const fs::path out(opt.out_dir);
+    if (opt.overwrite && fs::is_directory(out / "vtk")) {  // no stale frames of an earlier run
+        std::vector<fs::path> stale;
+        for (const auto& e : fs::directory_iterator(out / "vtk")) {
+            const std::string n = e.path().filename().string();
+            if (e.is_regular_file() && e.path().extension() == ".vtk" &&
+                (n.starts_with("particles_") || n.starts_with("walls_")))
+                stale.push_back(e.path());
+        }
+        for (const auto& f : stale) fs::remove(f);
+    }
     const double dt = w.params.dt;
     const uint64_t nsteps = uint64_t(std::llround(sc.duration / dt));
     if (!opt.quiet)
@@ -276,12 +291,16 @@ void run_scene(Scene& sc, const RunOptions& opt) {
     // Output times are multiples of the interval; a step records when it first reaches one.
     uint64_t next_out = 0, next_vtk = 0, vtk_frame = 0;
     const double eps = 0.5 * dt;
+    // Any interval up to dt records every step, so a tiny one is clamped (same rows) and the
+    // counters jump straight past t: no loop over a huge number of multiples.
+    const double out_iv = std::max(sc.output_interval, 1e-3 * dt);
+    const double vtk_iv = std::max(sc.vtk_interval, 1e-3 * dt);
     Progress progress("scene", nsteps, opt.quiet);
     const auto t0 = std::chrono::steady_clock::now();
     for (uint64_t s = 0; s <= nsteps; ++s) {
         w.compute_forces();
         const double t = w.time;
-        if (t + eps >= double(next_out) * sc.output_interval) {
+        if (t + eps >= double(next_out) * out_iv) {
             for (uint32_t id : sc.tracked) {
                 const Vec3 x = w.particles.pos[id], v = w.velocity_at_time(id), om = w.angular_velocity_at_time(id);
                 tracked.row({t, double(id), x.x, x.y, x.z, v.x, v.y, v.z, om.x, om.y, om.z});
@@ -294,16 +313,18 @@ void run_scene(Scene& sc, const RunOptions& opt) {
                 }
                 walls.row({t, double(k), f.x, f.y, f.z, tq.x, tq.y, tq.z});
             }
-            while (t + eps >= double(next_out) * sc.output_interval) ++next_out;
+            next_out = std::max(next_out, uint64_t(std::floor((t + eps) / out_iv)));
+            while (t + eps >= double(next_out) * out_iv) ++next_out;
         }
-        if (sc.vtk_interval > 0.0 && t + eps >= double(next_vtk) * sc.vtk_interval) {
+        if (sc.vtk_interval > 0.0 && t + eps >= double(next_vtk) * vtk_iv) {
             char name[64];
             std::snprintf(name, sizeof name, "particles_%06llu.vtk", (unsigned long long)vtk_frame);
             dem::write_particles_vtk((out / "vtk" / name).string(), w);
             std::snprintf(name, sizeof name, "walls_%06llu.vtk", (unsigned long long)vtk_frame);
             dem::write_walls_vtk((out / "vtk" / name).string(), w, 0.05);
             ++vtk_frame;
-            while (t + eps >= double(next_vtk) * sc.vtk_interval) ++next_vtk;
+            next_vtk = std::max(next_vtk, uint64_t(std::floor((t + eps) / vtk_iv)));
+            while (t + eps >= double(next_vtk) * vtk_iv) ++next_vtk;
         }
         if (s == nsteps) break;
         w.integrate();

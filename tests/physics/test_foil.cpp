@@ -107,7 +107,7 @@ TEST(Foil, EmptyEnvelopeFoldsInwardAndComesToRest) {
     c.damper.height = 0.05;
     c.process.ramp_time = 0.01;
     c.process.hold_time = 0.03;
-    c.simulation.threads = 2;
+    c.simulation.threads = 1;
     const vpp::EnvelopeResult r = vpp::run_envelope(c, "", true);
     std::printf("envelope: volume ratio %.4f, min gap %.4f r_f, KE final %.3g J, peak %.3g J, r_max %.6g m\n",
                 r.final_volume_ratio, r.min_gap, r.final_kinetic_energy, r.peak_kinetic_energy,

@@ -575,8 +575,14 @@ void World::integrate() {
         max_d2 = std::max(max_d2, norm2(p.pos[i] - ref_pos_[i]));
     }
     max_disp_ = std::sqrt(max_d2);
-    time = t1;
+    // Rebase when dt changed or someone set the clock (e.g. a restart from a checkpoint).
+    if (dt != dt_of_base_ || time != time_base_ + double(steps - step_base_) * dt_of_base_) {
+        time_base_ = time;
+        step_base_ = steps;
+        dt_of_base_ = dt;
+    }
     ++steps;
+    time = time_base_ + double(steps - step_base_) * dt;
 }
 
 void World::step() {

@@ -115,6 +115,10 @@ private:
     std::vector<Vec3> plane_point_, wall_vel_;
     std::vector<std::array<Vec3, 3>> facet_now_;
     std::vector<Vec3> wall_force_, wall_torque_;
+    // Time is base + (steps - base_step) * dt, not a running sum, so output times stay exact
+    // multiples of dt; the base moves whenever dt changes.
+    double time_base_ = 0.0, dt_of_base_ = -1.0;
+    uint64_t step_base_ = 0;
     double max_disp_ = 0.0;            // [m] largest particle move since the last rebuild
     bool candidates_dirty_ = true;
     bool physics_dirty_ = false;

@@ -1,0 +1,146 @@
+// Results must not depend on the OpenMP thread count: forces are written per contact and
+// gathered per particle in a fixed order, so 1, 2 and 3 threads must give bitwise-identical
+// positions, velocities, angular velocities and wall forces.
+#include <gtest/gtest.h>
+
+#include <bit>
+#include <cmath>
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "helpers.h"
+
+using namespace dem;
+using namespace dem::testing;
+
+namespace {
+
+constexpr double kBox = 0.1;
+
+// 500 spheres (10 x 10 x 5 jittered lattice, radii 4.5-5 mm, pitch 9.5 mm, jitter 0.1 mm, so
+// about half of the neighbour pairs start overlapping by up to 0.7 mm), random velocities,
+// a box of 5 one-sided planes, two tilted facets (a ramp) just under the packing and a
+// vertical two-sided blade between two columns of it, friction 0.5, gravity, damping 0.2,
+// plus bonds and membrane pressure on the top layer.
+World make_scene(int threads) {
+    World w;
+    w.params.threads = threads;
+    w.params.gravity = {0, 0, -9.81};
+    w.params.local_damping = 0.2;
+    w.add_material(make_material(1e6, 0.5, 1.0));
+    w.add_material(make_material(2e6, 0.3, 0.6));  // walls: other stiffness, friction, restitution
+    std::mt19937_64 rng(20240607);
+    std::uniform_real_distribution<double> rad(0.0045, 0.005), jit(-0.0001, 0.0001), vel(-0.5, 0.5);
+    const double pitch = 0.0095;
+    for (int k = 0; k < 5; ++k)
+        for (int j = 0; j < 10; ++j)
+            for (int i = 0; i < 10; ++i) {
+                SphereDef s;
+                s.radius = rad(rng);
+                s.position = {0.005 + i * pitch + jit(rng), 0.005 + j * pitch + jit(rng),
+                              0.013 + k * pitch + jit(rng)};
+                s.velocity = {vel(rng), vel(rng), vel(rng) - 0.3};
+                s.angular_velocity = {vel(rng) * 20, vel(rng) * 20, vel(rng) * 20};
+                w.add_sphere(s);
+            }
+    auto plane = [&](Vec3 pt, Vec3 n) {
+        Plane p;
+        p.point = pt;
+        p.normal = n;
+        p.material = 1;
+        p.one_sided = true;
+        w.add_plane(p);
+    };
+    plane({0, 0, 0}, {0, 0, 1});
+    plane({0, 0, 0}, {1, 0, 0});
+    plane({kBox, 0, 0}, {-1, 0, 0});
+    plane({0, 0, 0}, {0, 1, 0});
+    plane({0, kBox, 0}, {0, -1, 0});
+    // Ramp z = 0.005 + 0.02 x over the whole floor, as two triangles (normal up).
+    auto zf = [](double x) { return 0.005 + 0.02 * x; };
+    Facet f;
+    f.material = 1;
+    f.vertices = {Vec3{0, 0, zf(0)}, Vec3{kBox, 0, zf(kBox)}, Vec3{kBox, kBox, zf(kBox)}};
+    w.add_facet(f);
+    f.vertices = {Vec3{0, 0, zf(0)}, Vec3{kBox, kBox, zf(kBox)}, Vec3{0, kBox, zf(0)}};
+    w.add_facet(f);
+    // A vertical two-sided blade in the plane x = x_b halfway between lattice columns 4 and 5
+    // (centres 4.75 mm away: the bigger spheres touch it).
+    const double xb = 0.005 + 4.5 * pitch;
+    f.vertices = {Vec3{xb, 0.01, 0.01}, Vec3{xb, 0.09, 0.01}, Vec3{xb, 0.05, 0.07}};
+    w.add_facet(f);
+    // The top layer (k = 4) is a bonded membrane patch: bonds between lattice neighbours
+    // (rest length = current distance) and a follower pressure on every other interior node,
+    // so the bond and pressure kernels are covered too.
+    auto idx = [](int i, int j, int k) { return uint32_t((k * 10 + j) * 10 + i); };
+    const double kb = 1e6 * 0.005;
+    for (int j = 0; j < 10; ++j)
+        for (int i = 0; i < 10; ++i) {
+            if (i + 1 < 10) w.add_bond(idx(i, j, 4), idx(i + 1, j, 4), kb, 0.5 * kb);
+            if (j + 1 < 10) w.add_bond(idx(i, j, 4), idx(i, j + 1, 4), kb, 0.5 * kb);
+        }
+    for (int j = 2; j < 9; j += 2)
+        for (int i = 2; i < 9; i += 2)
+            w.pressure.nodes.push_back(
+                {idx(i, j, 4), {idx(i + 1, j, 4), idx(i, j + 1, 4), idx(i - 1, j, 4), idx(i, j - 1, 4)}});
+    w.pressure.dp = 10.0;  // [Pa] force 4 h^2 dp ~ m g per node
+    w.params.dt = 0.2 * w.critical_dt();
+    return w;
+}
+
+struct Snapshot {
+    std::vector<double> values;  // pos, vel, angvel of every particle, then wall forces
+    uint64_t rebuilds = 0;
+    std::size_t contacts = 0;
+};
+
+Snapshot run(int threads, int steps) {
+    World w = make_scene(threads);
+    for (int s = 0; s < steps; ++s) w.step();
+    w.compute_forces();
+    Snapshot snap;
+    for (std::size_t i = 0; i < w.particles.size(); ++i)
+        for (const Vec3* v : {&w.particles.pos[i], &w.particles.vel[i], &w.particles.angvel[i]})
+            for (int d = 0; d < 3; ++d) snap.values.push_back((*v)[d]);
+    for (std::size_t k = 0; k < w.wall_count(); ++k)
+        for (int d = 0; d < 3; ++d) {
+            snap.values.push_back(w.wall_force(k)[d]);
+            snap.values.push_back(w.wall_torque(k)[d]);
+        }
+    snap.rebuilds = w.rebuild_count();
+    snap.contacts = w.contact_count();
+    return snap;
+}
+
+}  // namespace
+
+TEST(PhysicsDeterminism, BitwiseIdenticalAcrossThreadCounts) {
+    constexpr int kSteps = 300;
+    const Snapshot ref = run(1, kSteps);
+    // The scene must exercise what could break determinism: many contacts, wall and facet
+    // contacts, and candidate-list rebuilds (history carried across merges).
+    std::cout << "[measure] determinism scene: contacts=" << ref.contacts << " rebuilds=" << ref.rebuilds
+              << "\n";
+    EXPECT_GT(ref.contacts, 100u);
+    EXPECT_GE(ref.rebuilds, 3u);
+    for (double v : ref.values) ASSERT_TRUE(std::isfinite(v));
+    for (int threads : {2, 3}) {
+        const Snapshot s = run(threads, kSteps);
+        ASSERT_EQ(s.values.size(), ref.values.size());
+        EXPECT_EQ(s.rebuilds, ref.rebuilds) << "threads=" << threads;
+        EXPECT_EQ(s.contacts, ref.contacts) << "threads=" << threads;
+        std::size_t mismatches = 0, first = s.values.size();
+        for (std::size_t k = 0; k < s.values.size(); ++k)
+            if (std::bit_cast<uint64_t>(s.values[k]) != std::bit_cast<uint64_t>(ref.values[k])) {
+                ++mismatches;
+                if (first == s.values.size()) first = k;
+            }
+        std::cout << "[measure] determinism threads=" << threads << ": bitwise mismatches=" << mismatches
+                  << " of " << s.values.size() << " (tol 0)\n";
+        EXPECT_EQ(mismatches, 0u) << "threads=" << threads;
+        if (first < s.values.size()) {
+            EXPECT_EQ(s.values[first], ref.values[first]) << "first mismatch at value " << first;
+        }
+    }
+}

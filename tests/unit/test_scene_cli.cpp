@@ -1,0 +1,693 @@
+// Contract tests of `vppdem scene` (docs/scene.md): they run the real binary on small TOML
+// scenes and read back tracked.csv, walls.csv, summary.json and the VTK frames.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <numbers>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#ifndef VPPDEM_BINARY
+#error "VPPDEM_BINARY must name the built vppdem executable"
+#endif
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kG = 9.81;
+
+// A fresh directory per test, removed at the end.
+class TempDir {
+public:
+    TempDir() {
+        static std::atomic<int> counter{0};
+        const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+        path_ = fs::temp_directory_path() /
+                ("vppdem_scene_cli_" + std::string(info->name()) + "_" + std::to_string(::getpid()) + "_" +
+                 std::to_string(counter++));
+        fs::remove_all(path_);
+        fs::create_directories(path_);
+    }
+    ~TempDir() {
+        std::error_code ec;
+        fs::remove_all(path_, ec);
+    }
+    const fs::path& path() const { return path_; }
+    fs::path operator/(const std::string& name) const { return path_ / name; }
+
+private:
+    fs::path path_;
+};
+
+std::string quote(const std::string& s) {  // for the shell
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+std::string quote(const fs::path& p) { return quote(p.string()); }
+
+struct Result {
+    int rc = -1;
+    std::string output;  // stdout and stderr together
+};
+
+// Runs `vppdem ARGS` (optionally from the directory `cwd`).
+Result run_vppdem(const std::string& args, const fs::path& cwd = {}) {
+    std::string cmd;
+    if (!cwd.empty()) cmd = "cd " + quote(cwd) + " && ";
+    cmd += quote(std::string(VPPDEM_BINARY)) + " " + args + " 2>&1";
+    Result r;
+    FILE* p = ::popen(cmd.c_str(), "r");
+    if (!p) return r;
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+    const int status = ::pclose(p);
+    r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return r;
+}
+
+// Runs `vppdem scene FILE --out OUT --quiet EXTRA`.
+Result run_scene(const fs::path& file, const fs::path& out, const std::string& extra = "") {
+    return run_vppdem("scene " + quote(file) + " --out " + quote(out) + " --quiet " + extra);
+}
+
+void write_file(const fs::path& p, const std::string& text) {
+    fs::create_directories(p.parent_path());
+    std::ofstream(p, std::ios::binary) << text;
+}
+
+std::string read_file(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::string first_line(const fs::path& p) {
+    std::ifstream in(p);
+    std::string line;
+    std::getline(in, line);
+    return line;
+}
+
+struct Csv {
+    std::string header;
+    std::vector<std::vector<double>> rows;
+};
+
+Csv read_csv(const fs::path& p) {
+    Csv c;
+    std::ifstream in(p);
+    std::getline(in, c.header);
+    for (std::string line; std::getline(in, line);) {
+        if (line.empty()) continue;
+        std::vector<double> row;
+        std::stringstream ss(line);
+        for (std::string cell; std::getline(ss, cell, ',');) row.push_back(std::stod(cell));
+        c.rows.push_back(row);
+    }
+    return c;
+}
+
+// Rows of walls.csv at the last output time, indexed by the wall column.
+std::map<int, std::vector<double>> last_wall_rows(const Csv& walls) {
+    std::map<int, std::vector<double>> out;
+    if (walls.rows.empty()) return out;
+    const double t_end = walls.rows.back()[0];
+    for (const auto& r : walls.rows)
+        if (r[0] == t_end) out[int(r[1])] = r;
+    return out;
+}
+
+// A number after "key": in summary.json.
+double json_number(const std::string& json, const std::string& key) {
+    const auto k = json.find("\"" + key + "\":");
+    if (k == std::string::npos) return std::nan("");
+    return std::strtod(json.c_str() + k + key.size() + 3, nullptr);
+}
+
+std::set<std::string> listing(const fs::path& dir) {
+    std::set<std::string> names;
+    for (const auto& e : fs::recursive_directory_iterator(dir))
+        names.insert(fs::relative(e.path(), dir).string());
+    return names;
+}
+
+double sphere_mass(double density, double r) { return density * 4.0 / 3.0 * kPi * r * r * r; }
+
+const char* kGlass = R"(
+[[materials]]
+name = "glass"
+density = 2800.0
+young = 4.8e10
+stiffness_ratio = 0.5
+friction = 0.35
+restitution = 1.0
+)";
+
+// A damped material so that spheres settle quickly on walls.
+const char* kSoftDamped = R"(
+[[materials]]
+name = "grain"
+density = 2000.0
+young = 1.0e9
+stiffness_ratio = 0.5
+friction = 0.5
+restitution = 0.2
+
+[[materials]]
+name = "steel"
+density = 7800.0
+young = 2.0e11
+stiffness_ratio = 0.5
+friction = 0.5
+restitution = 0.2
+)";
+
+// One free sphere in space, tracked, with a few steps.
+std::string tiny_scene() {
+    return std::string(R"(
+[simulation]
+dt = 1.0e-6
+duration = 2.0e-5
+gravity = [0.0, 0.0, -9.81]
+output_interval = 1.0e-5
+)") + kGlass + R"(
+[[spheres]]
+material = "glass"
+radius = 0.01
+position = [0.0, 0.0, 1.0]
+track = true
+
+[[planes]]
+material = "glass"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+)";
+}
+
+}  // namespace
+
+TEST(SceneCli, HeadersAreExact) {
+    TempDir d;
+    write_file(d / "s.toml", tiny_scene());
+    const Result r = run_scene(d / "s.toml", d / "out");
+    ASSERT_EQ(r.rc, 0) << r.output;
+    EXPECT_EQ(first_line(d / "out/tracked.csv"), "time,id,x,y,z,vx,vy,vz,wx,wy,wz");
+    const std::string wh = first_line(d / "out/walls.csv");
+    EXPECT_EQ(wh.rfind("time,wall,fx,fy,fz", 0), 0u) << wh;  // the contract: this prefix
+    EXPECT_EQ(wh, "time,wall,fx,fy,fz,tx,ty,tz");             // our implementation
+    EXPECT_TRUE(fs::exists(d / "out/summary.json"));
+    EXPECT_FALSE(fs::exists(d / "out/vtk"));  // no [output] vtk_interval: no VTK files
+    // No leftovers of the atomic writes.
+    for (const auto& name : listing(d / "out")) EXPECT_EQ(name.find(".part"), std::string::npos) << name;
+}
+
+TEST(SceneCli, TrackedIdsFollowInputOrder) {
+    TempDir d;
+    std::string s = std::string("[simulation]\ndt = 1e-6\nduration = 1e-5\noutput_interval = 5e-6\n") + kGlass;
+    const char* track[] = {"true", "false", "true"};
+    for (int k = 0; k < 3; ++k)
+        s += "[[spheres]]\nmaterial = \"glass\"\nradius = 0.01\nposition = [" + std::to_string(k) +
+             ".0, 0.0, 0.0]\ntrack = " + track[k] + "\n";
+    write_file(d / "s.toml", s);
+    const Result r = run_scene(d / "s.toml", d / "out");
+    ASSERT_EQ(r.rc, 0) << r.output;
+    const Csv c = read_csv(d / "out/tracked.csv");
+    ASSERT_EQ(c.rows.size(), 3u * 2u);  // t = 0, 5e-6, 1e-5; ids 0 and 2
+    for (std::size_t k = 0; k < c.rows.size(); ++k) {
+        const double id = k % 2 == 0 ? 0.0 : 2.0;
+        EXPECT_EQ(c.rows[k][1], id);
+        EXPECT_EQ(c.rows[k][2], id);  // x0 = id: the row really is that sphere
+        EXPECT_EQ(c.rows[k].size(), 11u);
+    }
+}
+
+TEST(SceneCli, RowTimesAreMultiplesOfOutputInterval) {
+    TempDir d;
+    const double interval = 1e-5;
+    write_file(d / "s.toml", std::string(R"(
+[simulation]
+dt = 1.0e-6
+duration = 1.0e-4
+output_interval = 1.0e-5
+)") + kGlass + R"(
+[[spheres]]
+material = "glass"
+radius = 0.01
+position = [0.0, 0.0, 0.5]
+track = true
+[[spheres]]
+material = "glass"
+radius = 0.01
+position = [0.5, 0.0, 0.5]
+track = true
+[[planes]]
+material = "glass"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+[[facets]]
+material = "glass"
+vertices = [[0.0, 0.0, -1.0], [1.0, 0.0, -1.0], [0.0, 1.0, -1.0]]
+)");
+    const Result r = run_scene(d / "s.toml", d / "out");
+    ASSERT_EQ(r.rc, 0) << r.output;
+    for (const char* file : {"tracked.csv", "walls.csv"}) {
+        SCOPED_TRACE(file);
+        const Csv c = read_csv(d / "out" / file);
+        ASSERT_EQ(c.rows.size(), 11u * 2u);  // 11 times (0 ... 1e-4) x 2 spheres or 2 walls
+        for (std::size_t k = 0; k < c.rows.size(); ++k) {
+            const double t = c.rows[k][0];
+            const double expected = double(k / 2) * interval;
+            EXPECT_NEAR(t, expected, 1e-9 * interval) << "row " << k;
+            EXPECT_NEAR(t / interval, std::round(t / interval), 1e-9) << "row " << k;
+        }
+    }
+}
+
+TEST(SceneCli, FreeFallMatchesConstantAcceleration) {
+    TempDir d;
+    const double z0 = 2.0, vx = 0.5, dt = 1e-5;
+    write_file(d / "s.toml", std::string(R"(
+[simulation]
+dt = 1.0e-5
+duration = 0.02
+gravity = [0.0, 0.0, -9.81]
+output_interval = 1.0e-3
+)") + kGlass + R"(
+[[spheres]]
+material = "glass"
+radius = 0.01
+position = [0.0, 0.0, 2.0]
+velocity = [0.5, 0.0, 0.0]
+track = true
+)");
+    const Result r = run_scene(d / "s.toml", d / "out");
+    ASSERT_EQ(r.rc, 0) << r.output;
+    const Csv c = read_csv(d / "out/tracked.csv");
+    ASSERT_EQ(c.rows.size(), 21u);
+    for (const auto& row : c.rows) {
+        const double t = row[0];
+        const double z_exact = z0 - 0.5 * kG * t * t;
+        EXPECT_NEAR(row[4], z_exact, 1e-6 * std::abs(z_exact)) << "t = " << t;
+        // Leapfrog is exact for a constant acceleration up to the half-step offset of the
+        // initial velocity: |z - z_exact| <= g t dt / 2.
+        EXPECT_LE(std::abs(row[4] - z_exact), 0.5 * kG * t * dt * (1 + 1e-6) + 1e-14) << "t = " << t;
+        EXPECT_NEAR(row[2], vx * t, 1e-12) << "t = " << t;  // no horizontal force
+        EXPECT_EQ(row[3], 0.0);
+    }
+    EXPECT_NEAR(c.rows.back()[0], 0.02, 1e-12);
+}
+
+TEST(SceneCli, RestingSpherePushesPlaneDownWithItsWeight) {
+    // walls.csv holds the force the particles exert ON the wall: a sphere resting on a floor
+    // with normal +z pushes it along -z with its weight, fz = -m g.
+    TempDir d;
+    const double r = 0.01, x = 0.1;
+    write_file(d / "s.toml", std::string(R"(
+[simulation]
+dt = 2.0e-6
+duration = 4.0e-3
+gravity = [0.0, 0.0, -9.81]
+output_interval = 1.0e-3
+)") + kSoftDamped + R"(
+[[spheres]]
+material = "grain"
+radius = 0.01
+position = [0.1, 0.0, 0.01]
+track = true
+[[planes]]
+material = "steel"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+)");
+    const Result res = run_scene(d / "s.toml", d / "out");
+    ASSERT_EQ(res.rc, 0) << res.output;
+    const double m = sphere_mass(2000.0, r), w = m * kG;
+    const auto last = last_wall_rows(read_csv(d / "out/walls.csv"));
+    ASSERT_EQ(last.size(), 1u);
+    const auto& f = last.at(0);
+    EXPECT_NEAR(f[4], -w, 1e-6 * w);  // fz: points along -normal
+    EXPECT_NEAR(f[2], 0.0, 1e-9 * w);
+    EXPECT_NEAR(f[3], 0.0, 1e-9 * w);
+    // Torque about the origin of the force at the contact point (x, 0, ~0): (0, x m g, 0).
+    EXPECT_NEAR(f[5], 0.0, 1e-9 * w);
+    EXPECT_NEAR(f[6], x * w, 1e-6 * x * w);
+    EXPECT_NEAR(f[7], 0.0, 1e-9 * w);
+    // Contact stiffness: each side a spring E*r (the wall counts as a sphere of the particle's
+    // radius), in series: kn = 2 E1 r E2 r / (E1 r + E2 r). Overlap at rest = m g / kn.
+    const double e1 = 1.0e9 * r, e2 = 2.0e11 * r, kn = 2.0 * e1 * e2 / (e1 + e2);
+    const Csv tr = read_csv(d / "out/tracked.csv");
+    const double overlap = r - tr.rows.back()[4];
+    EXPECT_NEAR(overlap, w / kn, 1e-4 * w / kn);
+    EXPECT_NEAR(tr.rows.back()[7], 0.0, 1e-9);  // at rest
+}
+
+TEST(SceneCli, WallsArePlanesThenFacetsThenFacetSetsInInputOrder) {
+    // Four spheres of different weights, each resting on its own wall; the facets come first in
+    // the file, but walls.csv lists planes first, then facets, then facet sets.
+    TempDir d;
+    const double radii[4] = {0.010, 0.012, 0.014, 0.016};  // on plane 0, plane 1, facet 0, facet 1
+    write_file(d / "s.toml", std::string(R"(
+[simulation]
+dt = 2.0e-6
+duration = 4.0e-3
+gravity = [0.0, 0.0, -9.81]
+output_interval = 1.0e-3
+)") + kSoftDamped + R"(
+[[facets]]
+material = "steel"
+vertices = [[-0.1, -0.1, 0.0], [0.1, -0.1, 0.0], [0.0, 0.1, 0.0]]
+[[facets]]
+material = "steel"
+vertices = [[-0.1, -0.1, 1.0], [0.1, -0.1, 1.0], [0.0, 0.1, 1.0]]
+[[facet_sets]]
+type = "cylinder"
+material = "steel"
+base = [5.0, 5.0, -3.0]
+radius = 0.1
+height = 0.5
+segments = 12
+[[planes]]
+material = "steel"
+point = [0.0, 0.0, -1.0]
+normal = [0.0, 0.0, 1.0]
+[[planes]]
+material = "steel"
+point = [0.0, 0.0, -2.0]
+normal = [0.0, 0.0, 1.0]
+[[spheres]]
+material = "grain"
+radius = 0.010
+position = [0.0, 0.0, -0.990]
+[[spheres]]
+material = "grain"
+radius = 0.012
+position = [0.0, 0.0, -1.988]
+[[spheres]]
+material = "grain"
+radius = 0.014
+position = [0.0, 0.0, 0.014]
+[[spheres]]
+material = "grain"
+radius = 0.016
+position = [0.0, 0.0, 1.016]
+)");
+    const Result res = run_scene(d / "s.toml", d / "out");
+    ASSERT_EQ(res.rc, 0) << res.output;
+    const Csv walls = read_csv(d / "out/walls.csv");
+    // Every output time lists walls 0..4 in order.
+    ASSERT_EQ(walls.rows.size() % 5, 0u);
+    for (std::size_t k = 0; k < walls.rows.size(); ++k) EXPECT_EQ(walls.rows[k][1], double(k % 5));
+    const auto last = last_wall_rows(walls);
+    ASSERT_EQ(last.size(), 5u);
+    for (int k = 0; k < 4; ++k) {
+        const double w = sphere_mass(2000.0, radii[k]) * kG;
+        EXPECT_NEAR(last.at(k)[4], -w, 1e-6 * w) << "wall " << k;
+    }
+    for (int c = 2; c < 8; ++c) EXPECT_EQ(last.at(4)[c], 0.0);  // the cylinder: untouched
+    const std::string summary = read_file(d / "out/summary.json");
+    EXPECT_NE(summary.find(R"("walls": ["planes[0]", "planes[1]", "facets[0]", "facets[1]", "facet_sets[0]"])"),
+              std::string::npos)
+        << summary;
+    EXPECT_EQ(json_number(summary, "facets"), 2.0 + 24.0);  // 12 segments: 24 triangles
+}
+
+TEST(SceneCli, SphereFilesWithAndWithoutHeaderAndRelativePaths) {
+    TempDir d;
+    write_file(d / "scene/data/with_header.csv", "x,y,z,r\n1.0,0.0,0.0,0.01\n2.0,0.0,0.0,0.02\n");
+    write_file(d / "scene/data/plain.csv", "# a comment line\n3.0, 0.0, 0.0, 0.03\r\n4.0,0.0,0.0,0.04\n");
+    write_file(d / "scene/s.toml", std::string(R"(
+[simulation]
+dt = 1.0e-6
+duration = 2.0e-6
+gravity = [0.0, 0.0, 0.0]
+output_interval = 1.0e-6
+[output]
+vtk_interval = 1.0e-6
+)") + kGlass + R"(
+[[spheres]]
+material = "glass"
+radius = 0.01
+position = [0.0, 0.0, 0.0]
+[[sphere_files]]
+path = "data/with_header.csv"
+material = "glass"
+track = true
+[[sphere_files]]
+path = "data/plain.csv"
+material = "glass"
+velocity = [0.0, 0.0, 1.0]
+track = true
+)");
+    // Relative paths are resolved against the scene file's folder, not the working directory.
+    fs::create_directories(d / "elsewhere");
+    const Result r = run_vppdem("scene ../scene/s.toml --out out --quiet", d / "elsewhere");
+    ASSERT_EQ(r.rc, 0) << r.output;
+    const fs::path out = d / "elsewhere/out";
+    EXPECT_EQ(json_number(read_file(out / "summary.json"), "particles"), 5.0);
+    const Csv c = read_csv(out / "tracked.csv");
+    ASSERT_EQ(c.rows.size(), 3u * 4u);  // 3 times x 4 tracked spheres
+    // ids: [[spheres]] first (id 0), then the rows of each [[sphere_files]] entry in order.
+    for (std::size_t k = 0; k < c.rows.size(); ++k) {
+        const double id = double(1 + k % 4);
+        EXPECT_EQ(c.rows[k][1], id) << "row " << k;
+        EXPECT_EQ(c.rows[k][2], id) << "row " << k;  // x from the file
+        EXPECT_EQ(c.rows[k][7], id >= 3 ? 1.0 : 0.0) << "row " << k;  // velocity of the entry
+    }
+    EXPECT_NEAR(c.rows.back()[4], 2e-6, 1e-15);  // id 4 moved with the entry's velocity
+    // The r column is the radius: the VTK radius field lists 0.01 (the [[spheres]]) then the files.
+    const std::string vtk = read_file(out / "vtk/particles_000000.vtk");
+    const std::string field = "SCALARS radius double 1\nLOOKUP_TABLE default\n";
+    const auto k = vtk.find(field);
+    ASSERT_NE(k, std::string::npos) << vtk;
+    std::istringstream radii(vtk.substr(k + field.size()));
+    for (double expected : {0.01, 0.01, 0.02, 0.03, 0.04}) {
+        double v = 0;
+        radii >> v;
+        EXPECT_EQ(v, expected);
+    }
+}
+
+TEST(SceneCli, DtAutoIsReportedInSummary) {
+    TempDir d;
+    write_file(d / "s.toml", std::string(R"(
+[simulation]
+dt = "auto"
+dt_safety = 0.25
+duration = 1.0e-4
+output_interval = 1.0e-12
+)") + kGlass + R"(
+[[spheres]]
+material = "glass"
+radius = 0.01
+position = [0.0, 0.0, 0.0]
+track = true
+)");
+    const Result r = run_scene(d / "s.toml", d / "out");
+    ASSERT_EQ(r.rc, 0) << r.output;
+    const std::string s = read_file(d / "out/summary.json");
+    EXPECT_NE(s.find("\"dt_auto\": true"), std::string::npos) << s;
+    const double dt = json_number(s, "dt"), crit = json_number(s, "critical_dt");
+    ASSERT_GT(dt, 0.0) << s;
+    EXPECT_NEAR(dt, 0.25 * crit, 1e-8 * dt);
+    // Glass sphere, r = 1 cm, no walls: critical step sqrt(m / (E r)).
+    const double m = sphere_mass(2800.0, 0.01);
+    EXPECT_NEAR(crit, std::sqrt(m / (4.8e10 * 0.01)), 1e-8 * crit);
+    // An interval below dt writes every step: the rows are dt apart.
+    const Csv c = read_csv(d / "out/tracked.csv");
+    ASSERT_GE(c.rows.size(), 3u);
+    EXPECT_EQ(double(c.rows.size() - 1), json_number(s, "steps"));
+    EXPECT_NEAR(c.rows[2][0] - c.rows[1][0], dt, 1e-8 * dt);
+
+    // The bare word auto also works from --set.
+    const Result r2 = run_scene(d / "s.toml", d / "out2", "--set simulation.dt=1e-6 --set simulation.dt=auto");
+    ASSERT_EQ(r2.rc, 0) << r2.output;
+    EXPECT_NE(read_file(d / "out2/summary.json").find("\"dt_auto\": true"), std::string::npos);
+}
+
+TEST(SceneCli, ErrorsNameTheKeyAndWriteNothing) {
+    const std::string sphere = "[[spheres]]\nmaterial = \"glass\"\nradius = 0.01\nposition = [0.0, 0.0, 0.0]\n";
+    const std::string ok = std::string(kGlass) + sphere;
+    struct Case {
+        const char* name;
+        std::string toml;
+        std::string args;      // extra command-line arguments
+        std::string expected;  // substring of the message
+    };
+    const std::vector<Case> cases = {
+        {"malformed TOML", "[simulation\ndt = 1e-6\n" + ok, "", "line 1"},
+        {"malformed value", "[simulation]\ndt = 1e-6 1e-7\n" + ok, "", "line 2"},
+        {"unknown top-level key", "colour = 1\n" + ok, "", "'colour'"},
+        {"unknown key in [simulation]", "[simulation]\ndtt = 1e-6\n" + ok, "", "simulation.dtt"},
+        {"unknown key in [[spheres]]", ok + "colour = \"red\"\n", "", "spheres[0].colour"},
+        {"unknown key in [[materials]]", "[[materials]]\nname = \"glass\"\npoisson = 0.3\n" + sphere, "",
+         "materials[0].poisson"},
+        {"unknown key in [output]", "[output]\nvtk = 1e-3\n" + ok, "", "output.vtk"},
+        {"unknown material", std::string(kGlass) + "[[spheres]]\nmaterial = \"steel\"\nradius = 0.01\n"
+                                                   "position = [0.0, 0.0, 0.0]\n",
+         "", "spheres[0].material"},
+        {"negative radius", std::string(kGlass) + "[[spheres]]\nmaterial = \"glass\"\nradius = -0.01\n"
+                                                  "position = [0.0, 0.0, 0.0]\n",
+         "", "spheres[0].radius"},
+        {"dt = 0", "[simulation]\ndt = 0.0\n" + ok, "", "simulation.dt"},
+        {"dt = -1", "[simulation]\ndt = -1\n" + ok, "", "simulation.dt"},
+        {"dt = fast", "[simulation]\ndt = \"fast\"\n" + ok, "", "simulation.dt"},
+        {"dt = inf", "[simulation]\ndt = inf\n" + ok, "", "simulation.dt"},
+        {"duration = inf", "[simulation]\nduration = inf\n" + ok, "", "simulation.duration"},
+        {"output_interval = 0", "[simulation]\noutput_interval = 0.0\n" + ok, "", "simulation.output_interval"},
+        {"gravity of 2 numbers", "[simulation]\ngravity = [0.0, -9.81]\n" + ok, "", "simulation.gravity"},
+        {"threads = 0", "[simulation]\nthreads = 0\n" + ok, "", "simulation.threads"},
+        {"missing position", std::string(kGlass) + "[[spheres]]\nmaterial = \"glass\"\nradius = 0.01\n", "",
+         "spheres[0].position"},
+        {"missing radius", std::string(kGlass) + "[[spheres]]\nmaterial = \"glass\"\nposition = [0.0, 0.0, 0.0]\n",
+         "", "spheres[0].radius"},
+        {"missing material name", "[[materials]]\ndensity = 1000.0\n" + sphere, "", "materials[0].name"},
+        {"missing plane normal", ok + "[[planes]]\nmaterial = \"glass\"\npoint = [0.0, 0.0, 0.0]\n", "",
+         "planes[0].normal"},
+        {"zero mask", ok + "mask = 0\n", "", "spheres[0].mask"},
+        {"restitution 0", "[[materials]]\nname = \"glass\"\nrestitution = 0.0\n" + sphere, "",
+         "materials[0].restitution"},
+        {"facet of zero area", ok + "[[facets]]\nmaterial = \"glass\"\nvertices = [[0,0,0],[1,0,0],[2,0,0]]\n", "",
+         "facets[0].vertices"},
+        {"unknown facet set type", ok + "[[facet_sets]]\ntype = \"cone\"\nmaterial = \"glass\"\n", "",
+         "facet_sets[0].type"},
+        {"missing sphere file", ok + "[[sphere_files]]\npath = \"nope.csv\"\nmaterial = \"glass\"\n", "",
+         "sphere_files[0].path"},
+        {"no spheres", std::string(kGlass), "", "no spheres"},
+        {"dt auto with only fixed spheres", "[simulation]\ndt = \"auto\"\n" + ok + "fixed = true\n", "",
+         "simulation.dt"},
+        // Bad --set overrides.
+        {"--set without =", ok, "--set simulation.dt", "--set"},
+        {"--set index out of range", ok, "--set spheres.3.radius=0.02", "spheres.3.radius"},
+        {"--set non-index into array", ok, "--set spheres.first.radius=0.02", "spheres.first.radius"},
+        {"--set unknown key", ok, "--set simulation.dtt=1e-6", "simulation.dtt"},
+        {"--set bad value", ok, "--set simulation.dt=fast", "simulation.dt"},
+        {"--set negative radius", ok, "--set spheres.0.radius=-1", "spheres[0].radius"},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.name);
+        TempDir d;
+        write_file(d / "s.toml", c.toml);
+        const Result r = run_scene(d / "s.toml", d / "out", c.args);
+        EXPECT_NE(r.rc, 0) << r.output;
+        EXPECT_NE(r.output.find(c.expected), std::string::npos) << "message: " << r.output;
+        EXPECT_NE(r.output.find("error"), std::string::npos) << "message: " << r.output;
+        // One message, no traceback: a single line.
+        EXPECT_LE(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+        EXPECT_FALSE(fs::exists(d / "out")) << "an output directory was created";
+        EXPECT_EQ(listing(d.path()), std::set<std::string>{"s.toml"});
+    }
+}
+
+TEST(SceneCli, MissingSceneFileFails) {
+    TempDir d;
+    const Result r = run_scene(d / "nope.toml", d / "out");
+    EXPECT_NE(r.rc, 0);
+    EXPECT_FALSE(fs::exists(d / "out"));
+}
+
+TEST(SceneCli, ExistingNonEmptyOutDirIsRefusedAndUntouched) {
+    TempDir d;
+    write_file(d / "s.toml", tiny_scene());
+    write_file(d / "out/tracked.csv", "old results\n");
+    write_file(d / "out/notes.txt", "keep me\n");
+    const auto before = listing(d / "out");
+    const auto mtime = fs::last_write_time(d / "out/tracked.csv");
+    const Result r = run_scene(d / "s.toml", d / "out");
+    EXPECT_NE(r.rc, 0);
+    EXPECT_NE(r.output.find("--overwrite"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--out"), std::string::npos) << r.output;
+    EXPECT_EQ(listing(d / "out"), before);
+    EXPECT_EQ(read_file(d / "out/tracked.csv"), "old results\n");
+    EXPECT_EQ(read_file(d / "out/notes.txt"), "keep me\n");
+    EXPECT_EQ(fs::last_write_time(d / "out/tracked.csv"), mtime);
+
+    // --out naming an existing file is refused too, and the file is kept.
+    write_file(d / "file", "x");
+    const Result r2 = run_scene(d / "s.toml", d / "file");
+    EXPECT_NE(r2.rc, 0);
+    EXPECT_EQ(read_file(d / "file"), "x");
+
+    // An existing empty directory is fine.
+    fs::create_directories(d / "empty");
+    const Result r3 = run_scene(d / "s.toml", d / "empty");
+    EXPECT_EQ(r3.rc, 0) << r3.output;
+    EXPECT_TRUE(fs::exists(d / "empty/tracked.csv"));
+}
+
+TEST(SceneCli, OverwriteReplacesOutputs) {
+    TempDir d;
+    write_file(d / "s.toml", tiny_scene());
+    // A first run with VTK frames, then a rerun without: no stale frames may remain.
+    const Result r1 = run_scene(d / "s.toml", d / "out", "--set output.vtk_interval=1e-5");
+    ASSERT_EQ(r1.rc, 0) << r1.output;
+    ASSERT_TRUE(fs::exists(d / "out/vtk/particles_000002.vtk"));
+    write_file(d / "out/tracked.csv", "old results\n");
+    write_file(d / "out/notes.txt", "keep me\n");
+    const Result r2 = run_scene(d / "s.toml", d / "out", "--overwrite");
+    ASSERT_EQ(r2.rc, 0) << r2.output;
+    EXPECT_EQ(first_line(d / "out/tracked.csv"), "time,id,x,y,z,vx,vy,vz,wx,wy,wz");
+    EXPECT_EQ(read_csv(d / "out/tracked.csv").rows.size(), 3u);
+    EXPECT_EQ(read_file(d / "out/notes.txt"), "keep me\n");  // files vppdem does not write stay
+    EXPECT_FALSE(fs::exists(d / "out/vtk/particles_000000.vtk"));
+    EXPECT_FALSE(fs::exists(d / "out/vtk/walls_000002.vtk"));
+}
+
+TEST(SceneCli, SetOverridesKeys) {
+    TempDir d;
+    write_file(d / "s.toml", tiny_scene());
+    const Result r = run_scene(d / "s.toml", d / "out",
+                               "--set simulation.dt=2e-7 --set spheres.0.radius=0.02 "
+                               "--set 'simulation.gravity=[0.0, 0.0, 0.0]' --set output.vtk_interval=1e-5");
+    ASSERT_EQ(r.rc, 0) << r.output;
+    const std::string s = read_file(d / "out/summary.json");
+    EXPECT_DOUBLE_EQ(json_number(s, "dt"), 2e-7) << s;
+    EXPECT_EQ(json_number(s, "steps"), 100.0) << s;
+    // No gravity: the sphere stays put.
+    for (const auto& row : read_csv(d / "out/tracked.csv").rows) EXPECT_EQ(row[4], 1.0);
+    // [output] did not exist: --set created it; frames at t = 0, 1e-5, 2e-5.
+    for (int k = 0; k < 3; ++k) {
+        char name[64];
+        std::snprintf(name, sizeof name, "vtk/particles_%06d.vtk", k);
+        EXPECT_TRUE(fs::exists(d / "out" / name)) << name;
+        std::snprintf(name, sizeof name, "vtk/walls_%06d.vtk", k);
+        EXPECT_TRUE(fs::exists(d / "out" / name)) << name;
+    }
+    EXPECT_FALSE(fs::exists(d / "out/vtk/particles_000003.vtk"));
+    // The radius override reached the particle: the VTK radius field.
+    const std::string vtk = read_file(d / "out/vtk/particles_000000.vtk");
+    const std::string field = "SCALARS radius double 1\nLOOKUP_TABLE default\n";
+    const auto k = vtk.find(field);
+    ASSERT_NE(k, std::string::npos) << vtk;
+    EXPECT_EQ(std::strtod(vtk.c_str() + k + field.size(), nullptr), 0.02);
+}
+
+TEST(SceneCli, VtkFilesHaveTheLegacyHeader) {
+    TempDir d;
+    write_file(d / "s.toml", tiny_scene() + "[output]\nvtk_interval = 1.0e-5\n");
+    const Result r = run_scene(d / "s.toml", d / "out");
+    ASSERT_EQ(r.rc, 0) << r.output;
+    int n = 0;
+    for (const auto& e : fs::directory_iterator(d / "out/vtk")) {
+        ++n;
+        EXPECT_EQ(e.path().extension(), ".vtk");
+        EXPECT_EQ(first_line(e.path()).rfind("# vtk DataFile Version", 0), 0u) << e.path();
+    }
+    EXPECT_EQ(n, 6);  // particles_ and walls_ at t = 0, 1e-5, 2e-5
+}
