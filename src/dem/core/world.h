@@ -86,6 +86,7 @@ public:
     const ContactList& wall_contacts() const { return pw_; }
 
 private:
+    friend struct WorldSerializer;  // dem/io/checkpoint.cpp: writes and restores the whole state
     void move_walls();
     bool needs_rebuild() const;
     void rebuild_candidates();
