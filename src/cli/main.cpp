@@ -10,7 +10,10 @@
 #include "cli/config.h"
 #include "cli/scene_runner.h"
 #include "vpp/config.h"
+#include "vpp/analysis.h"
+#include "vpp/damper.h"
 #include "vpp/envelope.h"
+#include "vpp/plot.h"
 #include "vpp/tension.h"
 
 int main(int argc, char** argv) {
@@ -65,6 +68,38 @@ int main(int argc, char** argv) {
     add_vpp("tension", "Uniaxial tension of a foil strip (the paper's 37 x 12 test)", tension);
     add_vpp("envelope", "Empty foil cylinder under a ramped underpressure (the paper's sanity check)", envelope);
 
+    // vppdem damper [CONFIG] --out DIR [--from CKPT] [--no-plot]
+    VppCommand damper;
+    add_vpp("damper", "Simulate a VPP damper: prepare, evacuate, cycle, record, analyse", damper);
+    std::string from;
+    bool no_plot = false;
+    double ckpt_every = 60.0;
+    damper.app->add_option("--from", from, "Start from a checkpoint (prepared.ckpt, or run.ckpt to resume)")
+        ->check(CLI::ExistingFile);
+    damper.app->add_flag("--no-plot", no_plot, "Do not draw the PNG loops at the end");
+    damper.app->add_option("--checkpoint-every", ckpt_every, "[s] wall-clock time between checkpoints")
+        ->check(CLI::PositiveNumber);
+
+    // vppdem analyze FORCES.csv: cycles.csv from any force-displacement record.
+    auto* analyze = app.add_subcommand("analyze", "Recompute cycles.csv (energy per cycle, W) from a forces CSV");
+    std::string forces_csv, cycles_out, tcol = "time", dcol = "displacement", fcol = "force_total", ccol = "cycle";
+    double radius = 0.0255, dscale = 1.0, fscale = 1.0;
+    std::string dunit = "m", funit = "N";
+    analyze->add_option("forces", forces_csv, "CSV with a header")->required()->check(CLI::ExistingFile);
+    analyze->add_option("--out", cycles_out, "Output file (default: cycles.csv beside the input)");
+    analyze->add_option("--radius", radius, "[m] damper radius for W = energy / (pi r^2)")->check(CLI::PositiveNumber);
+    analyze->add_option("--time-column", tcol, "time column");
+    analyze->add_option("--displacement-column", dcol, "displacement column (compression positive)");
+    analyze->add_option("--force-column", fcol, "force column (compression positive)");
+    analyze->add_option("--cycle-column", ccol, "cycle column; empty or absent: cycles found from the displacement");
+    analyze->add_option("--displacement-unit", dunit, "m or mm")->check(CLI::IsMember({"m", "mm"}));
+    analyze->add_option("--force-unit", funit, "N or kN")->check(CLI::IsMember({"N", "kN"}));
+
+    // vppdem plot DIR
+    auto* plot = app.add_subcommand("plot", "Draw the hysteresis loops of a damper output folder (PNG)");
+    std::string plot_dir;
+    plot->add_option("dir", plot_dir, "damper output folder")->required()->check(CLI::ExistingDirectory);
+
     CLI11_PARSE(app, argc, argv);
     try {
         if (*scene) {
@@ -75,13 +110,39 @@ int main(int argc, char** argv) {
         } else if (*bench) {
             cli::run_bench(bo);
         } else if (*tension.app) {
-            const vpp::Config c = vpp::load_config(tension.config, tension.sets, 0.01e6);
+            const vpp::Config c = vpp::load_config(tension.config, tension.sets, {0.01e6});
             cli::prepare_output_dir(tension.out, tension.overwrite);
             vpp::run_tension(c, tension.out, tension.quiet);
         } else if (*envelope.app) {
-            const vpp::Config c = vpp::load_config(envelope.config, envelope.sets, 0.01e6);
+            const vpp::Config c = vpp::load_config(envelope.config, envelope.sets, {0.01e6});
             cli::prepare_output_dir(envelope.out, envelope.overwrite);
             vpp::run_envelope(c, envelope.out, envelope.quiet);
+        } else if (*damper.app) {
+            const vpp::Config c = vpp::load_config(damper.config, damper.sets, {0.06e6, 0.45, 0});
+            vpp::DamperOptions o;
+            o.out_dir = damper.out;
+            o.from = from;
+            o.quiet = damper.quiet;
+            o.plot = !no_plot;
+            o.overwrite = damper.overwrite;
+            o.checkpoint_every = ckpt_every;
+            vpp::run_damper(c, o);
+        } else if (*analyze) {
+            dscale = dunit == "mm" ? 1e-3 : 1.0;
+            fscale = funit == "kN" ? 1e3 : 1.0;
+            vpp::LoopSeries s = vpp::read_loop_csv(forces_csv, tcol, dcol, fcol, ccol);
+            for (double& d : s.displacement) d *= dscale;
+            for (double& f : s.force) f *= fscale;
+            const auto cycles = vpp::analyze_cycles(s, radius);
+            const std::string out = cycles_out.empty()
+                ? (std::filesystem::path(forces_csv).parent_path() / "cycles.csv").string() : cycles_out;
+            vpp::write_cycles_csv(out, cycles);
+            std::printf("cycle,dissipated_energy,W,peak_force,min_force\n");
+            for (const auto& r : cycles)
+                std::printf("%d,%.6g,%.6g,%.6g,%.6g\n", r.cycle, r.dissipated_energy, r.W, r.peak_force, r.min_force);
+            std::fprintf(stderr, "wrote %s\n", out.c_str());
+        } else if (*plot) {
+            return vpp::plot_damper_dir(plot_dir, false) == 0 ? 0 : 2;
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "vppdem: error: %s\n", e.what());

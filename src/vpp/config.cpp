@@ -1,5 +1,8 @@
 #include "vpp/config.h"
 
+#include <algorithm>
+#include <thread>
+
 #include "cli/config.h"
 
 namespace vpp {
@@ -7,7 +10,7 @@ namespace vpp {
 using cfg::Section;
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides,
-                   double default_underpressure) {
+                   const CommandDefaults& defaults) {
     const toml::table root = cfg::load(path, overrides);
     Section top(&root, "");
     Config c;
@@ -35,12 +38,14 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
     Section d = top.table("damper");
     c.damper.radius = d.positive("radius", d.number("radius", c.damper.radius));
     c.damper.height = d.positive("height", d.number("height", c.damper.height));
+    c.damper.cap_friction = d.number("cap_friction", -1.0);
+    if (d.has("cap_friction") && !(c.damper.cap_friction >= 0.0)) d.fail("cap_friction", "must be >= 0");
     if (c.damper.radius < 4.0 * c.foil.particle_radius) d.fail("radius", "must be at least 4 foil particle radii");
     if (c.damper.height < 4.0 * c.foil.particle_radius) d.fail("height", "must be at least 4 foil particle radii");
     d.finish();
 
     Section p = top.table("process");
-    c.process.underpressure = p.number("underpressure", default_underpressure);
+    c.process.underpressure = p.number("underpressure", defaults.underpressure);
     c.process.ramp_time = p.positive("ramp_time", p.number("ramp_time", c.process.ramp_time));
     c.process.hold_time = p.non_negative("hold_time", p.number("hold_time", c.process.hold_time));
     c.process.amplitude = p.positive("amplitude", p.number("amplitude", c.process.amplitude));
@@ -73,14 +78,14 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
             s.fail("dt", "must be a time step in seconds (> 0) or \"auto\"");
         }
     }
-    c.simulation.dt_safety = s.number("dt_safety", c.simulation.dt_safety);
+    c.simulation.dt_safety = s.number("dt_safety", defaults.dt_safety);
     if (!(c.simulation.dt_safety > 0.0 && c.simulation.dt_safety <= 1.0)) s.fail("dt_safety", "must be in (0, 1]");
     c.simulation.local_damping = s.number("local_damping", c.simulation.local_damping);
     if (!(c.simulation.local_damping >= 0.0 && c.simulation.local_damping < 1.0))
         s.fail("local_damping", "must be in [0, 1)");
-    const int64_t th = s.integer("threads", c.simulation.threads);
-    if (th < 1 || th > 1024) s.fail("threads", "must be an integer >= 1");
-    c.simulation.threads = int(th);
+    const int64_t th = s.integer("threads", defaults.threads);
+    if (th < 0 || th > 1024) s.fail("threads", "must be an integer >= 1, or 0 for all cores");
+    c.simulation.threads = th == 0 ? std::max(1, int(std::thread::hardware_concurrency())) : int(th);
     const int64_t seed = s.integer("seed", int64_t(c.simulation.seed));
     if (seed < 0) s.fail("seed", "must be an integer >= 0");
     c.simulation.seed = uint64_t(seed);

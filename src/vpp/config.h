@@ -24,6 +24,7 @@ struct GrainsDef {
 struct DamperDef {
     double radius = 0.0255;  // [m] r_p
     double height = 0.100;   // [m] H_p
+    double cap_friction = -1.0;  // [-] grain-cap friction; < 0: the grains' friction
 };
 
 struct ProcessDef {
@@ -49,7 +50,7 @@ struct SimulationDef {
     double dt = 0.0;            // [s] when not auto
     double dt_safety = 0.3;     // [-] dt = safety * critical step when auto
     double local_damping = 0.2; // [-]
-    int threads = 1;
+    int threads = 1;            // 0 in the file = all cores
     uint64_t seed = 1;
     double skin = 0.0;          // [m] 0 = half the smallest radius
 };
@@ -69,10 +70,16 @@ struct Config {
     OutputDef output;
 };
 
-// Reads the config (empty path: all defaults) with --set overrides. `default_underpressure`
-// is the command's default for process.underpressure when the file does not set it.
+// Defaults that differ between commands.
+struct CommandDefaults {
+    double underpressure = 0.06e6;  // [Pa] the envelope check uses 0.01 MPa
+    double dt_safety = 0.3;         // [-]
+    int threads = 1;                // 0 = all cores
+};
+
+// Reads the config (empty path: all defaults) with --set overrides.
 Config load_config(const std::string& path, const std::vector<std::string>& overrides,
-                   double default_underpressure);
+                   const CommandDefaults& defaults = {});
 
 // Time step for a world built from this config: fixed, or safety * critical step.
 double resolve_dt(const SimulationDef& s, const dem::World& w);

@@ -14,7 +14,7 @@
 using dem::Vec3;
 
 namespace {
-vpp::Config defaults() { return vpp::load_config("", {}, 0.01e6); }
+vpp::Config defaults() { return vpp::load_config("", {}, {0.01e6}); }
 }  // namespace
 
 TEST(Foil, ParticleModulusIsThePapersValue) {

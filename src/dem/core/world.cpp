@@ -89,6 +89,18 @@ void World::set_prescribed(uint32_t i, uint32_t motion) {
     physics_dirty_ = true;
 }
 
+void World::clear_facets() {
+    facets.clear();
+    facet_now_.clear();
+    // Drop the facet contacts now, so facets added later never inherit their history.
+    std::vector<uint64_t> keep;
+    for (uint64_t k : pw_.key)
+        if (key_second(k) < planes.size()) keep.push_back(k);
+    std::vector<uint8_t> existed;
+    pw_.merge_from(keep, true, existed);
+    candidates_dirty_ = true;
+}
+
 uint32_t World::add_bond(uint32_t i, uint32_t j, double kn, double ks, double rest_length) {
     if (i == j || i >= particles.size() || j >= particles.size())
         throw std::invalid_argument("bond between invalid particle indices");
@@ -319,6 +331,20 @@ void World::rebuild_candidates() {
     refresh_physics(physics_dirty_, existed_pp, existed_pw);
     physics_dirty_ = false;
 
+    build_gather_tables();
+
+    ref_pos_ = p.pos;
+    wall_ref_disp_.resize(wall_count());
+    for (std::size_t k = 0; k < planes.size(); ++k) wall_ref_disp_[k] = planes[k].motion.displacement(time);
+    for (std::size_t k = 0; k < facets.size(); ++k)
+        wall_ref_disp_[planes.size() + k] = facets[k].motion.displacement(time);
+    max_disp_ = 0.0;
+    candidates_dirty_ = false;
+    ++rebuilds_;
+}
+
+void World::build_gather_tables() {
+    const std::size_t n = particles.size();
     // Gather CSR: entries in contact order, so the summation order is fixed.
     pp_start_.assign(n + 1, 0);
     for (uint64_t k : pp_.key) {
@@ -337,15 +363,17 @@ void World::rebuild_candidates() {
     pw_start_.assign(n + 1, 0);
     for (uint64_t k : pw_.key) ++pw_start_[key_first(k) + 1];
     for (std::size_t i = 0; i < n; ++i) pw_start_[i + 1] += pw_start_[i];
+}
 
-    ref_pos_ = p.pos;
-    wall_ref_disp_.resize(wall_count());
-    for (std::size_t k = 0; k < planes.size(); ++k) wall_ref_disp_[k] = planes[k].motion.displacement(time);
-    for (std::size_t k = 0; k < facets.size(); ++k)
-        wall_ref_disp_[planes.size() + k] = facets[k].motion.displacement(time);
-    max_disp_ = 0.0;
-    candidates_dirty_ = false;
-    ++rebuilds_;
+void World::rebuild_derived_tables() {
+    // The bond tables only depend on the bond list; bonds_dirty_ keeps its restored value (a
+    // pending rebuild builds them again, with the same result).
+    const bool bonds_dirty = bonds_dirty_;
+    build_bond_tables();
+    bonds_dirty_ = bonds_dirty;
+    build_gather_tables();
+    // grid_ is scratch of rebuild_candidates(), rebuilt before every use.
+    grid_ = CellGrid{};
 }
 
 void World::refresh_physics(bool all, const std::vector<uint8_t>& existed_pp,

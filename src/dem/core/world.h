@@ -50,6 +50,13 @@ public:
     void set_fixed(uint32_t i);
     // Particle i follows motions[motion] from its current position (no rotation).
     void set_prescribed(uint32_t i, uint32_t motion);
+    // Removes all facets (e.g. a filling funnel) and their contacts.
+    void clear_facets();
+    // Changes a bond's stiffness (e.g. a foil of another modulus on a prepared sample).
+    void set_bond_stiffness(uint32_t b, double kn, double ks) {
+        bonds_.phys[b].kn = kn;
+        bonds_.phys[b].ks = ks;
+    }
     // Permanent bond; rest_length < 0 takes the current centre distance.
     uint32_t add_bond(uint32_t i, uint32_t j, double kn, double ks, double rest_length = -1.0);
     const BondList& bonds() const { return bonds_; }
@@ -90,6 +97,11 @@ private:
     void move_walls();
     bool needs_rebuild() const;
     void rebuild_candidates();
+    // Gather CSR tables (pp_start_, pp_entries_, pw_start_) from the current contact lists.
+    void build_gather_tables();
+    // Rebuilds the tables derived from the bond and contact lists (bond tables, gather
+    // tables) without changing the lists. Used after restoring a checkpoint.
+    void rebuild_derived_tables();
     void refresh_physics(bool all, const std::vector<uint8_t>& existed_pp,
                          const std::vector<uint8_t>& existed_pw);
     void particle_contact_forces();

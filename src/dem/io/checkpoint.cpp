@@ -1,0 +1,412 @@
+#include "dem/io/checkpoint.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <bit>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+#include <type_traits>
+
+namespace dem {
+
+static_assert(std::endian::native == std::endian::little,
+              "checkpoints are written in host byte order and assume a little-endian host");
+
+// A field added to one of these structs must also be added to the checkpoint (and the format
+// version bumped); these asserts make that impossible to forget.
+static_assert(sizeof(Particles) == 15 * sizeof(std::vector<int>), "update checkpoint.cpp");
+static_assert(sizeof(ContactList) == 8 * sizeof(std::vector<int>), "update checkpoint.cpp");
+static_assert(sizeof(BondList) == 7 * sizeof(std::vector<int>), "update checkpoint.cpp");
+static_assert(sizeof(Material) == sizeof(std::string) + 5 * sizeof(double), "update checkpoint.cpp");
+static_assert(sizeof(Motion) == sizeof(Vec3) + sizeof(std::vector<int>), "update checkpoint.cpp");
+static_assert(sizeof(Plane) == 2 * sizeof(Vec3) + 16 + sizeof(Motion), "update checkpoint.cpp");
+static_assert(sizeof(Facet) == 3 * sizeof(Vec3) + 16 + sizeof(Motion), "update checkpoint.cpp");
+static_assert(sizeof(MembranePressure) == sizeof(std::vector<int>) + 8, "update checkpoint.cpp");
+static_assert(sizeof(SimulationParams) == 4 * 8 + sizeof(Vec3), "update checkpoint.cpp");
+static_assert(sizeof(PressureNode) == 20 && sizeof(DisplacementSample) == 32 &&
+                  sizeof(ShearHistory) == 48 && sizeof(ContactPhys) == 32 && sizeof(BondPhys) == 24,
+              "padding-free records expected");
+
+namespace {
+
+constexpr char kMagic[8] = {'V', 'P', 'P', 'D', 'E', 'M', 'C', 'K'};
+constexpr std::size_t kHeader = 8 + 4 + 8;  // magic, version, payload size
+
+uint64_t fnv1a(const char* p, std::size_t n) {
+    uint64_t h = 14695981039346656037ull;
+    for (std::size_t k = 0; k < n; ++k) {
+        h ^= uint8_t(p[k]);
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+[[noreturn]] void corrupt(const std::string& path, const std::string& what) {
+    throw std::runtime_error("checkpoint '" + path + "' is truncated or corrupt: " + what);
+}
+
+class Writer {
+public:
+    std::string buf;
+
+    template <class T> void pod(const T& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        buf.append(reinterpret_cast<const char*>(&v), sizeof(T));
+    }
+    void flag(bool b) { pod(uint8_t(b)); }
+    void str(const std::string& s) {
+        pod(uint64_t(s.size()));
+        buf.append(s);
+    }
+    template <class T> void vec(const std::vector<T>& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        pod(uint64_t(v.size()));
+        buf.append(reinterpret_cast<const char*>(v.data()), v.size() * sizeof(T));
+    }
+    template <class T, class F> void list(const std::vector<T>& v, F&& each) {
+        pod(uint64_t(v.size()));
+        for (const T& e : v) each(*this, e);
+    }
+    template <class F> void section(const char (&tag)[5], F&& body) {
+        buf.append(tag, 4);
+        const std::size_t at = buf.size();
+        pod(uint64_t(0));
+        body(*this);
+        const uint64_t len = buf.size() - at - 8;
+        std::memcpy(buf.data() + at, &len, 8);
+    }
+};
+
+class Reader {
+public:
+    Reader(const char* p, std::size_t n, const std::string& path) : p_(p), end_(p + n), path_(path) {}
+
+    template <class T> void pod(T& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        need(sizeof(T));
+        std::memcpy(&v, p_, sizeof(T));
+        p_ += sizeof(T);
+    }
+    void flag(bool& b) {
+        uint8_t v;
+        pod(v);
+        if (v > 1) corrupt(path_, "bad boolean");
+        b = v;
+    }
+    void str(std::string& s) {
+        const uint64_t n = count(1);
+        s.assign(p_, n);
+        p_ += n;
+    }
+    template <class T> void vec(std::vector<T>& v) {
+        static_assert(std::is_trivially_copyable_v<T>);
+        const uint64_t n = count(sizeof(T));
+        v.resize(n);
+        if (n) std::memcpy(v.data(), p_, n * sizeof(T));
+        p_ += n * sizeof(T);
+    }
+    template <class T, class F> void list(std::vector<T>& v, F&& each) {
+        v.assign(count(1), T{});  // every element takes at least one byte
+        for (T& e : v) each(*this, e);
+    }
+    template <class F> void section(const char (&tag)[5], F&& body) {
+        need(12);
+        if (std::memcmp(p_, tag, 4) != 0)
+            corrupt(path_, "expected section '" + std::string(tag) + "', found '" + std::string(p_, 4) + "'");
+        uint64_t len;
+        std::memcpy(&len, p_ + 4, 8);
+        p_ += 12;
+        if (len > uint64_t(end_ - p_)) corrupt(path_, "section '" + std::string(tag) + "' overruns the file");
+        Reader sub(p_, len, path_);
+        body(sub);
+        if (sub.p_ != sub.end_) corrupt(path_, "section '" + std::string(tag) + "' has unread bytes");
+        p_ += len;
+    }
+    bool done() const { return p_ == end_; }
+
+private:
+    void need(std::size_t n) const {
+        if (n > std::size_t(end_ - p_)) corrupt(path_, "record runs past the end of its section");
+    }
+    // Reads an element count and checks that count * size bytes are left.
+    uint64_t count(std::size_t size) {
+        uint64_t n;
+        pod(n);
+        if (n > uint64_t(end_ - p_) / size) corrupt(path_, "element count runs past the end of its section");
+        return n;
+    }
+
+    const char* p_;
+    const char* end_;
+    const std::string& path_;
+};
+
+// Field lists shared by saving (A = Writer, const objects) and loading (A = Reader).
+template <class A, class M> void motion_io(A& a, M& m) {
+    a.pod(m.velocity);
+    a.vec(m.history);
+}
+
+template <class A, class M> void material_io(A& a, M& m) {
+    a.str(m.name);
+    a.pod(m.density);
+    a.pod(m.young);
+    a.pod(m.stiffness_ratio);
+    a.pod(m.friction);
+    a.pod(m.restitution);
+}
+
+template <class A, class P> void plane_io(A& a, P& p) {
+    a.pod(p.point);
+    a.pod(p.normal);
+    a.pod(p.material);
+    a.pod(p.mask);
+    a.flag(p.one_sided);
+    motion_io(a, p.motion);
+}
+
+template <class A, class F> void facet_io(A& a, F& f) {
+    a.pod(f.vertices);
+    a.pod(f.material);
+    a.pod(f.mask);
+    a.flag(f.one_sided);
+    motion_io(a, f.motion);
+}
+
+template <class A, class C> void contacts_io(A& a, C& c) {
+    a.vec(c.key);
+    a.vec(c.phys);
+    a.vec(c.hist);
+    a.vec(c.force);
+    a.vec(c.torque1);
+    a.vec(c.torque2);
+    a.vec(c.point);
+    a.vec(c.touching);
+}
+
+}  // namespace
+
+struct WorldSerializer {
+    // W is `const World` when saving and `World` when loading.
+    template <class A, class W> static void fields(A& a, W& w) {
+        a.section("MATL", [&](A& s) { s.list(w.materials, [](A& x, auto& m) { material_io(x, m); }); });
+        a.section("PART", [&](A& s) {
+            auto& p = w.particles;
+            s.vec(p.pos);
+            s.vec(p.vel);
+            s.vec(p.angvel);
+            s.vec(p.force);
+            s.vec(p.torque);
+            s.vec(p.ext_force);
+            s.vec(p.radius);
+            s.vec(p.mass);
+            s.vec(p.inv_mass);
+            s.vec(p.inv_inertia);
+            s.vec(p.material);
+            s.vec(p.mask);
+            s.vec(p.flags);
+            s.vec(p.motion);
+            s.vec(p.ref_pos);
+        });
+        a.section("WALL", [&](A& s) {
+            s.list(w.planes, [](A& x, auto& pl) { plane_io(x, pl); });
+            s.list(w.facets, [](A& x, auto& f) { facet_io(x, f); });
+        });
+        a.section("MOTN", [&](A& s) { s.list(w.motions, [](A& x, auto& m) { motion_io(x, m); }); });
+        a.section("PRES", [&](A& s) {
+            s.vec(w.pressure.nodes);
+            s.pod(w.pressure.dp);
+        });
+        a.section("PARM", [&](A& s) {
+            s.pod(w.params.dt);
+            s.pod(w.params.gravity);
+            s.pod(w.params.local_damping);
+            s.pod(w.params.skin);
+            s.pod(w.params.threads);
+        });
+        a.section("CLCK", [&](A& s) {
+            s.pod(w.time);
+            s.pod(w.steps);
+            s.pod(w.time_base_);
+            s.pod(w.dt_of_base_);
+            s.pod(w.step_base_);
+        });
+        a.section("CONT", [&](A& s) {
+            contacts_io(s, w.pp_);
+            contacts_io(s, w.pw_);
+        });
+        a.section("BOND", [&](A& s) {
+            auto& b = w.bonds_;
+            s.vec(b.i);
+            s.vec(b.j);
+            s.vec(b.phys);
+            s.vec(b.hist);
+            s.vec(b.force);
+            s.vec(b.torque1);
+            s.vec(b.torque2);
+        });
+        a.section("VRLT", [&](A& s) {
+            s.vec(w.ref_pos_);
+            s.vec(w.wall_ref_disp_);
+            s.pod(w.max_disp_);
+            s.pod(w.rebuilds_);
+            s.flag(w.candidates_dirty_);
+            s.flag(w.physics_dirty_);
+            s.flag(w.bonds_dirty_);
+        });
+        // Results of the last compute_forces(): not needed by the next step (it recomputes
+        // them), but restored so every query right after loading answers as before saving.
+        a.section("LAST", [&](A& s) {
+            s.vec(w.plane_point_);
+            s.vec(w.wall_vel_);
+            s.vec(w.facet_now_);
+            s.vec(w.wall_force_);
+            s.vec(w.wall_torque_);
+        });
+    }
+
+    static void rebuild(World& w) { w.rebuild_derived_tables(); }
+
+    // Index checks, so a file that passed the checksum but was written inconsistently cannot
+    // make rebuild_derived_tables() or the next step read out of bounds.
+    static void validate(const World& w, const std::string& path) {
+        const Particles& p = w.particles;
+        const std::size_t n = p.size(), nw = w.wall_count();
+        auto bad = [&](const char* what) { corrupt(path, what); };
+        for (std::size_t s : {p.vel.size(), p.angvel.size(), p.force.size(), p.torque.size(),
+                              p.ext_force.size(), p.radius.size(), p.mass.size(), p.inv_mass.size(),
+                              p.inv_inertia.size(), p.material.size(), p.mask.size(), p.flags.size(),
+                              p.motion.size(), p.ref_pos.size()})
+            if (s != n) bad("particle arrays of different lengths");
+        for (std::size_t i = 0; i < n; ++i) {
+            if (p.material[i] >= w.materials.size()) bad("particle material out of range");
+            if (p.motion[i] >= int64_t(w.motions.size()) || p.motion[i] < -1)
+                bad("particle motion out of range");
+            if ((p.flags[i] & kPrescribed) && p.motion[i] < 0) bad("prescribed particle without motion");
+        }
+        for (const Plane& pl : w.planes)
+            if (pl.material >= w.materials.size()) bad("wall material out of range");
+        for (const Facet& f : w.facets)
+            if (f.material >= w.materials.size()) bad("wall material out of range");
+        for (const PressureNode& q : w.pressure.nodes) {
+            if (q.node >= n) bad("pressure node out of range");
+            for (uint32_t r : q.ring)
+                if (r >= n) bad("pressure ring out of range");
+        }
+        auto check_list = [&](const ContactList& c, std::size_t second_limit, bool points) {
+            const std::size_t m = c.size();
+            if (c.phys.size() != m || c.hist.size() != m || c.force.size() != m || c.torque1.size() != m ||
+                c.torque2.size() != m || c.touching.size() != m || (points && c.point.size() != m))
+                bad("contact arrays of different lengths");
+            for (uint64_t k : c.key)
+                if (key_first(k) >= n || key_second(k) >= second_limit) bad("contact index out of range");
+        };
+        check_list(w.pp_, n, false);
+        check_list(w.pw_, nw, true);
+        const BondList& b = w.bonds_;
+        const std::size_t nb = b.size();
+        if (b.j.size() != nb || b.phys.size() != nb || b.hist.size() != nb || b.force.size() != nb ||
+            b.torque1.size() != nb || b.torque2.size() != nb)
+            bad("bond arrays of different lengths");
+        for (std::size_t k = 0; k < nb; ++k)
+            if (b.i[k] >= n || b.j[k] >= n) bad("bond index out of range");
+        if (!w.candidates_dirty_ && (w.ref_pos_.size() != n || w.wall_ref_disp_.size() != nw))
+            bad("rebuild state does not match the particles and walls");
+    }
+};
+
+void save_checkpoint(const std::string& path, const World& w, const std::string& app_state) {
+    Writer out;
+    out.buf.append(kMagic, 8);
+    out.pod(kCheckpointVersion);
+    out.pod(uint64_t(0));  // payload size, patched below
+    WorldSerializer::fields(out, w);
+    out.section("APPS", [&](Writer& s) { s.str(app_state); });
+    const uint64_t payload = out.buf.size() - kHeader;
+    std::memcpy(out.buf.data() + 12, &payload, 8);
+    out.pod(fnv1a(out.buf.data(), out.buf.size()));
+
+    const std::string tmp = path + ".part";
+    auto fail = [&](const char* what, int fd) {
+        const int err = errno;
+        if (fd >= 0) ::close(fd);
+        std::remove(tmp.c_str());
+        throw std::runtime_error(std::string("cannot save checkpoint '") + path + "': " + what + " '" + tmp +
+                                 "' failed (" + std::strerror(err) + ")");
+    };
+    const int fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0644);
+    if (fd < 0) fail("creating", -1);
+    for (std::size_t done = 0; done < out.buf.size();) {
+        const ssize_t k = ::write(fd, out.buf.data() + done, out.buf.size() - done);
+        if (k < 0 && errno == EINTR) continue;
+        if (k <= 0) fail("writing", fd);
+        done += std::size_t(k);
+    }
+    if (::fsync(fd) != 0) fail("syncing", fd);
+    if (::close(fd) != 0) fail("closing", -1);
+    std::error_code ec;
+    std::filesystem::rename(tmp, path, ec);
+    if (ec) {
+        std::remove(tmp.c_str());
+        throw std::runtime_error("cannot save checkpoint '" + path + "': renaming '" + tmp + "' failed (" +
+                                 ec.message() + ")");
+    }
+    // Make the rename itself durable (best effort).
+    std::string dir = std::filesystem::path(path).parent_path().string();
+    if (dir.empty()) dir = ".";
+    if (const int dfd = ::open(dir.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC); dfd >= 0) {
+        ::fsync(dfd);
+        ::close(dfd);
+    }
+}
+
+std::string load_checkpoint(const std::string& path, World& w) {
+    std::string buf;
+    {
+        std::error_code ec;
+        if (!std::filesystem::exists(path, ec))
+            throw std::runtime_error("cannot open checkpoint '" + path + "': no such file");
+        if (std::filesystem::is_directory(path, ec))
+            throw std::runtime_error("cannot open checkpoint '" + path + "': is a directory");
+        std::ifstream in(path, std::ios::binary);
+        if (!in) throw std::runtime_error("cannot open checkpoint '" + path + "': not readable");
+        buf.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+        if (in.bad()) throw std::runtime_error("cannot read checkpoint '" + path + "'");
+    }
+    const std::size_t m = std::min<std::size_t>(buf.size(), 8);
+    if (std::memcmp(buf.data(), kMagic, m) != 0)
+        throw std::runtime_error("'" + path + "' is not a vppdem checkpoint (bad magic)");
+    if (buf.size() < kHeader) corrupt(path, "file has only " + std::to_string(buf.size()) + " bytes");
+    uint32_t version;
+    std::memcpy(&version, buf.data() + 8, 4);
+    if (version != kCheckpointVersion)
+        throw std::runtime_error("checkpoint '" + path + "' has format version " + std::to_string(version) +
+                                 "; this build supports version " + std::to_string(kCheckpointVersion));
+    uint64_t payload;
+    std::memcpy(&payload, buf.data() + 12, 8);
+    if (buf.size() < kHeader + 8 || buf.size() - kHeader - 8 != payload)
+        corrupt(path, "size mismatch (file has " + std::to_string(buf.size()) + " bytes, header says " +
+                          std::to_string(payload + kHeader + 8) + ")");
+    uint64_t sum;
+    std::memcpy(&sum, buf.data() + kHeader + payload, 8);
+    if (sum != fnv1a(buf.data(), kHeader + payload)) corrupt(path, "checksum mismatch");
+
+    Reader in(buf.data() + kHeader, payload, path);
+    World restored;
+    WorldSerializer::fields(in, restored);
+    std::string app;
+    in.section("APPS", [&](Reader& s) { s.str(app); });
+    if (!in.done()) corrupt(path, "unexpected data after the last section");
+    WorldSerializer::validate(restored, path);
+    WorldSerializer::rebuild(restored);
+    w = std::move(restored);
+    return app;
+}
+
+}  // namespace dem

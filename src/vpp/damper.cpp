@@ -1,0 +1,671 @@
+#include "vpp/damper.h"
+
+#include <algorithm>
+#include <cstdarg>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <numbers>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "cli/progress.h"
+#include "cli/scene_runner.h"
+#include "dem/io/checkpoint.h"
+#include "dem/io/csv.h"
+#include "dem/io/json.h"
+#include "dem/io/vtk.h"
+#include "dem/walls/facet_sets.h"
+#include "vpp/plot.h"
+
+namespace vpp {
+
+namespace fs = std::filesystem;
+using dem::Vec3;
+
+namespace {
+
+// Material indices in the damper world (the foil is built first, so its material is 0).
+constexpr uint32_t kFoilMat = 0, kGrainMat = 1, kCapMat = 2, kFunnelMat = 3;
+constexpr uint32_t kBottomCap = 0, kTopCap = 1;  // plane indices
+
+enum class Stage : int { Fill = 0, Compress = 1, Prepared = 2, Vacuum = 3, Cycling = 4, Done = 5 };
+const char* stage_name(Stage s) {
+    static const char* n[] = {"fill", "compress", "prepared", "vacuum", "cycle", "done"};
+    return n[int(s)];
+}
+
+struct Sample {
+    double time, displacement, grains, foil;
+};
+
+// Everything besides the World that a resumed run needs; stored as the checkpoint's app blob.
+struct RunState {
+    Stage stage = Stage::Fill;
+    double stage_t0 = 0;        // [s] simulated time the stage began
+    double cap_d0 = 0;          // [m] top-cap z displacement at the start of the stage
+    double cycle_t0 = 0;        // [s] start of cycling
+    double window_grains = 0, window_foil = 0;  // force sums over the current sample window
+    long window_n = 0;
+    std::vector<Sample> samples;
+    // Geometry the prepared sample was made with: a --from run must match it.
+    std::map<std::string, double> geometry;
+
+    std::string save() const {
+        std::ostringstream os;
+        os.precision(17);
+        os << "stage " << int(stage) << "\nstage_t0 " << stage_t0 << "\ncap_d0 " << cap_d0 << "\ncycle_t0 "
+           << cycle_t0 << "\nwindow " << window_grains << " " << window_foil << " " << window_n << "\n";
+        for (const auto& [k, v] : geometry) os << "geometry " << k << " " << v << "\n";
+        for (const Sample& s : samples)
+            os << "sample " << s.time << " " << s.displacement << " " << s.grains << " " << s.foil << "\n";
+        return os.str();
+    }
+    static RunState load(const std::string& text) {
+        RunState r;
+        std::istringstream is(text);
+        std::string key;
+        int stage = 0;
+        while (is >> key) {
+            if (key == "stage") is >> stage;
+            else if (key == "stage_t0") is >> r.stage_t0;
+            else if (key == "cap_d0") is >> r.cap_d0;
+            else if (key == "cycle_t0") is >> r.cycle_t0;
+            else if (key == "window") is >> r.window_grains >> r.window_foil >> r.window_n;
+            else if (key == "geometry") {
+                std::string k;
+                double v;
+                is >> k >> v;
+                r.geometry[k] = v;
+            } else if (key == "sample") {
+                Sample s;
+                is >> s.time >> s.displacement >> s.grains >> s.foil;
+                r.samples.push_back(s);
+            } else throw std::runtime_error("damper checkpoint: unknown state entry '" + key + "'");
+        }
+        r.stage = Stage(stage);
+        return r;
+    }
+};
+
+std::map<std::string, double> geometry_of(const Config& c) {
+    return {{"grains.radius", c.grains.radius},       {"grains.volume_fraction", c.grains.volume_fraction},
+            {"grains.density", c.grains.density},     {"foil.particle_radius", c.foil.particle_radius},
+            {"foil.density", c.foil.density},         {"damper.radius", c.damper.radius},
+            {"damper.height", c.damper.height},       {"simulation.seed", double(c.simulation.seed)}};
+}
+
+// Grain positions: a jittered cubic lattice inside the foil and the funnel above it, filled
+// from the bottom up, so the grains never overlap each other, the foil or the funnel.
+std::vector<Vec3> generate_grains(const Config& c, const FoilLattice& L, std::size_t n, double z_top,
+                                  double funnel_top_radius, double& funnel_height) {
+    const double rk = c.grains.radius, rf = c.foil.particle_radius;
+    const double gap = 0.05 * rk;                // [m] clearance to every wall
+    const double s = 2.0 * rk * 1.04;            // [m] lattice spacing
+    const double r_in = L.radius - rf;           // [m] inner surface of the foil
+    std::mt19937_64 rng(c.simulation.seed);
+    std::uniform_real_distribution<double> jit(-0.015 * rk, 0.015 * rk);
+    // Funnel: cone from r_in at z_top to funnel_top_radius; grow it until the sites suffice.
+    funnel_height = 2.0 * r_in;
+    for (int attempt = 0; attempt < 40; ++attempt, funnel_height *= 1.25) {
+        std::vector<Vec3> sites;
+        const double slope = (funnel_top_radius - r_in) / funnel_height;
+        const double half_angle = std::atan(slope);
+        const int nxy = int(funnel_top_radius / s) + 1;
+        for (int kz = 0;; ++kz) {
+            const double z = rk + gap + kz * s;
+            if (z > z_top + funnel_height - rk - gap) break;
+            // Largest centre radius at this height: inside the foil or inside the cone (the
+            // wall distance of a cone point is its radial distance times cos(half angle)).
+            double rmax;
+            if (z + rk <= z_top) rmax = r_in - rk - gap;
+            else rmax = r_in + slope * std::max(0.0, z - rk - z_top) - (rk + gap) / std::cos(half_angle);
+            // Within one grain radius above z_top the funnel bottom edge and the top ring meet.
+            if (z + rk > z_top && z - rk < z_top) rmax = std::min(rmax, r_in - rk - gap);
+            const double off = (kz % 2) ? 0.5 * s : 0.0;  // stagger layers
+            for (int ix = -nxy; ix <= nxy; ++ix)
+                for (int iy = -nxy; iy <= nxy; ++iy) {
+                    const double x = ix * s + off, y = iy * s + off;
+                    if (std::hypot(x, y) <= rmax) sites.push_back({x, y, z});
+                }
+            if (sites.size() >= n + n / 20) break;
+        }
+        if (sites.size() < n) continue;
+        std::vector<Vec3> out(sites.begin(), sites.begin() + long(n));
+        for (Vec3& p : out) p += Vec3{jit(rng), jit(rng), jit(rng)};
+        return out;
+    }
+    throw std::runtime_error("could not place the grains in the foil and funnel");
+}
+
+double grains_kinetic_energy(const dem::World& w, uint32_t g0, uint32_t g1) {
+    double e = 0;
+    for (uint32_t i = g0; i < g1; ++i) e += 0.5 * w.particles.mass[i] * norm2(w.particles.vel[i]);
+    return e;
+}
+
+// Yade's unbalanced force: mean net force on free particles over mean contact force.
+double unbalanced_force(const dem::World& w) {
+    const auto& p = w.particles;
+    double net = 0;
+    std::size_t nfree = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.inv_mass[i] == 0.0) continue;
+        net += norm(p.force[i] + p.ext_force[i] + w.params.gravity * p.mass[i]);
+        ++nfree;
+    }
+    const auto& pp = w.particle_contacts();
+    double fc = 0;
+    std::size_t nc = 0;
+    for (std::size_t k = 0; k < pp.size(); ++k)
+        if (pp.touching[k]) {
+            fc += norm(pp.force[k]);
+            ++nc;
+        }
+    if (nc == 0 || nfree == 0) return 1.0;
+    return (net / double(nfree)) / (fc / double(nc));
+}
+
+}  // namespace
+
+std::size_t grain_count(const Config& c) {
+    const double rk = c.grains.radius;
+    return std::size_t(std::llround(c.grains.volume_fraction * std::numbers::pi * c.damper.radius * c.damper.radius *
+                                    c.damper.height / (4.0 / 3.0 * std::numbers::pi * rk * rk * rk)));
+}
+
+double inertial_number(const Config& c, double height) {
+    const double gamma_dot = c.process.velocity / height;
+    const double p = std::max(std::abs(c.process.underpressure), 1.0);
+    return gamma_dot * 2.0 * c.grains.radius * std::sqrt(c.grains.density / p);
+}
+
+// ------------------------------------------------------------------------------------------
+
+namespace {
+
+class DamperRun {
+public:
+    DamperRun(const Config& c, const DamperOptions& o) : c_(c), o_(o), out_(o.out_dir) {}
+    DamperResult run();
+
+private:
+    void build();
+    void apply_config_to_prepared();
+    void stage_fill();
+    void stage_compress();
+    void stage_vacuum();
+    void stage_cycle();
+    void finish();
+    void checkpoint(bool force);
+    void save_prepared();
+    void write_forces();
+    void vtk_frame(const char* tag);
+    double top_ring_force_z() const;
+    void next_stage(Stage s);
+    void log(const char* fmt, ...) const;
+
+    Config c_;
+    DamperOptions o_;
+    fs::path out_;
+    dem::World w_;
+    FoilLattice L_;
+    RunState st_;
+    uint32_t g0_ = 0, g1_ = 0;  // grain index range
+    double z_top_ = 0;          // [m] top ring / cap height after preparation
+    std::vector<uint32_t> top_ring_;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+    std::chrono::steady_clock::time_point last_ckpt_ = start_;
+    int vtk_count_ = 0;
+    double next_vtk_ = 0.0;
+    std::vector<std::string> warnings_;
+};
+
+void DamperRun::log(const char* fmt, ...) const {
+    if (o_.quiet) return;
+    va_list ap;
+    va_start(ap, fmt);
+    std::vfprintf(stderr, fmt, ap);
+    va_end(ap);
+}
+
+void DamperRun::build() {
+    // Foil first: its particles are 0 .. n_f - 1 and its material index 0.
+    w_.params.gravity = {0, 0, -9.81};
+    w_.params.local_damping = c_.simulation.local_damping;
+    w_.params.threads = c_.simulation.threads;
+    w_.params.skin = c_.simulation.skin;
+    L_ = build_cylinder(w_, c_.foil, c_.damper.radius, c_.damper.height);
+    z_top_ = (L_.rows - 1) * L_.spacing;
+    top_ring_ = L_.row(L_.rows - 1);
+}
+
+void DamperRun::next_stage(Stage s) {
+    st_.stage = s;
+    st_.stage_t0 = w_.time;
+    st_.cap_d0 = w_.planes[kTopCap].motion.displacement(w_.time).z;
+    checkpoint(true);
+    vtk_frame(stage_name(s));
+}
+
+double DamperRun::top_ring_force_z() const {
+    double f = 0;
+    for (uint32_t i : top_ring_) f += w_.particles.force[i].z;
+    return f;
+}
+
+void DamperRun::checkpoint(bool force) {
+    const auto now = std::chrono::steady_clock::now();
+    if (!force && std::chrono::duration<double>(now - last_ckpt_).count() < o_.checkpoint_every) return;
+    last_ckpt_ = now;
+    dem::save_checkpoint((out_ / "run.ckpt").string(), w_, st_.save());
+    if (st_.stage == Stage::Cycling || st_.stage == Stage::Done) write_forces();
+}
+
+void DamperRun::save_prepared() {
+    dem::save_checkpoint((out_ / "prepared.ckpt").string(), w_, st_.save());
+}
+
+void DamperRun::vtk_frame(const char* tag) {
+    fs::create_directories(out_ / "vtk");
+    char name[96];
+    std::snprintf(name, sizeof name, "damper_%04d_%s.vtk", vtk_count_++, tag);
+    dem::write_particles_vtk((out_ / "vtk" / name).string(), w_, true);
+}
+
+void DamperRun::stage_fill() {
+    const double max_time = 1.5;  // [s] of falling; a column of 20 cm settles in well under 1 s
+    const double check = 2e-3;    // [s] between settling checks
+    const double ke_ref = double(g1_ - g0_) * w_.particles.mass[g0_] * 9.81 * 2.0 * c_.grains.radius;
+    cli::Progress prog("prepare: fill", uint64_t(max_time / w_.params.dt), o_.quiet);
+    // Checks fall at fixed times after the stage start, so a resumed run decides identically.
+    auto next_check_after = [&](double t) { return st_.stage_t0 + check * (std::floor((t - st_.stage_t0) / check) + 1.0); };
+    double next_check = next_check_after(w_.time);
+    for (;;) {
+        w_.step();
+        prog.update(uint64_t((w_.time - st_.stage_t0) / w_.params.dt), w_.time);
+        checkpoint(false);
+        if (w_.time < next_check) continue;
+        next_check = next_check_after(w_.time);
+        const double t = w_.time - st_.stage_t0;
+        const double ke = grains_kinetic_energy(w_, g0_, g1_);
+        if (t > 0.15 && ke < 1e-4 * ke_ref) {
+            log("[prepare] grains settled after %.3f s (kinetic energy %.3g J)\n", t, ke);
+            break;
+        }
+        if (t > max_time) {
+            warnings_.push_back("filling: grains not fully settled after 1.5 s");
+            log("[prepare] warning: grains still moving after %.2f s (kinetic energy %.3g J)\n", t, ke);
+            break;
+        }
+    }
+}
+
+void DamperRun::stage_compress() {
+    // Bring the cap just above the highest grain (nothing touches it on the way), then move it
+    // down to the top ring at 0.1 m/s and let the grains rearrange.
+    double top = 0;
+    for (uint32_t i = g0_; i < g1_; ++i) top = std::max(top, w_.particles.pos[i].z + w_.particles.radius[i]);
+    const double z_cap0 = w_.planes[kTopCap].point.z;
+    const double z_start = std::max(z_top_, top + 1e-4);
+    const double speed = 0.1, hold = 0.02;
+    const double t0 = w_.time, t1 = t0 + (z_start - z_top_) / speed;
+    dem::Motion m;
+    m.history = {{t0 - 1e-12, {0, 0, z_start - z_cap0}}, {t1 + 1e-12, {0, 0, z_top_ - z_cap0}}};
+    w_.planes[kTopCap].motion = m;
+    w_.invalidate_candidates();
+    log("[prepare] cap from %.4f m down to %.4f m (grains top %.4f m)\n", z_start, z_top_, top);
+    const uint64_t n = uint64_t((t1 + hold - w_.time) / w_.params.dt) + 1;
+    cli::Progress prog("prepare: compress", n, o_.quiet);
+    for (uint64_t s = 0; s < n; ++s) {
+        w_.step();
+        prog.update(s + 1, w_.time);
+    }
+    w_.clear_facets();  // the funnel goes
+}
+
+void DamperRun::apply_config_to_prepared() {
+    // What may change between a preparation and a run from it: contact properties, foil
+    // stiffness, process and simulation settings (geometry is checked by the caller).
+    dem::Material& g = w_.materials[kGrainMat];
+    g.young = c_.grains.young;
+    g.stiffness_ratio = c_.grains.stiffness_ratio;
+    g.friction = c_.grains.friction;
+    w_.materials[kCapMat].friction = c_.damper.cap_friction < 0 ? c_.grains.friction : c_.damper.cap_friction;
+    w_.materials[kCapMat].young = c_.grains.young;
+    dem::Material& f = w_.materials[kFoilMat];
+    f.young = particle_modulus(c_.foil);
+    f.stiffness_ratio = c_.foil.stiffness_ratio;
+    f.friction = c_.foil.friction;
+    const double kn = bond_normal_stiffness(c_.foil);
+    for (std::size_t b = 0; b < w_.bonds().size(); ++b) w_.set_bond_stiffness(uint32_t(b), kn, c_.foil.stiffness_ratio * kn);
+    w_.invalidate_contact_physics();
+    w_.params.local_damping = c_.simulation.local_damping;
+    w_.params.threads = c_.simulation.threads;
+    w_.params.skin = c_.simulation.skin;
+}
+
+void DamperRun::stage_vacuum() {
+    const double ramp = c_.process.ramp_time, min_hold = 0.02, max_hold = 0.5, check = 2e-3;
+    w_.pressure.nodes = cylinder_pressure_nodes(L_);
+    const double dp = c_.process.underpressure;
+    cli::Progress prog("vacuum", uint64_t((ramp + max_hold) / w_.params.dt), o_.quiet);
+    auto next_check_after = [&](double t) { return st_.stage_t0 + check * (std::floor((t - st_.stage_t0) / check) + 1.0); };
+    double next_check = next_check_after(w_.time);
+    const double ke_ref = double(g1_ - g0_) * w_.particles.mass[g0_] * 9.81 * 2.0 * c_.grains.radius;
+    for (;;) {
+        const double t = w_.time - st_.stage_t0;
+        w_.pressure.dp = dp * std::min(1.0, t / ramp);
+        w_.step();
+        prog.update(uint64_t(t / w_.params.dt), w_.time);
+        checkpoint(false);
+        if (w_.time < next_check) continue;
+        next_check = next_check_after(w_.time);
+        if (t < ramp + min_hold) continue;
+        // Forces of the step just taken (computing them again would advance the shear springs).
+        const double ke = grains_kinetic_energy(w_, g0_, g1_);
+        const double ub = unbalanced_force(w_);
+        if (ke < 1e-4 * ke_ref && ub < 0.05) {
+            log("[vacuum] at rest %.3f s after the ramp: kinetic energy %.3g J, unbalanced force %.3g\n",
+                t - ramp, ke, ub);
+            break;
+        }
+        if (t > ramp + max_hold) {
+            warnings_.push_back("vacuum: sample not fully at rest after the hold time");
+            log("[vacuum] warning: not at rest after %.2f s (kinetic energy %.3g J, unbalanced %.3g)\n", t, ke, ub);
+            break;
+        }
+    }
+}
+
+void DamperRun::stage_cycle() {
+    const double A = c_.process.amplitude, v = c_.process.velocity;
+    const double T = 2.0 * A / v;
+    const int S = int(c_.process.samples_per_cycle), ncyc = int(c_.process.cycles);
+    const double win = c_.process.sample_window;
+    if (st_.samples.empty() && st_.window_n == 0 && st_.cycle_t0 == 0.0) {
+        // Start of cycling: cap and top ring follow one triangular history, compression first.
+        st_.cycle_t0 = w_.time;
+        dem::Motion cap, ring;
+        const double d0 = w_.planes[kTopCap].motion.displacement(w_.time).z;
+        for (int k = 0; k <= ncyc; ++k) {
+            cap.history.push_back({st_.cycle_t0 + k * T, {0, 0, d0}});
+            ring.history.push_back({st_.cycle_t0 + k * T, {0, 0, 0}});
+            if (k < ncyc) {
+                cap.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, d0 - A}});
+                ring.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, -A}});
+            }
+        }
+        w_.planes[kTopCap].motion = cap;
+        const uint32_t m = w_.add_motion(ring);
+        for (uint32_t i : top_ring_) w_.set_prescribed(i, m);
+        st_.cap_d0 = d0;
+    }
+    const double t_end = st_.cycle_t0 + ncyc * T;
+    const uint64_t total = uint64_t(std::ceil((t_end - st_.cycle_t0) / w_.params.dt));
+    cli::Progress prog("cycle", total, o_.quiet);
+    auto sample_time = [&](std::size_t s) { return st_.cycle_t0 + double(s) * T / S; };
+    while (w_.time < t_end - 0.5 * w_.params.dt) {
+        w_.compute_forces();
+        const std::size_t s = st_.samples.size();
+        if (s < std::size_t(ncyc) * S) {
+            const double ts = sample_time(s);
+            if (w_.time > ts - win - 0.5 * w_.params.dt) {
+                st_.window_grains += w_.wall_force(kTopCap).z;
+                st_.window_foil += top_ring_force_z();
+                ++st_.window_n;
+            }
+            if (w_.time >= ts - 0.5 * w_.params.dt) {
+                Sample smp;
+                smp.time = w_.time;
+                smp.displacement = st_.cap_d0 - w_.planes[kTopCap].motion.displacement(w_.time).z;
+                smp.grains = st_.window_grains / double(st_.window_n);
+                smp.foil = st_.window_foil / double(st_.window_n);
+                st_.samples.push_back(smp);
+                st_.window_grains = st_.window_foil = 0;
+                st_.window_n = 0;
+            }
+        }
+        w_.integrate();
+        prog.update(uint64_t((w_.time - st_.cycle_t0) / w_.params.dt), w_.time);
+        checkpoint(false);
+        if (c_.output.vtk_interval > 0 && w_.time >= next_vtk_) {
+            vtk_frame("cycle");
+            next_vtk_ = w_.time + c_.output.vtk_interval;
+        }
+    }
+}
+
+void DamperRun::write_forces() {
+    dem::CsvWriter csv((out_ / "forces.csv").string(), "time,displacement,force_total,force_grains,force_foil,force_zeroed,cycle");
+    const int S = int(c_.process.samples_per_cycle);
+    const double f0 = st_.samples.empty() ? 0.0 : st_.samples[0].grains + st_.samples[0].foil;
+    for (std::size_t k = 0; k < st_.samples.size(); ++k) {
+        const Sample& s = st_.samples[k];
+        const double total = s.grains + s.foil;
+        csv.row({s.time - st_.cycle_t0, s.displacement, total, s.grains, s.foil, total - f0, double(k / S + 1)});
+    }
+    csv.close();
+}
+
+DamperResult DamperRun::run() {
+    build();
+    const std::size_t n_foil = L_.particles.size();
+    const std::size_t n = grain_count(c_);
+    g0_ = uint32_t(n_foil);
+    g1_ = uint32_t(n_foil + n);
+    // Do the grains fit? Solid volume against the foil's interior (random close packing ~0.64).
+    const double r_in = L_.radius - c_.foil.particle_radius;
+    const double v_in = std::numbers::pi * r_in * r_in * z_top_;
+    const double v_grains = double(n) * 4.0 / 3.0 * std::numbers::pi * std::pow(c_.grains.radius, 3);
+    if (v_grains > 0.60 * v_in)
+        throw std::runtime_error("config key 'grains.volume_fraction' = " + std::to_string(c_.grains.volume_fraction) +
+                                 ": " + std::to_string(n) + " grains fill " +
+                                 std::to_string(100.0 * v_grains / v_in) +
+                                 "% of the foil's interior; at most 60% fit (random close packing)");
+    if (c_.grains.radius > r_in / 3.0)
+        throw std::runtime_error("config key 'grains.radius' = " + std::to_string(c_.grains.radius) +
+                                 ": too large for the damper; at most a third of the foil's inner radius (" +
+                                 std::to_string(r_in / 3.0) + " m)");
+
+    if (o_.from.empty()) {
+        // Materials in fixed order: grain (frictionless while filling), cap, funnel.
+        dem::Material g{"grain", c_.grains.density, c_.grains.young, c_.grains.stiffness_ratio, 0.0, 1.0};
+        w_.add_material(g);
+        dem::Material cap{"cap", c_.grains.density, c_.grains.young, c_.grains.stiffness_ratio, 0.0, 1.0};
+        w_.add_material(cap);
+        dem::Material fun{"funnel", c_.grains.density, c_.grains.young, c_.grains.stiffness_ratio, 0.0, 1.0};
+        w_.add_material(fun);
+        for (int k : {0, L_.rows - 1})
+            for (uint32_t i : L_.row(k)) w_.set_fixed(i);
+        double funnel_h = 0;
+        const double funnel_top_r = 1.6 * L_.radius;
+        const auto pos = generate_grains(c_, L_, n, z_top_, funnel_top_r, funnel_h);
+        double zmax = 0;
+        for (const Vec3& p : pos) {
+            dem::SphereDef d;
+            d.position = p;
+            d.radius = c_.grains.radius;
+            d.material = kGrainMat;
+            d.mask = kGrainMask;
+            w_.add_sphere(d);
+            zmax = std::max(zmax, p.z);
+        }
+        dem::Plane bottom;
+        bottom.point = {0, 0, 0};
+        bottom.normal = {0, 0, 1};
+        bottom.material = kCapMat;
+        bottom.mask = kMaskCap;
+        w_.add_plane(bottom);
+        dem::Plane top = bottom;
+        top.point = {0, 0, std::max(zmax + c_.grains.radius + 1e-3, z_top_)};
+        top.normal = {0, 0, -1};
+        w_.add_plane(top);
+        for (dem::Facet f : dem::make_funnel_facets({0, 0, z_top_}, L_.radius, funnel_top_r, funnel_h, 72, true)) {
+            f.material = kFunnelMat;
+            f.mask = kMaskCap;
+            w_.add_facet(f);
+        }
+        st_.geometry = geometry_of(c_);
+        w_.params.dt = resolve_dt(c_.simulation, w_);
+        cli::prepare_output_dir(o_.out_dir, o_.overwrite);  // only now: bad input writes nothing
+        log("damper: %zu grains (r_k = %.4g m), foil %d x %d = %zu particles (radius %.5g m), height %.5g m, "
+            "dt = %.4g s\n", n, c_.grains.radius, L_.cols, L_.rows, n_foil, L_.radius, z_top_, w_.params.dt);
+        next_stage(Stage::Fill);
+    } else {
+        const std::string blob = dem::load_checkpoint(o_.from, w_);
+        st_ = RunState::load(blob);
+        // Refuse a sample prepared with another geometry, naming every key that differs.
+        std::string diffs;
+        for (const auto& [key, value] : geometry_of(c_)) {
+            auto it = st_.geometry.find(key);
+            if (it == st_.geometry.end() || std::abs(it->second - value) > 1e-12 * std::max(1.0, std::abs(value)))
+                diffs += (diffs.empty() ? "" : ", ") + key + " = " +
+                         (it == st_.geometry.end() ? std::string("?") : std::to_string(it->second)) +
+                         " (the config asks for " + std::to_string(value) + ")";
+        }
+        if (!diffs.empty())
+            throw std::runtime_error("checkpoint '" + o_.from + "' was prepared with another geometry: " + diffs +
+                                     "; prepare a new sample (run without --from)");
+        if (w_.particles.size() != n_foil + n)
+            throw std::runtime_error("checkpoint '" + o_.from + "' does not hold this damper's particles");
+        // Resuming into the folder the checkpoint lives in is allowed; anything else must be new.
+        std::error_code ec;
+        const bool resuming = fs::exists(out_) && fs::equivalent(fs::absolute(o_.from).parent_path(), out_, ec);
+        if (!resuming) cli::prepare_output_dir(o_.out_dir, o_.overwrite);
+        log("damper: starting from %s at stage '%s', t = %.4g s\n", o_.from.c_str(), stage_name(st_.stage), w_.time);
+        if (st_.stage == Stage::Prepared) {
+            apply_config_to_prepared();
+            w_.params.dt = resolve_dt(c_.simulation, w_);
+        } else {
+            w_.params.threads = c_.simulation.threads;  // the only setting a resumed run may change
+        }
+    }
+    w_.params.threads = c_.simulation.threads;
+
+    if (st_.stage == Stage::Fill) {
+        stage_fill();
+        next_stage(Stage::Compress);
+    }
+    if (st_.stage == Stage::Compress) {
+        stage_compress();
+        next_stage(Stage::Prepared);
+        save_prepared();
+        apply_config_to_prepared();
+    }
+    if (st_.stage == Stage::Prepared) next_stage(Stage::Vacuum);
+    if (st_.stage == Stage::Vacuum) {
+        stage_vacuum();
+        next_stage(Stage::Cycling);
+    }
+    if (st_.stage == Stage::Cycling) {
+        stage_cycle();
+        next_stage(Stage::Done);
+    }
+    finish();
+
+    DamperResult r;
+    r.grains = n;
+    r.foil_particles = n_foil;
+    r.bonds = w_.bonds().size();
+    r.foil_columns = L_.cols;
+    r.foil_rows = L_.rows;
+    r.foil_radius = L_.radius;
+    r.height = z_top_;
+    r.dt = w_.params.dt;
+    r.inertial_number = inertial_number(c_, z_top_);
+    LoopSeries ls;
+    const int S = int(c_.process.samples_per_cycle);
+    for (std::size_t k = 0; k < st_.samples.size(); ++k) {
+        ls.time.push_back(st_.samples[k].time);
+        ls.displacement.push_back(st_.samples[k].displacement);
+        ls.force.push_back(st_.samples[k].grains + st_.samples[k].foil);
+        ls.cycle.push_back(int(k / S) + 1);
+    }
+    r.cycles = analyze_cycles(ls, c_.damper.radius);
+    r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    return r;
+}
+
+void DamperRun::finish() {
+    write_forces();
+}
+
+}  // namespace
+
+DamperResult run_damper(const Config& c, const DamperOptions& opt) {
+    DamperRun run(c, opt);
+    DamperResult r = run.run();
+    const fs::path out(opt.out_dir);
+    write_cycles_csv((out / "cycles.csv").string(), r.cycles);
+
+    const double I = r.inertial_number;
+    const bool quasi_static = I < 1e-3;
+    std::string cycles_json = "[";
+    for (std::size_t k = 0; k < r.cycles.size(); ++k) {
+        const CycleResult& cr = r.cycles[k];
+        dem::JsonObject j;
+        j.num("cycle", cr.cycle).num("dissipated_energy", cr.dissipated_energy).num("W", cr.W)
+            .num("peak_force", cr.peak_force).num("min_force", cr.min_force);
+        std::string t = j.text();
+        t.pop_back();
+        cycles_json += (k ? ", " : "") + t;
+    }
+    cycles_json += "]";
+    dem::JsonObject inputs;
+    inputs.num("grains.radius", c.grains.radius).num("grains.density", c.grains.density)
+        .num("grains.young", c.grains.young).num("grains.friction", c.grains.friction)
+        .num("grains.stiffness_ratio", c.grains.stiffness_ratio).num("grains.volume_fraction", c.grains.volume_fraction)
+        .num("foil.young", c.foil.young).num("foil.thickness", c.foil.thickness)
+        .num("foil.particle_radius", c.foil.particle_radius).num("foil.density", c.foil.density)
+        .num("foil.friction", c.foil.friction).num("damper.radius", c.damper.radius)
+        .num("damper.height", c.damper.height).num("process.underpressure", c.process.underpressure)
+        .num("process.amplitude", c.process.amplitude).num("process.velocity", c.process.velocity)
+        .num("process.cycles", double(c.process.cycles)).num("process.samples_per_cycle", double(c.process.samples_per_cycle))
+        .num("process.sample_window", c.process.sample_window).num("simulation.local_damping", c.simulation.local_damping)
+        .num("simulation.threads", c.simulation.threads).num("simulation.seed", double(c.simulation.seed));
+    std::string in = inputs.text();
+    in.pop_back();
+    dem::JsonObject j;
+    j.raw("inputs", in)
+        .num("underpressure", c.process.underpressure)
+        .num("grains", double(r.grains))
+        .num("foil_particles", double(r.foil_particles))
+        .num("foil_bonds", double(r.bonds))
+        .num("foil_columns", r.foil_columns)
+        .num("foil_rows", r.foil_rows)
+        .num("foil_radius", r.foil_radius)
+        .num("height", r.height)
+        .num("particle_modulus", particle_modulus(c.foil))
+        .num("bond_kn", bond_normal_stiffness(c.foil))
+        .num("dt", r.dt)
+        .num("cycle_steps", 2.0 * c.process.amplitude / c.process.velocity / r.dt)
+        .num("inertial_number", I)
+        .boolean("quasi_static", quasi_static)
+        .raw("cycles", cycles_json)
+        .num("run_seconds", r.run_seconds)
+        .str("from", opt.from);
+    dem::write_text_atomic((out / "summary.json").string(), j.text());
+
+    if (!opt.quiet) {
+        std::fprintf(stderr, "\n=== vppdem damper: %s ===\n", opt.out_dir.c_str());
+        std::fprintf(stderr, "grains %zu, foil %zu particles (%d x %d, radius %.4g mm), height %.4g mm, dt %.3g s\n",
+                     r.grains, r.foil_particles, r.foil_columns, r.foil_rows, 1e3 * r.foil_radius, 1e3 * r.height, r.dt);
+        std::fprintf(stderr, "dp %.4g MPa, amplitude %.3g mm, velocity %.4g m/s, inertial number %.2g%s\n",
+                     c.process.underpressure * 1e-6, c.process.amplitude * 1e3, c.process.velocity, I,
+                     quasi_static ? " (quasi-static)" : "  WARNING: not quasi-static (I >= 1e-3); lower process.velocity");
+        std::fprintf(stderr, "cycle  dissipated [J]   W [J/m^2]   peak [N]   min [N]\n");
+        for (const auto& cr : r.cycles)
+            std::fprintf(stderr, "%5d  %13.5g  %10.5g  %9.4g  %8.4g\n", cr.cycle, cr.dissipated_energy, cr.W,
+                         cr.peak_force, cr.min_force);
+        std::fprintf(stderr, "run time %.1f s; outputs: forces.csv cycles.csv summary.json prepared.ckpt run.ckpt vtk/%s\n",
+                     r.run_seconds, opt.plot ? " loops*.png" : "");
+    }
+    if (opt.plot) plot_damper_dir(opt.out_dir, opt.quiet);
+    return r;
+}
+
+}  // namespace vpp

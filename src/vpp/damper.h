@@ -1,0 +1,44 @@
+// `vppdem damper`: the VPP damper end to end (paper section 4; spec sections 5-7).
+//   prepare: foil cylinder, grains generated in the foil and a funnel above it, frictionless
+//            fall, upper cap down to the damper height, funnel removed  -> prepared.ckpt
+//   vacuum:  grain friction restored, dp ramped up, sample brought to rest
+//   cycle:   upper cap and top foil ring moved together, triangular displacement
+//   record:  forces.csv (grains on the cap, foil on the top ring), cycles.csv, summary.json
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vpp/analysis.h"
+#include "vpp/config.h"
+
+namespace vpp {
+
+struct DamperOptions {
+    std::string out_dir;
+    std::string from;        // checkpoint to start from (prepared.ckpt or run.ckpt); empty: prepare
+    bool quiet = false;
+    bool plot = true;
+    bool overwrite = false;  // replace files in a non-empty out_dir (resuming from it needs none)
+    double checkpoint_every = 60.0;  // [s] wall clock between run.ckpt writes
+};
+
+struct DamperResult {
+    std::size_t grains = 0, foil_particles = 0, bonds = 0;
+    int foil_columns = 0, foil_rows = 0;
+    double foil_radius = 0, height = 0, dt = 0;
+    double inertial_number = 0;
+    std::vector<CycleResult> cycles;
+    double run_seconds = 0;
+};
+
+DamperResult run_damper(const Config& c, const DamperOptions& opt);
+
+// Number of grains for the volume fraction: round(phi * pi r_p^2 H_p / (4/3 pi r_k^3)).
+std::size_t grain_count(const Config& c);
+
+// Inertial number I = gamma_dot d sqrt(rho / p) of the cycling: gamma_dot = v_z / H,
+// d = 2 r_k, p = dp. Quasi-static when I << 1e-3.
+double inertial_number(const Config& c, double height);
+
+}  // namespace vpp

@@ -1,0 +1,15 @@
+// Plots through matplotlib (Debian's python3-matplotlib under /usr/bin/python3).
+#pragma once
+
+#include <string>
+
+namespace vpp {
+
+// Path of a script in the repository's tools/ folder (VPPDEM_TOOLS_DIR overrides it).
+std::string tool_path(const std::string& script);
+// The interpreter that sees Debian's python3-* packages.
+std::string python_interpreter();
+// Runs tools/plot_damper.py on a damper output folder; returns the exit status (0 = ok).
+int plot_damper_dir(const std::string& dir, bool quiet);
+
+}  // namespace vpp
