@@ -50,6 +50,10 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
     c.process.hold_time = p.non_negative("hold_time", p.number("hold_time", c.process.hold_time));
     c.process.amplitude = p.positive("amplitude", p.number("amplitude", c.process.amplitude));
     c.process.velocity = p.positive("velocity", p.number("velocity", c.process.velocity));
+    c.process.start_offset = p.number("start_offset", c.process.start_offset);
+    const std::string dir = p.string("direction", "compression");
+    if (dir != "compression" && dir != "extension") p.fail("direction", "must be \"compression\" or \"extension\"");
+    c.process.compression_first = dir == "compression";
     c.process.cycles = p.integer("cycles", c.process.cycles);
     if (c.process.cycles < 1) p.fail("cycles", "must be an integer >= 1");
     c.process.samples_per_cycle = p.integer("samples_per_cycle", c.process.samples_per_cycle);

@@ -33,6 +33,8 @@ struct ProcessDef {
     double hold_time = 0.08;        // [s] envelope: time held at full dp after the ramp
     double amplitude = 0.010;       // [m] dz
     double velocity = 3.33e-4;      // [m/s] v_z
+    double start_offset = 0.0;      // [m] cap moved down by this (up if < 0) before cycling
+    bool compression_first = true;  // direction "compression" (down first) or "extension"
     int64_t cycles = 4;
     int64_t samples_per_cycle = 500;
     double sample_window = 2e-4;    // [s]

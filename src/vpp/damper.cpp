@@ -387,26 +387,35 @@ void DamperRun::stage_cycle() {
     const int S = int(c_.process.samples_per_cycle), ncyc = int(c_.process.cycles);
     const double win = c_.process.sample_window;
     if (st_.samples.empty() && st_.window_n == 0 && st_.cycle_t0 == 0.0) {
-        // Start of cycling: cap and top ring follow one triangular history, compression first.
-        st_.cycle_t0 = w_.time;
-        dem::Motion cap, ring;
+        // Start of cycling: cap and top ring follow one history: an optional offset move, then
+        // `cycles` triangles of the amplitude (down first for compression, up for extension).
         const double d0 = w_.planes[kTopCap].motion.displacement(w_.time).z;
+        const double off = c_.process.start_offset;
+        const double t_off = std::abs(off) / v;
+        const double sign = c_.process.compression_first ? -1.0 : 1.0;  // z direction of the first leg
+        dem::Motion cap, ring;
+        cap.history.push_back({w_.time, {0, 0, d0}});
+        ring.history.push_back({w_.time, {0, 0, 0}});
+        st_.cycle_t0 = w_.time + t_off;
         for (int k = 0; k <= ncyc; ++k) {
-            cap.history.push_back({st_.cycle_t0 + k * T, {0, 0, d0}});
-            ring.history.push_back({st_.cycle_t0 + k * T, {0, 0, 0}});
+            if (k > 0 || t_off > 0) {
+                cap.history.push_back({st_.cycle_t0 + k * T, {0, 0, d0 - off}});
+                ring.history.push_back({st_.cycle_t0 + k * T, {0, 0, -off}});
+            }
             if (k < ncyc) {
-                cap.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, d0 - A}});
-                ring.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, -A}});
+                cap.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, d0 - off + sign * A}});
+                ring.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, -off + sign * A}});
             }
         }
         w_.planes[kTopCap].motion = cap;
         const uint32_t m = w_.add_motion(ring);
         for (uint32_t i : top_ring_) w_.set_prescribed(i, m);
-        st_.cap_d0 = d0;
+        st_.cap_d0 = d0 - off;  // displacements are recorded from the cycling start position
     }
     const double t_end = st_.cycle_t0 + ncyc * T;
-    const uint64_t total = uint64_t(std::ceil((t_end - st_.cycle_t0) / w_.params.dt));
+    const uint64_t total = uint64_t(std::ceil((t_end - w_.time) / w_.params.dt));
     cli::Progress prog("cycle", total, o_.quiet);
+    uint64_t done = 0;
     auto sample_time = [&](std::size_t s) { return st_.cycle_t0 + double(s) * T / S; };
     while (w_.time < t_end - 0.5 * w_.params.dt) {
         w_.compute_forces();
@@ -430,7 +439,7 @@ void DamperRun::stage_cycle() {
             }
         }
         w_.integrate();
-        prog.update(uint64_t((w_.time - st_.cycle_t0) / w_.params.dt), w_.time);
+        prog.update(++done, w_.time);
         checkpoint(false);
         if (c_.output.vtk_interval > 0 && w_.time >= next_vtk_) {
             vtk_frame("cycle");

@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# The paper's damper at the paper's four underpressures from one preparation.
+# usage: examples/underpressure_series.sh PREPARED.ckpt OUTDIR [VELOCITY]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+prep=$1; out=$2; v=${3:-0.05}
+for dp in 0.02e6 0.04e6 0.06e6 0.08e6; do
+  build/vppdem damper --from "$prep" --out "$out/dp_$dp" --overwrite --quiet --set process.velocity=$v \
+    --set process.underpressure=$dp
+  echo "== dp = $dp Pa"; cat "$out/dp_$dp/cycles.csv"
+  grep -E '"inertial_number"|"run_seconds"' "$out/dp_$dp/summary.json"
+done
