@@ -6,17 +6,21 @@
 #include <cstdio>
 #include <string>
 
+#include <unistd.h>
+
 namespace cli {
 
 class Progress {
 public:
     Progress(std::string stage, uint64_t total, bool quiet)
-        : stage_(std::move(stage)), total_(total), quiet_(quiet), start_(clock::now()), last_(start_) {}
+        : stage_(std::move(stage)), total_(total), quiet_(quiet), start_(clock::now()), last_(start_),
+          // A terminal gets a line every 2 s; a log file every 30 s.
+          every_(isatty(STDERR_FILENO) ? 2.0 : 30.0) {}
 
     void update(uint64_t done, double sim_time) {
         if (quiet_ || (done & 255u)) return;  // look at the clock every 256 steps only
         const auto now = clock::now();
-        if (std::chrono::duration<double>(now - last_).count() < 2.0 && done < total_) return;
+        if (std::chrono::duration<double>(now - last_).count() < every_ && done < total_) return;
         last_ = now;
         const double el = std::chrono::duration<double>(now - start_).count();
         const double rate = double(done) / std::max(el, 1e-9);
@@ -41,6 +45,7 @@ private:
     uint64_t total_;
     bool quiet_;
     clock::time_point start_, last_;
+    double every_;  // [s] between lines
 };
 
 }  // namespace cli
