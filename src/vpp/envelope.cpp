@@ -15,14 +15,22 @@ namespace vpp {
 namespace fs = std::filesystem;
 
 namespace {
-double kinetic_energy(const dem::World& w, const std::vector<uint32_t>& ids) {
+double translational_energy(const dem::World& w, const std::vector<uint32_t>& ids) {
     const auto& p = w.particles;
     double e = 0;
-    for (uint32_t i : ids) {
-        if (p.inv_mass[i] == 0.0) continue;
-        e += 0.5 * p.mass[i] * norm2(p.vel[i]) + 0.5 / p.inv_inertia[i] * norm2(p.angvel[i]);
-    }
+    for (uint32_t i : ids)
+        if (p.inv_mass[i] != 0.0) e += 0.5 * p.mass[i] * norm2(p.vel[i]);
     return e;
+}
+double rotational_energy(const dem::World& w, const std::vector<uint32_t>& ids) {
+    const auto& p = w.particles;
+    double e = 0;
+    for (uint32_t i : ids)
+        if (p.inv_inertia[i] != 0.0) e += 0.5 / p.inv_inertia[i] * norm2(p.angvel[i]);
+    return e;
+}
+double kinetic_energy(const dem::World& w, const std::vector<uint32_t>& ids) {
+    return translational_energy(w, ids) + rotational_energy(w, ids);
 }
 }  // namespace
 
@@ -79,6 +87,7 @@ EnvelopeResult run_envelope(const Config& c, const std::string& out_dir, bool qu
             r.min_gap = std::min(r.min_gap, gap);
             const double ke = kinetic_energy(w, L.particles);
             r.peak_kinetic_energy = std::max(r.peak_kinetic_energy, ke);
+            r.peak_translational_energy = std::max(r.peak_translational_energy, translational_energy(w, L.particles));
             if (csv) csv->row({t, w.pressure.dp, enclosed_volume(L, w.particles.pos), ke, gap});
             while (t + eps >= next_out * out_dt) ++next_out;
         }
@@ -94,6 +103,7 @@ EnvelopeResult run_envelope(const Config& c, const std::string& out_dir, bool qu
     }
     r.final_volume_ratio = enclosed_volume(L, w.particles.pos) / r.initial_volume;
     r.final_kinetic_energy = kinetic_energy(w, L.particles);
+    r.final_translational_energy = translational_energy(w, L.particles);
     for (uint32_t i : L.particles)
         r.max_radial_excursion = std::max(r.max_radial_excursion, std::hypot(w.particles.pos[i].x, w.particles.pos[i].y));
     if (csv) csv->close();
@@ -116,14 +126,20 @@ EnvelopeResult run_envelope(const Config& c, const std::string& out_dir, bool qu
             .num("initial_volume", r.initial_volume)
             .num("final_kinetic_energy", r.final_kinetic_energy)
             .num("peak_kinetic_energy", r.peak_kinetic_energy)
+            .num("final_translational_kinetic_energy", r.final_translational_energy)
+            .num("final_rotational_kinetic_energy", r.final_kinetic_energy - r.final_translational_energy)
+            .num("peak_translational_kinetic_energy", r.peak_translational_energy)
             .num("max_radial_excursion", r.max_radial_excursion)
             .num("dt", r.dt)
             .num("steps", double(r.steps));
         dem::write_text_atomic((fs::path(out_dir) / "summary.json").string(), j.text());
     }
     if (!quiet)
-        std::fprintf(stderr, "envelope: final volume ratio %.4f, min gap %.3f r_f, kinetic energy %.3g J (peak %.3g J)\n",
-                     r.final_volume_ratio, r.min_gap, r.final_kinetic_energy, r.peak_kinetic_energy);
+        std::fprintf(stderr,
+                     "envelope: final volume ratio %.4f, min gap %.3f r_f, kinetic energy %.3g J (peak %.3g J), "
+                     "of which translational %.3g J (peak %.3g J)\n",
+                     r.final_volume_ratio, r.min_gap, r.final_kinetic_energy, r.peak_kinetic_energy,
+                     r.final_translational_energy, r.peak_translational_energy);
     return r;
 }
 

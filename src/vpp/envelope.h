@@ -17,6 +17,11 @@ struct EnvelopeResult {
     double min_gap = 0;             // [r_f] smallest non-bonded gap over the run
     double final_kinetic_energy = 0;  // [J]
     double peak_kinetic_energy = 0;   // [J]
+    // Translational part: after the collapse the residual kinetic energy is almost all free
+    // spin of foil particles about their bond axes, which no force or torque resists (and so
+    // no local damping removes); the membrane itself is at rest.
+    double final_translational_energy = 0;  // [J]
+    double peak_translational_energy = 0;   // [J]
     double max_radial_excursion = 0;  // [m] largest distance of a foil particle from the axis
     double dt = 0;
     uint64_t steps = 0;
