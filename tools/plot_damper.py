@@ -12,8 +12,13 @@ forces [N], both positive in compression; cycle 1-based) and writes
   DIR/loops.png         the three side by side (total, foil, grains)
 with one colour per cycle. The title gives the underpressure when DIR/summary.json has the key
 "underpressure" [Pa]; when DIR/cycles.csv exists (header `cycle,dissipated_energy,W,...`), the
-legend of the total plots gives W [J/m^2] per cycle. Exits nonzero with a message when
-forces.csv is missing, empty or lacks a plotted column.
+legend of the total plots gives W [J/m^2] per cycle. When cycles.csv also has the energy
+columns `friction_dissipation,damping_dissipation,viscous_dissipation` [J] (a damper run; see
+docs/energy.md), it writes
+  DIR/energy_split.png  per cycle, the dissipated energy split into friction, local damping and
+                        viscous damping (stacked bars) against the loop area; next to it, from
+                        DIR/energy.csv when present, the cumulative terms over time.
+Exits nonzero with a message when forces.csv is missing, empty or lacks a plotted column.
 Runs under Debian's /usr/bin/python3 (matplotlib, numpy).
 """
 import csv
@@ -97,6 +102,68 @@ def read_w(d):
     return {int(round(k)): w for k, w in zip(c["cycle"], c["W"])}
 
 
+ENERGY_TERMS = (  # (cycles.csv / energy.csv column, label, colour)
+    ("friction_dissipation", "friction (Coulomb slip)", "tab:blue"),
+    ("damping_dissipation", "local damping", "tab:orange"),
+    ("viscous_dissipation", "viscous (restitution)", "tab:green"),
+)
+
+
+def plot_energy_split(d, dp):
+    """DIR/energy_split.png from the energy columns of cycles.csv (and energy.csv); None if absent."""
+    path = os.path.join(d, "cycles.csv")
+    if not os.path.exists(path):
+        return None
+    try:
+        c = read_csv(path, ("cycle", "dissipated_energy") + tuple(t[0] for t in ENERGY_TERMS))
+    except (OSError, ValueError):
+        return None  # a cycles.csv without the energy budget (e.g. from `vppdem analyze`)
+    e = None
+    epath = os.path.join(d, "energy.csv")
+    if os.path.exists(epath):
+        try:
+            e = read_csv(epath, ("time", "boundary_work", "pressure_work", "residual") + tuple(t[0] for t in ENERGY_TERMS))
+        except (OSError, ValueError) as err:
+            print(f"plot_damper.py: ignoring {epath}: {err}", file=sys.stderr)
+    fig, axes = plt.subplots(1, 2 if e is not None else 1, figsize=(13 if e is not None else 6.4, 4.8), squeeze=False)
+    ax = axes[0][0]
+    cyc = np.rint(c["cycle"]).astype(int)
+    bottom = np.zeros(len(cyc))
+    for col, label, colour in ENERGY_TERMS:
+        ax.bar(cyc, c[col] * 1e3, bottom=bottom * 1e3, color=colour, label=label, width=0.6)
+        bottom += c[col]
+    total = np.where(bottom > 0, bottom, np.nan)
+    ax.plot(cyc, c["dissipated_energy"] * 1e3, "k_", markersize=28, mew=2, label="loop area (cycles.csv)")
+    for x, b, f in zip(cyc, total, c["friction_dissipation"]):
+        if np.isfinite(b):
+            ax.annotate(f"{100 * f / b:.0f}% friction", (x, b * 1e3), ha="center", va="bottom", fontsize=8)
+    ax.set_xlabel("cycle")
+    ax.set_ylabel("energy dissipated per cycle [mJ]")
+    ax.set_xticks(cyc)
+    ax.set_title("where the loop energy goes", fontsize=10)
+    ax.grid(True, axis="y", alpha=0.3)
+    ax.legend(fontsize=8, loc="lower right")
+    if e is not None:
+        ax = axes[0][1]
+        t = e["time"]
+        ax.plot(t, e["boundary_work"] * 1e3, "k-", lw=1.5, label="boundary work (cap + ring)")
+        ax.plot(t, e["pressure_work"] * 1e3, "k:", lw=1.2, label="pressure work")
+        for col, label, colour in ENERGY_TERMS:
+            ax.plot(t, e[col] * 1e3, "-", color=colour, lw=1.2, label=label)
+        ax.plot(t, e["residual"] * 1e3, "r--", lw=1.0, label="residual (balance error)")
+        ax.set_xlabel("time since the start of cycling [s]")
+        ax.set_ylabel("cumulative energy [mJ]")
+        ax.set_title("energy ledger (energy.csv)", fontsize=10)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=8, loc="upper left")
+    fig.suptitle(f"VPP damper energy budget{', ' + dp if dp else ''}", fontsize=11)
+    fig.tight_layout()
+    out = os.path.join(d, "energy_split.png")
+    fig.savefig(out, dpi=100)
+    plt.close(fig)
+    return out
+
+
 def cycle_colours(cycles):
     cmap = plt.get_cmap("tab10") if len(cycles) <= 10 else plt.get_cmap("viridis")
     n = max(len(cycles) - 1, 1)
@@ -163,6 +230,9 @@ def main():
     fig.savefig(out, dpi=100)
     plt.close(fig)
     written.append(out)
+    out = plot_energy_split(d, dp)
+    if out:
+        written.append(out)
     print("\n".join(written))
 
 

@@ -106,6 +106,8 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     Section out = top.table("output");
     sc.vtk_interval = out.number("vtk_interval", 0.0);
     if (sc.vtk_interval < 0.0) out.fail("vtk_interval", "must be >= 0 (0 = no VTK output)");
+    // energy.csv: the World keeps its energy ledger (docs/energy.md).
+    w.params.track_energy = out.boolean("energy", false);
     out.finish();
 
     std::map<std::string, uint32_t> by_name;
@@ -286,6 +288,21 @@ void run_scene(Scene& sc, const RunOptions& opt) {
 
     dem::CsvWriter tracked((out / "tracked.csv").string(), "time,id,x,y,z,vx,vy,vz,wx,wy,wz");
     dem::CsvWriter walls((out / "walls.csv").string(), "time,wall,fx,fy,fz,tx,ty,tz");
+    // energy.csv (only with [output] energy = true): the ledger from t = 0 at the output times.
+    const bool energy = w.params.track_energy;
+    dem::CsvWriter energy_csv;
+    if (energy) {
+        energy_csv.open((out / "energy.csv").string(),
+                        "time,boundary_work,pressure_work,gravity_work,kinetic,elastic_contacts,elastic_bonds,"
+                        "friction_dissipation,damping_dissipation,viscous_dissipation,residual");
+        w.reset_energy();
+    }
+    auto energy_row = [&] {
+        const dem::EnergyLedger& L = w.energy();
+        energy_csv.row({L.time, L.boundary_work, L.pressure_work, L.gravity_work, L.kinetic, L.elastic_contacts,
+                        L.elastic_bonds, L.friction_dissipation(), L.damping_dissipation, L.viscous_dissipation,
+                        L.residual()});
+    };
     if (sc.vtk_interval > 0.0) fs::create_directories(out / "vtk");
 
     // Output times are multiples of the interval; a step records when it first reaches one.
@@ -300,7 +317,9 @@ void run_scene(Scene& sc, const RunOptions& opt) {
     for (uint64_t s = 0; s <= nsteps; ++s) {
         w.compute_forces();
         const double t = w.time;
+        bool output_row = false;
         if (t + eps >= double(next_out) * out_iv) {
+            output_row = true;
             for (uint32_t id : sc.tracked) {
                 const Vec3 x = w.particles.pos[id], v = w.velocity_at_time(id), om = w.angular_velocity_at_time(id);
                 tracked.row({t, double(id), x.x, x.y, x.z, v.x, v.y, v.z, om.x, om.y, om.z});
@@ -326,12 +345,22 @@ void run_scene(Scene& sc, const RunOptions& opt) {
             next_vtk = std::max(next_vtk, uint64_t(std::floor((t + eps) / vtk_iv)));
             while (t + eps >= double(next_vtk) * vtk_iv) ++next_vtk;
         }
-        if (s == nsteps) break;
+        if (s == nsteps) {
+            // The ledger at t needs v(t + dt/2): integrate the last step too (nothing after
+            // this reads the World's positions).
+            if (energy && output_row) {
+                w.integrate();
+                energy_row();
+            }
+            break;
+        }
         w.integrate();
+        if (energy && output_row) energy_row();
         progress.update(s + 1, w.time);
     }
     tracked.close();
     walls.close();
+    if (energy) energy_csv.close();
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     progress.finish();
 

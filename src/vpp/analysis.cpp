@@ -183,13 +183,22 @@ LoopSeries read_loop_csv(const std::string& path, const std::string& time_col,
 }
 
 void write_cycles_csv(const std::string& path, const std::vector<CycleResult>& cycles) {
-    std::string out = "cycle,dissipated_energy,W,peak_force,min_force\n";
+    const bool energy = !cycles.empty() && std::all_of(cycles.begin(), cycles.end(),
+                                                       [](const CycleResult& c) { return c.has_energy; });
+    std::string out = "cycle,dissipated_energy,W,peak_force,min_force";
+    if (energy) out += ",friction_dissipation,damping_dissipation,viscous_dissipation";
+    out += '\n';
     for (const auto& c : cycles) {
         out += std::to_string(c.cycle);
         for (double v : {c.dissipated_energy, c.W, c.peak_force, c.min_force}) {
             out += ',';
             dem::append_number(out, v);
         }
+        if (energy)
+            for (double v : {c.friction_dissipation, c.damping_dissipation, c.viscous_dissipation}) {
+                out += ',';
+                dem::append_number(out, v);
+            }
         out += '\n';
     }
     dem::write_text_atomic(path, out);

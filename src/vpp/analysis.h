@@ -25,6 +25,14 @@ struct CycleResult {
     double W = 0;                  // [J/m^2] dissipated_energy / (pi radius^2)
     double peak_force = 0;         // [N]  largest force in the cycle
     double min_force = 0;          // [N]  smallest force in the cycle
+    // Energy budget of the cycle from the simulation's ledger (docs/energy.md); only a damper
+    // run fills these (has_energy), not a loop read from a CSV file.
+    bool has_energy = false;
+    double friction_dissipation = 0;  // [J] Coulomb slip + loaded shear springs lost on opening
+    double damping_dissipation = 0;   // [J] local damping
+    double viscous_dissipation = 0;   // [J] normal dashpots
+    double boundary_work = 0;         // [J] work of the cap and the top ring on the sample
+    double energy_residual = 0;       // [J] input - stored change - dissipated over the cycle
 };
 
 // Per cycle (samples grouped by their cycle index, results in increasing cycle order):
@@ -71,7 +79,9 @@ LoopSeries read_loop_csv(const std::string& path, const std::string& time_col,
 // Returns one index per sample; all 0 when the range is zero.
 std::vector<int> split_cycles(const std::vector<double>& displacement);
 
-// Writes `cycle,dissipated_energy,W,peak_force,min_force` and one row per cycle, atomically.
+// Writes `cycle,dissipated_energy,W,peak_force,min_force` and one row per cycle, atomically;
+// when the cycles carry an energy budget (has_energy), the columns
+// `friction_dissipation,damping_dissipation,viscous_dissipation` [J] follow.
 void write_cycles_csv(const std::string& path, const std::vector<CycleResult>& cycles);
 
 }  // namespace vpp

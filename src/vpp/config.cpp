@@ -99,6 +99,7 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
     Section o = top.table("output");
     c.output.interval = o.non_negative("interval", o.number("interval", 0.0));
     c.output.vtk_interval = o.non_negative("vtk_interval", o.number("vtk_interval", 0.0));
+    c.output.energy = o.boolean("energy", true);
     o.finish();
 
     top.finish();

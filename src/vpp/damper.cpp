@@ -42,6 +42,20 @@ struct Sample {
     double time, displacement, grains, foil;
 };
 
+// One row of energy.csv (the ledger at a forces.csv sample; docs/energy.md).
+constexpr int kEnergyColumns = 11;
+constexpr const char* kEnergyHeader =
+    "time,boundary_work,pressure_work,gravity_work,kinetic,elastic_contacts,elastic_bonds,"
+    "friction_dissipation,damping_dissipation,viscous_dissipation,residual";
+struct EnergyRow {
+    double v[kEnergyColumns];
+};
+
+EnergyRow energy_row(const dem::EnergyLedger& L, double time) {
+    return {{time, L.boundary_work, L.pressure_work, L.gravity_work, L.kinetic, L.elastic_contacts, L.elastic_bonds,
+             L.friction_dissipation(), L.damping_dissipation, L.viscous_dissipation, L.residual()}};
+}
+
 // Everything besides the World that a resumed run needs; stored as the checkpoint's app blob.
 struct RunState {
     Stage stage = Stage::Fill;
@@ -51,6 +65,7 @@ struct RunState {
     double window_grains = 0, window_foil = 0;  // force sums over the current sample window
     long window_n = 0;
     std::vector<Sample> samples;
+    std::vector<EnergyRow> energy;  // the ledger at each sample (rows of energy.csv)
     // Geometry the prepared sample was made with: a --from run must match it.
     std::map<std::string, double> geometry;
 
@@ -62,6 +77,11 @@ struct RunState {
         for (const auto& [k, v] : geometry) os << "geometry " << k << " " << v << "\n";
         for (const Sample& s : samples)
             os << "sample " << s.time << " " << s.displacement << " " << s.grains << " " << s.foil << "\n";
+        for (const EnergyRow& e : energy) {
+            os << "energy";
+            for (double v : e.v) os << " " << v;
+            os << "\n";
+        }
         return os.str();
     }
     static RunState load(const std::string& text) {
@@ -84,6 +104,10 @@ struct RunState {
                 Sample s;
                 is >> s.time >> s.displacement >> s.grains >> s.foil;
                 r.samples.push_back(s);
+            } else if (key == "energy") {
+                EnergyRow e;
+                for (double& v : e.v) is >> v;
+                r.energy.push_back(e);
             } else throw std::runtime_error("damper checkpoint: unknown state entry '" + key + "'");
         }
         r.stage = Stage(stage);
@@ -203,6 +227,7 @@ private:
     void checkpoint(bool force);
     void save_prepared();
     void write_forces();
+    void write_energy();
     void vtk_frame(const char* tag);
     double top_ring_force_z() const;
     void next_stage(Stage s);
@@ -262,7 +287,10 @@ void DamperRun::checkpoint(bool force) {
     if (!force && std::chrono::duration<double>(now - last_ckpt_).count() < o_.checkpoint_every) return;
     last_ckpt_ = now;
     dem::save_checkpoint((out_ / "run.ckpt").string(), w_, st_.save());
-    if (st_.stage == Stage::Cycling || st_.stage == Stage::Done) write_forces();
+    if (st_.stage == Stage::Cycling || st_.stage == Stage::Done) {
+        write_forces();
+        write_energy();
+    }
 }
 
 void DamperRun::save_prepared() {
@@ -411,7 +439,14 @@ void DamperRun::stage_cycle() {
         const uint32_t m = w_.add_motion(ring);
         for (uint32_t i : top_ring_) w_.set_prescribed(i, m);
         st_.cap_d0 = d0 - off;  // displacements are recorded from the cycling start position
+        // Energy ledger (energy.csv); restarted at the first sample, the start of cycling.
+        w_.params.track_energy = c_.output.energy;
+        if (c_.output.energy) w_.reset_energy();
+    } else if (!w_.params.track_energy && c_.output.energy) {
+        warnings_.push_back("energy: resumed from a checkpoint without an energy ledger; no energy.csv");
+        log("[cycle] warning: the checkpoint has no energy ledger (written by an older vppdem); no energy.csv\n");
     }
+    const bool energy = w_.params.track_energy;
     const double t_end = st_.cycle_t0 + ncyc * T;
     const uint64_t total = uint64_t(std::ceil((t_end - w_.time) / w_.params.dt));
     cli::Progress prog("cycle", total, o_.quiet);
@@ -420,6 +455,7 @@ void DamperRun::stage_cycle() {
     while (w_.time < t_end - 0.5 * w_.params.dt) {
         w_.compute_forces();
         const std::size_t s = st_.samples.size();
+        bool sampled = false;
         if (s < std::size_t(ncyc) * S) {
             const double ts = sample_time(s);
             if (w_.time > ts - win - 0.5 * w_.params.dt) {
@@ -436,9 +472,14 @@ void DamperRun::stage_cycle() {
                 st_.samples.push_back(smp);
                 st_.window_grains = st_.window_foil = 0;
                 st_.window_n = 0;
+                sampled = true;
+                // The ledger counts from the first sample: works and dissipations are 0 there.
+                if (energy && s == 0) w_.reset_energy();
             }
         }
         w_.integrate();
+        // The ledger at this sample's time is complete once the step is integrated.
+        if (energy && sampled) st_.energy.push_back(energy_row(w_.energy(), w_.energy().time - st_.cycle_t0));
         prog.update(++done, w_.time);
         checkpoint(false);
         if (c_.output.vtk_interval > 0 && w_.time >= next_vtk_) {
@@ -446,6 +487,13 @@ void DamperRun::stage_cycle() {
             next_vtk_ = w_.time + c_.output.vtk_interval;
         }
     }
+}
+
+void DamperRun::write_energy() {
+    if (st_.energy.empty()) return;
+    dem::CsvWriter csv((out_ / "energy.csv").string(), kEnergyHeader);
+    for (const EnergyRow& e : st_.energy) csv.row(std::vector<double>(e.v, e.v + kEnergyColumns));
+    csv.close();
 }
 
 void DamperRun::write_forces() {
@@ -595,12 +643,31 @@ DamperResult DamperRun::run() {
         ls.cycle.push_back(int(k / S) + 1);
     }
     r.cycles = analyze_cycles(ls, c_.damper.radius);
+    // Energy per cycle: ledger differences between the first samples of consecutive cycles;
+    // the last cycle ends at the last step of cycling (one step before the cycle's end).
+    if (!st_.energy.empty() && st_.energy.size() == st_.samples.size()) {
+        const EnergyRow last = energy_row(w_.energy(), w_.energy().time - st_.cycle_t0);
+        for (CycleResult& cr : r.cycles) {
+            const std::size_t a = std::size_t(cr.cycle - 1) * std::size_t(S), b = a + std::size_t(S);
+            if (a >= st_.energy.size()) continue;
+            const EnergyRow& e0 = st_.energy[a];
+            const EnergyRow& e1 = b < st_.energy.size() ? st_.energy[b] : last;
+            auto d = [&](int k) { return e1.v[k] - e0.v[k]; };
+            cr.has_energy = true;
+            cr.boundary_work = d(1);
+            cr.friction_dissipation = d(7);
+            cr.damping_dissipation = d(8);
+            cr.viscous_dissipation = d(9);
+            cr.energy_residual = d(10);
+        }
+    }
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     return r;
 }
 
 void DamperRun::finish() {
     write_forces();
+    write_energy();
 }
 
 }  // namespace
@@ -619,6 +686,10 @@ DamperResult run_damper(const Config& c, const DamperOptions& opt) {
         dem::JsonObject j;
         j.num("cycle", cr.cycle).num("dissipated_energy", cr.dissipated_energy).num("W", cr.W)
             .num("peak_force", cr.peak_force).num("min_force", cr.min_force);
+        if (cr.has_energy)
+            j.num("boundary_work", cr.boundary_work).num("friction_dissipation", cr.friction_dissipation)
+                .num("damping_dissipation", cr.damping_dissipation).num("viscous_dissipation", cr.viscous_dissipation)
+                .num("energy_residual", cr.energy_residual);
         std::string t = j.text();
         t.pop_back();
         cycles_json += (k ? ", " : "") + t;
@@ -670,7 +741,14 @@ DamperResult run_damper(const Config& c, const DamperOptions& opt) {
         for (const auto& cr : r.cycles)
             std::fprintf(stderr, "%5d  %13.5g  %10.5g  %9.4g  %8.4g\n", cr.cycle, cr.dissipated_energy, cr.W,
                          cr.peak_force, cr.min_force);
-        std::fprintf(stderr, "run time %.1f s; outputs: forces.csv cycles.csv summary.json prepared.ckpt run.ckpt vtk/%s\n",
+        if (!r.cycles.empty() && r.cycles[0].has_energy) {
+            std::fprintf(stderr, "cycle  boundary work [J]  friction [J]  damping [J]  viscous [J]  residual [%% of work]\n");
+            for (const auto& cr : r.cycles)
+                std::fprintf(stderr, "%5d  %16.5g  %12.5g  %11.5g  %11.5g  %10.3g\n", cr.cycle, cr.boundary_work,
+                             cr.friction_dissipation, cr.damping_dissipation, cr.viscous_dissipation,
+                             cr.boundary_work != 0 ? 100.0 * cr.energy_residual / std::abs(cr.boundary_work) : 0.0);
+        }
+        std::fprintf(stderr, "run time %.1f s; outputs: forces.csv energy.csv cycles.csv summary.json prepared.ckpt run.ckpt vtk/%s\n",
                      r.run_seconds, opt.plot ? " loops*.png" : "");
     }
     if (opt.plot) plot_damper_dir(opt.out_dir, opt.quiet);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "dem/core/energy.h"
 #include "dem/core/material.h"
 #include "dem/core/vec3.h"
 #include "dem/detect/geometry.h"
@@ -72,12 +73,16 @@ inline void rotate_shear(ShearHistory& h, const Vec3& n, double spin_n, double d
 
 // One step of the law. `vrel` is the velocity of body 2 relative to body 1 at the contact
 // [m/s]; `spin_n` = 0.5 * normal . (w1 + w2) [rad/s] is the twist rate of the contact plane.
-// Returns the force on body 2 [N] (body 1 gets the opposite).
-inline Vec3 linear_contact_force(const ContactPhys& p, const ContactGeom& g, const Vec3& vrel,
-                                 double spin_n, double dt, ShearHistory& h) {
+// Returns the force on body 2 [N] (body 1 gets the opposite). With `e` (energy tracking, see
+// docs/energy.md) the step's energy terms are written there; the force does not depend on it.
+[[gnu::always_inline]] inline Vec3 linear_contact_force(const ContactPhys& p, const ContactGeom& g, const Vec3& vrel,
+                                 double spin_n, double dt, ShearHistory& h,
+                                 ContactEnergyStep* e = nullptr) {
     const Vec3& n = g.normal;
     rotate_shear(h, n, spin_n, dt);
     Vec3& fs = h.shear;
+    Vec3 fs_prev;
+    if (e) fs_prev = fs;  // the spring carried into this step's contact plane
 
     const double vn = dot(vrel, n);        // > 0 separating
     const Vec3 vt = vrel - n * vn;
@@ -86,10 +91,34 @@ inline Vec3 linear_contact_force(const ContactPhys& p, const ContactGeom& g, con
     const double fn = p.kn * g.overlap - p.cn * vn;  // elastic part never pulls (overlap > 0)
     const double fs_max = p.mu * std::max(fn, 0.0);
     const double fs2 = norm2(fs);
-    if (fs2 > fs_max * fs_max) fs *= fs_max / std::sqrt(fs2);  // Coulomb slip
+    if (e) e->slip = 0.0;
+    if (fs2 > fs_max * fs_max) {
+        Vec3 trial;
+        if (e) trial = fs;
+        fs *= fs_max / std::sqrt(fs2);  // Coulomb slip
+        // Work done on the spring over the step (trapezoid with the relative displacement
+        // u = vt dt = (fs_prev - trial) / ks) minus its energy change:
+        //   (trial - fs) . (fs_prev + fs) / (2 ks)   (= mu fn |slip| when sliding steadily).
+        if (e && p.ks > 0.0) e->slip = dot(trial - fs, fs_prev + fs) / (2.0 * p.ks);
+    }
+    if (e) {
+        e->elastic = 0.5 * p.kn * g.overlap * g.overlap + (p.ks > 0.0 ? norm2(fs) / (2.0 * p.ks) : 0.0);
+        e->viscous = 0.5 * p.cn * vn * vn * dt;
+        e->fv = n * (-p.cn * vn);
+        e->release = 0.0;
+    }
 
     // Force on body 1 is -(fn n) - fs (Yade); body 2 gets the opposite.
     return n * fn + fs;
+}
+
+// Energy lost when a contact opens with a loaded shear spring (the contact forgets it): the
+// spring's energy |Fs|^2 / (2 ks) minus the work it did on the bodies over the first half of
+// the opening step (trapezoid: Fs . vrel dt / 2). `vrel` as for linear_contact_force, with the
+// last contact normal as lever-arm direction. Call before the history is cleared.
+inline double shear_release_energy(const ContactPhys& p, const ShearHistory& h, const Vec3& vrel, double dt) {
+    if (!(p.ks > 0.0)) return 0.0;
+    return norm2(h.shear) / (2.0 * p.ks) - 0.5 * dot(h.shear, vrel) * dt;
 }
 
 }  // namespace dem

@@ -399,6 +399,7 @@ void World::refresh_physics(bool all, const std::vector<uint8_t>& existed_pp,
     }
 }
 
+template <bool kEnergy>
 void World::particle_contact_forces() {
     const Particles& p = particles;
     const double dt = params.dt;
@@ -406,8 +407,21 @@ void World::particle_contact_forces() {
 #pragma omp parallel for num_threads(params.threads) schedule(static)
     for (int64_t c = 0; c < nc; ++c) {
         const uint32_t i = key_first(pp_.key[c]), j = key_second(pp_.key[c]);
+        ContactEnergyStep* es = nullptr;
+        if constexpr (kEnergy) {
+            es = &pp_energy_[c];
+            *es = ContactEnergyStep{};
+        }
         ContactGeom g;
         if (!sphere_sphere(p.pos[i], p.radius[i], p.pos[j], p.radius[j], g)) {
+            if constexpr (kEnergy) {
+                if (pp_.touching[c]) {  // opened this step: the shear spring's energy is lost
+                    const Vec3 n = pp_.hist[c].prev_normal;
+                    const Vec3 vrel = (p.vel[j] + cross(p.angvel[j], n * -p.radius[j])) -
+                                      (p.vel[i] + cross(p.angvel[i], n * p.radius[i]));
+                    es->release = shear_release_energy(pp_.phys[c], pp_.hist[c], vrel, dt);
+                }
+            }
             // An opened contact loses its shear spring (Yade deletes the interaction).
             pp_.hist[c] = ShearHistory{};
             pp_.force[c] = pp_.torque1[c] = pp_.torque2[c] = Vec3{};
@@ -420,7 +434,7 @@ void World::particle_contact_forces() {
         const Vec3 vrel = (p.vel[j] + cross(p.angvel[j], n * -p.radius[j])) -
                           (p.vel[i] + cross(p.angvel[i], n * p.radius[i]));
         const double spin_n = 0.5 * dot(n, p.angvel[i] + p.angvel[j]);
-        const Vec3 f = linear_contact_force(pp_.phys[c], g, vrel, spin_n, dt, pp_.hist[c]);
+        const Vec3 f = linear_contact_force(pp_.phys[c], g, vrel, spin_n, dt, pp_.hist[c], es);
         const Vec3 nxf = cross(n, -f);
         pp_.force[c] = f;
         pp_.torque1[c] = nxf * g.arm1;
@@ -429,6 +443,7 @@ void World::particle_contact_forces() {
     }
 }
 
+template <bool kEnergy>
 void World::wall_contact_forces() {
     const Particles& p = particles;
     const double dt = params.dt;
@@ -437,6 +452,11 @@ void World::wall_contact_forces() {
 #pragma omp parallel for num_threads(params.threads) schedule(static)
     for (int64_t c = 0; c < nc; ++c) {
         const uint32_t i = key_first(pw_.key[c]), w = key_second(pw_.key[c]);
+        ContactEnergyStep* es = nullptr;
+        if constexpr (kEnergy) {
+            es = &pw_energy_[c];
+            *es = ContactEnergyStep{};
+        }
         ContactGeom g;
         bool touch;
         if (w < nplanes)
@@ -446,6 +466,13 @@ void World::wall_contact_forces() {
             touch = sphere_facet(p.pos[i], p.radius[i], facet_now_[w - nplanes],
                                  facets[w - nplanes].one_sided, g);
         if (!touch) {
+            if constexpr (kEnergy) {
+                if (pw_.touching[c]) {  // opened this step
+                    const Vec3 n = pw_.hist[c].prev_normal;
+                    const Vec3 vrel = (p.vel[i] + cross(p.angvel[i], n * -p.radius[i])) - wall_vel_[w];
+                    es->release = shear_release_energy(pw_.phys[c], pw_.hist[c], vrel, dt);
+                }
+            }
             pw_.hist[c] = ShearHistory{};
             pw_.force[c] = pw_.torque2[c] = Vec3{};
             pw_.touching[c] = 0;
@@ -454,7 +481,7 @@ void World::wall_contact_forces() {
         const Vec3& n = g.normal;  // from the wall to the sphere
         const Vec3 vrel = (p.vel[i] + cross(p.angvel[i], n * -p.radius[i])) - wall_vel_[w];
         const double spin_n = 0.5 * dot(n, p.angvel[i]);
-        const Vec3 f = linear_contact_force(pw_.phys[c], g, vrel, spin_n, dt, pw_.hist[c]);
+        const Vec3 f = linear_contact_force(pw_.phys[c], g, vrel, spin_n, dt, pw_.hist[c], es);
         pw_.force[c] = f;
         pw_.torque2[c] = cross(n, -f) * g.arm2;
         pw_.point[c] = p.pos[i] - n * g.arm2;
@@ -462,6 +489,7 @@ void World::wall_contact_forces() {
     }
 }
 
+template <bool kEnergy>
 void World::bond_forces() {
     const Particles& p = particles;
     const double dt = params.dt;
@@ -477,7 +505,9 @@ void World::bond_forces() {
         const Vec3 vrel = (p.vel[j] + cross(p.angvel[j], n * -p.radius[j])) -
                           (p.vel[i] + cross(p.angvel[i], n * p.radius[i]));
         const double spin_n = 0.5 * dot(n, p.angvel[i] + p.angvel[j]);
-        const Vec3 f = bond_force(bonds_.phys[b], n, dist, vrel, spin_n, dt, bonds_.hist[b]);
+        double* elastic = nullptr;
+        if constexpr (kEnergy) elastic = &bond_energy_[b];
+        const Vec3 f = bond_force(bonds_.phys[b], n, dist, vrel, spin_n, dt, bonds_.hist[b], elastic);
         const Vec3 nxf = cross(n, -f);
         bonds_.force[b] = f;
         bonds_.torque1[b] = nxf * (p.radius[i] - half_gap);
@@ -493,7 +523,9 @@ void World::apply_pressure() {
 #pragma omp parallel for num_threads(params.threads) schedule(static)
     for (int64_t k = 0; k < nn; ++k) {
         const PressureNode& q = pressure.nodes[k];
-        p.force[q.node] -= tributary_area(p.pos, q) * pressure.dp;
+        const Vec3 f = tributary_area(p.pos, q) * pressure.dp;
+        p.force[q.node] -= f;
+        if (params.track_energy) pressure_force_[q.node] = -f;
     }
 }
 
@@ -552,9 +584,21 @@ void World::compute_forces() {
         refresh_physics(true, {}, {});
         physics_dirty_ = false;
     }
-    particle_contact_forces();
-    wall_contact_forces();
-    bond_forces();
+    if (params.track_energy) {
+        // Every slot is written by the kernels below.
+        pp_energy_.resize(pp_.size());
+        pw_energy_.resize(pw_.size());
+        bond_energy_.resize(bonds_.size());
+        pressure_force_.assign(particles.size(), Vec3{});
+        particle_contact_forces<true>();
+        wall_contact_forces<true>();
+        bond_forces<true>();
+    } else {
+        particle_contact_forces<false>();
+        wall_contact_forces<false>();
+        bond_forces<false>();
+    }
+    energy_ready_ = params.track_energy;
     gather_forces();
     apply_pressure();
     sum_wall_reactions();
@@ -579,28 +623,94 @@ Vec3 World::angular_velocity_at_time(std::size_t i) const {
     return p.angvel[i] + a * (0.5 * params.dt);
 }
 
-void World::integrate() {
+// Trapezoid rule per step interval: a force F_n acting at t_n does the work
+// F_n . v(t_n - dt/2) dt/2 on [t_n - dt, t_n] ("back" half) and F_n . v(t_n + dt/2) dt/2 on
+// [t_n, t_n + dt] ("forward" half). See docs/energy.md. Called by advance_particles<true>
+// after particle i moved: v0, w0 the velocities before, v1, w1 after (passed rather than read
+// back: reading a Vec3 just stored component by component stalls), a, al the accelerations.
+[[gnu::always_inline]] inline World::ParticleEnergyStep World::particle_energy(std::size_t i, const Vec3& v0,
+                                                                               const Vec3& w0, const Vec3& v1,
+                                                                               const Vec3& w1, const Vec3& a,
+                                                                               const Vec3& al) const {
+    const Particles& p = particles;
+    const double h = 0.5 * params.dt;
+    const Vec3 fp = pressure_force_[i];
+    ParticleEnergyStep e;
+    if (p.flags[i] & kPrescribed) {
+        // Work done by the prescribed particle on the others: minus the force they exert on it
+        // (contacts and bonds, not the pressure it carries) times its displacement.
+        const Vec3 fint = p.force[i] - fp;
+        e.back[kBoundary] = -dot(fint, v0) * h;
+        e.fwd[kBoundary] = -dot(fint, v1) * h;
+        return e;
+    }
+    const Vec3 fg = params.gravity * p.mass[i];
+    e.back[kGravity] = dot(fg, v0) * h;
+    e.fwd[kGravity] = dot(fg, v1) * h;
+    e.back[kPressure] = dot(fp, v0) * h;
+    e.fwd[kPressure] = dot(fp, v1) * h;
+    const Vec3 fx = p.ext_force[i];
+    e.back[kExternal] = dot(fx, v0) * h;
+    e.fwd[kExternal] = dot(fx, v1) * h;
+    // Solid sphere I = 2/5 m r^2 (unless rotation was blocked by inv_inertia = 0).
+    const double inertia = p.inv_inertia[i] > 0.0 ? 0.4 * p.mass[i] * p.radius[i] * p.radius[i] : 0.0;
+    e.kinetic = 0.5 * p.mass[i] * dot(v0, v1) + 0.5 * inertia * dot(w0, w1);
+    if (params.local_damping != 0.0) {
+        // The damping force and torque the integrator removed: F - m a, T - I alpha
+        // (= lambda sign(a_k v_k) F_k, see damped_acceleration).
+        const Vec3 df = total_force(i) - a * p.mass[i];
+        const Vec3 dq = inertia > 0.0 ? p.torque[i] - al * inertia : Vec3{};
+        e.back[kDamping] = (dot(df, v0) + dot(dq, w0)) * h;
+        e.fwd[kDamping] = (dot(df, v1) + dot(dq, w1)) * h;
+    }
+    return e;
+}
+
+template <bool kEnergy>
+double World::advance_particles(double t1) {
     Particles& p = particles;
     const double dt = params.dt, lambda = params.local_damping;
-    const double t1 = time + dt;
     const int64_t n = int64_t(p.size());
     double max_d2 = 0.0;
 #pragma omp parallel for num_threads(params.threads) schedule(static) reduction(max : max_d2)
     for (int64_t i = 0; i < n; ++i) {
         const uint32_t fl = p.flags[i];
-        if (fl & kFixed) continue;
+        if (fl & kFixed) {
+            if constexpr (kEnergy) particle_energy_[i] = ParticleEnergyStep{};
+            continue;
+        }
+        [[maybe_unused]] const Vec3 v0 = p.vel[i], w0 = p.angvel[i];
         if (fl & kPrescribed) {
             const Motion& m = motions[p.motion[i]];
             p.vel[i] = m.mean_velocity(time, t1);
             p.pos[i] = p.ref_pos[i] + m.displacement(t1);
+            if constexpr (kEnergy)
+                particle_energy_[i] = particle_energy(size_t(i), v0, w0, m.mean_velocity(time, t1), w0, Vec3{}, Vec3{});
         } else {
             const Vec3 a = damped_acceleration(total_force(i), p.inv_mass[i], p.vel[i], dt, lambda);
             p.vel[i] += a * dt;
             p.pos[i] += p.vel[i] * dt;
             const Vec3 al = damped_angular_acceleration(p.torque[i], p.inv_inertia[i], p.angvel[i], lambda);
             p.angvel[i] += al * dt;
+            if constexpr (kEnergy)
+                particle_energy_[i] = particle_energy(size_t(i), v0, w0, v0 + a * dt, w0 + al * dt, a, al);
         }
         max_d2 = std::max(max_d2, norm2(p.pos[i] - ref_pos_[i]));
+    }
+    return max_d2;
+}
+
+void World::integrate() {
+    const double dt = params.dt;
+    const double t1 = time + dt;
+    const double t_n = time;
+    const bool track = params.track_energy && energy_ready_;
+    double max_d2;
+    if (track) {
+        particle_energy_.resize(particles.size());
+        max_d2 = advance_particles<true>(t1);
+    } else {
+        max_d2 = advance_particles<false>(t1);
     }
     max_disp_ = std::sqrt(max_d2);
     // Rebase when dt changed or someone set the clock (e.g. a restart from a checkpoint).
@@ -611,6 +721,85 @@ void World::integrate() {
     }
     ++steps;
     time = time_base_ + double(steps - step_base_) * dt;
+    if (track) account_energy(t_n);
+    energy_ready_ = false;
+}
+
+void World::account_energy(double t_n) {
+    // Sums the step's per-particle, per-wall, per-contact and per-bond terms serially in index
+    // order (the same for any thread count) and books them: back halves and the contacts'
+    // terms on [t_n - dt, t_n], forward halves pending until the next step.
+    const Particles& p = particles;
+    const double dt = params.dt, h = 0.5 * dt;
+    EnergyLedger& L = energy_;
+    const bool first = L.steps == 0;
+
+    double back[kTerms] = {}, fwd[kTerms] = {}, kinetic = 0;
+    for (const ParticleEnergyStep& e : particle_energy_) {
+        for (int k = 0; k < kTerms; ++k) {
+            back[k] += e.back[k];
+            fwd[k] += e.fwd[k];
+        }
+        kinetic += e.kinetic;
+    }
+
+    // Walls translate: their work is the force on the particles times the wall's displacement.
+    // The forward half uses the velocity the next step's move_walls() will compute.
+    const std::size_t nw = wall_count();
+    std::vector<Vec3> v_next(nw);
+    for (std::size_t k = 0; k < planes.size(); ++k) v_next[k] = planes[k].motion.mean_velocity(time - dt, time);
+    for (std::size_t k = 0; k < facets.size(); ++k)
+        v_next[planes.size() + k] = facets[k].motion.mean_velocity(time - dt, time);
+    for (std::size_t w = 0; w < nw; ++w) {
+        back[kBoundary] -= dot(wall_force_[w], wall_vel_[w]) * h;
+        fwd[kBoundary] -= dot(wall_force_[w], v_next[w]) * h;
+    }
+
+    double elastic_c = 0, slip = 0, release = 0, visc_back = 0, visc_fwd = 0, elastic_b = 0;
+    for (std::size_t c = 0; c < pp_.size(); ++c) {
+        const ContactEnergyStep& e = pp_energy_[c];
+        elastic_c += e.elastic;
+        slip += e.slip;
+        release += e.release;
+        visc_back += e.viscous;
+        if (e.fv != Vec3{})
+            visc_fwd -= dot(e.fv, p.vel[key_second(pp_.key[c])] - p.vel[key_first(pp_.key[c])]) * h;
+    }
+    for (std::size_t c = 0; c < pw_.size(); ++c) {
+        const ContactEnergyStep& e = pw_energy_[c];
+        elastic_c += e.elastic;
+        slip += e.slip;
+        release += e.release;
+        visc_back += e.viscous;
+        if (e.fv != Vec3{}) visc_fwd -= dot(e.fv, p.vel[key_first(pw_.key[c])] - v_next[key_second(pw_.key[c])]) * h;
+    }
+    for (double e : bond_energy_) elastic_b += e;
+
+    if (!first) {  // the back halves and the kernels' terms belong to [t_n - dt, t_n]
+        L.boundary_work += L.pending_boundary + back[kBoundary];
+        L.pressure_work += L.pending_pressure + back[kPressure];
+        L.gravity_work += L.pending_gravity + back[kGravity];
+        L.external_work += L.pending_external + back[kExternal];
+        L.damping_dissipation += L.pending_damping + back[kDamping];
+        L.viscous_dissipation += L.pending_viscous + visc_back;
+        L.friction_slip += slip;
+        L.shear_release += release;
+    }
+    L.pending_boundary = fwd[kBoundary];
+    L.pending_pressure = fwd[kPressure];
+    L.pending_gravity = fwd[kGravity];
+    L.pending_external = fwd[kExternal];
+    L.pending_damping = fwd[kDamping];
+    L.pending_viscous = visc_fwd;
+    L.kinetic = kinetic;
+    L.elastic_contacts = elastic_c;
+    L.elastic_bonds = elastic_b;
+    L.time = t_n;
+    if (first) {
+        L.t0 = t_n;
+        L.stored0 = L.stored();
+    }
+    ++L.steps;
 }
 
 void World::step() {

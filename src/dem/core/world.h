@@ -2,7 +2,8 @@
 // step() reads like the method (see docs/model.md):
 //   move walls -> rebuild candidates if anything moved more than half the skin ->
 //   contact forces (sphere-sphere, sphere-wall; history updated) -> gather per particle ->
-//   wall reactions -> integrate (gravity, external forces, local damping, leapfrog).
+//   wall reactions -> integrate (gravity, external forces, local damping, leapfrog) ->
+//   energy ledger (only with params.track_energy; see dem/core/energy.h, docs/energy.md).
 #pragma once
 
 #include <cstdint>
@@ -10,6 +11,7 @@
 
 #include "dem/bonds/bond_list.h"
 #include "dem/contact/contact_list.h"
+#include "dem/core/energy.h"
 #include "dem/core/material.h"
 #include "dem/core/particles.h"
 #include "dem/core/pressure.h"
@@ -26,6 +28,7 @@ struct SimulationParams {
     double local_damping = 0.0;      // [-] Yade's non-viscous damping coefficient lambda
     double skin = 0.0;               // [m] Verlet distance; 0 = half the smallest radius (Yade)
     int threads = 1;                 // OpenMP threads; results do not depend on it
+    bool track_energy = false;       // keep the energy ledger (World::energy()); costs nothing when off
 };
 
 class World {
@@ -92,6 +95,13 @@ public:
     const ContactList& particle_contacts() const { return pp_; }
     const ContactList& wall_contacts() const { return pw_; }
 
+    // Energy ledger (docs/energy.md), updated by integrate() while params.track_energy is on.
+    const EnergyLedger& energy() const { return energy_; }
+    // Starts the ledger afresh: its t0 is the time of the next step (works and dissipations 0,
+    // stored energies then recorded as the reference). Call after switching tracking on, and
+    // after changing which particles are free (set_fixed, set_prescribed) or removing walls.
+    void reset_energy() { energy_ = EnergyLedger{}; }
+
 private:
     friend struct WorldSerializer;  // dem/io/checkpoint.cpp: writes and restores the whole state
     void move_walls();
@@ -104,9 +114,21 @@ private:
     void rebuild_derived_tables();
     void refresh_physics(bool all, const std::vector<uint8_t>& existed_pp,
                          const std::vector<uint8_t>& existed_pw);
-    void particle_contact_forces();
-    void wall_contact_forces();
-    void bond_forces();
+    template <bool kEnergy> void particle_contact_forces();
+    template <bool kEnergy> void wall_contact_forces();
+    template <bool kEnergy> void bond_forces();
+    // Leapfrog update of all particles; returns the largest squared move since the last
+    // rebuild. With kEnergy, also each particle's energy terms of the step.
+    template <bool kEnergy> double advance_particles(double t1);
+    // Adds step n (forces at t_n, velocities v(t_n -/+ dt/2)) to the ledger.
+    void account_energy(double t_n);
+    enum EnergyTerm { kBoundary, kPressure, kGravity, kExternal, kDamping, kTerms };
+    struct ParticleEnergyStep {
+        double back[kTerms] = {}, fwd[kTerms] = {};  // [J] work of each term, both half steps
+        double kinetic = 0;                          // [J] 1/2 m v- . v+ + 1/2 I w- . w+
+    };
+    ParticleEnergyStep particle_energy(std::size_t i, const Vec3& v0, const Vec3& w0, const Vec3& v1,
+                                       const Vec3& w1, const Vec3& a, const Vec3& al) const;
     void gather_forces();
     void apply_pressure();
     void sum_wall_reactions();
@@ -136,6 +158,16 @@ private:
     bool candidates_dirty_ = true;
     bool physics_dirty_ = false;
     uint64_t rebuilds_ = 0;
+
+    // Energy tracking (params.track_energy). The per-contact and per-bond terms are written by
+    // the force kernels into their own slots and summed in index order by account_energy(),
+    // so the ledger is the same for any thread count.
+    EnergyLedger energy_;
+    bool energy_ready_ = false;                       // compute_forces() filled the terms below
+    std::vector<ContactEnergyStep> pp_energy_, pw_energy_;
+    std::vector<double> bond_energy_;                 // [J] stored in each bond
+    std::vector<Vec3> pressure_force_;                // [N] pressure force per particle
+    std::vector<ParticleEnergyStep> particle_energy_;  // scratch of integrate()
 };
 
 }  // namespace dem

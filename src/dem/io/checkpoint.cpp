@@ -5,6 +5,7 @@
 
 #include <bit>
 #include <cerrno>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
@@ -28,7 +29,11 @@ static_assert(sizeof(Motion) == sizeof(Vec3) + sizeof(std::vector<int>), "update
 static_assert(sizeof(Plane) == 2 * sizeof(Vec3) + 16 + sizeof(Motion), "update checkpoint.cpp");
 static_assert(sizeof(Facet) == 3 * sizeof(Vec3) + 16 + sizeof(Motion), "update checkpoint.cpp");
 static_assert(sizeof(MembranePressure) == sizeof(std::vector<int>) + 8, "update checkpoint.cpp");
-static_assert(sizeof(SimulationParams) == 4 * 8 + sizeof(Vec3), "update checkpoint.cpp");
+static_assert(sizeof(SimulationParams) == 4 * 8 + sizeof(Vec3) &&
+                  offsetof(SimulationParams, track_energy) == 3 * 8 + sizeof(Vec3) + 4,
+              "update checkpoint.cpp");
+static_assert(sizeof(EnergyLedger) == 21 * 8 && sizeof(ContactEnergyStep) == 4 * 8 + sizeof(Vec3),
+              "update checkpoint.cpp");
 static_assert(sizeof(PressureNode) == 20 && sizeof(DisplacementSample) == 32 &&
                   sizeof(ShearHistory) == 48 && sizeof(ContactPhys) == 32 && sizeof(BondPhys) == 24,
               "padding-free records expected");
@@ -72,6 +77,10 @@ public:
     template <class T, class F> void list(const std::vector<T>& v, F&& each) {
         pod(uint64_t(v.size()));
         for (const T& e : v) each(*this, e);
+    }
+    // A section that only some files have: written when `present`.
+    template <class F> void optional_section(const char (&tag)[5], bool present, F&& body) {
+        if (present) section(tag, body);
     }
     template <class F> void section(const char (&tag)[5], F&& body) {
         buf.append(tag, 4);
@@ -127,6 +136,10 @@ public:
         body(sub);
         if (sub.p_ != sub.end_) corrupt(path_, "section '" + std::string(tag) + "' has unread bytes");
         p_ += len;
+    }
+    // Read when the next section has this tag.
+    template <class F> void optional_section(const char (&tag)[5], bool /*present*/, F&& body) {
+        if (end_ - p_ >= 4 && std::memcmp(p_, tag, 4) == 0) section(tag, body);
     }
     bool done() const { return p_ == end_; }
 
@@ -269,6 +282,20 @@ struct WorldSerializer {
             s.vec(w.wall_force_);
             s.vec(w.wall_torque_);
         });
+        // Energy ledger: only in files of worlds that track energy, so other checkpoints are
+        // unchanged (and version-1 files without it load with tracking off). The per-contact
+        // terms are kept when the file was written between compute_forces() and integrate().
+        a.optional_section("ENRG", w.params.track_energy, [&](A& s) {
+            s.flag(w.params.track_energy);
+            s.pod(w.energy_);
+            s.flag(w.energy_ready_);
+            if (w.energy_ready_) {
+                s.vec(w.pp_energy_);
+                s.vec(w.pw_energy_);
+                s.vec(w.bond_energy_);
+                s.vec(w.pressure_force_);
+            }
+        });
     }
 
     static void rebuild(World& w) { w.rebuild_derived_tables(); }
@@ -318,6 +345,10 @@ struct WorldSerializer {
             if (b.i[k] >= n || b.j[k] >= n) bad("bond index out of range");
         if (!w.candidates_dirty_ && (w.ref_pos_.size() != n || w.wall_ref_disp_.size() != nw))
             bad("rebuild state does not match the particles and walls");
+        if (w.energy_ready_ && (w.pp_energy_.size() != w.pp_.size() || w.pw_energy_.size() != w.pw_.size() ||
+                                w.bond_energy_.size() != nb || w.pressure_force_.size() != n ||
+                                w.wall_force_.size() != nw || w.wall_vel_.size() != nw))
+            bad("energy terms do not match the contacts, bonds and particles");
     }
 };
 
