@@ -11,9 +11,11 @@
 #include "cli/scene_runner.h"
 #include "vpp/config.h"
 #include "vpp/analysis.h"
+#include "vpp/calibrate.h"
 #include "vpp/damper.h"
 #include "vpp/envelope.h"
 #include "vpp/plot.h"
+#include "vpp/study.h"
 #include "vpp/tension.h"
 
 int main(int argc, char** argv) {
@@ -96,11 +98,59 @@ int main(int argc, char** argv) {
     analyze->add_option("--force-unit", funit, "N or kN")->check(CLI::IsMember({"N", "kN"}));
 
     // vppdem plot DIR
-    auto* plot = app.add_subcommand("plot", "Draw the hysteresis loops of a damper output folder (PNG)");
+    auto* plot = app.add_subcommand("plot", "Draw the plots of a damper, sweep or calibration output folder (PNG)");
     std::string plot_dir;
-    plot->add_option("dir", plot_dir, "damper output folder")->required()->check(CLI::ExistingDirectory);
+    plot->add_option("dir", plot_dir, "damper, sweep or calibration output folder")->required()->check(CLI::ExistingDirectory);
+
+    // vppdem sweep STUDY.toml --out DIR [--jobs N]; vppdem calibrate STUDY.toml --experiment EXP.csv --out DIR
+    struct StudyCommand {
+        CLI::App* app = nullptr;
+        std::string study, out;
+        std::vector<std::string> sets;
+        int jobs = 0;
+        bool quiet = false, no_plot = false;
+        double ckpt_every = 60.0;
+    };
+    auto add_study = [&](const char* name, const char* help, StudyCommand& c) {
+        c.app = app.add_subcommand(name, help);
+        c.app->add_option("study", c.study, "Study file (TOML; docs/studies.md)")->required()->check(CLI::ExistingFile);
+        c.app->add_option("--out", c.out, "Output directory (re-running into it resumes the study)")->required();
+        c.app->add_option("--jobs", c.jobs, "Cases run at once on this machine (default: cores / threads per case)")
+            ->check(CLI::NonNegativeNumber);
+        c.app->add_option("--set", c.sets, "Fixed override for every case: section.key=value (repeatable)")
+            ->allow_extra_args(false);
+        c.app->add_option("--checkpoint-every", c.ckpt_every, "[s] wall-clock time between checkpoints of a case")
+            ->check(CLI::PositiveNumber);
+        c.app->add_flag("--quiet", c.quiet, "No progress output");
+        c.app->add_flag("--no-plot", c.no_plot, "Do not draw the PNG plots at the end");
+    };
+    StudyCommand sweep, calib;
+    add_study("sweep", "Run a parameter study: every combination of a grid of config values (docs/studies.md)", sweep);
+    bool list_only = false;
+    sweep.app->add_flag("--list", list_only, "Check the study and list its cases and preparations; run nothing");
+    add_study("calibrate", "Grid search of a study against a measured force-displacement loop (docs/studies.md)", calib);
+    vpp::CalibrateOptions co;
+    std::string c_dunit = "m", c_funit = "N";
+    calib.app->add_option("--experiment", co.experiment, "Measured loop: CSV with a header")->required()->check(CLI::ExistingFile);
+    calib.app->add_option("--time-column", co.format.time_col, "time column (default time)");
+    calib.app->add_option("--displacement-column", co.format.disp_col, "displacement column (default displacement)");
+    calib.app->add_option("--force-column", co.format.force_col, "force column (default force)");
+    calib.app->add_option("--displacement-unit", c_dunit, "m or mm")->check(CLI::IsMember({"m", "mm"}));
+    calib.app->add_option("--force-unit", c_funit, "N or kN")->check(CLI::IsMember({"N", "kN"}));
+    calib.app->add_flag("--compression-negative", co.format.compression_negative,
+                        "The experiment counts compression negative: flip displacement and force");
+    calib.app->add_option("--simulated-force", co.force_column, "simulated column compared: force_zeroed or force_total")
+        ->check(CLI::IsMember({"force_zeroed", "force_total"}));
+    calib.app->add_option("--points", co.points, "displacements per branch in the misfit")->check(CLI::Range(4, 100000));
+    calib.app->add_option("--predict", co.predict, "run the best point at other values: key=v1,v2,...");
+    calib.app->add_option("--predict-experiment", co.predict_experiments,
+                          "measured loop for each --predict value, in order (repeatable)")
+        ->allow_extra_args(false)
+        ->check(CLI::ExistingFile);
 
     CLI11_PARSE(app, argc, argv);
+    int rank = 0, ranks = 1;
+    if (*sweep.app || *calib.app) vpp::mpi_init_if_launched(&argc, &argv, &rank, &ranks);
     try {
         if (*scene) {
             const auto root = cfg::load(scene_file, sets);
@@ -141,11 +191,44 @@ int main(int argc, char** argv) {
             for (const auto& r : cycles)
                 std::printf("%d,%.6g,%.6g,%.6g,%.6g\n", r.cycle, r.dissipated_energy, r.W, r.peak_force, r.min_force);
             std::fprintf(stderr, "wrote %s\n", out.c_str());
+        } else if (*sweep.app || *calib.app) {
+            StudyCommand& sc = *sweep.app ? sweep : calib;
+            const vpp::Study st = vpp::load_study(sc.study, sc.sets);
+            vpp::SweepOptions so;
+            so.out_dir = sc.out;
+            so.jobs = sc.jobs;
+            so.quiet = sc.quiet;  // every rank reports its cases; rank 0 the totals
+            so.checkpoint_every = sc.ckpt_every;
+            so.rank = rank;
+            so.ranks = ranks;
+            int rc = 0;
+            if (*sweep.app && list_only) {
+                const auto cases = vpp::expand_study(st);
+                if (rank == 0) std::printf("%s", vpp::list_cases(cases).c_str());
+            } else if (*sweep.app) {
+                const vpp::SweepResult r = vpp::run_sweep(st, so);
+                if (rank == 0 && !sc.no_plot) vpp::plot_sweep_dir(sc.out, sc.quiet);
+                rc = r.failed ? 1 : 0;
+            } else {
+                co.sweep = so;
+                co.format.disp_scale = c_dunit == "mm" ? 1e-3 : 1.0;
+                co.format.force_scale = c_funit == "kN" ? 1e3 : 1.0;
+                co.plot = !sc.no_plot && rank == 0;
+                rc = vpp::run_calibration(st, co);
+            }
+            vpp::mpi_finalize();
+            return rc;
         } else if (*plot) {
+            const std::filesystem::path d(plot_dir);
+            if (std::filesystem::exists(d / "calibration.json"))
+                return vpp::plot_calibration_dir(plot_dir, false) == 0 && vpp::plot_sweep_dir(plot_dir, false) == 0 ? 0 : 2;
+            if (std::filesystem::exists(d / "summary.csv")) return vpp::plot_sweep_dir(plot_dir, false) == 0 ? 0 : 2;
             return vpp::plot_damper_dir(plot_dir, false) == 0 ? 0 : 2;
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "vppdem: error: %s\n", e.what());
+        vpp::mpi_abort_if_active(2);
+        vpp::mpi_finalize();
         return 2;
     }
     return 0;

@@ -26,11 +26,17 @@ std::string python_interpreter() {
     return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
 }
 
-int plot_damper_dir(const std::string& dir, bool quiet) {
-    const std::string cmd = python_interpreter() + " " + shell_quote(tool_path("plot_damper.py")) + " " + shell_quote(dir);
+namespace {
+int run_tool(const std::string& script, const std::string& dir, bool quiet) {
+    const std::string cmd = python_interpreter() + " " + shell_quote(tool_path(script)) + " " + shell_quote(dir);
     const int rc = std::system(cmd.c_str());
     if (rc != 0 && !quiet) std::fprintf(stderr, "vppdem: plotting failed (%s); the CSV outputs are complete\n", cmd.c_str());
     return rc;
 }
+}  // namespace
+
+int plot_damper_dir(const std::string& dir, bool quiet) { return run_tool("plot_damper.py", dir, quiet); }
+int plot_sweep_dir(const std::string& dir, bool quiet) { return run_tool("plot_sweep.py", dir, quiet); }
+int plot_calibration_dir(const std::string& dir, bool quiet) { return run_tool("plot_calibration.py", dir, quiet); }
 
 }  // namespace vpp

@@ -1,0 +1,362 @@
+#include "vpp/calibrate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <stdexcept>
+
+#include "cli/config.h"
+#include "dem/io/csv.h"
+#include "dem/io/json.h"
+#include "vpp/plot.h"
+
+namespace vpp {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+void shift_to_zero(LoopSeries& s) {
+    if (s.displacement.empty()) return;
+    const double m = *std::min_element(s.displacement.begin(), s.displacement.end());
+    for (double& d : s.displacement) d -= m;
+}
+
+// Samples of each cycle (in record order), cycles in increasing order.
+std::map<int, std::vector<std::size_t>> by_cycle(const LoopSeries& s) {
+    std::map<int, std::vector<std::size_t>> m;
+    for (std::size_t i = 0; i < s.cycle.size(); ++i)
+        if (s.cycle[i] > 0) m[s.cycle[i]].push_back(i);
+    return m;
+}
+
+struct Branch {
+    std::vector<double> d, f;  // sorted by d
+    double lo = 0, hi = 0;
+};
+
+Branch make_branch(const LoopSeries& s, const std::vector<std::size_t>& idx, std::size_t a, std::size_t b) {
+    std::vector<std::pair<double, double>> p;
+    for (std::size_t k = a; k <= b; ++k) p.emplace_back(s.displacement[idx[k]], s.force[idx[k]]);
+    std::stable_sort(p.begin(), p.end(), [](const auto& x, const auto& y) { return x.first < y.first; });
+    Branch br;
+    for (const auto& [d, f] : p) {
+        br.d.push_back(d);
+        br.f.push_back(f);
+    }
+    br.lo = br.d.front();
+    br.hi = br.d.back();
+    return br;
+}
+
+double interp(const Branch& b, double x) {
+    if (x <= b.d.front()) return b.f.front();
+    if (x >= b.d.back()) return b.f.back();
+    const std::size_t k = std::size_t(std::upper_bound(b.d.begin(), b.d.end(), x) - b.d.begin());
+    const double x0 = b.d[k - 1], x1 = b.d[k];
+    if (x1 <= x0) return b.f[k];
+    return b.f[k - 1] + (b.f[k] - b.f[k - 1]) * (x - x0) / (x1 - x0);
+}
+
+// Loading branch: from the cycle's first sample to its largest displacement; unloading: the rest.
+std::pair<Branch, Branch> branches(const LoopSeries& s, const std::vector<std::size_t>& idx) {
+    std::size_t im = 0;
+    for (std::size_t k = 1; k < idx.size(); ++k)
+        if (s.displacement[idx[k]] > s.displacement[idx[im]]) im = k;
+    if (im == 0 || im + 1 >= idx.size()) throw std::runtime_error("a cycle has no loading or no unloading branch");
+    return {make_branch(s, idx, 0, im), make_branch(s, idx, im, idx.size() - 1)};
+}
+
+std::string json_value(const std::string& label, const std::string& literal) {
+    return literal.starts_with("\"") ? dem::JsonObject::quote(label) : label;
+}
+
+}  // namespace
+
+LoopSeries read_experiment(const std::string& path, const ExperimentFormat& f) {
+    LoopSeries s = read_loop_csv(path, f.time_col, f.disp_col, f.force_col, "");
+    const double sign = f.compression_negative ? -1.0 : 1.0;
+    for (double& d : s.displacement) d *= sign * f.disp_scale;
+    for (double& x : s.force) x *= sign * f.force_scale;
+    s.cycle = split_cycles(s.displacement);  // after the sign flip: a cycle starts at the start position
+    shift_to_zero(s);
+    if (std::none_of(s.cycle.begin(), s.cycle.end(), [](int c) { return c > 0; }))
+        throw std::runtime_error("experiment '" + path + "': no complete cycle found in column '" + f.disp_col +
+                                 "' (a cycle goes from the start position to the far end and back; check "
+                                 "--compression-negative)");
+    return s;
+}
+
+LoopSeries read_simulated(const std::string& forces_csv, const std::string& force_column) {
+    LoopSeries s = read_loop_csv(forces_csv, "time", "displacement", force_column, "cycle");
+    shift_to_zero(s);
+    return s;
+}
+
+Misfit loop_misfit(const LoopSeries& sim, const LoopSeries& exp, int points) {
+    const auto cs = by_cycle(sim), ce = by_cycle(exp);
+    const std::size_t n = std::min(cs.size(), ce.size());
+    if (n == 0) throw std::runtime_error("no complete cycle to compare");
+    const auto es = analyze_cycles(sim, 1.0), ee = analyze_cycles(exp, 1.0);
+    auto sit = cs.begin();
+    auto eit = ce.begin();
+    Misfit m;
+    double sum = 0;
+    for (std::size_t k = 0; k < n; ++k, ++sit, ++eit) {
+        if (n > 1 && k == 0) continue;  // the first cycle is not stabilised
+        const auto [sl, su] = branches(sim, sit->second);
+        const auto [el, eu] = branches(exp, eit->second);
+        double sq = 0;
+        int cnt = 0;
+        for (const auto& [a, b] : {std::pair<const Branch&, const Branch&>(sl, el), {su, eu}}) {
+            const double lo = std::max(a.lo, b.lo), hi = std::min(a.hi, b.hi);
+            if (!(hi > lo))
+                throw std::runtime_error("cycle " + std::to_string(k + 1) +
+                                         ": the simulated and measured displacement ranges do not overlap");
+            for (int j = 0; j < points; ++j) {
+                const double x = lo + (j + 0.5) * (hi - lo) / points;
+                const double d = interp(a, x) - interp(b, x);
+                sq += d * d;
+                ++cnt;
+            }
+        }
+        double peak = 0;
+        for (std::size_t i : eit->second) peak = std::max(peak, std::abs(exp.force[i]));
+        if (!(peak > 0)) throw std::runtime_error("a measured cycle has zero force");
+        const double rms = std::sqrt(sq / cnt) / peak;
+        double E_s = 0, E_e = 0;
+        for (const auto& c : es)
+            if (c.cycle == sit->first) E_s = c.dissipated_energy;
+        for (const auto& c : ee)
+            if (c.cycle == eit->first) E_e = c.dissipated_energy;
+        const double de = std::abs(E_s - E_e) / std::max(std::abs(E_e), 1e-300);
+        m.cycles.push_back(int(k + 1));
+        m.rms.push_back(rms);
+        m.energy.push_back(de);
+        sum += rms + de;
+    }
+    m.value = sum / double(m.cycles.size());
+    return m;
+}
+
+int run_calibration(Study s, const CalibrateOptions& opt) {
+    if (s.grid.empty()) s.grid.push_back(axis_from_text("grains.friction", "0:1:0.1"));
+    const bool root = opt.sweep.rank == 0;
+    const fs::path out(opt.sweep.out_dir);
+    // Fail fast on a bad experiment or prediction request, before any simulation.
+    const LoopSeries exp = read_experiment(opt.experiment, opt.format);
+    GridAxis pred;
+    std::vector<LoopSeries> pred_exp;
+    if (!opt.predict.empty()) {
+        const auto eq = opt.predict.find('=');
+        if (eq == std::string::npos || eq == 0)
+            throw cfg::ConfigError("--predict '" + opt.predict + "': expected key=v1,v2,... e.g. process.underpressure=0.02e6,0.04e6");
+        pred = axis_from_text(opt.predict.substr(0, eq), opt.predict.substr(eq + 1));
+        if (!opt.predict_experiments.empty() && opt.predict_experiments.size() != pred.literals.size())
+            throw cfg::ConfigError("--predict gives " + std::to_string(pred.literals.size()) + " value(s) but " +
+                                   std::to_string(opt.predict_experiments.size()) +
+                                   " --predict-experiment file(s); give one per value, or none");
+        for (const std::string& p : opt.predict_experiments) pred_exp.push_back(read_experiment(p, opt.format));
+    } else if (!opt.predict_experiments.empty()) {
+        throw cfg::ConfigError("--predict-experiment needs --predict key=v1,v2,...");
+    }
+
+    const SweepResult r = run_sweep(s, opt.sweep);
+    const auto& cases = r.cases;
+
+    // Misfit of every finished case (read from its folder, so every MPI rank agrees).
+    std::vector<double> misfit(cases.size(), std::numeric_limits<double>::quiet_NaN());
+    std::vector<std::string> status(cases.size());
+    std::vector<Misfit> detail(cases.size());
+    std::size_t best = SIZE_MAX;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        const fs::path dir = out / cases[i].name;
+        if (!fs::exists(dir / "summary.json")) {
+            status[i] = "failed: simulation did not finish";
+            continue;
+        }
+        try {
+            detail[i] = loop_misfit(read_simulated((dir / "forces.csv").string(), opt.force_column), exp, opt.points);
+            misfit[i] = detail[i].value;
+            status[i] = "ok";
+            if (best == SIZE_MAX || misfit[i] < misfit[best]) best = i;
+        } catch (const std::exception& e) {
+            status[i] = std::string("failed: ") + e.what();
+        }
+    }
+
+    // Prediction at the best grid point.
+    struct Prediction {
+        std::string label, literal, name;
+        double W = std::numeric_limits<double>::quiet_NaN(), misfit = std::numeric_limits<double>::quiet_NaN();
+        std::string status;
+    };
+    std::vector<Prediction> preds;
+    int pred_failed = 0;
+    if (!pred.key.empty() && best != SIZE_MAX) {
+        Study p = s;
+        p.grid = {pred};
+        for (std::size_t k = 0; k < s.grid.size(); ++k) {
+            if (s.grid[k].key == pred.key) continue;
+            const auto& ax = s.grid[k];
+            const std::size_t j = std::size_t(std::find(ax.labels.begin(), ax.labels.end(), cases[best].labels[k]) -
+                                              ax.labels.begin());
+            p.set.push_back(ax.key + "=" + ax.literals[j]);
+        }
+        SweepOptions so = opt.sweep;
+        so.out_dir = (out / "predict").string();
+        if (!opt.sweep.quiet && root)
+            std::fprintf(stderr, "calibrate: predicting %s at the best grid point\n", opt.predict.c_str());
+        const SweepResult pr = run_sweep(p, so);
+        pred_failed = pr.failed;
+        for (std::size_t i = 0; i < pr.cases.size(); ++i) {
+            Prediction q;
+            q.label = pred.labels[i];
+            q.literal = pred.literals[i];
+            q.name = "predict/" + pr.cases[i].name;
+            const fs::path dir = out / q.name;
+            if (!fs::exists(dir / "summary.json")) {
+                q.status = "failed: simulation did not finish";
+            } else {
+                try {
+                    const LoopSeries sim = read_simulated((dir / "forces.csv").string(), opt.force_column);
+                    const auto cyc = analyze_cycles(sim, pr.cases[i].config.damper.radius);
+                    if (!cyc.empty()) q.W = cyc.back().W;
+                    if (!pred_exp.empty()) q.misfit = loop_misfit(sim, pred_exp[i], opt.points).value;
+                    q.status = "ok";
+                } catch (const std::exception& e) {
+                    q.status = std::string("failed: ") + e.what();
+                }
+            }
+            preds.push_back(q);
+        }
+    }
+    if (!root) return (r.failed || pred_failed || best == SIZE_MAX) ? 1 : 0;
+
+    // misfit.csv: the grid keys, misfit, status, case.
+    auto field = [](const std::string& x) {
+        if (x.find_first_of(",\"\n") == std::string::npos) return x;
+        std::string q = "\"";
+        for (char c : x) q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
+        return q + "\"";
+    };
+    std::string csv;
+    for (const GridAxis& a : s.grid) csv += field(a.key) + ",";
+    csv += "misfit,status,case\n";
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        for (const std::string& l : cases[i].labels) csv += field(l) + ",";
+        std::string m;
+        if (std::isfinite(misfit[i])) dem::append_number(m, misfit[i]);
+        csv += m + "," + field(status[i]) + "," + field(cases[i].name) + "\n";
+    }
+    dem::write_text_atomic((out / "misfit.csv").string(), csv);
+
+    // The processed experiment, for the overlay plot.
+    {
+        std::string e = "time,displacement,force,cycle\n";
+        for (std::size_t i = 0; i < exp.time.size(); ++i) {
+            dem::append_number(e, exp.time[i]);
+            e += ',';
+            dem::append_number(e, exp.displacement[i]);
+            e += ',';
+            dem::append_number(e, exp.force[i]);
+            e += "," + std::to_string(exp.cycle[i]) + "\n";
+        }
+        dem::write_text_atomic((out / "experiment.csv").string(), e);
+    }
+
+    dem::JsonObject j;
+    if (best != SIZE_MAX) {
+        dem::JsonObject b;
+        for (std::size_t k = 0; k < s.grid.size(); ++k) {
+            const auto& ax = s.grid[k];
+            const std::size_t v = std::size_t(std::find(ax.labels.begin(), ax.labels.end(), cases[best].labels[k]) -
+                                              ax.labels.begin());
+            b.raw(ax.key, json_value(ax.labels[v], ax.literals[v]));
+        }
+        std::string bt = b.text();
+        bt.pop_back();
+        j.raw("best", bt).num("misfit", misfit[best]).str("case", cases[best].name);
+        std::string cyc = "[", rms = "[", en = "[";
+        for (std::size_t k = 0; k < detail[best].cycles.size(); ++k) {
+            cyc += (k ? ", " : "") + std::to_string(detail[best].cycles[k]);
+            rms += (k ? ", " : "");
+            dem::append_number(rms, detail[best].rms[k]);
+            en += (k ? ", " : "");
+            dem::append_number(en, detail[best].energy[k]);
+        }
+        j.raw("cycles_compared", cyc + "]").raw("best_rms_per_cycle", rms + "]").raw("best_energy_per_cycle", en + "]");
+    } else {
+        j.raw("best", "null").raw("misfit", "null");
+    }
+    j.str("experiment", fs::absolute(opt.experiment).string())
+        .str("simulated_force", opt.force_column)
+        .num("points_per_branch", opt.points)
+        .str("misfit_definition",
+             "mean over the stabilised cycles (2..n) of rms_c + energy_c; rms_c = RMS of F_sim - F_exp over "
+             "points_per_branch displacements per loading and unloading branch, over the measured cycle's peak "
+             "|F|; energy_c = |E_sim - E_exp| / |E_exp| (loop areas)");
+    std::string grid = "[";
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        dem::JsonObject g;
+        for (std::size_t k = 0; k < s.grid.size(); ++k) {
+            const auto& ax = s.grid[k];
+            const std::size_t v = std::size_t(std::find(ax.labels.begin(), ax.labels.end(), cases[i].labels[k]) -
+                                              ax.labels.begin());
+            g.raw(ax.key, json_value(ax.labels[v], ax.literals[v]));
+        }
+        g.num("misfit", misfit[i]).str("case", cases[i].name);
+        std::string t = g.text();
+        t.pop_back();
+        grid += (i ? ", " : "") + t;
+    }
+    j.raw("grid", grid + "]");
+    if (!preds.empty()) {
+        std::string pj = "[";
+        for (std::size_t i = 0; i < preds.size(); ++i) {
+            dem::JsonObject q;
+            q.raw(pred.key, json_value(preds[i].label, preds[i].literal))
+                .str("case", preds[i].name)
+                .num("W", preds[i].W)
+                .num("misfit", preds[i].misfit)
+                .str("status", preds[i].status);
+            if (!opt.predict_experiments.empty()) q.str("experiment", opt.predict_experiments[i]);
+            std::string t = q.text();
+            t.pop_back();
+            pj += (i ? ", " : "") + t;
+        }
+        j.raw("predictions", pj + "]");
+    }
+    dem::write_text_atomic((out / "calibration.json").string(), j.text());
+
+    if (!opt.sweep.quiet) {
+        std::fprintf(stderr, "\n=== vppdem calibrate: %s ===\n", opt.sweep.out_dir.c_str());
+        for (std::size_t i = 0; i < cases.size(); ++i)
+            std::fprintf(stderr, "%s %-40s misfit %s\n", i == best ? "*" : " ", cases[i].name.c_str(),
+                         std::isfinite(misfit[i]) ? std::to_string(misfit[i]).c_str() : status[i].c_str());
+        for (const Prediction& q : preds)
+            std::fprintf(stderr, "  predicted %s = %s: W = %.5g J/m^2%s\n", pred.key.c_str(), q.label.c_str(), q.W,
+                         std::isfinite(q.misfit) ? (", misfit " + std::to_string(q.misfit)).c_str() : "");
+        if (best != SIZE_MAX) {
+            // A stroke that differs from the experiment's makes the comparison meaningless: warn.
+            const LoopSeries sim = read_simulated((out / cases[best].name / "forces.csv").string(), opt.force_column);
+            const double rs = *std::max_element(sim.displacement.begin(), sim.displacement.end());
+            const double re = *std::max_element(exp.displacement.begin(), exp.displacement.end());
+            if (std::abs(rs - re) > 0.1 * re)
+                std::fprintf(stderr, "WARNING: simulated stroke %.4g mm, measured %.4g mm: set process.amplitude to "
+                                     "the experiment's\n", rs * 1e3, re * 1e3);
+            std::fprintf(stderr, "best: %s (misfit %.4g); wrote misfit.csv, calibration.json\n", cases[best].name.c_str(),
+                         misfit[best]);
+        } else {
+            std::fprintf(stderr, "no case could be compared with the experiment\n");
+        }
+    }
+    if (opt.plot && best != SIZE_MAX) plot_calibration_dir(opt.sweep.out_dir, opt.sweep.quiet);
+    return (r.failed || pred_failed || best == SIZE_MAX) ? 1 : 0;
+}
+
+}  // namespace vpp

@@ -1,0 +1,703 @@
+#include "vpp/study.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <mutex>
+#include <set>
+#include <sstream>
+#include <thread>
+
+#ifdef VPPDEM_WITH_MPI
+#include <mpi.h>
+#endif
+
+#include "cli/config.h"
+#include "dem/io/csv.h"
+#include "vpp/damper.h"
+
+namespace vpp {
+
+namespace fs = std::filesystem;
+using cfg::ConfigError;
+
+const std::vector<std::string> kShareableKeys = {
+    "grains.friction", "grains.young",  "grains.stiffness_ratio", "foil.young",
+    "foil.thickness",  "foil.friction", "foil.stiffness_ratio",   "damper.cap_friction",
+    "process.*",       "simulation.local_damping", "simulation.threads", "output.*"};
+
+bool is_shareable_key(const std::string& key) {
+    for (const std::string& k : kShareableKeys) {
+        if (k.ends_with(".*") ? key.starts_with(k.substr(0, k.size() - 1)) : key == k) return true;
+    }
+    return false;
+}
+
+namespace {
+
+// A value of [set] or [grid] as a TOML literal (for --set) and as a label (names, CSV).
+bool scalar_literal(const toml::node& n, std::string& literal, std::string& label) {
+    if (auto i = n.as_integer()) {
+        literal = label = std::to_string(i->get());
+        return true;
+    }
+    if (auto f = n.as_floating_point()) {
+        const double v = f->get();
+        if (!std::isfinite(v)) return false;
+        label.clear();
+        dem::append_number(label, v);
+        literal = label;
+        if (literal.find_first_of(".eE") == std::string::npos) literal += ".0";  // stays a float
+        return true;
+    }
+    if (auto b = n.as_boolean()) {
+        literal = label = b->get() ? "true" : "false";
+        return true;
+    }
+    if (auto s = n.as_string()) {
+        label = s->get();
+        literal = "\"";
+        for (char c : label) {
+            if (c == '"' || c == '\\') literal += '\\';
+            literal += c;
+        }
+        literal += '"';
+        return true;
+    }
+    return false;
+}
+
+struct FlatEntry {
+    std::string key;
+    const toml::node* node;
+    std::size_t line, column;
+};
+
+// Dotted keys of a (possibly nested) table, in the order they are written in the file.
+void flatten(const toml::table& t, const std::string& prefix, std::vector<FlatEntry>& out) {
+    for (const auto& [k, v] : t) {
+        const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+        if (const toml::table* sub = v.as_table()) flatten(*sub, key, out);
+        else out.push_back({key, &v, v.source().begin.line, v.source().begin.column});
+    }
+}
+
+std::vector<FlatEntry> flat_in_order(const toml::table& t) {
+    std::vector<FlatEntry> out;
+    flatten(t, "", out);
+    std::stable_sort(out.begin(), out.end(), [](const FlatEntry& a, const FlatEntry& b) {
+        return a.line != b.line ? a.line < b.line : a.column < b.column;
+    });
+    return out;
+}
+
+std::string sanitize(const std::string& s) {
+    std::string out;
+    for (char c : s) out += (std::isalnum((unsigned char)c) || c == '.' || c == '-' || c == '+' || c == '=') ? c : '-';
+    return out;
+}
+
+std::string csv_field(const std::string& s) {
+    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"') out += "\"\"";
+        else if (c == '\n' || c == '\r') out += ' ';
+        else out += c;
+    }
+    return out + "\"";
+}
+
+std::string num(double v) {
+    std::string s;
+    if (std::isfinite(v)) dem::append_number(s, v);
+    return s;
+}
+
+std::string read_text(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// What identifies a case's inputs: written to DIR/<case>/case.toml, compared on resume.
+std::string case_record(const Study& s, const StudyCase& c) {
+    std::ostringstream os;
+    os << "# vppdem sweep case (compared when the sweep resumes)\n";
+    if (!s.base.empty())
+        os << "base = \"" << fs::absolute(s.base).lexically_normal().string() << "\"\nbase_hash = \""
+           << std::hash<std::string>{}(read_text(s.base)) << "\"\n";
+    os << "overrides = [\n";
+    for (const std::string& o : c.overrides) {
+        os << "  \"";
+        for (char ch : o) {
+            if (ch == '"' || ch == '\\') os << '\\';
+            os << ch;
+        }
+        os << "\",\n";
+    }
+    os << "]\n";
+    return os.str();
+}
+
+// The last cycle of a finished case folder (cycles.csv) and its run time (summary.json).
+CaseOutcome read_finished(const fs::path& dir) {
+    CaseOutcome o;
+    o.ok = true;
+    o.skipped = true;
+    std::vector<std::string> header;
+    const auto rows = dem::read_numeric_csv((dir / "cycles.csv").string(), 4, &header);
+    if (rows.empty()) throw std::runtime_error((dir / "cycles.csv").string() + " holds no cycle");
+    auto col = [&](const std::string& name) {
+        const auto it = std::find(header.begin(), header.end(), name);
+        if (it == header.end()) throw std::runtime_error((dir / "cycles.csv").string() + ": no column " + name);
+        return rows.back()[std::size_t(it - header.begin())];
+    };
+    o.W = col("W");
+    o.dissipated_energy = col("dissipated_energy");
+    o.peak_force = col("peak_force");
+    const std::string js = read_text(dir / "summary.json");
+    const auto k = js.find("\"run_seconds\":");
+    if (k != std::string::npos) o.run_seconds = std::strtod(js.c_str() + k + 14, nullptr);
+    return o;
+}
+
+std::string serialize(std::size_t i, const CaseOutcome& o) {
+    std::string msg = o.message;
+    for (char& c : msg)
+        if (c == '\t' || c == '\n') c = ' ';
+    char buf[256];
+    std::snprintf(buf, sizeof buf, "%zu\t%d\t%d\t%.17g\t%.17g\t%.17g\t%.17g\t", i, int(o.ok), int(o.skipped), o.W,
+                  o.dissipated_energy, o.peak_force, o.run_seconds);
+    return buf + msg + "\n";
+}
+
+void deserialize(const std::string& text, std::vector<CaseOutcome>& out) {
+    std::istringstream is(text);
+    for (std::string line; std::getline(is, line);) {
+        if (line.empty()) continue;
+        std::vector<std::string> f;
+        std::size_t p = 0;
+        for (int k = 0; k < 7; ++k) {
+            const std::size_t q = line.find('\t', p);
+            f.push_back(line.substr(p, q - p));
+            p = q + 1;
+        }
+        CaseOutcome o;
+        const std::size_t i = std::stoul(f[0]);
+        o.ok = f[1] == "1";
+        o.skipped = f[2] == "1";
+        o.W = std::strtod(f[3].c_str(), nullptr);
+        o.dissipated_energy = std::strtod(f[4].c_str(), nullptr);
+        o.peak_force = std::strtod(f[5].c_str(), nullptr);
+        o.run_seconds = std::strtod(f[6].c_str(), nullptr);
+        o.message = line.substr(p);
+        if (i < out.size()) out[i] = o;
+    }
+}
+
+[[maybe_unused]] bool mpi_active() {
+#ifdef VPPDEM_WITH_MPI
+    int init = 0, fin = 0;
+    MPI_Initialized(&init);
+    MPI_Finalized(&fin);
+    return init && !fin;
+#else
+    return false;
+#endif
+}
+
+void barrier() {
+#ifdef VPPDEM_WITH_MPI
+    if (mpi_active()) MPI_Barrier(MPI_COMM_WORLD);
+#endif
+}
+
+// Rank 0 receives every rank's text (others get their own back).
+std::string gather_text(const std::string& mine, int ranks) {
+#ifdef VPPDEM_WITH_MPI
+    if (mpi_active() && ranks > 1) {
+        int rank = 0;
+        MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+        int len = int(mine.size());
+        std::vector<int> lens(ranks), displs(ranks);
+        MPI_Gather(&len, 1, MPI_INT, lens.data(), 1, MPI_INT, 0, MPI_COMM_WORLD);
+        std::string all;
+        if (rank == 0) {
+            int total = 0;
+            for (int r = 0; r < ranks; ++r) {
+                displs[r] = total;
+                total += lens[r];
+            }
+            all.resize(std::size_t(total));
+        }
+        MPI_Gatherv(mine.data(), len, MPI_CHAR, all.data(), lens.data(), displs.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
+        return rank == 0 ? all : mine;
+    }
+#endif
+    (void)ranks;
+    return mine;
+}
+
+int broadcast_int(int v) {
+#ifdef VPPDEM_WITH_MPI
+    if (mpi_active()) MPI_Bcast(&v, 1, MPI_INT, 0, MPI_COMM_WORLD);
+#endif
+    return v;
+}
+
+}  // namespace
+
+std::vector<double> parse_range(const std::string& key, const std::string& text, bool* integers) {
+    auto bad = [&](const std::string& why) -> ConfigError {
+        return ConfigError("study grid key '" + key + "' = \"" + text + "\": " + why +
+                           " (expected a list of values or a range \"start:stop:step\", e.g. \"0:1:0.1\")");
+    };
+    std::vector<std::string> parts;
+    std::stringstream ss(text);
+    for (std::string p; std::getline(ss, p, ':');) parts.push_back(p);
+    if (parts.size() != 3 || text.back() == ':') throw bad("not a range of three numbers");
+    double v[3];
+    bool all_int = true;
+    for (int k = 0; k < 3; ++k) {
+        const std::string& p = parts[std::size_t(k)];
+        char* end = nullptr;
+        v[k] = std::strtod(p.c_str(), &end);
+        if (p.empty() || end == p.c_str() || *end != '\0' || !std::isfinite(v[k]))
+            throw bad("'" + p + "' is not a number");
+        if (p.find_first_of(".eE") != std::string::npos) all_int = false;
+    }
+    if (!(v[2] > 0)) throw bad("the step must be > 0");
+    if (v[1] < v[0]) throw bad("stop is below start");
+    const double n = std::floor((v[1] - v[0]) / v[2] + 1e-9) + 1.0;
+    if (n > 100000) throw bad("more than 100000 values");
+    std::vector<double> out;
+    for (long i = 0; i < long(n); ++i) {
+        char buf[40];
+        std::snprintf(buf, sizeof buf, "%.12g", v[0] + double(i) * v[2]);  // 0.1 * 3 -> 0.3
+        out.push_back(std::strtod(buf, nullptr));
+    }
+    if (integers) *integers = all_int;
+    return out;
+}
+
+Study load_study(const std::string& path, const std::vector<std::string>& extra_sets) {
+    toml::table root;
+    if (!fs::is_regular_file(path)) throw ConfigError("study file '" + path + "' not found");
+    try {
+        root = toml::parse_file(path);
+    } catch (const toml::parse_error& e) {
+        std::ostringstream os;
+        os << "cannot parse study '" << path << "' at line " << e.source().begin.line << ", column "
+           << e.source().begin.column << ": " << e.description();
+        throw ConfigError(os.str());
+    }
+    Study s;
+    s.path = path;
+    const std::string where = "study '" + path + "': ";
+    static const std::set<std::string> allowed = {"base", "description", "share_preparation", "set", "grid"};
+    for (const auto& [k, v] : root) {
+        const std::string key(k.str());
+        if (!allowed.count(key))
+            throw ConfigError(where + "unknown key '" + key +
+                              "' (allowed: base, description, share_preparation, [set], [grid])");
+    }
+    if (const toml::node* b = root.get("base")) {
+        if (!b->as_string()) throw ConfigError(where + "key 'base' must be a string (a config file path)");
+        fs::path p(b->as_string()->get());
+        if (p.is_relative()) p = fs::path(path).parent_path() / p;
+        if (!fs::is_regular_file(p))
+            throw ConfigError(where + "key 'base' = \"" + b->as_string()->get() + "\": file '" + p.string() + "' not found");
+        s.base = p.string();
+    }
+    if (const toml::node* d = root.get("description"); d && !d->as_string())
+        throw ConfigError(where + "key 'description' must be a string");
+    if (const toml::node* sp = root.get("share_preparation")) {
+        if (!sp->as_boolean()) throw ConfigError(where + "key 'share_preparation' must be true or false");
+        s.share_preparation = sp->as_boolean()->get();
+    }
+    std::set<std::string> seen;
+    if (const toml::node* st = root.get("set")) {
+        if (!st->as_table()) throw ConfigError(where + "'set' must be a table [set] of config keys");
+        for (const FlatEntry& e : flat_in_order(*st->as_table())) {
+            std::string lit, label;
+            if (!scalar_literal(*e.node, lit, label))
+                throw ConfigError(where + "[set] key '" + e.key + "' = " + cfg::describe(*e.node) +
+                                  ": must be a number, string or boolean");
+            s.set.push_back(e.key + "=" + lit);
+            seen.insert(e.key);
+        }
+    }
+    for (const std::string& x : extra_sets) s.set.push_back(x);
+    if (const toml::node* g = root.get("grid")) {
+        if (!g->as_table()) throw ConfigError(where + "'grid' must be a table [grid] of config keys");
+        for (const FlatEntry& e : flat_in_order(*g->as_table())) {
+            GridAxis ax;
+            ax.key = e.key;
+            if (seen.count(e.key)) throw ConfigError(where + "key '" + e.key + "' is in both [set] and [grid]");
+            for (const GridAxis& o : s.grid)
+                if (o.key == e.key) throw ConfigError(where + "grid key '" + e.key + "' is given twice");
+            if (const toml::array* a = e.node->as_array()) {
+                if (a->empty()) throw ConfigError(where + "grid key '" + e.key + "' is an empty list; give at least one value");
+                for (const toml::node& v : *a) {
+                    std::string lit, label;
+                    if (!scalar_literal(v, lit, label))
+                        throw ConfigError(where + "grid key '" + e.key + "': value " + cfg::describe(v) +
+                                          " must be a number, string or boolean");
+                    ax.literals.push_back(lit);
+                    ax.labels.push_back(label);
+                }
+            } else if (const toml::value<std::string>* r = e.node->as_string()) {
+                bool ints = false;
+                for (double v : parse_range(e.key, r->get(), &ints)) {
+                    std::string lit, label;
+                    if (ints) {
+                        lit = label = std::to_string(std::llround(v));
+                    } else {
+                        scalar_literal(toml::value<double>(v), lit, label);
+                    }
+                    ax.literals.push_back(lit);
+                    ax.labels.push_back(label);
+                }
+            } else {
+                throw ConfigError(where + "grid key '" + e.key + "' = " + cfg::describe(*e.node) +
+                                  ": expected a list of values or a range \"start:stop:step\"");
+            }
+            std::set<std::string> uniq(ax.labels.begin(), ax.labels.end());
+            if (uniq.size() != ax.labels.size()) throw ConfigError(where + "grid key '" + e.key + "' repeats a value");
+            s.grid.push_back(std::move(ax));
+        }
+    }
+    return s;
+}
+
+GridAxis axis_from_text(const std::string& key, const std::string& values) {
+    GridAxis ax;
+    ax.key = key;
+    if (values.find(':') != std::string::npos) {
+        bool ints = false;
+        for (double v : parse_range(key, values, &ints)) {
+            std::string lit, label;
+            if (ints) lit = label = std::to_string(std::llround(v));
+            else scalar_literal(toml::value<double>(v), lit, label);
+            ax.literals.push_back(lit);
+            ax.labels.push_back(label);
+        }
+        return ax;
+    }
+    std::stringstream ss(values);
+    for (std::string item; std::getline(ss, item, ',');) {
+        toml::table t;
+        try {
+            t = toml::parse("v = " + item);
+        } catch (const toml::parse_error&) {
+            t.insert("v", item);
+        }
+        std::string lit, label;
+        if (!scalar_literal(*t.get("v"), lit, label))
+            throw ConfigError("'" + key + "': value '" + item + "' must be a number, string or boolean");
+        ax.literals.push_back(lit);
+        ax.labels.push_back(label);
+    }
+    if (ax.literals.empty()) throw ConfigError("'" + key + "': no values given");
+    return ax;
+}
+
+std::vector<StudyCase> expand_study(const Study& s) {
+    std::size_t total = 1;
+    for (const GridAxis& a : s.grid) {
+        total *= a.literals.size();
+        if (total > 100000) throw ConfigError("study '" + s.path + "': the grid has more than 100000 cases");
+    }
+    bool threads_given = false;
+    for (const std::string& o : s.set)
+        if (o.starts_with("simulation.threads=")) threads_given = true;
+    for (const GridAxis& a : s.grid)
+        if (a.key == "simulation.threads") threads_given = true;
+
+    std::vector<StudyCase> cases(total);
+    std::map<std::string, int> groups;
+    std::set<std::string> names;
+    for (std::size_t i = 0; i < total; ++i) {
+        StudyCase& c = cases[i];
+        c.index = i;
+        if (!threads_given) c.overrides.push_back("simulation.threads=1");
+        c.overrides.insert(c.overrides.end(), s.set.begin(), s.set.end());
+        std::size_t rest = i;
+        std::vector<std::size_t> idx(s.grid.size());
+        for (std::size_t k = s.grid.size(); k-- > 0;) {  // last key varies fastest
+            idx[k] = rest % s.grid[k].literals.size();
+            rest /= s.grid[k].literals.size();
+        }
+        std::string group_key;
+        for (std::size_t k = 0; k < s.grid.size(); ++k) {
+            const GridAxis& a = s.grid[k];
+            c.overrides.push_back(a.key + "=" + a.literals[idx[k]]);
+            c.labels.push_back(a.labels[idx[k]]);
+            if (k) c.name += '_';
+            c.name += sanitize(a.key + "=" + a.labels[idx[k]]);
+            if (!is_shareable_key(a.key)) group_key += a.key + "=" + a.literals[idx[k]] + "\n";
+        }
+        if (c.name.empty()) c.name = "base";
+        if (names.count(c.name)) c.name += "_" + std::to_string(i);
+        names.insert(c.name);
+        if (!s.share_preparation) group_key = std::to_string(i);
+        auto [it, inserted] = groups.emplace(group_key, int(groups.size()));
+        c.group = it->second;
+        if (inserted) c.preparer = i;
+        else
+            for (std::size_t j = 0; j < i; ++j)
+                if (cases[j].group == c.group) {
+                    c.preparer = j;
+                    break;
+                }
+        try {
+            c.config = load_config(s.base, c.overrides, {0.06e6, 0.45, 0});
+        } catch (const std::exception& e) {
+            throw ConfigError("study '" + s.path + "', case " + c.name + ": " + e.what());
+        }
+    }
+    return cases;
+}
+
+std::string list_cases(const std::vector<StudyCase>& cases) {
+    std::string out;
+    for (const StudyCase& c : cases) {
+        char buf[64];
+        std::snprintf(buf, sizeof buf, "%4zu  prep %-3d ", c.index + 1, c.group + 1);
+        out += buf + c.name + (c.preparer == c.index ? "  (prepares)" : "  (branches from " + cases[c.preparer].name + ")") + "\n";
+    }
+    return out;
+}
+
+std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes) {
+    std::string out;
+    for (const GridAxis& a : s.grid) out += csv_field(a.key) + ",";
+    out += "W,dissipated_energy,peak_force,run_seconds,status,case\n";
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        for (const std::string& l : cases[i].labels) out += csv_field(l) + ",";
+        const CaseOutcome& o = outcomes[i];
+        if (o.ok) out += num(o.W) + "," + num(o.dissipated_energy) + "," + num(o.peak_force) + ",";
+        else out += ",,,";
+        out += num(o.run_seconds) + "," + csv_field(o.ok ? "ok" : "failed: " + o.message) + "," +
+               csv_field(cases[i].name) + "\n";
+    }
+    return out;
+}
+
+SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
+    SweepResult res;
+    res.cases = expand_study(s);  // every case's config is checked before anything runs
+    const auto& cases = res.cases;
+    const fs::path out(opt.out_dir);
+    if (fs::exists(out) && !fs::is_directory(out))
+        throw ConfigError("--out '" + opt.out_dir + "' exists and is not a directory");
+    fs::create_directories(out);
+    res.outcomes.assign(cases.size(), CaseOutcome{});
+
+    std::vector<std::size_t> mine;
+    for (std::size_t i = 0; i < cases.size(); ++i)
+        if (int(i % std::size_t(std::max(1, opt.ranks))) == opt.rank) mine.push_back(i);
+    // Preparers first, then the branches, each in grid order.
+    std::stable_sort(mine.begin(), mine.end(), [&](std::size_t a, std::size_t b) {
+        return (cases[a].preparer == a) > (cases[b].preparer == b);
+    });
+    // Failure markers of an earlier attempt are cleared before any rank looks at them.
+    for (std::size_t i : mine) fs::remove(out / cases[i].name / "FAILED");
+    barrier();
+
+    int jobs = opt.jobs;
+    if (jobs <= 0) {
+        const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+        const int per_case = cases.empty() ? 1 : std::max(1, cases[0].config.simulation.threads);
+        jobs = opt.ranks > 1 ? 1 : std::max(1, cores / per_case);
+    }
+    jobs = std::max(1, std::min<int>(jobs, int(mine.size())));
+
+    std::mutex mu;
+    std::map<std::size_t, int> state;  // 0 pending, 1 running, 2 finished
+    for (std::size_t i : mine) state[i] = 0;
+    std::size_t finished = 0;
+    int ngroups = 0;
+    for (const StudyCase& c : cases) ngroups = std::max(ngroups, c.group + 1);
+    if (!opt.quiet && opt.rank == 0)
+        std::fprintf(stderr, "sweep: %zu cases, %d preparation(s), %d job(s)%s, out %s\n", cases.size(), ngroups, jobs,
+                     opt.ranks > 1 ? (" per rank x " + std::to_string(opt.ranks) + " ranks").c_str() : "",
+                     opt.out_dir.c_str());
+
+    auto report = [&](std::size_t i, const CaseOutcome& o) {
+        if (opt.quiet) return;
+        std::lock_guard<std::mutex> lk(mu);
+        const std::string who = (opt.ranks > 1 ? "rank " + std::to_string(opt.rank) + " " : "");
+        if (o.ok)
+            std::fprintf(stderr, "%s[%zu/%zu] %s: %s W = %.5g J/m^2, energy %.5g J, peak %.4g N (%.1f s)\n", who.c_str(),
+                         i + 1, cases.size(), cases[i].name.c_str(), o.skipped ? "done earlier," : "ok,", o.W,
+                         o.dissipated_energy, o.peak_force, o.run_seconds);
+        else
+            std::fprintf(stderr, "%s[%zu/%zu] %s: FAILED: %s\n", who.c_str(), i + 1, cases.size(),
+                         cases[i].name.c_str(), o.message.c_str());
+    };
+
+    // What a case waits for: its preparer's prepared.ckpt (unless it has its own checkpoint).
+    // Returns 1 ready, 0 wait, -1 the preparation failed (message set).
+    auto readiness = [&](std::size_t i, std::string& why) -> int {
+        const StudyCase& c = cases[i];
+        const fs::path dir = out / c.name;
+        if (c.preparer == i || fs::exists(dir / "summary.json") || fs::exists(dir / "run.ckpt")) return 1;
+        const fs::path pdir = out / cases[c.preparer].name;
+        if (fs::exists(pdir / "prepared.ckpt")) return 1;
+        if (fs::exists(pdir / "FAILED")) {
+            why = "its preparation (case " + cases[c.preparer].name + ") failed";
+            return -1;
+        }
+        // The preparer finished earlier but its prepared.ckpt is gone: prepare this case itself.
+        if (fs::exists(pdir / "summary.json")) return 2;
+        return 0;
+    };
+
+    auto run_case = [&](std::size_t i, bool self_prepare) -> CaseOutcome {
+        const StudyCase& c = cases[i];
+        const fs::path dir = out / c.name;
+        CaseOutcome o;
+        try {
+            fs::create_directories(dir);
+            const std::string rec = case_record(s, c);
+            if (fs::exists(dir / "case.toml") && read_text(dir / "case.toml") != rec)
+                throw std::runtime_error("folder '" + dir.string() +
+                                         "' holds a case run with other settings (see its case.toml); the study "
+                                         "changed: use another --out, or remove the folder");
+            if (fs::exists(dir / "summary.json")) return read_finished(dir);
+            dem::write_text_atomic((dir / "case.toml").string(), rec);
+            DamperOptions d;
+            d.out_dir = dir.string();
+            d.quiet = true;
+            d.plot = false;
+            d.overwrite = true;  // the folder holds case.toml, perhaps leftovers of a killed start
+            d.checkpoint_every = opt.checkpoint_every;
+            if (fs::exists(dir / "run.ckpt")) d.from = (dir / "run.ckpt").string();
+            else if (c.preparer != i && !self_prepare) d.from = (out / cases[c.preparer].name / "prepared.ckpt").string();
+            const DamperResult r = run_damper(c.config, d);
+            if (r.cycles.empty()) throw std::runtime_error("the run recorded no complete cycle");
+            o.ok = true;
+            o.W = r.cycles.back().W;
+            o.dissipated_energy = r.cycles.back().dissipated_energy;
+            o.peak_force = r.cycles.back().peak_force;
+            o.run_seconds = r.run_seconds;
+        } catch (const std::exception& e) {
+            o.ok = false;
+            o.message = e.what();
+            try {
+                dem::write_text_atomic((dir / "FAILED").string(), o.message + "\n");
+            } catch (...) {
+            }
+        }
+        return o;
+    };
+
+    auto worker = [&]() {
+        for (;;) {
+            std::size_t pick = SIZE_MAX;
+            bool self_prepare = false;
+            {
+                std::unique_lock<std::mutex> lk(mu);
+                if (finished == mine.size()) return;
+                for (std::size_t i : mine) {
+                    if (state[i] != 0) continue;
+                    std::string why;
+                    const int r = readiness(i, why);
+                    if (r == -1) {
+                        state[i] = 2;
+                        ++finished;
+                        res.outcomes[i].ok = false;
+                        res.outcomes[i].message = why;
+                        lk.unlock();
+                        report(i, res.outcomes[i]);
+                        lk.lock();
+                        break;  // rescan
+                    }
+                    if (r > 0) {
+                        pick = i;
+                        self_prepare = r == 2;
+                        state[i] = 1;
+                        break;
+                    }
+                }
+            }
+            if (pick == SIZE_MAX) {
+                std::this_thread::sleep_for(std::chrono::milliseconds(100));
+                continue;
+            }
+            const CaseOutcome o = run_case(pick, self_prepare);
+            {
+                std::lock_guard<std::mutex> lk(mu);
+                res.outcomes[pick] = o;
+                state[pick] = 2;
+                ++finished;
+            }
+            report(pick, o);
+        }
+    };
+    std::vector<std::thread> pool;
+    for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
+    for (auto& t : pool) t.join();
+
+    // Gather on rank 0 and write the summary.
+    std::string text;
+    for (std::size_t i : mine) text += serialize(i, res.outcomes[i]);
+    const std::string all = gather_text(text, opt.ranks);
+    if (opt.rank == 0) {
+        deserialize(all, res.outcomes);
+        for (const CaseOutcome& o : res.outcomes) res.failed += o.ok ? 0 : 1;
+        dem::write_text_atomic((out / "summary.csv").string(), summary_csv(s, cases, res.outcomes));
+        if (!opt.quiet)
+            std::fprintf(stderr, "sweep: %zu cases, %d failed; wrote %s\n", cases.size(), res.failed,
+                         (out / "summary.csv").string().c_str());
+    }
+    res.failed = broadcast_int(res.failed);
+    return res;
+}
+
+void mpi_init_if_launched(int* argc, char*** argv, int* rank, int* ranks) {
+    *rank = 0;
+    *ranks = 1;
+#ifdef VPPDEM_WITH_MPI
+    // Only under a launcher: a plain run does not start the MPI runtime.
+    const bool launched = std::getenv("OMPI_COMM_WORLD_SIZE") || std::getenv("PMI_SIZE") ||
+                          std::getenv("PMIX_RANK") || std::getenv("MPI_LOCALNRANKS");
+    if (!launched) return;
+    int provided = 0;
+    MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided);
+    MPI_Comm_rank(MPI_COMM_WORLD, rank);
+    MPI_Comm_size(MPI_COMM_WORLD, ranks);
+#else
+    (void)argc;
+    (void)argv;
+#endif
+}
+
+void mpi_abort_if_active(int code) {
+#ifdef VPPDEM_WITH_MPI
+    int ranks = 1;
+    if (mpi_active()) {
+        MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+        if (ranks > 1) MPI_Abort(MPI_COMM_WORLD, code);
+    }
+#endif
+    (void)code;
+}
+
+void mpi_finalize() {
+#ifdef VPPDEM_WITH_MPI
+    if (mpi_active()) MPI_Finalize();
+#endif
+}
+
+}  // namespace vpp

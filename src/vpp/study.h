@@ -1,0 +1,106 @@
+// `vppdem sweep`: parameter studies of the damper (docs/studies.md).
+//
+// A study file (TOML) holds an optional base config, fixed overrides and a grid:
+//     base = "damper.toml"                 # optional, relative to the study file
+//     share_preparation = true             # optional (default true)
+//     [set]                                # fixed overrides for every case
+//     "damper.radius" = 0.012
+//     [grid]                               # every combination is one case
+//     "grains.friction" = [0.0, 0.3, 0.6]  # a list, or "start:stop:step" (stop included)
+//     "process.underpressure" = [0.02e6, 0.08e6]
+// Cases whose grid values differ only in process / contact keys (kShareableKeys) share one
+// preparation: the first case of each geometry group prepares, the others branch from its
+// prepared.ckpt. Cases run on a pool of threads (one damper per thread, simulation.threads = 1
+// unless the study sets it), and under MPI round-robin over the ranks.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "vpp/config.h"
+
+namespace vpp {
+
+// One [grid] key and its values, in the order written.
+struct GridAxis {
+    std::string key;                    // dotted config key, e.g. "grains.friction"
+    std::vector<std::string> literals;  // TOML literals handed to --set ("0.3", "2", "\"extension\"")
+    std::vector<std::string> labels;    // the values as shown in names and summary.csv ("0.3", "2", "extension")
+};
+
+struct Study {
+    std::string path;                // the study file
+    std::string base;                // base config path (resolved), empty: the damper's defaults
+    std::vector<std::string> set;    // "key=literal" fixed overrides ([set], then --set)
+    std::vector<GridAxis> grid;      // in file order
+    bool share_preparation = true;
+};
+
+// Keys whose values may differ between cases sharing one preparation (the damper's --from
+// accepts them); a key "process.*" means every process key.
+extern const std::vector<std::string> kShareableKeys;
+bool is_shareable_key(const std::string& key);
+
+// Reads and checks a study file (ConfigError naming the key on bad input); extra_sets are
+// appended to [set]. An empty [grid] (or none) gives one case.
+Study load_study(const std::string& path, const std::vector<std::string>& extra_sets = {});
+
+// Parses "start:stop:step" (stop included when it lies on the grid, to 1e-9 of a step);
+// integers when all three are integers. Throws ConfigError naming `key`.
+std::vector<double> parse_range(const std::string& key, const std::string& text, bool* integers = nullptr);
+
+// A grid axis from command-line text: "v1,v2,..." (each a TOML value or a bare word) or a range
+// "start:stop:step". Throws ConfigError naming the key.
+GridAxis axis_from_text(const std::string& key, const std::string& values);
+
+struct StudyCase {
+    std::size_t index = 0;
+    std::string name;                    // folder name: swept keys and values, filesystem-safe
+    std::vector<std::string> labels;     // one per grid axis
+    std::vector<std::string> overrides;  // all --set assignments of the case, in order
+    Config config;
+    int group = 0;                       // preparation group
+    std::size_t preparer = 0;            // index of the case that prepares for this group
+};
+
+// Expands the grid (first key outermost) and loads every case's config (errors name the case).
+std::vector<StudyCase> expand_study(const Study& s);
+
+// One line per case: index, folder name, preparation group and whether it prepares or branches.
+std::string list_cases(const std::vector<StudyCase>& cases);
+
+struct SweepOptions {
+    std::string out_dir;
+    int jobs = 0;                    // concurrent cases on this process; 0: cores / threads per case
+    bool quiet = false;
+    double checkpoint_every = 60.0;  // [s] passed to each damper run
+    int rank = 0, ranks = 1;         // MPI: this process takes the cases i with i % ranks == rank
+};
+
+struct CaseOutcome {
+    bool ok = false;
+    bool skipped = false;        // finished in an earlier run of the sweep
+    std::string message;         // failure message
+    double W = 0, dissipated_energy = 0, peak_force = 0;  // last cycle
+    double run_seconds = 0;
+};
+
+struct SweepResult {
+    std::vector<StudyCase> cases;
+    std::vector<CaseOutcome> outcomes;  // complete on rank 0 only (gathered)
+    int failed = 0;
+};
+
+// Runs (or resumes) the sweep into opt.out_dir: one folder per case, DIR/summary.csv (rank 0).
+SweepResult run_sweep(const Study& s, const SweepOptions& opt);
+
+// The summary.csv text: the swept keys, W, dissipated_energy, peak_force, run_seconds, status.
+std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases,
+                        const std::vector<CaseOutcome>& outcomes);
+
+// MPI helpers (no-ops without MPI or outside mpirun).
+void mpi_init_if_launched(int* argc, char*** argv, int* rank, int* ranks);
+void mpi_finalize();
+void mpi_abort_if_active(int code);  // after an error on one rank: stop them all
+
+}  // namespace vpp

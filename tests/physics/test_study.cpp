@@ -1,0 +1,344 @@
+// Studies through the vppdem binary on the small quick damper (56 grains, 494 foil particles):
+// a sweep shares its preparation and writes summary.csv, resumes after being killed, a
+// calibration recovers the friction of a synthetic experiment, bad study files fail clearly.
+// Also the pure parts: range strings, the loop misfit.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <random>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli/config.h"
+#include "dem/io/csv.h"
+#include "vpp/calibrate.h"
+#include "vpp/study.h"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const std::string kBinary = VPPDEM_BINARY;
+
+// The small damper of tests/physics/test_damper.cpp as a study's [set].
+const std::string kSmallSet =
+    "[set]\n"
+    "\"damper.radius\" = 0.012\n"
+    "\"damper.height\" = 0.03\n"
+    "\"grains.volume_fraction\" = 0.45\n"
+    "\"process.velocity\" = 0.1\n"
+    "\"process.amplitude\" = 0.002\n"
+    "\"process.cycles\" = 2\n"
+    "\"process.samples_per_cycle\" = 80\n"
+    "\"simulation.threads\" = 1\n";
+
+struct Outcome {
+    int status;
+    std::string output;
+};
+
+Outcome shell(const std::string& command) {
+    const std::string cmd = command + " 2>&1";
+    Outcome r{0, ""};
+    FILE* f = popen(cmd.c_str(), "r");
+    char buf[4096];
+    while (f && fgets(buf, sizeof buf, f)) r.output += buf;
+    r.status = f ? pclose(f) : -1;
+    return r;
+}
+
+Outcome run(const std::string& args) { return shell(kBinary + " " + args); }
+
+fs::path scratch(const std::string& name) {
+    return fs::temp_directory_path() / ("vppdem_study_test_" + std::to_string(::getpid())) / name;
+}
+
+void write_file(const fs::path& p, const std::string& text) {
+    fs::create_directories(p.parent_path());
+    std::ofstream(p) << text;
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+std::vector<std::string> lines_of(const fs::path& p) {
+    std::vector<std::string> out;
+    std::ifstream in(p);
+    for (std::string l; std::getline(in, l);)
+        if (!l.empty()) out.push_back(l);
+    return out;
+}
+
+std::vector<std::string> cells(const std::string& line) {
+    std::vector<std::string> out;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
+    return out;
+}
+
+class Study : public ::testing::Test {
+protected:
+    void SetUp() override { fs::create_directories(scratch("")); }
+    static void TearDownTestSuite() { fs::remove_all(scratch("")); }
+};
+
+const std::string kTwoFrictions = kSmallSet + "[grid]\n\"grains.friction\" = [0.3, 0.6]\n";
+
+}  // namespace
+
+TEST(StudyUnits, RangesIncludeTheStopAndRoundCleanly) {
+    bool ints = true;
+    const auto v = vpp::parse_range("grains.friction", "0:1:0.1", &ints);
+    ASSERT_EQ(v.size(), 11u);
+    EXPECT_FALSE(ints);
+    EXPECT_EQ(v[3], 0.3);  // not 0.30000000000000004
+    EXPECT_EQ(v[10], 1.0);
+    const auto c = vpp::parse_range("process.cycles", "2:6:2", &ints);
+    EXPECT_TRUE(ints);
+    EXPECT_EQ(c, (std::vector<double>{2, 4, 6}));
+    for (const char* bad : {"0:1", "0:1:0", "1:0:0.1", "a:1:0.1", "0:1:0.1:2", "0:1:"})
+        EXPECT_THROW(vpp::parse_range("grains.friction", bad), cfg::ConfigError) << bad;
+}
+
+TEST(StudyUnits, MisfitIsZeroForTheSameLoopAndGrowsWithTheDifference) {
+    // A parallelogram-like loop, 3 cycles: up along F = 10 d + 2, down along F = 10 d - 2.
+    vpp::LoopSeries a;
+    for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 40; ++k) {
+            const double d = k < 20 ? k / 20.0 : (40 - k) / 20.0;
+            a.time.push_back(c * 40 + k);
+            a.displacement.push_back(d);
+            a.force.push_back(10 * d + (k < 20 ? 2.0 : -2.0));
+            a.cycle.push_back(c + 1);
+        }
+    const vpp::Misfit same = vpp::loop_misfit(a, a);
+    EXPECT_NEAR(same.value, 0.0, 1e-12);
+    EXPECT_EQ(same.cycles, (std::vector<int>{2, 3}));  // the stabilised cycles
+    vpp::LoopSeries b = a;
+    for (double& f : b.force) f *= 1.1;
+    vpp::LoopSeries c = a;
+    for (double& f : c.force) f *= 1.3;
+    const double mb = vpp::loop_misfit(b, a).value, mc = vpp::loop_misfit(c, a).value;
+    EXPECT_GT(mb, 0.1);  // the energy term alone is 0.1
+    EXPECT_GT(mc, mb);
+}
+
+TEST_F(Study, SweepSharesOnePreparationAndWritesTheSummary) {
+    const fs::path study = scratch("two.toml"), out = scratch("sweep");
+    write_file(study, kTwoFrictions);
+    const Outcome r = run("sweep " + study.string() + " --out " + out.string() + " --jobs 2 --no-plot");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto rows = lines_of(out / "summary.csv");
+    ASSERT_EQ(rows.size(), 3u) << slurp(out / "summary.csv");
+    EXPECT_EQ(rows[0], "grains.friction,W,dissipated_energy,peak_force,run_seconds,status,case");
+    double W[2];
+    for (int k = 0; k < 2; ++k) {
+        const auto c = cells(rows[std::size_t(k) + 1]);
+        ASSERT_EQ(c.size(), 7u) << rows[std::size_t(k) + 1];
+        EXPECT_EQ(c[0], k == 0 ? "0.3" : "0.6");
+        EXPECT_EQ(c[5], "ok");
+        W[k] = std::stod(c[1]);
+        EXPECT_GT(W[k], 0.0);
+        EXPECT_GT(std::stod(c[3]), 0.0);  // peak force
+    }
+    std::printf("W: %.5g J/m^2 at friction 0.3, %.5g J/m^2 at 0.6\n", W[0], W[1]);
+    EXPECT_GT(W[1], W[0]);
+    // One preparation: the first case prepared, the second branched from it.
+    const fs::path c1 = out / "grains.friction=0.3", c2 = out / "grains.friction=0.6";
+    EXPECT_TRUE(fs::exists(c1 / "prepared.ckpt"));
+    EXPECT_FALSE(fs::exists(c2 / "prepared.ckpt"));
+    EXPECT_NE(slurp(c2 / "summary.json").find("grains.friction=0.3/prepared.ckpt\""), std::string::npos)
+        << slurp(c2 / "summary.json");
+    // The cases' own results agree with the summary (last cycle).
+    const auto cyc = lines_of(c2 / "cycles.csv");
+    EXPECT_EQ(std::stod(cells(cyc.back())[2]), W[1]);
+    // A second run finds everything done and changes nothing.
+    const std::string before = slurp(c1 / "forces.csv");
+    const Outcome again = run("sweep " + study.string() + " --out " + out.string() + " --no-plot");
+    ASSERT_EQ(again.status, 0) << again.output;
+    EXPECT_NE(again.output.find("grains.friction=0.3: done earlier"), std::string::npos) << again.output;
+    EXPECT_NE(again.output.find("grains.friction=0.6: done earlier"), std::string::npos) << again.output;
+    EXPECT_EQ(slurp(c1 / "forces.csv"), before);
+    EXPECT_EQ(lines_of(out / "summary.csv").size(), 3u);
+}
+
+TEST_F(Study, SweepResumesAfterBeingKilled) {
+    const fs::path study = scratch("two_kill.toml"), out = scratch("killed");
+    write_file(study, kTwoFrictions);
+    const fs::path c1 = out / "grains.friction=0.3", c2 = out / "grains.friction=0.6";
+    // One job: the preparing case first, then the branch. Kill the sweep while the branch runs.
+    const std::string cmd = "exec " + kBinary + " sweep " + study.string() + " --out " + out.string() +
+                            " --jobs 1 --no-plot --quiet --checkpoint-every 0.3 > /dev/null 2>&1";
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+        execl("/bin/sh", "sh", "-c", cmd.c_str(), (char*)nullptr);
+        _exit(127);
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    bool branch_started = false;
+    while (std::chrono::steady_clock::now() - t0 < std::chrono::seconds(120)) {
+        if (fs::exists(c1 / "summary.json") && fs::exists(c2 / "run.ckpt")) {
+            branch_started = true;
+            break;
+        }
+        if (waitpid(pid, nullptr, WNOHANG) == pid) break;  // finished (too fast to kill) or died
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    kill(pid, SIGKILL);
+    waitpid(pid, nullptr, 0);
+    ASSERT_TRUE(branch_started) << "the sweep did not reach its second case";
+    ASSERT_FALSE(fs::exists(c2 / "summary.json")) << "the second case finished before the kill";
+    ASSERT_FALSE(fs::exists(out / "summary.csv"));
+    const auto stamp = fs::last_write_time(c1 / "summary.json");
+    const std::string first_forces = slurp(c1 / "forces.csv");
+
+    const Outcome r = run("sweep " + study.string() + " --out " + out.string() + " --jobs 1 --no-plot");
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::printf("%s", r.output.c_str());
+    // The finished case is not run again; the killed one resumed from its own checkpoint.
+    EXPECT_NE(r.output.find("grains.friction=0.3: done earlier"), std::string::npos) << r.output;
+    EXPECT_EQ(fs::last_write_time(c1 / "summary.json"), stamp);
+    EXPECT_EQ(slurp(c1 / "forces.csv"), first_forces);
+    EXPECT_NE(slurp(c2 / "summary.json").find("grains.friction=0.6/run.ckpt\""), std::string::npos)
+        << slurp(c2 / "summary.json");
+    const auto rows = lines_of(out / "summary.csv");
+    ASSERT_EQ(rows.size(), 3u);
+    for (int k = 1; k <= 2; ++k) EXPECT_EQ(cells(rows[std::size_t(k)])[5], "ok") << rows[std::size_t(k)];
+    // 2 cycles of 80 samples, as an uninterrupted run.
+    EXPECT_EQ(lines_of(c2 / "forces.csv").size(), 161u);
+}
+
+TEST_F(Study, CalibrationRecoversTheFrictionOfASyntheticExperiment) {
+    // The "experiment": the small damper at friction 0.6, written as a test rig would: stroke in
+    // mm from an arbitrary origin, load in kN, compression negative, with noise.
+    const fs::path sim = scratch("truth");
+    const Outcome t = run("damper --out " + sim.string() +
+                          " --set damper.radius=0.012 --set damper.height=0.03 --set grains.volume_fraction=0.45 "
+                          "--set process.velocity=0.1 --set process.amplitude=0.002 --set process.cycles=2 "
+                          "--set process.samples_per_cycle=80 --set simulation.threads=1 "
+                          "--set grains.friction=0.6 --no-plot --quiet");
+    ASSERT_EQ(t.status, 0) << t.output;
+    std::vector<std::string> header;
+    const auto rows = dem::read_numeric_csv((sim / "forces.csv").string(), 7, &header);
+    ASSERT_EQ(header[1], "displacement");
+    ASSERT_EQ(header[5], "force_zeroed");
+    std::mt19937 rng(7);
+    std::normal_distribution<double> dn(0.0, 2e-3), fn(0.0, 0.4e-3);  // 2 um, 0.4 N
+    std::ostringstream exp;
+    exp << "# synthetic test record\nt_s,stroke_mm,load_kN,channel\n";
+    exp.precision(9);
+    for (const auto& r : rows)
+        exp << r[0] << "," << -(12.5 + 1e3 * r[1] + dn(rng)) << "," << -(1e-3 * r[5] + fn(rng)) << ",7\n";
+    const fs::path expfile = scratch("experiment.csv");
+    write_file(expfile, exp.str());
+
+    const fs::path study = scratch("calib.toml"), out = scratch("calib");
+    write_file(study, kSmallSet + "[grid]\n\"grains.friction\" = [0.0, 0.3, 0.6, 0.9]\n");
+    const Outcome r = run("calibrate " + study.string() + " --experiment " + expfile.string() + " --out " + out.string() +
+                          " --time-column t_s --displacement-column stroke_mm --force-column load_kN "
+                          "--displacement-unit mm --force-unit kN --compression-negative --jobs 2");
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::printf("%s", r.output.substr(r.output.find("=== vppdem calibrate")).c_str());
+    const std::string json = slurp(out / "calibration.json");
+    const auto b = json.find("\"best\"");
+    ASSERT_NE(b, std::string::npos) << json;
+    EXPECT_NE(json.find("\"grains.friction\": 0.6", b), std::string::npos) << json;
+    EXPECT_LT(json.find("\"grains.friction\": 0.6", b), json.find("\"misfit\"", b)) << json;
+    const auto m = lines_of(out / "misfit.csv");
+    ASSERT_EQ(m.size(), 5u);
+    EXPECT_EQ(m[0], "grains.friction,misfit,status,case");
+    std::map<std::string, double> mis;
+    for (std::size_t k = 1; k < m.size(); ++k) mis[cells(m[k])[0]] = std::stod(cells(m[k])[1]);
+    for (const char* other : {"0", "0.3", "0.9"}) EXPECT_GT(mis.at(other), 3.0 * mis.at("0.6")) << other;
+    EXPECT_LT(mis.at("0.6"), 0.05);  // noise only
+    EXPECT_TRUE(fs::exists(out / "calibration.png"));
+    EXPECT_TRUE(fs::exists(out / "summary.csv"));
+}
+
+TEST_F(Study, FailedCasesAreReportedAndDoNotStopTheOthers) {
+    // 5 mm grains do not fit this damper: that case fails at once, the other runs (one cycle).
+    const fs::path study = scratch("one_bad.toml"), out = scratch("one_bad");
+    write_file(study, kSmallSet + "[grid]\n\"grains.radius\" = [0.005, 0.002965]\n");
+    const Outcome r = run("sweep " + study.string() + " --out " + out.string() + " --set process.cycles=1 --no-plot");
+    EXPECT_EQ(WEXITSTATUS(r.status), 1) << r.output;
+    EXPECT_NE(r.output.find("grains.radius=0.005: FAILED"), std::string::npos) << r.output;
+    const auto rows = lines_of(out / "summary.csv");
+    ASSERT_EQ(rows.size(), 3u);
+    EXPECT_NE(rows[1].find(",failed: "), std::string::npos) << rows[1];
+    EXPECT_NE(rows[1].find("grains.radius"), std::string::npos) << rows[1];
+    EXPECT_EQ(cells(rows[2])[5], "ok") << rows[2];
+    EXPECT_TRUE(fs::exists(out / "grains.radius=0.005" / "FAILED"));
+}
+
+TEST_F(Study, BadStudyFilesFailClearlyAndRunNothing) {
+    struct Case {
+        std::string text, must_mention, also;
+    };
+    const std::vector<Case> cases = {
+        {kSmallSet + "[gird]\n\"grains.friction\" = [0.3]\n", "gird", "unknown"},
+        {kSmallSet + "[grid]\n\"grains.friction\" = []\n", "grains.friction", "empty"},
+        {kSmallSet + "[grid]\n\"grains.friction\" = \"0:1\"\n", "grains.friction", "start:stop:step"},
+        {kSmallSet + "[grid]\n\"grains.friction\" = \"0:1:0\"\n", "grains.friction", "step"},
+        {kSmallSet + "[grid]\n\"grains.friction\" = \"0:x:0.1\"\n", "grains.friction", "'x'"},
+        {kSmallSet + "[grid]\n\"grains.colour\" = [1, 2]\n", "grains.colour", "unknown"},
+        {kSmallSet + "[grid]\n\"grains.friction\" = [0.3, -0.5]\n", "grains.friction", "-0.5"},
+        {kSmallSet + "[grid]\n\"grains.friction\" = 0.3\n", "grains.friction", "list"},
+        {kSmallSet + "[grid]\n\"grains.friction\" = [0.3, 0.3]\n", "grains.friction", "repeats"},
+        {"base = \"missing.toml\"\n" + kSmallSet, "base", "not found"},
+        {kSmallSet + "[grid]\n\"damper.radius\" = [0.012]\n", "damper.radius", "both"},
+    };
+    for (const Case& c : cases) {
+        const fs::path study = scratch("bad.toml"), out = scratch("bad_out");
+        fs::remove_all(out);
+        write_file(study, c.text);
+        const Outcome r = run("sweep " + study.string() + " --out " + out.string() + " --no-plot");
+        EXPECT_NE(r.status, 0) << c.text;
+        EXPECT_NE(r.output.find(c.must_mention), std::string::npos) << c.text << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.also), std::string::npos) << c.text << "\n" << r.output;
+        EXPECT_FALSE(fs::exists(out)) << c.text;
+    }
+}
+
+#ifdef VPPDEM_WITH_MPI
+TEST_F(Study, MpiSweepWritesTheSameSummaryAsTheSerialOne) {
+    const fs::path study = scratch("two_mpi.toml"), serial = scratch("serial"), mpi = scratch("mpi");
+    write_file(study, kTwoFrictions);
+    const Outcome a = run("sweep " + study.string() + " --out " + serial.string() + " --jobs 2 --no-plot --quiet");
+    ASSERT_EQ(a.status, 0) << a.output;
+    const Outcome b = shell("OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1 " + std::string(MPIEXEC) +
+                            " --oversubscribe -n 2 " + kBinary + " sweep " + study.string() + " --out " + mpi.string() +
+                            " --no-plot");
+    ASSERT_EQ(b.status, 0) << b.output;
+    EXPECT_NE(b.output.find("rank 1 "), std::string::npos) << b.output;  // rank 1 ran a case
+    // Equal but for run_seconds (column 5).
+    auto strip = [](const std::vector<std::string>& rows) {
+        std::vector<std::string> out;
+        for (const auto& r : rows) {
+            auto c = cells(r);
+            c.erase(c.begin() + 4);
+            std::string j;
+            for (const auto& x : c) j += x + ",";
+            out.push_back(j);
+        }
+        return out;
+    };
+    EXPECT_EQ(strip(lines_of(mpi / "summary.csv")), strip(lines_of(serial / "summary.csv")));
+    EXPECT_EQ(slurp(mpi / "grains.friction=0.6" / "forces.csv"), slurp(serial / "grains.friction=0.6" / "forces.csv"));
+}
+#endif

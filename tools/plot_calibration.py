@@ -1,0 +1,107 @@
+#!/usr/bin/env python3
+"""Plots a `vppdem calibrate` output folder.
+
+usage: plot_calibration.py DIR
+
+Reads DIR/calibration.json (keys "case", "simulated_force", "cycles_compared", "grid", "best",
+"misfit"), DIR/experiment.csv (`time,displacement,force,cycle`: the measured loop in SI units,
+compression positive, displacement from its minimum) and DIR/<case>/forces.csv of the best case,
+and writes DIR/calibration.png: left, the measured and the best simulated loops over the
+compared cycles (displacements shifted to start at 0, as in the misfit); right, the misfit of
+every grid point against the first grid key (one line per combination of the others).
+Runs under Debian's /usr/bin/python3 (matplotlib, numpy).
+"""
+import csv
+import json
+import os
+import sys
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+
+
+def fail(msg):
+    print(f"plot_calibration.py: {msg}", file=sys.stderr)
+    sys.exit(1)
+
+
+def read_csv(path):
+    with open(path, newline="") as f:
+        rows = [r for r in csv.reader(f) if r and not r[0].startswith("#")]
+    if len(rows) < 2:
+        fail(f"{path} holds no data")
+    header = rows[0]
+    data = np.array([[float(x) for x in r] for r in rows[1:]])
+    return {h: data[:, k] for k, h in enumerate(header)}
+
+
+def main():
+    if len(sys.argv) != 2:
+        fail("usage: plot_calibration.py DIR")
+    d = sys.argv[1]
+    try:
+        with open(os.path.join(d, "calibration.json")) as f:
+            cal = json.load(f)
+    except (OSError, ValueError) as e:
+        fail(f"cannot read {os.path.join(d, 'calibration.json')}: {e}")
+    if not cal.get("best"):
+        fail("calibration.json has no best grid point")
+    exp = read_csv(os.path.join(d, "experiment.csv"))
+    sim = read_csv(os.path.join(d, cal["case"], "forces.csv"))
+    col = cal.get("simulated_force", "force_zeroed")
+    sd = sim["displacement"] - sim["displacement"].min()
+    cycles = cal.get("cycles_compared") or [1]
+
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(12, 4.8))
+    ecyc = sorted(c for c in set(exp["cycle"].astype(int)) if c > 0)
+    scyc = sorted(c for c in set(sim["cycle"].astype(int)) if c > 0)
+    for n in cycles:
+        if n - 1 < len(ecyc):
+            m = exp["cycle"] == ecyc[n - 1]
+            a1.plot(1e3 * exp["displacement"][m], exp["force"][m], color="0.55", lw=0.8,
+                    label="measured" if n == cycles[0] else None)
+        if n - 1 < len(scyc):
+            m = sim["cycle"] == scyc[n - 1]
+            a1.plot(1e3 * sd[m], sim[col][m], color="C3", lw=1.4,
+                    label="simulated (best)" if n == cycles[0] else None)
+    best = ", ".join(f"{k} = {v}" for k, v in cal["best"].items())
+    a1.set_title(f"best: {best}\nmisfit {cal['misfit']:.4g}, cycles {', '.join(map(str, cycles))}", fontsize=9)
+    a1.set_xlabel("displacement [mm] (compression +)")
+    a1.set_ylabel(f"force [N] ({col}, compression +)")
+    a1.grid(True, alpha=0.3)
+    a1.legend()
+
+    grid = [g for g in cal.get("grid", []) if g.get("misfit") is not None]
+    keys = list(cal["best"].keys())
+    xkey, others = keys[0], keys[1:]
+    groups = []
+    for g in grid:
+        t = tuple(g[k] for k in others)
+        if t not in groups:
+            groups.append(t)
+    for t in groups:
+        pts = sorted((g[xkey], g["misfit"]) for g in grid if tuple(g[k] for k in others) == t)
+        label = ", ".join(f"{k} = {v}" for k, v in zip(others, t)) or None
+        xs = [p[0] for p in pts]
+        if all(isinstance(x, (int, float)) for x in xs):
+            a2.plot(xs, [p[1] for p in pts], "o-", label=label)
+        else:
+            a2.plot(range(len(xs)), [p[1] for p in pts], "o-", label=label)
+            a2.set_xticks(range(len(xs)), [str(x) for x in xs])
+    a2.axvline(cal["best"][xkey], color="C3", ls="--", lw=0.8) if isinstance(cal["best"][xkey], (int, float)) else None
+    a2.set_xlabel(xkey)
+    a2.set_ylabel("misfit")
+    a2.grid(True, alpha=0.3)
+    if others:
+        a2.legend(fontsize=8)
+    fig.tight_layout()
+    out = os.path.join(d, "calibration.png")
+    fig.savefig(out, dpi=120)
+    print(f"wrote {out}")
+
+
+if __name__ == "__main__":
+    main()
