@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <sstream>
 
 #include "cli/config.h"
@@ -134,9 +135,18 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
         d.angular_velocity = s.vec3("angular_velocity", {});
         d.mask = read_mask(s);
         if (s.boolean("fixed", false)) d.flags |= dem::kFixed;
+        // Prescribed motion: `prescribed = true` keeps `velocity` constant whatever the forces;
+        // a `displacement` history [[t, dx, dy, dz], ...] moves the sphere along it instead.
+        const bool prescribed = s.boolean("prescribed", false) || s.has("displacement");
+        std::optional<dem::Motion> motion;
+        if (prescribed) {
+            if (d.flags & dem::kFixed) s.fail("prescribed", "a sphere cannot be both fixed and prescribed");
+            motion = read_motion(s);
+        }
         const bool track = s.boolean("track", false);
         s.finish();
         const uint32_t id = w.add_sphere(d);
+        if (motion) w.set_prescribed(id, w.add_motion(*motion));
         if (track) sc.tracked.push_back(id);
     }
     for (Section s : top.array_of_tables("sphere_files")) {

@@ -691,3 +691,56 @@ TEST(SceneCli, VtkFilesHaveTheLegacyHeader) {
     }
     EXPECT_EQ(n, 6);  // particles_ and walls_ at t = 0, 1e-5, 2e-5
 }
+
+TEST(SceneCli, PrescribedSpheresFollowTheirMotionAndPushOthers) {
+    // A prescribed sphere keeps its velocity under gravity and while it pushes a free sphere
+    // ahead of it; a sphere with a displacement history follows it exactly.
+    TempDir d;
+    write_file(d / "s.toml", std::string(R"(
+[simulation]
+dt = 1.0e-6
+duration = 0.02
+gravity = [0.0, 0.0, -9.81]
+output_interval = 1.0e-3
+)") + kGlass + R"(
+[[spheres]]
+material = "glass"
+radius = 0.01
+position = [0.0, 0.0, 0.0]
+velocity = [1.0, 0.0, 0.0]
+prescribed = true
+track = true
+
+[[spheres]]
+material = "glass"
+radius = 0.01
+position = [0.0205, 0.0, 0.0]
+track = true
+
+[[spheres]]
+material = "glass"
+radius = 0.01
+position = [0.0, 0.5, 0.0]
+displacement = [[0.0, 0.0, 0.0, 0.0], [0.01, 0.0, 0.0, 0.002], [0.02, 0.0, 0.0, 0.0]]
+track = true
+)");
+    const Result r = run_scene(d / "s.toml", d / "out");
+    ASSERT_EQ(r.rc, 0) << r.output;
+    const Csv c = read_csv(d / "out/tracked.csv");
+    double pushed_x_end = 0;
+    for (const auto& row : c.rows) {
+        const double t = row[0];
+        if (row[1] == 0) {  // prescribed: x = v t, no fall
+            EXPECT_NEAR(row[2], 1.0 * t, 1e-9) << "t = " << t;
+            EXPECT_EQ(row[4], 0.0);
+            EXPECT_NEAR(row[5], 1.0, 1e-12);
+        } else if (row[1] == 1) {
+            pushed_x_end = row[2];
+        } else {  // displacement history: up 2 mm at t = 0.01 s, back at 0.02 s
+            const double dz = t <= 0.01 ? 0.2 * t : 0.2 * (0.02 - t);
+            EXPECT_NEAR(row[4], dz, 1e-9) << "t = " << t;
+        }
+    }
+    // The free sphere was pushed ahead (it started 0.5 mm away and the pusher moved 20 mm).
+    EXPECT_GT(pushed_x_end, 0.0205 + 0.015);
+}

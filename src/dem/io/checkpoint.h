@@ -11,7 +11,8 @@
 //            MATL materials, PART particles, WALL planes and facets, MOTN particle motions,
 //            PRES membrane pressure, PARM parameters, CLCK time/steps/time base,
 //            CONT contact lists, BOND bonds, VRLT rebuild state and flags,
-//            LAST wall geometry and reactions of the last compute_forces(), APPS app blob
+//            LAST wall geometry and reactions of the last compute_forces(), ENRG energy ledger
+//            (optional: only when energy is tracked), APPS app blob
 //   uint64   FNV-1a 64 checksum of everything before it (magic to end of payload)
 // Vectors are stored as uint64 count + raw elements, strings as uint64 length + bytes.
 #pragma once
