@@ -11,18 +11,20 @@ std::string describe(const toml::node& n) {
     return os.str();
 }
 
+toml::table parse_file(const std::string& path, const std::string& what) {
+    try {
+        return toml::parse_file(path);
+    } catch (const toml::parse_error& e) {
+        std::ostringstream os;
+        os << "cannot parse " << what << " '" << path << "' at line " << e.source().begin.line << ", column "
+           << e.source().begin.column << ": " << e.description();
+        throw ConfigError(os.str());
+    }
+}
+
 toml::table load(const std::string& path, const std::vector<std::string>& overrides) {
     toml::table root;
-    if (!path.empty()) {
-        try {
-            root = toml::parse_file(path);
-        } catch (const toml::parse_error& e) {
-            std::ostringstream os;
-            os << "cannot parse config '" << path << "' at line " << e.source().begin.line << ", column "
-               << e.source().begin.column << ": " << e.description();
-            throw ConfigError(os.str());
-        }
-    }
+    if (!path.empty()) root = parse_file(path, "config");
     for (const auto& o : overrides) apply_override(root, o);
     return root;
 }

@@ -22,6 +22,9 @@ struct ConfigError : std::runtime_error {
 // overrides. A key is a dotted path ("simulation.dt", "spheres.0.radius"); the value is read
 // as a TOML value ("1e-6", "[0,0,-9.81]", "true", "\"auto\"") or, failing that, a string.
 toml::table load(const std::string& path, const std::vector<std::string>& overrides);
+// Parses a TOML file; a syntax error becomes a ConfigError naming `what` (e.g. "config"),
+// the path, the line and the column.
+toml::table parse_file(const std::string& path, const std::string& what);
 void apply_override(toml::table& root, const std::string& assignment);
 
 // A view of one table that remembers which keys were read, so finish() can reject the rest.

@@ -290,16 +290,8 @@ std::vector<double> parse_range(const std::string& key, const std::string& text,
 }
 
 Study load_study(const std::string& path, const std::vector<std::string>& extra_sets) {
-    toml::table root;
     if (!fs::is_regular_file(path)) throw ConfigError("study file '" + path + "' not found");
-    try {
-        root = toml::parse_file(path);
-    } catch (const toml::parse_error& e) {
-        std::ostringstream os;
-        os << "cannot parse study '" << path << "' at line " << e.source().begin.line << ", column "
-           << e.source().begin.column << ": " << e.description();
-        throw ConfigError(os.str());
-    }
+    const toml::table root = cfg::parse_file(path, "study");
     Study s;
     s.path = path;
     const std::string where = "study '" + path + "': ";
