@@ -137,6 +137,9 @@ def plot_energy_split(d, dp):
     for x, b, f in zip(cyc, total, c["friction_dissipation"]):
         if np.isfinite(b):
             ax.annotate(f"{100 * f / b:.0f}% friction", (x, b * 1e3), ha="center", va="bottom", fontsize=8)
+    top = np.nanmax(np.concatenate([bottom, c["dissipated_energy"]])) * 1e3
+    if np.isfinite(top) and top > 0:
+        ax.set_ylim(0, 1.12 * top)  # room for the labels above the bars
     ax.set_xlabel("cycle")
     ax.set_ylabel("energy dissipated per cycle [mJ]")
     ax.set_xticks(cyc)
