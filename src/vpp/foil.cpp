@@ -181,24 +181,14 @@ double min_nonbonded_gap(const FoilLattice& L, const dem::World& w) {
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t a = 0; a < pos.size(); ++a) {
         const auto c = g.coords(pos[a]);
-        for (int64_t dz = -1; dz <= 1; ++dz)
-            for (int64_t dy = -1; dy <= 1; ++dy)
-                for (int64_t dx = -1; dx <= 1; ++dx) {
-                    const std::array<int64_t, 3> q{c[0] + dx, c[1] + dy, c[2] + dz};
-                    if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= g.dims[0] || q[1] >= g.dims[1] ||
-                        q[2] >= g.dims[2])
-                        continue;
-                    const int64_t cell = g.index(q);
-                    for (uint32_t m = g.start[cell]; m < g.start[cell + 1]; ++m) {
-                        const uint32_t bidx = g.items[m];
-                        if (bidx <= a) continue;
-                        const uint32_t i = L.particles[a], j = L.particles[bidx];
-                        const auto& pi = partners[i];
-                        if (std::find(pi.begin(), pi.end(), j) != pi.end()) continue;
-                        const double gap = norm(pos[bidx] - pos[a]) - p.radius[i] - p.radius[j];
-                        best = std::min(best, gap / rf);
-                    }
-                }
+        g.for_each_neighbour(c, [&](uint32_t bidx) {
+            if (bidx <= a) return;
+            const uint32_t i = L.particles[a], j = L.particles[bidx];
+            const auto& pi = partners[i];
+            if (std::find(pi.begin(), pi.end(), j) != pi.end()) return;
+            const double gap = norm(pos[bidx] - pos[a]) - p.radius[i] - p.radius[j];
+            best = std::min(best, gap / rf);
+        });
     }
     return best;
 }

@@ -278,26 +278,14 @@ void World::rebuild_candidates() {
             const double ri = p.radius[i];
             const auto c = grid_.coords(xi);
             local.clear();
-            for (int64_t dz = -1; dz <= 1; ++dz)
-                for (int64_t dy = -1; dy <= 1; ++dy)
-                    for (int64_t dx = -1; dx <= 1; ++dx) {
-                        const std::array<int64_t, 3> q{c[0] + dx, c[1] + dy, c[2] + dz};
-                        if (q[0] < 0 || q[1] < 0 || q[2] < 0 || q[0] >= grid_.dims[0] ||
-                            q[1] >= grid_.dims[1] || q[2] >= grid_.dims[2])
-                            continue;
-                        const int64_t cell = grid_.index(q);
-                        for (uint32_t k = grid_.start[cell]; k < grid_.start[cell + 1]; ++k) {
-                            const uint32_t j = grid_.items[k];
-                            if (j <= i || !(p.mask[i] & p.mask[j])) continue;
-                            if (p.inv_mass[i] == 0.0 && p.inv_mass[j] == 0.0) continue;
-                            bool bonded = false;
-                            for (uint32_t b = bonded_start_[i]; b < bonded_start_[i + 1]; ++b)
-                                bonded |= bonded_with_[b] == j;
-                            if (bonded) continue;
-                            const double reach = ri + p.radius[j] + skin;
-                            if (norm2(p.pos[j] - xi) < reach * reach) local.push_back(j);
-                        }
-                    }
+            grid_.for_each_neighbour(c, [&](uint32_t j) {
+                if (j <= i || !(p.mask[i] & p.mask[j])) return;
+                if (p.inv_mass[i] == 0.0 && p.inv_mass[j] == 0.0) return;
+                for (uint32_t b = bonded_start_[i]; b < bonded_start_[i + 1]; ++b)
+                    if (bonded_with_[b] == j) return;
+                const double reach = ri + p.radius[j] + skin;
+                if (norm2(p.pos[j] - xi) < reach * reach) local.push_back(j);
+            });
             std::sort(local.begin(), local.end());
             for (uint32_t j : local) pp_keys[tid].push_back(pair_key(uint32_t(i), j));
 

@@ -2,6 +2,7 @@
 // sort and scan), used to list candidate pairs closer than the sum of radii plus a skin.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <vector>
@@ -21,6 +22,18 @@ struct CellGrid {
     std::array<int64_t, 3> coords(const Vec3& p) const;
     int64_t index(const std::array<int64_t, 3>& c) const {
         return (c[2] * dims[1] + c[1]) * dims[0] + c[0];
+    }
+
+    // Calls f(item) for every item in the 3x3x3 block of cells around cell `c` that lies inside
+    // the grid, cell by cell (z, then y, then x), items in their stored order.
+    template <class F>
+    void for_each_neighbour(const std::array<int64_t, 3>& c, F&& f) const {
+        for (int64_t z = std::max<int64_t>(c[2] - 1, 0); z <= std::min(c[2] + 1, dims[2] - 1); ++z)
+            for (int64_t y = std::max<int64_t>(c[1] - 1, 0); y <= std::min(c[1] + 1, dims[1] - 1); ++y)
+                for (int64_t x = std::max<int64_t>(c[0] - 1, 0); x <= std::min(c[0] + 1, dims[0] - 1); ++x) {
+                    const int64_t cell = index({x, y, z});
+                    for (uint32_t k = start[cell]; k < start[cell + 1]; ++k) f(items[k]);
+                }
     }
 
     // Bin `pos` into cells of at least `min_cell` [m]; the cell grows if the box would need
