@@ -278,8 +278,7 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
                                               ax.labels.begin());
             b.raw(ax.key, json_value(ax.labels[v], ax.literals[v]));
         }
-        std::string bt = b.text();
-        bt.pop_back();
+        const std::string bt = b.value();
         j.raw("best", bt).num("misfit", misfit[best]).str("case", cases[best].name);
         std::string cyc = "[", rms = "[", en = "[";
         for (std::size_t k = 0; k < detail[best].cycles.size(); ++k) {
@@ -310,8 +309,7 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             g.raw(ax.key, json_value(ax.labels[v], ax.literals[v]));
         }
         g.num("misfit", misfit[i]).str("case", cases[i].name);
-        std::string t = g.text();
-        t.pop_back();
+        const std::string t = g.value();
         grid += (i ? ", " : "") + t;
     }
     j.raw("grid", grid + "]");
@@ -325,8 +323,7 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
                 .num("misfit", preds[i].misfit)
                 .str("status", preds[i].status);
             if (!opt.predict_experiments.empty()) q.str("experiment", opt.predict_experiments[i]);
-            std::string t = q.text();
-            t.pop_back();
+            const std::string t = q.value();
             pj += (i ? ", " : "") + t;
         }
         j.raw("predictions", pj + "]");

@@ -231,6 +231,15 @@ private:
     void vtk_frame(const char* tag);
     double top_ring_force_z() const;
     void next_stage(Stage s);
+    // Settling checks fall at fixed times after the stage start (every `check` seconds), so a
+    // resumed run takes its decisions at the same steps as an uninterrupted one.
+    double next_check_after(double t, double check) const {
+        return st_.stage_t0 + check * (std::floor((t - st_.stage_t0) / check) + 1.0);
+    }
+    // Energy scale of the rest criteria [J]: every grain lifted by one diameter, N m g 2 r_k.
+    double settle_energy_scale() const {
+        return double(g1_ - g0_) * w_.particles.mass[g0_] * 9.81 * 2.0 * c_.grains.radius;
+    }
     void log(const char* fmt, ...) const;
 
     Config c_;
@@ -307,17 +316,15 @@ void DamperRun::vtk_frame(const char* tag) {
 void DamperRun::stage_fill() {
     const double max_time = 1.5;  // [s] of falling; a column of 20 cm settles in well under 1 s
     const double check = 2e-3;    // [s] between settling checks
-    const double ke_ref = double(g1_ - g0_) * w_.particles.mass[g0_] * 9.81 * 2.0 * c_.grains.radius;
+    const double ke_ref = settle_energy_scale();
     cli::Progress prog("prepare: fill", uint64_t(max_time / w_.params.dt), o_.quiet);
-    // Checks fall at fixed times after the stage start, so a resumed run decides identically.
-    auto next_check_after = [&](double t) { return st_.stage_t0 + check * (std::floor((t - st_.stage_t0) / check) + 1.0); };
-    double next_check = next_check_after(w_.time);
+    double next_check = next_check_after(w_.time, check);
     for (;;) {
         w_.step();
         prog.update(uint64_t((w_.time - st_.stage_t0) / w_.params.dt), w_.time);
         checkpoint(false);
         if (w_.time < next_check) continue;
-        next_check = next_check_after(w_.time);
+        next_check = next_check_after(w_.time, check);
         const double t = w_.time - st_.stage_t0;
         const double ke = grains_kinetic_energy(w_, g0_, g1_);
         if (t > 0.15 && ke < 1e-4 * ke_ref) {
@@ -381,9 +388,8 @@ void DamperRun::stage_vacuum() {
     w_.pressure.nodes = cylinder_pressure_nodes(L_);
     const double dp = c_.process.underpressure;
     cli::Progress prog("vacuum", uint64_t((ramp + max_hold) / w_.params.dt), o_.quiet);
-    auto next_check_after = [&](double t) { return st_.stage_t0 + check * (std::floor((t - st_.stage_t0) / check) + 1.0); };
-    double next_check = next_check_after(w_.time);
-    const double ke_ref = double(g1_ - g0_) * w_.particles.mass[g0_] * 9.81 * 2.0 * c_.grains.radius;
+    double next_check = next_check_after(w_.time, check);
+    const double ke_ref = settle_energy_scale();
     for (;;) {
         const double t = w_.time - st_.stage_t0;
         w_.pressure.dp = dp * std::min(1.0, t / ramp);
@@ -391,7 +397,7 @@ void DamperRun::stage_vacuum() {
         prog.update(uint64_t(t / w_.params.dt), w_.time);
         checkpoint(false);
         if (w_.time < next_check) continue;
-        next_check = next_check_after(w_.time);
+        next_check = next_check_after(w_.time, check);
         if (t < ramp + min_hold) continue;
         // Forces of the step just taken (computing them again would advance the shear springs).
         const double ke = grains_kinetic_energy(w_, g0_, g1_);
@@ -594,11 +600,11 @@ DamperResult DamperRun::run() {
         const bool resuming = fs::exists(out_) && fs::equivalent(fs::absolute(o_.from).parent_path(), out_, ec);
         if (!resuming) cli::prepare_output_dir(o_.out_dir, o_.overwrite);
         log("damper: starting from %s at stage '%s', t = %.4g s\n", o_.from.c_str(), stage_name(st_.stage), w_.time);
+        // A prepared sample takes the config's contact and process settings; a resumed run keeps
+        // its own, but for the thread count (set below for every path).
         if (st_.stage == Stage::Prepared) {
             apply_config_to_prepared();
             w_.params.dt = resolve_dt(c_.simulation, w_);
-        } else {
-            w_.params.threads = c_.simulation.threads;  // the only setting a resumed run may change
         }
     }
     w_.params.threads = c_.simulation.threads;
@@ -690,8 +696,7 @@ DamperResult run_damper(const Config& c, const DamperOptions& opt) {
             j.num("boundary_work", cr.boundary_work).num("friction_dissipation", cr.friction_dissipation)
                 .num("damping_dissipation", cr.damping_dissipation).num("viscous_dissipation", cr.viscous_dissipation)
                 .num("energy_residual", cr.energy_residual);
-        std::string t = j.text();
-        t.pop_back();
+        const std::string t = j.value();
         cycles_json += (k ? ", " : "") + t;
     }
     cycles_json += "]";
@@ -707,8 +712,7 @@ DamperResult run_damper(const Config& c, const DamperOptions& opt) {
         .num("process.cycles", double(c.process.cycles)).num("process.samples_per_cycle", double(c.process.samples_per_cycle))
         .num("process.sample_window", c.process.sample_window).num("simulation.local_damping", c.simulation.local_damping)
         .num("simulation.threads", c.simulation.threads).num("simulation.seed", double(c.simulation.seed));
-    std::string in = inputs.text();
-    in.pop_back();
+    const std::string in = inputs.value();
     dem::JsonObject j;
     j.raw("inputs", in)
         .num("underpressure", c.process.underpressure)

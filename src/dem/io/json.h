@@ -23,7 +23,10 @@ public:
         body_ += quote(key) + ": " + json;
         return *this;
     }
-    std::string text() const { return "{" + body_ + "\n}\n"; }
+    // The object as a value to nest in another one (no trailing newline).
+    std::string value() const { return "{" + body_ + "\n}"; }
+    // The object as a file's contents.
+    std::string text() const { return value() + "\n"; }
 
     static std::string quote(const std::string& s) {
         std::string out = "\"";
