@@ -5,6 +5,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <stdexcept>
+#include <string>
+
+#include <sys/resource.h>
 
 #include "dem/core/world.h"
 #include "dem/io/csv.h"
@@ -50,31 +53,63 @@ struct Timing {
     uint64_t rebuilds = 0;
 };
 
-Timing run(dem::World& w, long warmup, long steps) {
+Timing run(dem::World& w, long warmup, long steps, bool profile) {
     for (long s = 0; s < warmup; ++s) w.step();
     w.compute_forces();  // count contacts at the start of the timed window
     Timing t;
     t.contacts_start = w.contact_count();
     const uint64_t r0 = w.rebuild_count();
+    w.profile().enable(profile);
     const auto t0 = std::chrono::steady_clock::now();
     w.integrate();
+    w.profile().reset();  // the timed window's first integrate() is outside the phases
     for (long s = 1; s < steps; ++s) w.step();
     t.wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    w.profile().enable(false);
     w.compute_forces();
     t.contacts_end = w.contact_count();
     t.rebuilds = w.rebuild_count() - r0;
     return t;
 }
 
-void print_result(const BenchOptions& opt, std::size_t particles, const Timing& t, std::size_t pp_contacts) {
+// Peak resident memory of the process so far [bytes].
+long peak_rss_bytes() {
+    rusage u{};
+    getrusage(RUSAGE_SELF, &u);
+    return long(u.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+// The per-phase table (to stdout, before the JSON line) and its JSON object.
+std::string report_profile(const dem::World& w, long steps) {
+    const dem::PhaseProfile& pr = w.profile();
+    const double total = pr.total();
+    std::printf("%-18s %12s %10s %8s\n", "phase", "seconds", "us/step", "share");
+    std::string json = "{";
+    for (int k = 0; k < int(dem::Phase::kCount); ++k) {
+        const auto ph = dem::Phase(k);
+        const double s = pr.seconds(ph);
+        std::printf("%-18s %12.4f %10.2f %7.1f%%\n", dem::phase_name(ph), s, 1e6 * s / double(steps - 1),
+                    total > 0 ? 100.0 * s / total : 0.0);
+        char buf[96];
+        std::snprintf(buf, sizeof buf, "%s\"%s\": %.6g", k ? ", " : "", dem::phase_name(ph), s);
+        json += buf;
+    }
+    std::printf("%-18s %12.4f %10.2f\n", "total", total, 1e6 * total / double(steps - 1));
+    return json + "}";
+}
+
+void print_result(const BenchOptions& opt, const dem::World& w, const Timing& t) {
     const double sps = double(opt.steps) / t.wall_s;
+    const std::string profile = opt.profile ? ", \"profile\": " + report_profile(w, opt.steps) : "";
     std::printf(
         "{\"scene\": \"%s\", \"particles\": %zu, \"steps\": %ld, \"warmup\": %ld, \"threads\": %d, "
         "\"wall_s\": %.6g, \"steps_per_s\": %.6g, \"particle_steps_per_s\": %.6g, \"contacts\": %zu, "
-        "\"contacts_start\": %zu, \"particle_contacts\": %zu, \"rebuilds\": %llu, \"underpressure\": %g}\n",
-        opt.scene.c_str(), particles, opt.steps, opt.warmup, opt.threads, t.wall_s, sps,
-        sps * double(particles), t.contacts_end, t.contacts_start, pp_contacts,
-        (unsigned long long)t.rebuilds, opt.underpressure);
+        "\"contacts_start\": %zu, \"particle_contacts\": %zu, \"candidates\": %zu, \"bonds\": %zu, "
+        "\"rebuilds\": %llu, \"underpressure\": %g, \"peak_rss_bytes\": %ld%s}\n",
+        opt.scene.c_str(), w.particles.size(), opt.steps, opt.warmup, opt.threads, t.wall_s, sps,
+        sps * double(w.particles.size()), t.contacts_end, t.contacts_start, w.particle_contact_count(),
+        w.particle_contacts().size() + w.wall_contacts().size(), w.bonds().size(),
+        (unsigned long long)t.rebuilds, opt.underpressure, peak_rss_bytes(), profile.c_str());
     std::fflush(stdout);
 }
 
@@ -104,8 +139,8 @@ void grains_in_cylinder(const BenchOptions& opt) {
     floor.material = grain;
     w.add_plane(floor);
     // Yade's default Verlet distance: half the smallest radius.
-    const Timing t = run(w, opt.warmup, opt.steps);
-    print_result(opt, w.particles.size(), t, w.particle_contact_count());
+    const Timing t = run(w, opt.warmup, opt.steps, opt.profile);
+    print_result(opt, w, t);
 }
 
 void foil_plus_grains(const BenchOptions& opt) {
@@ -155,8 +190,8 @@ void foil_plus_grains(const BenchOptions& opt) {
             w.pressure.nodes.push_back({uint32_t(r[0]), {uint32_t(r[1]), uint32_t(r[2]), uint32_t(r[3]), uint32_t(r[4])}});
         w.pressure.dp = opt.underpressure;
     }
-    const Timing t = run(w, opt.warmup, opt.steps);
-    print_result(opt, w.particles.size(), t, w.particle_contact_count());
+    const Timing t = run(w, opt.warmup, opt.steps, opt.profile);
+    print_result(opt, w, t);
 }
 
 }  // namespace

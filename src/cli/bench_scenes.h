@@ -13,9 +13,11 @@ struct BenchOptions {
     long steps = 1000;        // timed steps
     int threads = 1;
     double underpressure = 0; // [Pa] foil-plus-grains: follower pressure on the foil
+    bool profile = false;     // print the time per phase of the timed steps
 };
 
-// Runs the benchmark and prints one JSON line last (a contract read by outside tools).
+// Runs the benchmark and prints one JSON line last (a contract read by outside tools). With
+// `profile`, a table of the time per phase comes first and the JSON line gains "profile".
 void run_bench(const BenchOptions& opt);
 
 }  // namespace cli

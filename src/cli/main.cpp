@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
     bench->add_option("--steps", bo.steps, "timed steps")->check(CLI::PositiveNumber);
     bench->add_option("--threads", bo.threads, "OpenMP threads")->check(CLI::PositiveNumber);
     bench->add_option("--underpressure", bo.underpressure, "[Pa] follower pressure on the foil");
+    bench->add_flag("--profile", bo.profile, "Print the time per phase (neighbour search, contacts, ...)");
 
     // vppdem tension|envelope [CONFIG] --out DIR [--set ...]: the foil checks of the paper.
     struct VppCommand {
@@ -79,6 +80,8 @@ int main(int argc, char** argv) {
     damper.app->add_option("--from", from, "Start from a checkpoint (prepared.ckpt, or run.ckpt to resume)")
         ->check(CLI::ExistingFile);
     damper.app->add_flag("--no-plot", no_plot, "Do not draw the PNG loops at the end");
+    bool damper_profile = false;
+    damper.app->add_flag("--profile", damper_profile, "Print the time per phase of the cycling");
     damper.app->add_option("--checkpoint-every", ckpt_every, "[s] wall-clock time between checkpoints")
         ->check(CLI::PositiveNumber);
 
@@ -176,6 +179,7 @@ int main(int argc, char** argv) {
             o.plot = !no_plot;
             o.overwrite = damper.overwrite;
             o.checkpoint_every = ckpt_every;
+            o.profile = damper_profile;
             vpp::run_damper(c, o);
         } else if (*analyze) {
             dscale = dunit == "mm" ? 1e-3 : 1.0;

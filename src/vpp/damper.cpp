@@ -458,6 +458,8 @@ void DamperRun::stage_cycle() {
     cli::Progress prog("cycle", total, o_.quiet);
     uint64_t done = 0;
     auto sample_time = [&](std::size_t s) { return st_.cycle_t0 + double(s) * T / S; };
+    w_.profile().enable(o_.profile);
+    w_.profile().reset();
     while (w_.time < t_end - 0.5 * w_.params.dt) {
         w_.compute_forces();
         const std::size_t s = st_.samples.size();
@@ -483,6 +485,7 @@ void DamperRun::stage_cycle() {
                 if (energy && s == 0) w_.reset_energy();
             }
         }
+        w_.profile().lap(dem::Phase::kOutput);
         w_.integrate();
         // The ledger at this sample's time is complete once the step is integrated.
         if (energy && sampled) st_.energy.push_back(energy_row(w_.energy(), w_.energy().time - st_.cycle_t0));
@@ -492,7 +495,19 @@ void DamperRun::stage_cycle() {
             vtk_frame("cycle");
             next_vtk_ = w_.time + c_.output.vtk_interval;
         }
+        w_.profile().lap(dem::Phase::kOutput);
     }
+    if (o_.profile && done > 0) {
+        const dem::PhaseProfile& pr = w_.profile();
+        std::fprintf(stderr, "[cycle] time per phase over %llu steps (%d threads):\n", (unsigned long long)done, w_.params.threads);
+        for (int k = 0; k < int(dem::Phase::kCount); ++k) {
+            const auto ph = dem::Phase(k);
+            std::fprintf(stderr, "  %-18s %10.3f s %9.2f us/step %6.1f%%\n", dem::phase_name(ph), pr.seconds(ph),
+                1e6 * pr.seconds(ph) / double(done), 100.0 * pr.seconds(ph) / std::max(pr.total(), 1e-300));
+        }
+        std::fprintf(stderr, "  %-18s %10.3f s %9.2f us/step\n", "total", pr.total(), 1e6 * pr.total() / double(done));
+    }
+    w_.profile().enable(false);
 }
 
 void DamperRun::write_energy() {

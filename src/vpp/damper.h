@@ -21,6 +21,7 @@ struct DamperOptions {
     bool plot = true;
     bool overwrite = false;  // replace files in a non-empty out_dir (resuming from it needs none)
     double checkpoint_every = 60.0;  // [s] wall clock between run.ckpt writes
+    bool profile = false;    // print the time per phase of the cycling (dem/core/profile.h)
 };
 
 struct DamperResult {

@@ -412,8 +412,11 @@ TEST_F(EnergyDamper, BalanceClosesPerCycle) {
         EXPECT_GT(fr, 0.0);
         EXPECT_GT(dm, 0.0);
         EXPECT_GE(vi, 0.0);
-        // Over a cycle nearly all the boundary work is dissipated, and the loop area measures it.
-        EXPECT_NEAR(fr + dm + vi, work, 0.1 * work);
+        // Over a cycle the input (boundary work plus the pressure's work while the sample still
+        // compacts) is dissipated up to the small change of stored energy, and the loop area
+        // measures the boundary work. (The pressure's share depends on how far the small sample
+        // is from a steady cycle: 10-25% of the boundary work here.)
+        EXPECT_NEAR(fr + dm + vi, work + d("pressure_work"), 0.1 * work);
         EXPECT_NEAR(c.at("dissipated_energy")[k], work, 0.1 * work);
     }
 }

@@ -60,13 +60,13 @@ struct ShearHistory {
 inline void rotate_shear(ShearHistory& h, const Vec3& n, double spin_n, double dt) {
     Vec3& fs = h.shear;
     if (h.prev_normal == Vec3{}) h.prev_normal = n;
-    const double len0 = norm(fs);
-    if (len0 > 0.0) {
+    const double len0_2 = norm2(fs);
+    if (len0_2 > 0.0) {
         fs -= cross(fs, cross(h.prev_normal, n));
         fs -= cross(fs, n * (dt * spin_n));
         fs -= n * dot(fs, n);
-        const double len1 = norm(fs);
-        if (len1 > 0.0) fs *= len0 / len1;
+        const double len1_2 = norm2(fs);
+        if (len1_2 > 0.0) fs *= std::sqrt(len0_2 / len1_2);  // one root instead of two
     }
     h.prev_normal = n;
 }

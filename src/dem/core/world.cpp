@@ -392,7 +392,7 @@ void World::particle_contact_forces() {
     const Particles& p = particles;
     const double dt = params.dt;
     const int64_t nc = int64_t(pp_.size());
-#pragma omp parallel for num_threads(params.threads) schedule(static)
+#pragma omp for schedule(static) nowait
     for (int64_t c = 0; c < nc; ++c) {
         const uint32_t i = key_first(pp_.key[c]), j = key_second(pp_.key[c]);
         ContactEnergyStep* es = nullptr;
@@ -410,10 +410,13 @@ void World::particle_contact_forces() {
                     es->release = shear_release_energy(pp_.phys[c], pp_.hist[c], vrel, dt);
                 }
             }
-            // An opened contact loses its shear spring (Yade deletes the interaction).
-            pp_.hist[c] = ShearHistory{};
-            pp_.force[c] = pp_.torque1[c] = pp_.torque2[c] = Vec3{};
-            pp_.touching[c] = 0;
+            // An opened contact loses its shear spring (Yade deletes the interaction). A pair
+            // that was not touching already holds zeros: most candidates, so no stores then.
+            if (pp_.touching[c]) {
+                pp_.hist[c] = ShearHistory{};
+                pp_.force[c] = pp_.torque1[c] = pp_.torque2[c] = Vec3{};
+                pp_.touching[c] = 0;
+            }
             continue;
         }
         const Vec3& n = g.normal;
@@ -437,7 +440,7 @@ void World::wall_contact_forces() {
     const double dt = params.dt;
     const uint32_t nplanes = uint32_t(planes.size());
     const int64_t nc = int64_t(pw_.size());
-#pragma omp parallel for num_threads(params.threads) schedule(static)
+#pragma omp for schedule(static) nowait
     for (int64_t c = 0; c < nc; ++c) {
         const uint32_t i = key_first(pw_.key[c]), w = key_second(pw_.key[c]);
         ContactEnergyStep* es = nullptr;
@@ -461,9 +464,11 @@ void World::wall_contact_forces() {
                     es->release = shear_release_energy(pw_.phys[c], pw_.hist[c], vrel, dt);
                 }
             }
-            pw_.hist[c] = ShearHistory{};
-            pw_.force[c] = pw_.torque2[c] = Vec3{};
-            pw_.touching[c] = 0;
+            if (pw_.touching[c]) {
+                pw_.hist[c] = ShearHistory{};
+                pw_.force[c] = pw_.torque2[c] = Vec3{};
+                pw_.touching[c] = 0;
+            }
             continue;
         }
         const Vec3& n = g.normal;  // from the wall to the sphere
@@ -482,12 +487,12 @@ void World::bond_forces() {
     const Particles& p = particles;
     const double dt = params.dt;
     const int64_t nb = int64_t(bonds_.size());
-#pragma omp parallel for num_threads(params.threads) schedule(static)
+#pragma omp for schedule(static) nowait
     for (int64_t b = 0; b < nb; ++b) {
         const uint32_t i = bonds_.i[b], j = bonds_.j[b];
         const Vec3 d = p.pos[j] - p.pos[i];
         const double dist = norm(d);
-        const Vec3 n = d / dist;
+        const Vec3 n = d * (1.0 / dist);
         // Lever arms as for a contact: the bond point sits where the spheres would touch.
         const double half_gap = 0.5 * (p.radius[i] + p.radius[j] - dist);
         const Vec3 vrel = (p.vel[j] + cross(p.angvel[j], n * -p.radius[j])) -
@@ -504,28 +509,29 @@ void World::bond_forces() {
 }
 
 void World::apply_pressure() {
-    if (pressure.dp == 0.0 || pressure.nodes.empty()) return;
-    Particles& p = particles;
+    const Particles& p = particles;
     const int64_t nn = int64_t(pressure.nodes.size());
-    // Each node appears once in the list, so every iteration writes its own particle.
-#pragma omp parallel for num_threads(params.threads) schedule(static)
+    // Each node appears once in the list, so every iteration writes its own slot; the gather
+    // adds the slots to the particles' forces.
+#pragma omp for schedule(static)
     for (int64_t k = 0; k < nn; ++k) {
         const PressureNode& q = pressure.nodes[k];
-        const Vec3 f = tributary_area(p.pos, q) * pressure.dp;
-        p.force[q.node] -= f;
-        if (params.track_energy) pressure_force_[q.node] = -f;
+        pressure_force_[q.node] = -(tributary_area(p.pos, q) * pressure.dp);
     }
 }
 
-void World::gather_forces() {
+void World::gather_forces(bool with_pressure) {
     Particles& p = particles;
     const int64_t n = int64_t(p.size());
-#pragma omp parallel for num_threads(params.threads) schedule(static)
+#pragma omp for schedule(static)
     for (int64_t i = 0; i < n; ++i) {
         Vec3 f, t;
+        // Candidates that do not touch hold zero force: skipping them reads one byte instead
+        // of 48 (most candidates in loose packings), and leaves the sums bitwise the same.
         for (uint32_t k = pp_start_[i]; k < pp_start_[i + 1]; ++k) {
             const uint32_t e = pp_entries_[k];
             const uint32_t c = e & ~kSideBit;
+            if (!pp_.touching[c]) continue;
             if (e & kSideBit) {
                 f += pp_.force[c];
                 t += pp_.torque2[c];
@@ -535,6 +541,7 @@ void World::gather_forces() {
             }
         }
         for (uint32_t c = pw_start_[i]; c < pw_start_[i + 1]; ++c) {
+            if (!pw_.touching[c]) continue;
             f += pw_.force[c];
             t += pw_.torque2[c];
         }
@@ -549,6 +556,7 @@ void World::gather_forces() {
                 t += bonds_.torque1[b];
             }
         }
+        if (with_pressure) f += pressure_force_[i];
         p.force[i] = f;
         p.torque[i] = t;
     }
@@ -566,30 +574,63 @@ void World::sum_wall_reactions() {
 }
 
 void World::compute_forces() {
+    profile_.start();
     move_walls();
     if (needs_rebuild()) rebuild_candidates();
     if (physics_dirty_) {
         refresh_physics(true, {}, {});
         physics_dirty_ = false;
     }
-    if (params.track_energy) {
+    profile_.lap(Phase::kNeighbour);
+    const bool track = params.track_energy;
+    const bool press = pressure.dp != 0.0 && !pressure.nodes.empty();
+    if (track) {
         // Every slot is written by the kernels below.
         pp_energy_.resize(pp_.size());
         pw_energy_.resize(pw_.size());
         bond_energy_.resize(bonds_.size());
-        pressure_force_.assign(particles.size(), Vec3{});
-        particle_contact_forces<true>();
-        wall_contact_forces<true>();
-        bond_forces<true>();
-    } else {
-        particle_contact_forces<false>();
-        wall_contact_forces<false>();
-        bond_forces<false>();
     }
-    energy_ready_ = params.track_energy;
-    gather_forces();
-    apply_pressure();
+    const bool pslots = press || track;  // the energy ledger reads the (zero) slots too
+    if (pslots) pressure_force_.resize(particles.size());
+    const bool prof = profile_.enabled();
+    const int64_t n = int64_t(particles.size());
+    // One parallel region for the whole force computation: the kernels write their own
+    // slots and do not wait for each other; two barriers order pressure and gather after them.
+#pragma omp parallel num_threads(params.threads)
+    {
+        if (pslots) {
+#pragma omp for schedule(static) nowait
+            for (int64_t i = 0; i < n; ++i) pressure_force_[i] = Vec3{};
+        }
+        if (track) {
+            particle_contact_forces<true>();
+            wall_contact_forces<true>();
+        } else {
+            particle_contact_forces<false>();
+            wall_contact_forces<false>();
+        }
+        if (prof) {
+#pragma omp barrier
+#pragma omp master
+            profile_.lap(Phase::kContacts);
+        }
+        if (track) bond_forces<true>();
+        else bond_forces<false>();
+#pragma omp barrier
+        if (prof) {
+#pragma omp master
+            profile_.lap(Phase::kBonds);
+        }
+        if (press) apply_pressure();  // ends with a barrier
+        if (prof) {
+#pragma omp master
+            profile_.lap(Phase::kPressure);
+        }
+        gather_forces(press);
+    }
+    energy_ready_ = track;
     sum_wall_reactions();
+    profile_.lap(Phase::kGather);
 }
 
 Vec3 World::total_force(std::size_t i) const {
@@ -701,6 +742,7 @@ void World::integrate() {
         max_d2 = advance_particles<false>(t1);
     }
     max_disp_ = std::sqrt(max_d2);
+    profile_.lap(Phase::kIntegration);
     // Rebase when dt changed or someone set the clock (e.g. a restart from a checkpoint).
     if (dt != dt_of_base_ || time != time_base_ + double(steps - step_base_) * dt_of_base_) {
         time_base_ = time;
@@ -709,59 +751,107 @@ void World::integrate() {
     }
     ++steps;
     time = time_base_ + double(steps - step_base_) * dt;
-    if (track) account_energy(t_n);
+    if (track) {
+        account_energy(t_n);
+        profile_.lap(Phase::kEnergy);
+    }
     energy_ready_ = false;
 }
 
 void World::account_energy(double t_n) {
-    // Sums the step's per-particle, per-wall, per-contact and per-bond terms serially in index
-    // order (the same for any thread count) and books them: back halves and the contacts'
-    // terms on [t_n - dt, t_n], forward halves pending until the next step.
+    // Sums the step's per-particle, per-wall, per-contact and per-bond terms and books them:
+    // back halves and the contacts' terms on [t_n - dt, t_n], forward halves pending until the
+    // next step. The sums run in parallel over fixed blocks of kBlock indices, each summed in
+    // index order, then the blocks in order: the same numbers for any thread count.
     const Particles& p = particles;
     const double dt = params.dt, h = 0.5 * dt;
     EnergyLedger& L = energy_;
     const bool first = L.steps == 0;
 
-    double back[kTerms] = {}, fwd[kTerms] = {}, kinetic = 0;
-    for (const ParticleEnergyStep& e : particle_energy_) {
-        for (int k = 0; k < kTerms; ++k) {
-            back[k] += e.back[k];
-            fwd[k] += e.fwd[k];
-        }
-        kinetic += e.kinetic;
-    }
-
     // Walls translate: their work is the force on the particles times the wall's displacement.
     // The forward half uses the velocity the next step's move_walls() will compute.
     const std::size_t nw = wall_count();
-    std::vector<Vec3> v_next(nw);
+    wall_vel_next_.resize(nw);
+    std::vector<Vec3>& v_next = wall_vel_next_;
     for (std::size_t k = 0; k < planes.size(); ++k) v_next[k] = planes[k].motion.mean_velocity(time - dt, time);
     for (std::size_t k = 0; k < facets.size(); ++k)
         v_next[planes.size() + k] = facets[k].motion.mean_velocity(time - dt, time);
+
+    constexpr int64_t kBlock = 1024;
+    constexpr int kPT = 2 * kTerms + 1;  // particle terms: back[], fwd[], kinetic
+    constexpr int kCT = 5;               // contact terms: elastic, slip, release, viscous back, fwd
+    const auto blocks = [](int64_t n) { return (n + kBlock - 1) / kBlock; };
+    const int64_t np = int64_t(particle_energy_.size()), npp = int64_t(pp_.size()),
+                  npw = int64_t(pw_.size()), nbd = int64_t(bond_energy_.size());
+    const int64_t bp = blocks(np), bpp = blocks(npp), bpw = blocks(npw), bbd = blocks(nbd);
+    energy_blocks_.assign(std::size_t(bp * kPT + (bpp + bpw) * kCT + bbd), 0.0);
+    double* const sp = energy_blocks_.data();
+    double* const spp = sp + bp * kPT;
+    double* const spw = spp + bpp * kCT;
+    double* const sbd = spw + bpw * kCT;
+#pragma omp parallel num_threads(params.threads)
+    {
+#pragma omp for schedule(static) nowait
+        for (int64_t b = 0; b < bp; ++b) {
+            double* s = sp + b * kPT;
+            for (int64_t i = b * kBlock; i < std::min(np, (b + 1) * kBlock); ++i) {
+                const ParticleEnergyStep& e = particle_energy_[i];
+                for (int k = 0; k < kTerms; ++k) {
+                    s[k] += e.back[k];
+                    s[kTerms + k] += e.fwd[k];
+                }
+                s[2 * kTerms] += e.kinetic;
+            }
+        }
+#pragma omp for schedule(static) nowait
+        for (int64_t b = 0; b < bpp; ++b) {
+            double* s = spp + b * kCT;
+            for (int64_t c = b * kBlock; c < std::min(npp, (b + 1) * kBlock); ++c) {
+                const ContactEnergyStep& e = pp_energy_[c];
+                s[0] += e.elastic;
+                s[1] += e.slip;
+                s[2] += e.release;
+                s[3] += e.viscous;
+                if (e.fv != Vec3{})
+                    s[4] -= dot(e.fv, p.vel[key_second(pp_.key[c])] - p.vel[key_first(pp_.key[c])]) * h;
+            }
+        }
+#pragma omp for schedule(static) nowait
+        for (int64_t b = 0; b < bpw; ++b) {
+            double* s = spw + b * kCT;
+            for (int64_t c = b * kBlock; c < std::min(npw, (b + 1) * kBlock); ++c) {
+                const ContactEnergyStep& e = pw_energy_[c];
+                s[0] += e.elastic;
+                s[1] += e.slip;
+                s[2] += e.release;
+                s[3] += e.viscous;
+                if (e.fv != Vec3{})
+                    s[4] -= dot(e.fv, p.vel[key_first(pw_.key[c])] - v_next[key_second(pw_.key[c])]) * h;
+            }
+        }
+#pragma omp for schedule(static) nowait
+        for (int64_t b = 0; b < bbd; ++b)
+            for (int64_t k = b * kBlock; k < std::min(nbd, (b + 1) * kBlock); ++k) sbd[b] += bond_energy_[k];
+    }
+
+    double back[kTerms] = {}, fwd[kTerms] = {}, kinetic = 0;
+    for (int64_t b = 0; b < bp; ++b) {
+        const double* s = sp + b * kPT;
+        for (int k = 0; k < kTerms; ++k) {
+            back[k] += s[k];
+            fwd[k] += s[kTerms + k];
+        }
+        kinetic += s[2 * kTerms];
+    }
     for (std::size_t w = 0; w < nw; ++w) {
         back[kBoundary] -= dot(wall_force_[w], wall_vel_[w]) * h;
         fwd[kBoundary] -= dot(wall_force_[w], v_next[w]) * h;
     }
-
-    double elastic_c = 0, slip = 0, release = 0, visc_back = 0, visc_fwd = 0, elastic_b = 0;
-    for (std::size_t c = 0; c < pp_.size(); ++c) {
-        const ContactEnergyStep& e = pp_energy_[c];
-        elastic_c += e.elastic;
-        slip += e.slip;
-        release += e.release;
-        visc_back += e.viscous;
-        if (e.fv != Vec3{})
-            visc_fwd -= dot(e.fv, p.vel[key_second(pp_.key[c])] - p.vel[key_first(pp_.key[c])]) * h;
-    }
-    for (std::size_t c = 0; c < pw_.size(); ++c) {
-        const ContactEnergyStep& e = pw_energy_[c];
-        elastic_c += e.elastic;
-        slip += e.slip;
-        release += e.release;
-        visc_back += e.viscous;
-        if (e.fv != Vec3{}) visc_fwd -= dot(e.fv, p.vel[key_first(pw_.key[c])] - v_next[key_second(pw_.key[c])]) * h;
-    }
-    for (double e : bond_energy_) elastic_b += e;
+    double cs[kCT] = {}, elastic_b = 0;
+    for (int64_t b = 0; b < bpp + bpw; ++b)
+        for (int k = 0; k < kCT; ++k) cs[k] += spp[b * kCT + k];  // pp blocks, then pw blocks
+    for (int64_t b = 0; b < bbd; ++b) elastic_b += sbd[b];
+    const double elastic_c = cs[0], slip = cs[1], release = cs[2], visc_back = cs[3], visc_fwd = cs[4];
 
     if (!first) {  // the back halves and the kernels' terms belong to [t_n - dt, t_n]
         L.boundary_work += L.pending_boundary + back[kBoundary];

@@ -15,6 +15,7 @@
 #include "dem/core/material.h"
 #include "dem/core/particles.h"
 #include "dem/core/pressure.h"
+#include "dem/core/profile.h"
 #include "dem/core/vec3.h"
 #include "dem/detect/cell_grid.h"
 #include "dem/walls/motion.h"
@@ -102,6 +103,10 @@ public:
     // after changing which particles are free (set_fixed, set_prescribed) or removing walls.
     void reset_energy() { energy_ = EnergyLedger{}; }
 
+    // Time per phase of step() (dem/core/profile.h); off until profile().enable(true).
+    PhaseProfile& profile() { return profile_; }
+    const PhaseProfile& profile() const { return profile_; }
+
 private:
     friend struct WorldSerializer;  // dem/io/checkpoint.cpp: writes and restores the whole state
     void move_walls();
@@ -129,7 +134,7 @@ private:
     };
     ParticleEnergyStep particle_energy(std::size_t i, const Vec3& v0, const Vec3& w0, const Vec3& v1,
                                        const Vec3& w1, const Vec3& a, const Vec3& al) const;
-    void gather_forces();
+    void gather_forces(bool with_pressure);
     void apply_pressure();
     void sum_wall_reactions();
     double effective_skin() const;
@@ -168,6 +173,9 @@ private:
     std::vector<double> bond_energy_;                 // [J] stored in each bond
     std::vector<Vec3> pressure_force_;                // [N] pressure force per particle
     std::vector<ParticleEnergyStep> particle_energy_;  // scratch of integrate()
+    std::vector<double> energy_blocks_;               // scratch of account_energy()
+    std::vector<Vec3> wall_vel_next_;                 // scratch of account_energy()
+    PhaseProfile profile_;
 };
 
 }  // namespace dem

@@ -25,7 +25,8 @@ inline bool sphere_sphere(const Vec3& x1, double r1, const Vec3& x2, double r2, 
     const double rs = r1 + r2;
     if (d2 >= rs * rs) return false;
     const double dist = std::sqrt(d2);
-    g.normal = dist > 0.0 ? d / dist : Vec3{0, 0, 1};
+    // One division and three products instead of three divisions (the hot path).
+    g.normal = dist > 0.0 ? d * (1.0 / dist) : Vec3{0, 0, 1};
     g.overlap = rs - dist;
     g.arm1 = r1 - 0.5 * g.overlap;
     g.arm2 = r2 - 0.5 * g.overlap;
