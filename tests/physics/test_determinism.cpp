@@ -86,11 +86,12 @@ World make_scene(int threads) {
                 {idx(i, j, 4), {idx(i + 1, j, 4), idx(i, j + 1, 4), idx(i - 1, j, 4), idx(i, j - 1, 4)}});
     w.pressure.dp = 10.0;  // [Pa] force 4 h^2 dp ~ m g per node
     w.params.dt = 0.2 * w.critical_dt();
+    w.params.track_energy = true;  // its sums run in parallel over fixed blocks
     return w;
 }
 
 struct Snapshot {
-    std::vector<double> values;  // pos, vel, angvel of every particle, then wall forces
+    std::vector<double> values;  // pos, vel, angvel of every particle, wall forces, energy ledger
     uint64_t rebuilds = 0;
     std::size_t contacts = 0;
 };
@@ -108,6 +109,10 @@ Snapshot run(int threads, int steps) {
             snap.values.push_back(w.wall_force(k)[d]);
             snap.values.push_back(w.wall_torque(k)[d]);
         }
+    const EnergyLedger& e = w.energy();
+    for (double v : {e.boundary_work, e.pressure_work, e.gravity_work, e.friction_slip, e.shear_release,
+                     e.damping_dissipation, e.viscous_dissipation, e.kinetic, e.elastic_contacts, e.elastic_bonds})
+        snap.values.push_back(v);
     snap.rebuilds = w.rebuild_count();
     snap.contacts = w.contact_count();
     return snap;

@@ -777,7 +777,7 @@ void World::account_energy(double t_n) {
     for (std::size_t k = 0; k < facets.size(); ++k)
         v_next[planes.size() + k] = facets[k].motion.mean_velocity(time - dt, time);
 
-    constexpr int64_t kBlock = 1024;
+    constexpr int64_t kBlock = 256;  // small enough that a 500-particle test has several blocks
     constexpr int kPT = 2 * kTerms + 1;  // particle terms: back[], fwd[], kinetic
     constexpr int kCT = 5;               // contact terms: elastic, slip, release, viscous back, fwd
     const auto blocks = [](int64_t n) { return (n + kBlock - 1) / kBlock; };
@@ -803,32 +803,27 @@ void World::account_energy(double t_n) {
                 s[2 * kTerms] += e.kinetic;
             }
         }
+        // Contact terms; `vrel(c)`: velocity of body 2 relative to body 1 at t_n + dt/2, for
+        // the dashpot's forward half.
+        const auto contact_blocks = [&](const std::vector<ContactEnergyStep>& E, int64_t nc, int64_t nblk,
+                                        double* out, auto&& vrel) {
 #pragma omp for schedule(static) nowait
-        for (int64_t b = 0; b < bpp; ++b) {
-            double* s = spp + b * kCT;
-            for (int64_t c = b * kBlock; c < std::min(npp, (b + 1) * kBlock); ++c) {
-                const ContactEnergyStep& e = pp_energy_[c];
-                s[0] += e.elastic;
-                s[1] += e.slip;
-                s[2] += e.release;
-                s[3] += e.viscous;
-                if (e.fv != Vec3{})
-                    s[4] -= dot(e.fv, p.vel[key_second(pp_.key[c])] - p.vel[key_first(pp_.key[c])]) * h;
+            for (int64_t b = 0; b < nblk; ++b) {
+                double* s = out + b * kCT;
+                for (int64_t c = b * kBlock; c < std::min(nc, (b + 1) * kBlock); ++c) {
+                    const ContactEnergyStep& e = E[c];
+                    s[0] += e.elastic;
+                    s[1] += e.slip;
+                    s[2] += e.release;
+                    s[3] += e.viscous;
+                    if (e.fv != Vec3{}) s[4] -= dot(e.fv, vrel(c)) * h;
+                }
             }
-        }
-#pragma omp for schedule(static) nowait
-        for (int64_t b = 0; b < bpw; ++b) {
-            double* s = spw + b * kCT;
-            for (int64_t c = b * kBlock; c < std::min(npw, (b + 1) * kBlock); ++c) {
-                const ContactEnergyStep& e = pw_energy_[c];
-                s[0] += e.elastic;
-                s[1] += e.slip;
-                s[2] += e.release;
-                s[3] += e.viscous;
-                if (e.fv != Vec3{})
-                    s[4] -= dot(e.fv, p.vel[key_first(pw_.key[c])] - v_next[key_second(pw_.key[c])]) * h;
-            }
-        }
+        };
+        contact_blocks(pp_energy_, npp, bpp, spp,
+                       [&](int64_t c) { return p.vel[key_second(pp_.key[c])] - p.vel[key_first(pp_.key[c])]; });
+        contact_blocks(pw_energy_, npw, bpw, spw,
+                       [&](int64_t c) { return p.vel[key_first(pw_.key[c])] - v_next[key_second(pw_.key[c])]; });
 #pragma omp for schedule(static) nowait
         for (int64_t b = 0; b < bbd; ++b)
             for (int64_t k = b * kBlock; k < std::min(nbd, (b + 1) * kBlock); ++k) sbd[b] += bond_energy_[k];
