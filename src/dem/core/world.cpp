@@ -700,31 +700,55 @@ double World::advance_particles(double t1) {
     Particles& p = particles;
     const double dt = params.dt, lambda = params.local_damping;
     const int64_t n = int64_t(p.size());
-    double max_d2 = 0.0;
-#pragma omp parallel for num_threads(params.threads) schedule(static) reduction(max : max_d2)
-    for (int64_t i = 0; i < n; ++i) {
+    // Moves free particle i (prescribed: onto its motion); returns its energy terms of the step.
+    const auto advance = [&](int64_t i) __attribute__((always_inline)) {
+        ParticleEnergyStep e;
         const uint32_t fl = p.flags[i];
-        if (fl & kFixed) {
-            if constexpr (kEnergy) particle_energy_[i] = ParticleEnergyStep{};
-            continue;
-        }
         [[maybe_unused]] const Vec3 v0 = p.vel[i], w0 = p.angvel[i];
         if (fl & kPrescribed) {
             const Motion& m = motions[p.motion[i]];
             p.vel[i] = m.mean_velocity(time, t1);
             p.pos[i] = p.ref_pos[i] + m.displacement(t1);
-            if constexpr (kEnergy)
-                particle_energy_[i] = particle_energy(size_t(i), v0, w0, m.mean_velocity(time, t1), w0, Vec3{}, Vec3{});
+            if constexpr (kEnergy) e = particle_energy(size_t(i), v0, w0, m.mean_velocity(time, t1), w0, Vec3{}, Vec3{});
         } else {
             const Vec3 a = damped_acceleration(total_force(i), p.inv_mass[i], p.vel[i], dt, lambda);
             p.vel[i] += a * dt;
             p.pos[i] += p.vel[i] * dt;
             const Vec3 al = damped_angular_acceleration(p.torque[i], p.inv_inertia[i], p.angvel[i], lambda);
             p.angvel[i] += al * dt;
-            if constexpr (kEnergy)
-                particle_energy_[i] = particle_energy(size_t(i), v0, w0, v0 + a * dt, w0 + al * dt, a, al);
+            if constexpr (kEnergy) e = particle_energy(size_t(i), v0, w0, v0 + a * dt, w0 + al * dt, a, al);
         }
-        max_d2 = std::max(max_d2, norm2(p.pos[i] - ref_pos_[i]));
+        return e;
+    };
+    double max_d2 = 0.0;
+    if constexpr (!kEnergy) {
+#pragma omp parallel for num_threads(params.threads) schedule(static) reduction(max : max_d2)
+        for (int64_t i = 0; i < n; ++i) {
+            if (p.flags[i] & kFixed) continue;
+            advance(i);
+            max_d2 = std::max(max_d2, norm2(p.pos[i] - ref_pos_[i]));
+        }
+    } else {
+        // The energy terms are summed here, per fixed block of kEnergyBlock particles in index
+        // order (account_energy() adds the blocks in order): the same for any thread count, and
+        // no per-particle record written and read back.
+        const int64_t nblk = (n + kEnergyBlock - 1) / kEnergyBlock;
+        particle_blocks_.assign(std::size_t(nblk * kParticleSums), 0.0);
+#pragma omp parallel for num_threads(params.threads) schedule(static) reduction(max : max_d2)
+        for (int64_t b = 0; b < nblk; ++b) {
+            double s[kParticleSums] = {};  // local: stores through a pointer would alias p's arrays
+            for (int64_t i = b * kEnergyBlock; i < std::min(n, (b + 1) * kEnergyBlock); ++i) {
+                if (p.flags[i] & kFixed) continue;  // contributes nothing
+                const ParticleEnergyStep e = advance(i);
+                for (int k = 0; k < kTerms; ++k) {
+                    s[k] += e.back[k];
+                    s[kTerms + k] += e.fwd[k];
+                }
+                s[2 * kTerms] += e.kinetic;
+                max_d2 = std::max(max_d2, norm2(p.pos[i] - ref_pos_[i]));
+            }
+            std::copy(s, s + kParticleSums, particle_blocks_.begin() + b * kParticleSums);
+        }
     }
     return max_d2;
 }
@@ -736,7 +760,6 @@ void World::integrate() {
     const bool track = params.track_energy && energy_ready_;
     double max_d2;
     if (track) {
-        particle_energy_.resize(particles.size());
         max_d2 = advance_particles<true>(t1);
     } else {
         max_d2 = advance_particles<false>(t1);
@@ -777,32 +800,20 @@ void World::account_energy(double t_n) {
     for (std::size_t k = 0; k < facets.size(); ++k)
         v_next[planes.size() + k] = facets[k].motion.mean_velocity(time - dt, time);
 
-    constexpr int64_t kBlock = 256;  // small enough that a 500-particle test has several blocks
-    constexpr int kPT = 2 * kTerms + 1;  // particle terms: back[], fwd[], kinetic
+    constexpr int64_t kBlock = kEnergyBlock;
+    constexpr int kPT = kParticleSums;   // particle terms, summed per block by advance_particles()
     constexpr int kCT = 5;               // contact terms: elastic, slip, release, viscous back, fwd
     const auto blocks = [](int64_t n) { return (n + kBlock - 1) / kBlock; };
-    const int64_t np = int64_t(particle_energy_.size()), npp = int64_t(pp_.size()),
-                  npw = int64_t(pw_.size()), nbd = int64_t(bond_energy_.size());
-    const int64_t bp = blocks(np), bpp = blocks(npp), bpw = blocks(npw), bbd = blocks(nbd);
-    energy_blocks_.assign(std::size_t(bp * kPT + (bpp + bpw) * kCT + bbd), 0.0);
-    double* const sp = energy_blocks_.data();
-    double* const spp = sp + bp * kPT;
+    const int64_t npp = int64_t(pp_.size()), npw = int64_t(pw_.size()), nbd = int64_t(bond_energy_.size());
+    const int64_t bp = int64_t(particle_blocks_.size()) / kPT, bpp = blocks(npp), bpw = blocks(npw),
+                  bbd = blocks(nbd);
+    energy_blocks_.assign(std::size_t((bpp + bpw) * kCT + bbd), 0.0);
+    const double* const sp = particle_blocks_.data();
+    double* const spp = energy_blocks_.data();
     double* const spw = spp + bpp * kCT;
     double* const sbd = spw + bpw * kCT;
 #pragma omp parallel num_threads(params.threads)
     {
-#pragma omp for schedule(static) nowait
-        for (int64_t b = 0; b < bp; ++b) {
-            double* s = sp + b * kPT;
-            for (int64_t i = b * kBlock; i < std::min(np, (b + 1) * kBlock); ++i) {
-                const ParticleEnergyStep& e = particle_energy_[i];
-                for (int k = 0; k < kTerms; ++k) {
-                    s[k] += e.back[k];
-                    s[kTerms + k] += e.fwd[k];
-                }
-                s[2 * kTerms] += e.kinetic;
-            }
-        }
         // Contact terms; `vrel(c)`: velocity of body 2 relative to body 1 at t_n + dt/2, for
         // the dashpot's forward half.
         const auto contact_blocks = [&](const std::vector<ContactEnergyStep>& E, int64_t nc, int64_t nblk,

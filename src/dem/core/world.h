@@ -128,6 +128,8 @@ private:
     // Adds step n (forces at t_n, velocities v(t_n -/+ dt/2)) to the ledger.
     void account_energy(double t_n);
     enum EnergyTerm { kBoundary, kPressure, kGravity, kExternal, kDamping, kTerms };
+    static constexpr int kParticleSums = 2 * kTerms + 1;  // back[], fwd[], kinetic
+    static constexpr int64_t kEnergyBlock = 256;  // entries per energy partial sum (fixed: deterministic)
     struct ParticleEnergyStep {
         double back[kTerms] = {}, fwd[kTerms] = {};  // [J] work of each term, both half steps
         double kinetic = 0;                          // [J] 1/2 m v- . v+ + 1/2 I w- . w+
@@ -172,7 +174,7 @@ private:
     std::vector<ContactEnergyStep> pp_energy_, pw_energy_;
     std::vector<double> bond_energy_;                 // [J] stored in each bond
     std::vector<Vec3> pressure_force_;                // [N] pressure force per particle
-    std::vector<ParticleEnergyStep> particle_energy_;  // scratch of integrate()
+    std::vector<double> particle_blocks_;             // particle energy sums per block (integrate())
     std::vector<double> energy_blocks_;               // scratch of account_energy()
     std::vector<Vec3> wall_vel_next_;                 // scratch of account_energy()
     PhaseProfile profile_;
