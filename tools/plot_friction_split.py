@@ -52,7 +52,9 @@ def main():
     for i, r in enumerate(rows):
         tot = r[3] + r[4] + r[5]
         if tot > 0:
-            ax.text(i, tot * 1.02, f"{100 * r[3] / tot:.0f}% friction", ha="center", fontsize=8)
+            # Many bars: the share alone (the legend says what it is), so labels do not overlap.
+            label = f"{100 * r[3] / tot:.0f}%" if len(rows) > 6 else f"{100 * r[3] / tot:.0f}% friction"
+            ax.text(i, tot * 1.02, label, ha="center", fontsize=8)
     ax.set_ylim(0, 1.15 * max(max(f + d + v for f, d, v in zip(fr, dm, vi)), max(loop)))
     ax.set_xticks(list(x))
     ax.set_xticklabels(labels)
