@@ -11,57 +11,18 @@
 #include <string>
 #include <vector>
 
+#include "cli_helpers.h"
 #include "dem/io/csv.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kBinary = VPPDEM_BINARY;
+using namespace cli_test;
 
-// A small, quick damper: short and narrow, loose packing, fast loading, few samples.
-const std::string kSmall =
-    "--set damper.radius=0.012 --set damper.height=0.03 --set grains.volume_fraction=0.45 "
-    "--set process.velocity=0.1 --set process.amplitude=0.002 --set process.cycles=2 "
-    "--set process.samples_per_cycle=80 --set simulation.threads=1 --no-plot --quiet";
+const std::string kSmall = kSmallDamper;
 
-struct Outcome {
-    int status;
-    std::string output;
-};
-
-Outcome shell(const std::string& command) {
-    const std::string cmd = command + " 2>&1";
-    Outcome r{0, ""};
-    FILE* f = popen(cmd.c_str(), "r");
-    char buf[4096];
-    while (f && fgets(buf, sizeof buf, f)) r.output += buf;
-    r.status = f ? pclose(f) : -1;
-    return r;
-}
-
-Outcome run(const std::string& args) { return shell(kBinary + " " + args); }
-
-fs::path scratch(const std::string& name) {
-    const fs::path p = fs::temp_directory_path() / ("vppdem_damper_test_" + std::to_string(::getpid())) / name;
-    return p;
-}
-
-std::map<std::string, std::vector<double>> read_columns(const fs::path& p) {
-    std::vector<std::string> header;
-    const auto rows = dem::read_numeric_csv(p.string(), 1, &header);
-    std::map<std::string, std::vector<double>> cols;
-    for (const auto& row : rows)
-        for (std::size_t k = 0; k < header.size(); ++k) cols[header[k]].push_back(row[k]);
-    return cols;
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+fs::path scratch(const std::string& name) { return scratch_path("damper_test", name); }
 
 class Damper : public ::testing::Test {
 protected:

@@ -14,6 +14,7 @@
 
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
+#include "cli_helpers.h"
 #include "helpers.h"
 
 using namespace dem;
@@ -316,58 +317,20 @@ TEST(EnergyBudget, LedgerSurvivesCheckpointAndResume) {
 
 namespace {
 
-struct Outcome {
-    int status;
-    std::string output;
-};
-
-Outcome shell(const std::string& command) {
-    Outcome r{0, ""};
-    FILE* f = popen((command + " 2>&1").c_str(), "r");
-    char buf[4096];
-    while (f && fgets(buf, sizeof buf, f)) r.output += buf;
-    r.status = f ? pclose(f) : -1;
-    return r;
-}
-
-std::map<std::string, std::vector<double>> read_columns(const fs::path& p, std::string* header_line = nullptr) {
-    std::vector<std::string> header;
-    const auto rows = read_numeric_csv(p.string(), 1, &header);
-    std::map<std::string, std::vector<double>> cols;
-    for (const auto& row : rows)
-        for (std::size_t k = 0; k < header.size(); ++k) cols[header[k]].push_back(row[k]);
-    if (header_line) {
-        std::ifstream in(p);
-        std::getline(in, *header_line);
-    }
-    return cols;
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
+using namespace cli_test;
 
 const std::string kEnergyHeader =
     "time,boundary_work,pressure_work,gravity_work,kinetic,elastic_contacts,elastic_bonds,friction_dissipation,"
     "damping_dissipation,viscous_dissipation,residual";
 
-// The quick damper of test_damper.cpp.
-const std::string kSmallDamper =
-    "--set damper.radius=0.012 --set damper.height=0.03 --set grains.volume_fraction=0.45 "
-    "--set process.velocity=0.1 --set process.amplitude=0.002 --set process.cycles=2 "
-    "--set process.samples_per_cycle=80 --set simulation.threads=1 --no-plot --quiet";
-
-fs::path scratch(const std::string& name) {
-    return fs::temp_directory_path() / ("vppdem_energy_test_" + std::to_string(::getpid())) / name;
-}
+fs::path scratch(const std::string& name) { return scratch_path("energy_test", name); }
 
 class EnergyDamper : public ::testing::Test {
 protected:
     static void SetUpTestSuite() {
         fs::remove_all(scratch(""));
         fs::create_directories(scratch(""));
-        base_ = shell(std::string(VPPDEM_BINARY) + " damper --out " + scratch("base").string() + " " + kSmallDamper);
+        base_ = shell(kBinary + " damper --out " + scratch("base").string() + " " + kSmallDamper);
     }
     static void TearDownTestSuite() { fs::remove_all(scratch("")); }
     static Outcome base_;
@@ -427,9 +390,9 @@ TEST_F(EnergyDamper, ResumedRunWritesTheSameEnergy) {
     const fs::path d = scratch("restart");
     const std::string args = " damper --out " + d.string() + " --from " + (scratch("base") / "prepared.ckpt").string() +
                              " --checkpoint-every 0.3 " + kSmallDamper;
-    shell("timeout -s KILL 2.5 " + std::string(VPPDEM_BINARY) + args);
+    shell("timeout -s KILL 2.5 " + kBinary + args);
     ASSERT_TRUE(fs::exists(d / "run.ckpt"));
-    const Outcome r = shell(std::string(VPPDEM_BINARY) + " damper --out " + d.string() + " --from " +
+    const Outcome r = shell(kBinary + " damper --out " + d.string() + " --from " +
                             (d / "run.ckpt").string() + " " + kSmallDamper);
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_EQ(slurp(d / "energy.csv"), slurp(scratch("base") / "energy.csv"));
@@ -473,7 +436,7 @@ point = [0, 0, 0.05]
 normal = [0, 0, -1]
 velocity = [0, 0, -0.5]
 )";
-    const Outcome r = shell(std::string(VPPDEM_BINARY) + " scene " + (d / "s.toml").string() + " --out " +
+    const Outcome r = shell(kBinary + " scene " + (d / "s.toml").string() + " --out " +
                             (d / "out").string() + " --quiet");
     ASSERT_EQ(r.status, 0) << r.output;
     std::string header;
@@ -492,7 +455,7 @@ velocity = [0, 0, -0.5]
     // Without the key: no energy.csv.
     std::ofstream(d / "s2.toml") << slurp(d / "s.toml").replace(slurp(d / "s.toml").find("energy = true"), 13,
                                                                   "energy = false");
-    ASSERT_EQ(shell(std::string(VPPDEM_BINARY) + " scene " + (d / "s2.toml").string() + " --out " +
+    ASSERT_EQ(shell(kBinary + " scene " + (d / "s2.toml").string() + " --out " +
                     (d / "out2").string() + " --quiet")
                   .status,
               0);

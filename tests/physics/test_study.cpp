@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "cli/config.h"
+#include "cli_helpers.h"
 #include "dem/io/csv.h"
 #include "vpp/calibrate.h"
 #include "vpp/study.h"
@@ -28,7 +29,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const std::string kBinary = VPPDEM_BINARY;
+using namespace cli_test;
+
 
 // The small damper of tests/physics/test_damper.cpp as a study's [set].
 const std::string kSmallSet =
@@ -42,38 +44,7 @@ const std::string kSmallSet =
     "\"process.samples_per_cycle\" = 80\n"
     "\"simulation.threads\" = 1\n";
 
-struct Outcome {
-    int status;
-    std::string output;
-};
-
-Outcome shell(const std::string& command) {
-    const std::string cmd = command + " 2>&1";
-    Outcome r{0, ""};
-    FILE* f = popen(cmd.c_str(), "r");
-    char buf[4096];
-    while (f && fgets(buf, sizeof buf, f)) r.output += buf;
-    r.status = f ? pclose(f) : -1;
-    return r;
-}
-
-Outcome run(const std::string& args) { return shell(kBinary + " " + args); }
-
-fs::path scratch(const std::string& name) {
-    return fs::temp_directory_path() / ("vppdem_study_test_" + std::to_string(::getpid())) / name;
-}
-
-void write_file(const fs::path& p, const std::string& text) {
-    fs::create_directories(p.parent_path());
-    std::ofstream(p) << text;
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+fs::path scratch(const std::string& name) { return scratch_path("study_test", name); }
 
 std::vector<std::string> lines_of(const fs::path& p) {
     std::vector<std::string> out;
