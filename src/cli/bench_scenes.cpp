@@ -108,7 +108,7 @@ void print_result(const BenchOptions& opt, const dem::World& w, const Timing& t)
         "\"rebuilds\": %llu, \"underpressure\": %g, \"peak_rss_bytes\": %ld%s}\n",
         opt.scene.c_str(), w.particles.size(), opt.steps, opt.warmup, opt.threads, t.wall_s, sps,
         sps * double(w.particles.size()), t.contacts_end, t.contacts_start, w.particle_contact_count(),
-        w.particle_contacts().size() + w.wall_contacts().size(), w.bonds().size(),
+        w.candidate_count(), w.bonds().size(),
         (unsigned long long)t.rebuilds, opt.underpressure, peak_rss_bytes(), profile.c_str());
     std::fflush(stdout);
 }

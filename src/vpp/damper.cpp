@@ -181,14 +181,13 @@ double unbalanced_force(const dem::World& w) {
         net += norm(p.force[i] + p.ext_force[i] + w.params.gravity * p.mass[i]);
         ++nfree;
     }
-    const auto& pp = w.particle_contacts();
     double fc = 0;
     std::size_t nc = 0;
-    for (std::size_t k = 0; k < pp.size(); ++k)
-        if (pp.touching[k]) {
-            fc += norm(pp.force[k]);
-            ++nc;
-        }
+    w.for_each_touching([&](const dem::TouchingContact& c) {
+        if (c.wall) return;
+        fc += norm(c.force);
+        ++nc;
+    });
     if (nc == 0 || nfree == 0) return 1.0;
     return (net / double(nfree)) / (fc / double(nc));
 }

@@ -79,10 +79,9 @@ double total_energy(const World& w) {
             if (d > 0.0) e += 0.5 * mat.young * p.radius[i] * d * d;  // kn = E r E r / (E r)
         }
     }
-    for (const ContactList* cl : {&w.particle_contacts(), &w.wall_contacts()})
-        for (std::size_t c = 0; c < cl->size(); ++c)
-            if (cl->touching[c] && cl->phys[c].ks > 0.0)
-                e += norm2(cl->hist[c].shear) / (2.0 * cl->phys[c].ks);
+    w.for_each_touching([&](const TouchingContact& c) {
+        if (c.phys.ks > 0.0) e += norm2(c.shear) / (2.0 * c.phys.ks);
+    });
     return e;
 }
 

@@ -148,7 +148,7 @@ TEST(Foil, BondNetworkConservesEnergyWithoutDamping) {
         const auto& b = w.bonds();
         for (std::size_t k = 0; k < b.size(); ++k) {
             const double d = norm(p.pos[b.j[k]] - p.pos[b.i[k]]) - b.phys[k].rest_length;
-            e += 0.5 * b.phys[k].kn * d * d + 0.5 * norm2(b.hist[k].shear) / b.phys[k].ks;
+            e += 0.5 * b.phys[k].kn * d * d + 0.5 * norm2(b.shear[k]) / b.phys[k].ks;
         }
         return e;
     };

@@ -2,6 +2,8 @@
 // tension and compression about the rest length, and an incremental shear spring rotated with
 // the bond axis like a contact's, never capped and never broken. No bending or twisting
 // moment (as Yade's CohFrictPhys with momentRotationLaw = False).
+// Written over lanes (dem/core/lanes.h) like the contact law: bond_force_lanes runs on doubles
+// and in the SIMD bond kernel with the same bits.
 #pragma once
 
 #include "dem/contact/linear_law.h"
@@ -14,20 +16,20 @@ struct BondPhys {
     double rest_length = 0;  // [m] centre distance at which the axial force is zero
 };
 
-// `n` unit vector from 1 to 2, `dist` [m] centre distance, `vrel` velocity of 2 relative to 1
-// at the bond point [m/s]. Returns the force on body 2 [N]; body 1 gets the opposite.
-// With `elastic` (energy tracking) the stored energy 1/2 kn (L - L0)^2 + |Fs|^2 / (2 ks) [J]
-// after the step is written there; the force does not depend on it.
-[[gnu::always_inline]] inline Vec3 bond_force(const BondPhys& b, const Vec3& n, double dist, const Vec3& vrel,
-                       double spin_n, double dt, ShearHistory& h, double* elastic = nullptr) {
-    rotate_shear(h, n, spin_n, dt);
-    const Vec3 vt = vrel - n * dot(vrel, n);
-    h.shear -= vt * (b.ks * dt);
-    if (elastic) {
-        const double stretch = dist - b.rest_length;
-        *elastic = 0.5 * b.kn * stretch * stretch + (b.ks > 0.0 ? norm2(h.shear) / (2.0 * b.ks) : 0.0);
-    }
-    return n * (b.kn * (b.rest_length - dist)) + h.shear;
+#include "dem/bonds/bond_law-inl.h"  // IWYU pragma: export
+
+// Scalar form (tests).
+inline Vec3 bond_force(const BondPhys& b, const Vec3& n, double dist, const Vec3& vrel, double spin_n, double dt,
+                       ShearHistory& h, double* elastic = nullptr) {
+    V3<double> fs = lanes(h.shear), prev = lanes(h.prev_normal), f;
+    if (elastic)
+        f = bond_force_lanes<true>(b.kn, b.ks, b.rest_length, lanes(n), dist, lanes(vrel), spin_n, dt, fs, prev,
+                                   elastic);
+    else
+        f = bond_force_lanes<false>(b.kn, b.ks, b.rest_length, lanes(n), dist, lanes(vrel), spin_n, dt, fs, prev);
+    h.shear = vec3(fs);
+    h.prev_normal = vec3(prev);
+    return vec3(f);
 }
 
 }  // namespace dem

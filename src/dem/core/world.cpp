@@ -4,14 +4,14 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <cstring>
 #include <stdexcept>
+#include <tuple>
 
+#include "dem/core/kernels.h"
+#include "dem/core/parallel.h"
 #include "dem/detect/geometry.h"
 #include "dem/integrate/leapfrog.h"
-
-#ifdef _OPENMP
-#include <omp.h>
-#endif
 
 namespace dem {
 
@@ -46,7 +46,7 @@ uint32_t World::add_sphere(const SphereDef& d) {
     p.flags.push_back(d.flags);
     p.motion.push_back(-1);
     p.ref_pos.push_back(d.position);
-    candidates_dirty_ = true;
+    candidates_dirty_ = prescribed_dirty_ = true;
     return uint32_t(p.size() - 1);
 }
 
@@ -75,7 +75,7 @@ void World::set_fixed(uint32_t i) {
     p.inv_mass[i] = p.inv_inertia[i] = 0.0;
     p.vel[i] = p.angvel[i] = Vec3{};
     p.motion[i] = -1;
-    physics_dirty_ = true;  // reduced masses of its contacts change
+    physics_dirty_ = prescribed_dirty_ = true;  // reduced masses of its contacts change
 }
 
 void World::set_prescribed(uint32_t i, uint32_t motion) {
@@ -86,18 +86,19 @@ void World::set_prescribed(uint32_t i, uint32_t motion) {
     p.motion[i] = int32_t(motion);
     // The motion's displacement is measured from where the particle is at time 0 of the motion.
     p.ref_pos[i] = p.pos[i] - motions[motion].displacement(time);
-    physics_dirty_ = true;
+    physics_dirty_ = prescribed_dirty_ = true;
 }
 
 void World::clear_facets() {
+    // Drop the facet contacts now, so facets added later never inherit their history.
+    for (std::size_t s = 0; s < walls_.size(); ++s)
+        if (walls_.cand[s] != kNoSlot && walls_.j[s] >= planes.size()) {
+            pw_cand_.slot[walls_.cand[s]] = kNoSlot;
+            walls_.cand[s] = kNoSlot;
+            walls_.force[s] = walls_.torque2[s] = Vec3{};
+        }
     facets.clear();
     facet_now_.clear();
-    // Drop the facet contacts now, so facets added later never inherit their history.
-    std::vector<uint64_t> keep;
-    for (uint64_t k : pw_.key)
-        if (key_second(k) < planes.size()) keep.push_back(k);
-    std::vector<uint8_t> existed;
-    pw_.merge_from(keep, true, existed);
     candidates_dirty_ = true;
 }
 
@@ -109,7 +110,8 @@ uint32_t World::add_bond(uint32_t i, uint32_t j, double kn, double ks, double re
     bonds_.j.push_back(j);
     const double L = rest_length >= 0.0 ? rest_length : norm(particles.pos[j] - particles.pos[i]);
     bonds_.phys.push_back({kn, ks, L});
-    bonds_.hist.emplace_back();
+    bonds_.shear.emplace_back();
+    bonds_.prev_normal.emplace_back();
     bonds_.force.emplace_back();
     bonds_.torque1.emplace_back();
     bonds_.torque2.emplace_back();
@@ -205,152 +207,83 @@ bool World::needs_rebuild() const {
     return max_disp_ + wall_move > skin;
 }
 
-void World::rebuild_candidates() {
+
+ContactPhys World::pair_phys(uint32_t i, uint32_t j) const {
     const Particles& p = particles;
-    const std::size_t n = p.size();
-    const double skin = effective_skin();
-    if (bonds_dirty_ || bond_start_.size() != n + 1) build_bond_tables();
-    double rmax = 0.0;
-    for (double r : p.radius) rmax = std::max(rmax, r);
-    grid_.build(p.pos, 2.0 * rmax + skin, std::max<int64_t>(int64_t(4 * n), 4096));
-
-    // Facets are registered in every cell their box (grown by rmax + skin) touches, so a
-    // particle only has to look at its own cell's list.
-    std::vector<uint32_t> fstart(std::size_t(grid_.ncells() + 1), 0), fitems;
-    if (!facets.empty()) {
-        const double grow = rmax + skin;
-        std::vector<std::array<int64_t, 6>> range(facets.size());
-        std::vector<uint8_t> inside(facets.size(), 0);
-        for (std::size_t f = 0; f < facets.size(); ++f) {
-            Vec3 lo = facet_now_[f][0], hi = lo;
-            for (int v = 1; v < 3; ++v)
-                for (int d = 0; d < 3; ++d) {
-                    lo[d] = std::min(lo[d], facet_now_[f][v][d]);
-                    hi[d] = std::max(hi[d], facet_now_[f][v][d]);
-                }
-            bool ok = true;
-            for (int d = 0; d < 3; ++d) {
-                const double a = (lo[d] - grow - grid_.origin[d]) / grid_.cell;
-                const double b = (hi[d] + grow - grid_.origin[d]) / grid_.cell;
-                if (b < 0.0 || a >= double(grid_.dims[d])) ok = false;
-                range[f][d] = std::clamp<int64_t>(int64_t(std::floor(a)), 0, grid_.dims[d] - 1);
-                range[f][d + 3] = std::clamp<int64_t>(int64_t(std::floor(b)), 0, grid_.dims[d] - 1);
-            }
-            inside[f] = ok;
-        }
-        for (int pass = 0; pass < 2; ++pass) {
-            std::vector<uint32_t> fill;
-            if (pass == 1) {
-                for (int64_t c = 0; c < grid_.ncells(); ++c) fstart[c + 1] += fstart[c];
-                fitems.resize(fstart.back());
-                fill.assign(fstart.begin(), fstart.end() - 1);
-            }
-            for (std::size_t f = 0; f < facets.size(); ++f) {
-                if (!inside[f]) continue;
-                const auto& r = range[f];
-                for (int64_t z = r[2]; z <= r[5]; ++z)
-                    for (int64_t y = r[1]; y <= r[4]; ++y)
-                        for (int64_t x = r[0]; x <= r[3]; ++x) {
-                            const int64_t c = grid_.index({x, y, z});
-                            if (pass == 0) ++fstart[c + 1];
-                            else fitems[fill[c]++] = uint32_t(f);
-                        }
-            }
-        }
-    }
-
-    const int nt = std::max(1, params.threads);
-    std::vector<std::vector<uint64_t>> pp_keys(nt), pw_keys(nt);
-    const uint32_t nplanes = uint32_t(planes.size());
-#pragma omp parallel num_threads(nt)
-    {
-#ifdef _OPENMP
-        const int tid = omp_get_thread_num();
-#else
-        const int tid = 0;
-#endif
-        std::vector<uint32_t> local;
-        // schedule(static) hands out contiguous blocks of i in thread order, so concatenating
-        // the per-thread lists in thread order gives keys sorted by i for any thread count.
-#pragma omp for schedule(static)
-        for (std::size_t i = 0; i < n; ++i) {
-            const Vec3 xi = p.pos[i];
-            const double ri = p.radius[i];
-            const auto c = grid_.coords(xi);
-            local.clear();
-            grid_.for_each_neighbour(c, [&](uint32_t j) {
-                if (j <= i || !(p.mask[i] & p.mask[j])) return;
-                if (p.inv_mass[i] == 0.0 && p.inv_mass[j] == 0.0) return;
-                for (uint32_t b = bonded_start_[i]; b < bonded_start_[i + 1]; ++b)
-                    if (bonded_with_[b] == j) return;
-                const double reach = ri + p.radius[j] + skin;
-                if (norm2(p.pos[j] - xi) < reach * reach) local.push_back(j);
-            });
-            std::sort(local.begin(), local.end());
-            for (uint32_t j : local) pp_keys[tid].push_back(pair_key(uint32_t(i), j));
-
-            if (p.inv_mass[i] == 0.0 && !(p.flags[i] & kPrescribed)) continue;  // fixed: no wall contacts
-            for (uint32_t w = 0; w < nplanes; ++w) {
-                if (!(planes[w].mask & p.mask[i])) continue;
-                const double s = dot(xi - plane_point_[w], planes[w].normal);
-                const bool near = planes[w].one_sided ? s < ri + skin : std::abs(s) < ri + skin;
-                if (near) pw_keys[tid].push_back(pair_key(uint32_t(i), w));
-            }
-            if (!facets.empty()) {
-                const int64_t cell = grid_.index(c);
-                for (uint32_t k = fstart[cell]; k < fstart[cell + 1]; ++k) {
-                    const uint32_t f = fitems[k];
-                    if (!(facets[f].mask & p.mask[i])) continue;
-                    const double reach = ri + skin;
-                    if (distance2_to_triangle(xi, facet_now_[f]) < reach * reach)
-                        pw_keys[tid].push_back(pair_key(uint32_t(i), nplanes + f));
-                }
-            }
-        }
-    }
-    std::vector<uint64_t> all_pp, all_pw;
-    for (int t = 0; t < nt; ++t) {
-        all_pp.insert(all_pp.end(), pp_keys[t].begin(), pp_keys[t].end());
-        all_pw.insert(all_pw.end(), pw_keys[t].begin(), pw_keys[t].end());
-    }
-    std::vector<uint8_t> existed_pp, existed_pw;
-    pp_.merge_from(all_pp, false, existed_pp);
-    pw_.merge_from(all_pw, true, existed_pw);
-    refresh_physics(physics_dirty_, existed_pp, existed_pw);
-    physics_dirty_ = false;
-
-    build_gather_tables();
-
-    ref_pos_ = p.pos;
-    wall_ref_disp_.resize(wall_count());
-    for (std::size_t k = 0; k < planes.size(); ++k) wall_ref_disp_[k] = planes[k].motion.displacement(time);
-    for (std::size_t k = 0; k < facets.size(); ++k)
-        wall_ref_disp_[planes.size() + k] = facets[k].motion.displacement(time);
-    max_disp_ = 0.0;
-    candidates_dirty_ = false;
-    ++rebuilds_;
+    // Against a fixed or prescribed particle the moving one meets an infinite mass.
+    double m_eff;
+    if (p.inv_mass[i] == 0.0) m_eff = p.mass[j];
+    else if (p.inv_mass[j] == 0.0) m_eff = p.mass[i];
+    else m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
+    return make_contact_phys(materials[p.material[i]], p.radius[i], materials[p.material[j]], p.radius[j], m_eff);
 }
 
-void World::build_gather_tables() {
-    const std::size_t n = particles.size();
-    // Gather CSR: entries in contact order, so the summation order is fixed.
-    pp_start_.assign(n + 1, 0);
-    for (uint64_t k : pp_.key) {
-        ++pp_start_[key_first(k) + 1];
-        ++pp_start_[key_second(k) + 1];
-    }
-    for (std::size_t i = 0; i < n; ++i) pp_start_[i + 1] += pp_start_[i];
-    pp_entries_.resize(pp_start_.back());
-    {
-        std::vector<uint32_t> fill(pp_start_.begin(), pp_start_.end() - 1);
-        for (std::size_t c = 0; c < pp_.size(); ++c) {
-            pp_entries_[fill[key_first(pp_.key[c])]++] = uint32_t(c);
-            pp_entries_[fill[key_second(pp_.key[c])]++] = uint32_t(c) | kSideBit;
+ContactPhys World::wall_phys(uint32_t i, uint32_t w) const {
+    const Particles& p = particles;
+    const uint32_t wm = w < planes.size() ? planes[w].material : facets[w - planes.size()].material;
+    return make_contact_phys(materials[wm], p.radius[i], materials[p.material[i]], p.radius[i], p.mass[i]);
+}
+
+void World::compact_contacts(bool refresh) {
+    // Walks the candidates in order and copies each live contact into fresh stores, so slots
+    // follow the candidate order (neighbouring pairs neighbouring in memory) and holes vanish.
+    ActiveContacts nf, ns, nw;
+    const auto copy = [](const ActiveContacts& src, uint32_t c, ActiveContacts& dst, uint32_t k,
+                         const ContactPhys& ph, bool keep_shear) {
+        const uint32_t t = dst.add(src.i[c], src.j[c], k, ph);
+        if (keep_shear) {
+            dst.shear[t] = src.shear[c];
+            dst.prev_normal[t] = src.prev_normal[c];
         }
-    }
-    pw_start_.assign(n + 1, 0);
-    for (uint64_t k : pw_.key) ++pw_start_[key_first(k) + 1];
-    for (std::size_t i = 0; i < n; ++i) pw_start_[i + 1] += pw_start_[i];
+        dst.force[t] = src.force[c];
+        dst.torque1[t] = src.torque1[c];
+        dst.torque2[t] = src.torque2[c];
+        dst.point[t] = src.point[c];
+        dst.fv[t] = src.fv[c];
+        return t;
+    };
+    // A frictional pair whose friction became zero loses its shear spring: the ledger books
+    // the spring's energy as released.
+    const auto dropped = [](const ActiveContacts& src, uint32_t c) {
+        return src.phys[c].ks > 0.0 ? norm2(src.shear[c]) / (2.0 * src.phys[c].ks) : 0.0;
+    };
+    const std::size_t n = particles.size();
+    for (std::size_t i = 0; i < n && !pp_cand_.start.empty(); ++i)
+        for (uint32_t k = pp_cand_.start[i]; k < pp_cand_.start[i + 1]; ++k) {
+            const uint32_t s = pp_cand_.slot[k];
+            if (s == kNoSlot) continue;
+            const bool was_smooth = s & kSmoothBit;
+            const ActiveContacts& src = was_smooth ? smooth_ : fric_;
+            const uint32_t c = s & ~kSmoothBit;
+            const ContactPhys ph = refresh ? pair_phys(uint32_t(i), pp_cand_.other[k]) : src.phys[c];
+            const bool smooth = ph.mu == 0.0;
+            if (smooth && !was_smooth) dropped_shear_energy_ += dropped(src, c);
+            const uint32_t t = copy(src, c, smooth ? ns : nf, k, ph, !smooth && !was_smooth);
+            pp_cand_.slot[k] = t | (smooth ? kSmoothBit : 0u);
+        }
+    for (std::size_t i = 0; i < n && !pw_cand_.start.empty(); ++i)
+        for (uint32_t k = pw_cand_.start[i]; k < pw_cand_.start[i + 1]; ++k) {
+            const uint32_t s = pw_cand_.slot[k];
+            if (s == kNoSlot) continue;
+            const ContactPhys ph = refresh ? wall_phys(uint32_t(i), pw_cand_.other[k]) : walls_.phys[s];
+            const bool keep = ph.mu != 0.0;
+            if (!keep) dropped_shear_energy_ += dropped(walls_, s);
+            pw_cand_.slot[k] = copy(walls_, s, nw, k, ph, keep);
+        }
+    fric_ = std::move(nf);
+    smooth_ = std::move(ns);
+    walls_ = std::move(nw);
+}
+
+void World::build_reverse_table() {
+    const std::size_t n = particles.size();
+    CandidateList& c = pp_cand_;
+    c.rstart.assign(n + 1, 0);
+    for (uint32_t j : c.other) ++c.rstart[j + 1];
+    for (std::size_t i = 0; i < n; ++i) c.rstart[i + 1] += c.rstart[i];
+    c.rentry.resize(c.other.size());
+    std::vector<uint32_t> fill(c.rstart.begin(), c.rstart.end() - 1);
+    for (uint32_t k = 0; k < c.other.size(); ++k) c.rentry[fill[c.other[k]]++] = k;
 }
 
 void World::rebuild_derived_tables() {
@@ -359,162 +292,154 @@ void World::rebuild_derived_tables() {
     const bool bonds_dirty = bonds_dirty_;
     build_bond_tables();
     bonds_dirty_ = bonds_dirty;
-    build_gather_tables();
+    if (!pp_cand_.start.empty()) build_reverse_table();
+    prescribed_dirty_ = true;
     // grid_ is scratch of rebuild_candidates(), rebuilt before every use.
     grid_ = CellGrid{};
 }
 
-void World::refresh_physics(bool all, const std::vector<uint8_t>& existed_pp,
-                            const std::vector<uint8_t>& existed_pw) {
+// ---------------------------------------------------------------- contacts open and close
+
+void World::find_new_contacts() {
+    // Inside the parallel region of compute_forces(). The same geometric tests as the force
+    // kernels, so a pair found here is found touching there.
     const Particles& p = particles;
-    for (std::size_t c = 0; c < pp_.size(); ++c) {
-        if (!all && existed_pp[c]) continue;
-        const uint32_t i = key_first(pp_.key[c]), j = key_second(pp_.key[c]);
-        // Against a fixed or prescribed particle the moving one meets an infinite mass.
-        double m_eff;
-        if (p.inv_mass[i] == 0.0) m_eff = p.mass[j];
-        else if (p.inv_mass[j] == 0.0) m_eff = p.mass[i];
-        else m_eff = p.mass[i] * p.mass[j] / (p.mass[i] + p.mass[j]);
-        pp_.phys[c] = make_contact_phys(materials[p.material[i]], p.radius[i],
-                                        materials[p.material[j]], p.radius[j], m_eff);
-    }
-    for (std::size_t c = 0; c < pw_.size(); ++c) {
-        if (!all && existed_pw[c]) continue;
-        const uint32_t i = key_first(pw_.key[c]), w = key_second(pw_.key[c]);
-        const uint32_t wm = w < planes.size() ? planes[w].material : facets[w - planes.size()].material;
-        pw_.phys[c] = make_contact_phys(materials[wm], p.radius[i], materials[p.material[i]],
-                                        p.radius[i], p.mass[i]);
+    const int64_t n = int64_t(p.size());
+    const uint32_t nplanes = uint32_t(planes.size());
+    const int tid = thread_id();
+    std::vector<uint32_t>& npp = new_pp_[tid];
+    std::vector<uint32_t>& npw = new_pw_[tid];
+    npp.clear();
+    npw.clear();
+    const bool walls = !pw_cand_.other.empty();
+#pragma omp for schedule(static)
+    for (int64_t i = 0; i < n; ++i) {
+        const Vec3 xi = p.pos[i];
+        const double ri = p.radius[i];
+        for (uint32_t k = pp_cand_.start[i]; k < pp_cand_.start[i + 1]; ++k) {
+            if (pp_cand_.slot[k] != kNoSlot) continue;
+            const uint32_t j = pp_cand_.other[k];
+            const Vec3 d = p.pos[j] - xi;
+            const double rs = ri + p.radius[j];
+            if (norm2(d) < rs * rs) {
+                npp.push_back(uint32_t(i));
+                npp.push_back(k);
+            }
+        }
+        if (!walls) continue;
+        for (uint32_t k = pw_cand_.start[i]; k < pw_cand_.start[i + 1]; ++k) {
+            if (pw_cand_.slot[k] != kNoSlot) continue;
+            const uint32_t w = pw_cand_.other[k];
+            ContactGeom g;
+            const bool touch = w < nplanes
+                                   ? sphere_plane(xi, ri, plane_point_[w], planes[w].normal, planes[w].one_sided, g)
+                                   : sphere_facet(xi, ri, facet_now_[w - nplanes], facets[w - nplanes].one_sided, g);
+            if (touch) {
+                npw.push_back(uint32_t(i));
+                npw.push_back(k);
+            }
+        }
     }
 }
 
-template <bool kEnergy>
-void World::particle_contact_forces() {
-    const Particles& p = particles;
-    const double dt = params.dt;
-    const int64_t nc = int64_t(pp_.size());
-#pragma omp for schedule(static) nowait
-    for (int64_t c = 0; c < nc; ++c) {
-        const uint32_t i = key_first(pp_.key[c]), j = key_second(pp_.key[c]);
-        ContactEnergyStep* es = nullptr;
-        if constexpr (kEnergy) {
-            es = &pp_energy_[c];
-            *es = ContactEnergyStep{};
+void World::activate_new_contacts() {
+    // Serial, in candidate order (the per-thread lists hold consecutive particle ranges).
+    for (const auto& list : new_pp_)
+        for (std::size_t q = 0; q < list.size(); q += 2) {
+            const uint32_t i = list[q], k = list[q + 1], j = pp_cand_.other[k];
+            const ContactPhys ph = pair_phys(i, j);
+            if (ph.mu == 0.0) pp_cand_.slot[k] = smooth_.add(i, j, k, ph) | kSmoothBit;
+            else pp_cand_.slot[k] = fric_.add(i, j, k, ph);
         }
-        ContactGeom g;
-        if (!sphere_sphere(p.pos[i], p.radius[i], p.pos[j], p.radius[j], g)) {
-            if constexpr (kEnergy) {
-                if (pp_.touching[c]) {  // opened this step: the shear spring's energy is lost
-                    const Vec3 n = pp_.hist[c].prev_normal;
-                    const Vec3 vrel = (p.vel[j] + cross(p.angvel[j], n * -p.radius[j])) -
-                                      (p.vel[i] + cross(p.angvel[i], n * p.radius[i]));
-                    es->release = shear_release_energy(pp_.phys[c], pp_.hist[c], vrel, dt);
-                }
-            }
-            // An opened contact loses its shear spring (Yade deletes the interaction). A pair
-            // that was not touching already holds zeros: most candidates, so no stores then.
-            if (pp_.touching[c]) {
-                pp_.hist[c] = ShearHistory{};
-                pp_.force[c] = pp_.torque1[c] = pp_.torque2[c] = Vec3{};
-                pp_.touching[c] = 0;
-            }
-            continue;
+    for (const auto& list : new_pw_)
+        for (std::size_t q = 0; q < list.size(); q += 2) {
+            const uint32_t i = list[q], k = list[q + 1], w = pw_cand_.other[k];
+            pw_cand_.slot[k] = walls_.add(i, w, k, wall_phys(i, w));
         }
-        const Vec3& n = g.normal;
-        // Relative velocity at the contact with the lever arms at the full radii (Yade's
-        // avoidGranularRatcheting), body 2 relative to body 1.
-        const Vec3 vrel = (p.vel[j] + cross(p.angvel[j], n * -p.radius[j])) -
-                          (p.vel[i] + cross(p.angvel[i], n * p.radius[i]));
-        const double spin_n = 0.5 * dot(n, p.angvel[i] + p.angvel[j]);
-        const Vec3 f = linear_contact_force(pp_.phys[c], g, vrel, spin_n, dt, pp_.hist[c], es);
-        const Vec3 nxf = cross(n, -f);
-        pp_.force[c] = f;
-        pp_.torque1[c] = nxf * g.arm1;
-        pp_.torque2[c] = nxf * g.arm2;
-        pp_.touching[c] = 1;
-    }
 }
+
+void World::release_opened_contacts() {
+    const auto release = [](ActiveContacts& a, CandidateList& cl, const std::vector<std::vector<uint32_t>>& opened) {
+        for (const auto& list : opened)
+            for (uint32_t s : list) {
+                cl.slot[a.cand[s]] = kNoSlot;
+                a.cand[s] = kNoSlot;
+            }
+    };
+    release(fric_, pp_cand_, opened_fric_);
+    release(smooth_, pp_cand_, opened_smooth_);
+    release(walls_, pw_cand_, opened_walls_);
+}
+
+// ---------------------------------------------------------------- forces
 
 template <bool kEnergy>
 void World::wall_contact_forces() {
+    // Few contacts (caps, funnel): scalar, over this thread's blocks of slots.
     const Particles& p = particles;
     const double dt = params.dt;
     const uint32_t nplanes = uint32_t(planes.size());
-    const int64_t nc = int64_t(pw_.size());
-#pragma omp for schedule(static) nowait
-    for (int64_t c = 0; c < nc; ++c) {
-        const uint32_t i = key_first(pw_.key[c]), w = key_second(pw_.key[c]);
-        ContactEnergyStep* es = nullptr;
-        if constexpr (kEnergy) {
-            es = &pw_energy_[c];
-            *es = ContactEnergyStep{};
-        }
-        ContactGeom g;
-        bool touch;
-        if (w < nplanes)
-            touch = sphere_plane(p.pos[i], p.radius[i], plane_point_[w], planes[w].normal,
-                                 planes[w].one_sided, g);
-        else
-            touch = sphere_facet(p.pos[i], p.radius[i], facet_now_[w - nplanes],
-                                 facets[w - nplanes].one_sided, g);
-        if (!touch) {
-            if constexpr (kEnergy) {
-                if (pw_.touching[c]) {  // opened this step
-                    const Vec3 n = pw_.hist[c].prev_normal;
+    const int64_t ns = int64_t(walls_.size());
+    const auto [b0, b1] = thread_range(kernels::block_count(walls_.size()), thread_id(), thread_count());
+    std::vector<uint32_t>& opened = opened_walls_[thread_id()];
+    opened.clear();
+    for (int64_t b = b0; b < b1; ++b) {
+        double sum[kernels::kPairSums] = {};
+        for (int64_t s = b * kernels::kBlock; s < std::min(ns, (b + 1) * kernels::kBlock); ++s) {
+            if (walls_.cand[s] == kNoSlot) continue;
+            const uint32_t i = walls_.i[s], w = walls_.j[s];
+            const ContactPhys& ph = walls_.phys[s];
+            ContactGeom g;
+            const bool touch = w < nplanes
+                                   ? sphere_plane(p.pos[i], p.radius[i], plane_point_[w], planes[w].normal,
+                                                  planes[w].one_sided, g)
+                                   : sphere_facet(p.pos[i], p.radius[i], facet_now_[w - nplanes],
+                                                  facets[w - nplanes].one_sided, g);
+            if (!touch) {
+                if constexpr (kEnergy) {  // opened this step: the shear spring's energy is lost
+                    const Vec3 n = walls_.prev_normal[s];
                     const Vec3 vrel = (p.vel[i] + cross(p.angvel[i], n * -p.radius[i])) - wall_vel_[w];
-                    es->release = shear_release_energy(pw_.phys[c], pw_.hist[c], vrel, dt);
+                    sum[kernels::kRelease] += shear_release_energy(ph.ks, walls_.shear[s], vrel, dt);
                 }
+                walls_.shear[s] = walls_.prev_normal[s] = walls_.force[s] = walls_.torque2[s] = walls_.fv[s] = Vec3{};
+                opened.push_back(uint32_t(s));
+                continue;
             }
-            if (pw_.touching[c]) {
-                pw_.hist[c] = ShearHistory{};
-                pw_.force[c] = pw_.torque2[c] = Vec3{};
-                pw_.touching[c] = 0;
+            const Vec3& n = g.normal;  // from the wall to the sphere
+            const Vec3 vrel = (p.vel[i] + cross(p.angvel[i], n * -p.radius[i])) - wall_vel_[w];
+            ContactEnergyLanes<double> e;
+            V3<double> f;
+            if (ph.mu == 0.0) {
+                f = normal_contact_force_lanes<kEnergy>(ph.kn, ph.cn, lanes(n), g.overlap, lanes(vrel), dt, &e);
+                walls_.torque2[s] = Vec3{};
+            } else {
+                V3<double> fs = lanes(walls_.shear[s]), prev = lanes(walls_.prev_normal[s]);
+                const double spin_n = 0.5 * dot(n, p.angvel[i]);
+                f = linear_contact_force_lanes<kEnergy>(ph.kn, ph.ks, ph.mu, ph.cn, lanes(n), g.overlap, lanes(vrel),
+                                                        spin_n, dt, fs, prev, &e);
+                walls_.shear[s] = vec3(fs);
+                walls_.prev_normal[s] = vec3(prev);
+                walls_.torque2[s] = cross(n, -vec3(f)) * g.arm2;
             }
-            continue;
+            walls_.force[s] = vec3(f);
+            walls_.point[s] = p.pos[i] - n * g.arm2;
+            if constexpr (kEnergy) {
+                sum[kernels::kElastic] += e.elastic;
+                sum[kernels::kSlip] += e.slip;
+                sum[kernels::kViscous] += e.viscous;
+                walls_.fv[s] = vec3(e.fv);
+            }
         }
-        const Vec3& n = g.normal;  // from the wall to the sphere
-        const Vec3 vrel = (p.vel[i] + cross(p.angvel[i], n * -p.radius[i])) - wall_vel_[w];
-        const double spin_n = 0.5 * dot(n, p.angvel[i]);
-        const Vec3 f = linear_contact_force(pw_.phys[c], g, vrel, spin_n, dt, pw_.hist[c], es);
-        pw_.force[c] = f;
-        pw_.torque2[c] = cross(n, -f) * g.arm2;
-        pw_.point[c] = p.pos[i] - n * g.arm2;
-        pw_.touching[c] = 1;
-    }
-}
-
-template <bool kEnergy>
-void World::bond_forces() {
-    const Particles& p = particles;
-    const double dt = params.dt;
-    const int64_t nb = int64_t(bonds_.size());
-#pragma omp for schedule(static) nowait
-    for (int64_t b = 0; b < nb; ++b) {
-        const uint32_t i = bonds_.i[b], j = bonds_.j[b];
-        const Vec3 d = p.pos[j] - p.pos[i];
-        const double dist = norm(d);
-        const Vec3 n = d * (1.0 / dist);
-        // Lever arms as for a contact: the bond point sits where the spheres would touch.
-        const double half_gap = 0.5 * (p.radius[i] + p.radius[j] - dist);
-        const Vec3 vrel = (p.vel[j] + cross(p.angvel[j], n * -p.radius[j])) -
-                          (p.vel[i] + cross(p.angvel[i], n * p.radius[i]));
-        const double spin_n = 0.5 * dot(n, p.angvel[i] + p.angvel[j]);
-        double* elastic = nullptr;
-        if constexpr (kEnergy) elastic = &bond_energy_[b];
-        const Vec3 f = bond_force(bonds_.phys[b], n, dist, vrel, spin_n, dt, bonds_.hist[b], elastic);
-        const Vec3 nxf = cross(n, -f);
-        bonds_.force[b] = f;
-        bonds_.torque1[b] = nxf * (p.radius[i] - half_gap);
-        bonds_.torque2[b] = nxf * (p.radius[j] - half_gap);
+        if constexpr (kEnergy) std::copy(sum, sum + kernels::kPairSums, wall_energy_.begin() + b * kernels::kPairSums);
     }
 }
 
 void World::apply_pressure() {
     const Particles& p = particles;
-    const int64_t nn = int64_t(pressure.nodes.size());
+    const auto [k0, k1] = thread_range(int64_t(pressure.nodes.size()), thread_id(), thread_count());
     // Each node appears once in the list, so every iteration writes its own slot; the gather
     // adds the slots to the particles' forces.
-#pragma omp for schedule(static)
-    for (int64_t k = 0; k < nn; ++k) {
+    for (int64_t k = k0; k < k1; ++k) {
         const PressureNode& q = pressure.nodes[k];
         pressure_force_[q.node] = -(tributary_area(p.pos, q) * pressure.dp);
     }
@@ -523,28 +448,40 @@ void World::apply_pressure() {
 void World::gather_forces(bool with_pressure) {
     Particles& p = particles;
     const int64_t n = int64_t(p.size());
+    const CandidateList& pc = pp_cand_;
+    const CandidateList& wc = pw_cand_;
+    const bool walls = !wc.other.empty();
 #pragma omp for schedule(static)
     for (int64_t i = 0; i < n; ++i) {
         Vec3 f, t;
-        // Candidates that do not touch hold zero force: skipping them reads one byte instead
-        // of 48 (most candidates in loose packings), and leaves the sums bitwise the same.
-        for (uint32_t k = pp_start_[i]; k < pp_start_[i + 1]; ++k) {
-            const uint32_t e = pp_entries_[k];
-            const uint32_t c = e & ~kSideBit;
-            if (!pp_.touching[c]) continue;
-            if (e & kSideBit) {
-                f += pp_.force[c];
-                t += pp_.torque2[c];
+        // Particle i as body 1, then as body 2, each in candidate order: a fixed order.
+        for (uint32_t k = pc.start[i]; k < pc.start[i + 1]; ++k) {
+            const uint32_t s = pc.slot[k];
+            if (s == kNoSlot) continue;
+            if (s & kSmoothBit) {
+                f -= smooth_.force[s & ~kSmoothBit];
             } else {
-                f -= pp_.force[c];
-                t += pp_.torque1[c];
+                f -= fric_.force[s];
+                t += fric_.torque1[s];
             }
         }
-        for (uint32_t c = pw_start_[i]; c < pw_start_[i + 1]; ++c) {
-            if (!pw_.touching[c]) continue;
-            f += pw_.force[c];
-            t += pw_.torque2[c];
+        for (uint32_t e = pc.rstart[i]; e < pc.rstart[i + 1]; ++e) {
+            const uint32_t s = pc.slot[pc.rentry[e]];
+            if (s == kNoSlot) continue;
+            if (s & kSmoothBit) {
+                f += smooth_.force[s & ~kSmoothBit];
+            } else {
+                f += fric_.force[s];
+                t += fric_.torque2[s];
+            }
         }
+        if (walls)
+            for (uint32_t k = wc.start[i]; k < wc.start[i + 1]; ++k) {
+                const uint32_t s = wc.slot[k];
+                if (s == kNoSlot) continue;
+                f += walls_.force[s];
+                t += walls_.torque2[s];
+            }
         for (uint32_t k = bond_start_[i]; k < bond_start_[i + 1]; ++k) {
             const uint32_t e = bond_entries_[k];
             const uint32_t b = e & ~kSideBit;
@@ -565,11 +502,11 @@ void World::gather_forces(bool with_pressure) {
 void World::sum_wall_reactions() {
     wall_force_.assign(wall_count(), Vec3{});
     wall_torque_.assign(wall_count(), Vec3{});
-    for (std::size_t c = 0; c < pw_.size(); ++c) {
-        if (!pw_.touching[c]) continue;
-        const uint32_t w = key_second(pw_.key[c]);
-        wall_force_[w] -= pw_.force[c];
-        wall_torque_[w] += cross(pw_.point[c], -pw_.force[c]);
+    for (std::size_t s = 0; s < walls_.size(); ++s) {
+        if (walls_.cand[s] == kNoSlot) continue;
+        const uint32_t w = walls_.j[s];
+        wall_force_[w] -= walls_.force[s];
+        wall_torque_[w] += cross(walls_.point[s], -walls_.force[s]);
     }
 }
 
@@ -577,59 +514,80 @@ void World::compute_forces() {
     profile_.start();
     move_walls();
     if (needs_rebuild()) rebuild_candidates();
-    if (physics_dirty_) {
-        refresh_physics(true, {}, {});
-        physics_dirty_ = false;
-    }
+    else if (physics_dirty_) compact_contacts(true);
+    physics_dirty_ = false;
     profile_.lap(Phase::kNeighbour);
+
     const bool track = params.track_energy;
     const bool press = pressure.dp != 0.0 && !pressure.nodes.empty();
-    if (track) {
-        // Every slot is written by the kernels below.
-        pp_energy_.resize(pp_.size());
-        pw_energy_.resize(pw_.size());
-        bond_energy_.resize(bonds_.size());
-    }
+    const int nt = std::max(1, params.threads);
+    for (auto* v : {&new_pp_, &new_pw_, &opened_fric_, &opened_smooth_, &opened_walls_}) v->resize(nt);
+    // Pressure slots: only the nodes' entries are written each step, the others stay zero; so
+    // the array is zeroed whenever the node list changes or the pressure is switched on or off.
     const bool pslots = press || track;  // the energy ledger reads the (zero) slots too
-    if (pslots) pressure_force_.resize(particles.size());
+    if (pslots) {
+        if (pressure_force_.size() != particles.size() || press != pressure_was_on_ || pressure.nodes.size() != pressure_seen_.size() ||
+            (press && std::memcmp(pressure.nodes.data(), pressure_seen_.data(), pressure.nodes.size() * sizeof(PressureNode)) != 0)) {
+            pressure_force_.assign(particles.size(), Vec3{});
+            pressure_seen_ = pressure.nodes;
+            pressure_was_on_ = press;
+        }
+    }
     const bool prof = profile_.enabled();
-    const int64_t n = int64_t(particles.size());
+    const double dt = params.dt;
     // One parallel region for the whole force computation: the kernels write their own
-    // slots and do not wait for each other; two barriers order pressure and gather after them.
-#pragma omp parallel num_threads(params.threads)
+    // slots and do not wait for each other; barriers order the contact bookkeeping before
+    // them and the gather after them.
+#pragma omp parallel num_threads(nt)
     {
-        if (pslots) {
-#pragma omp for schedule(static) nowait
-            for (int64_t i = 0; i < n; ++i) pressure_force_[i] = Vec3{};
+        find_new_contacts();  // ends with a barrier
+#pragma omp single
+        {
+            activate_new_contacts();
+            if (track) {
+                // Every block sum is written by the kernels below.
+                fric_energy_.resize(kernels::block_count(fric_.size()) * kernels::kPairSums);
+                smooth_energy_.resize(kernels::block_count(smooth_.size()) * kernels::kPairSums);
+                wall_energy_.resize(kernels::block_count(walls_.size()) * kernels::kPairSums);
+                bond_energy_.resize(kernels::block_count(bonds_.size()));
+            }
+        }  // ends with a barrier
+        if (prof) {
+#pragma omp master
+            profile_.lap(Phase::kNeighbour);
         }
-        if (track) {
-            particle_contact_forces<true>();
-            wall_contact_forces<true>();
-        } else {
-            particle_contact_forces<false>();
-            wall_contact_forces<false>();
-        }
+        const int tid = thread_id();
+        const auto [f0, f1] = thread_range(kernels::block_count(fric_.size()), tid, nt);
+        kernels::frictional_pairs({&particles, &fric_, dt, f0, f1, track ? fric_energy_.data() : nullptr,
+                                   &(opened_fric_[tid] = {})});
+        const auto [s0, s1] = thread_range(kernels::block_count(smooth_.size()), tid, nt);
+        kernels::smooth_pairs({&particles, &smooth_, dt, s0, s1, track ? smooth_energy_.data() : nullptr,
+                               &(opened_smooth_[tid] = {})});
+        if (track) wall_contact_forces<true>();
+        else wall_contact_forces<false>();
         if (prof) {
 #pragma omp barrier
 #pragma omp master
             profile_.lap(Phase::kContacts);
         }
-        if (track) bond_forces<true>();
-        else bond_forces<false>();
-#pragma omp barrier
+        const auto [b0, b1] = thread_range(kernels::block_count(bonds_.size()), tid, nt);
+        kernels::bonds({&particles, &bonds_, dt, b0, b1, track ? bond_energy_.data() : nullptr});
         if (prof) {
+#pragma omp barrier
 #pragma omp master
             profile_.lap(Phase::kBonds);
         }
-        if (press) apply_pressure();  // ends with a barrier
+        if (press) apply_pressure();
+#pragma omp barrier
         if (prof) {
 #pragma omp master
             profile_.lap(Phase::kPressure);
         }
         gather_forces(press);
     }
-    energy_ready_ = track;
     sum_wall_reactions();
+    release_opened_contacts();
+    energy_ready_ = track;
     profile_.lap(Phase::kGather);
 }
 
@@ -652,117 +610,54 @@ Vec3 World::angular_velocity_at_time(std::size_t i) const {
     return p.angvel[i] + a * (0.5 * params.dt);
 }
 
-// Trapezoid rule per step interval: a force F_n acting at t_n does the work
-// F_n . v(t_n - dt/2) dt/2 on [t_n - dt, t_n] ("back" half) and F_n . v(t_n + dt/2) dt/2 on
-// [t_n, t_n + dt] ("forward" half). See docs/energy.md. Called by advance_particles<true>
-// after particle i moved: v0, w0 the velocities before, v1, w1 after (passed rather than read
-// back: reading a Vec3 just stored component by component stalls), a, al the accelerations.
-[[gnu::always_inline]] inline World::ParticleEnergyStep World::particle_energy(std::size_t i, const Vec3& v0,
-                                                                               const Vec3& w0, const Vec3& v1,
-                                                                               const Vec3& w1, const Vec3& a,
-                                                                               const Vec3& al) const {
-    const Particles& p = particles;
-    const double h = 0.5 * params.dt;
-    const Vec3 fp = pressure_force_[i];
-    ParticleEnergyStep e;
-    if (p.flags[i] & kPrescribed) {
-        // Work done by the prescribed particle on the others: minus the force they exert on it
-        // (contacts and bonds, not the pressure it carries) times its displacement.
-        const Vec3 fint = p.force[i] - fp;
-        e.back[kBoundary] = -dot(fint, v0) * h;
-        e.fwd[kBoundary] = -dot(fint, v1) * h;
-        return e;
-    }
-    const Vec3 fg = params.gravity * p.mass[i];
-    e.back[kGravity] = dot(fg, v0) * h;
-    e.fwd[kGravity] = dot(fg, v1) * h;
-    e.back[kPressure] = dot(fp, v0) * h;
-    e.fwd[kPressure] = dot(fp, v1) * h;
-    const Vec3 fx = p.ext_force[i];
-    e.back[kExternal] = dot(fx, v0) * h;
-    e.fwd[kExternal] = dot(fx, v1) * h;
-    // Solid sphere I = 2/5 m r^2 (unless rotation was blocked by inv_inertia = 0).
-    const double inertia = p.inv_inertia[i] > 0.0 ? 0.4 * p.mass[i] * p.radius[i] * p.radius[i] : 0.0;
-    e.kinetic = 0.5 * p.mass[i] * dot(v0, v1) + 0.5 * inertia * dot(w0, w1);
-    if (params.local_damping != 0.0) {
-        // The damping force and torque the integrator removed: F - m a, T - I alpha
-        // (= lambda sign(a_k v_k) F_k, see damped_acceleration).
-        const Vec3 df = total_force(i) - a * p.mass[i];
-        const Vec3 dq = inertia > 0.0 ? p.torque[i] - al * inertia : Vec3{};
-        e.back[kDamping] = (dot(df, v0) + dot(dq, w0)) * h;
-        e.fwd[kDamping] = (dot(df, v1) + dot(dq, w1)) * h;
-    }
-    return e;
-}
-
-template <bool kEnergy>
-double World::advance_particles(double t1) {
-    Particles& p = particles;
-    const double dt = params.dt, lambda = params.local_damping;
-    const int64_t n = int64_t(p.size());
-    // Moves free particle i (prescribed: onto its motion); returns its energy terms of the step.
-    const auto advance = [&](int64_t i) __attribute__((always_inline)) {
-        ParticleEnergyStep e;
-        const uint32_t fl = p.flags[i];
-        [[maybe_unused]] const Vec3 v0 = p.vel[i], w0 = p.angvel[i];
-        if (fl & kPrescribed) {
-            const Motion& m = motions[p.motion[i]];
-            p.vel[i] = m.mean_velocity(time, t1);
-            p.pos[i] = p.ref_pos[i] + m.displacement(t1);
-            if constexpr (kEnergy) e = particle_energy(size_t(i), v0, w0, m.mean_velocity(time, t1), w0, Vec3{}, Vec3{});
-        } else {
-            const Vec3 a = damped_acceleration(total_force(i), p.inv_mass[i], p.vel[i], dt, lambda);
-            p.vel[i] += a * dt;
-            p.pos[i] += p.vel[i] * dt;
-            const Vec3 al = damped_angular_acceleration(p.torque[i], p.inv_inertia[i], p.angvel[i], lambda);
-            p.angvel[i] += al * dt;
-            if constexpr (kEnergy) e = particle_energy(size_t(i), v0, w0, v0 + a * dt, w0 + al * dt, a, al);
-        }
-        return e;
-    };
-    double max_d2 = 0.0;
-    if constexpr (!kEnergy) {
-#pragma omp parallel for num_threads(params.threads) schedule(static) reduction(max : max_d2)
-        for (int64_t i = 0; i < n; ++i) {
-            if (p.flags[i] & kFixed) continue;
-            advance(i);
-            max_d2 = std::max(max_d2, norm2(p.pos[i] - ref_pos_[i]));
-        }
-    } else {
-        // The energy terms are summed here, per fixed block of kEnergyBlock particles in index
-        // order (account_energy() adds the blocks in order): the same for any thread count, and
-        // no per-particle record written and read back.
-        const int64_t nblk = (n + kEnergyBlock - 1) / kEnergyBlock;
-        particle_blocks_.assign(std::size_t(nblk * kParticleSums), 0.0);
-#pragma omp parallel for num_threads(params.threads) schedule(static) reduction(max : max_d2)
-        for (int64_t b = 0; b < nblk; ++b) {
-            double s[kParticleSums] = {};  // local: stores through a pointer would alias p's arrays
-            for (int64_t i = b * kEnergyBlock; i < std::min(n, (b + 1) * kEnergyBlock); ++i) {
-                if (p.flags[i] & kFixed) continue;  // contributes nothing
-                const ParticleEnergyStep e = advance(i);
-                for (int k = 0; k < kTerms; ++k) {
-                    s[k] += e.back[k];
-                    s[kTerms + k] += e.fwd[k];
-                }
-                s[2 * kTerms] += e.kinetic;
-                max_d2 = std::max(max_d2, norm2(p.pos[i] - ref_pos_[i]));
-            }
-            std::copy(s, s + kParticleSums, particle_blocks_.begin() + b * kParticleSums);
-        }
-    }
-    return max_d2;
-}
 
 void World::integrate() {
+    Particles& p = particles;
     const double dt = params.dt;
     const double t1 = time + dt;
     const double t_n = time;
     const bool track = params.track_energy && energy_ready_;
-    double max_d2;
-    if (track) {
-        max_d2 = advance_particles<true>(t1);
-    } else {
-        max_d2 = advance_particles<false>(t1);
+    const int nt = std::max(1, params.threads);
+    const int64_t nblk = kernels::block_count(p.size());
+    if (track) particle_blocks_.assign(std::size_t(nblk * kernels::kParticleSums), 0.0);
+    kernels::AdvanceArgs args;
+    args.p = &p;
+    args.ext_force = p.ext_force.data();
+    args.pressure = track && !pressure_force_.empty() ? pressure_force_.data() : nullptr;
+    args.ref_pos = ref_pos_.data();
+    args.gravity = params.gravity;
+    args.dt = dt;
+    args.lambda = params.local_damping;
+    args.energy = track ? particle_blocks_.data() : nullptr;
+    double max_d2 = 0.0;
+#pragma omp parallel num_threads(nt) reduction(max : max_d2)
+    {
+        kernels::AdvanceArgs a = args;
+        std::tie(a.block_begin, a.block_end) = thread_range(nblk, thread_id(), thread_count());
+        max_d2 = kernels::advance(a);
+    }
+    // Prescribed particles follow their motion (few: serial, in index order).
+    if (prescribed_dirty_) {
+        prescribed_.clear();
+        for (std::size_t i = 0; i < p.size(); ++i)
+            if (p.flags[i] & kPrescribed) prescribed_.push_back(uint32_t(i));
+        prescribed_dirty_ = false;
+    }
+    prescribed_energy_[0] = prescribed_energy_[1] = 0.0;
+    for (uint32_t i : prescribed_) {
+        const Motion& m = motions[p.motion[i]];
+        const Vec3 v0 = p.vel[i];
+        p.vel[i] = m.mean_velocity(time, t1);
+        p.pos[i] = p.ref_pos[i] + m.displacement(t1);
+        max_d2 = std::max(max_d2, norm2(p.pos[i] - ref_pos_[i]));
+        if (track) {
+            // Work done by the prescribed particle on the others: minus the force they exert
+            // on it (contacts and bonds, not the pressure it carries) times its displacement.
+            const double h = 0.5 * dt;
+            const Vec3 fint = p.force[i] - pressure_force_[i];
+            prescribed_energy_[0] -= dot(fint, v0) * h;
+            prescribed_energy_[1] -= dot(fint, p.vel[i]) * h;
+        }
     }
     max_disp_ = std::sqrt(max_d2);
     profile_.lap(Phase::kIntegration);
@@ -781,116 +676,11 @@ void World::integrate() {
     energy_ready_ = false;
 }
 
-void World::account_energy(double t_n) {
-    // Sums the step's per-particle, per-wall, per-contact and per-bond terms and books them:
-    // back halves and the contacts' terms on [t_n - dt, t_n], forward halves pending until the
-    // next step. The sums run in parallel over fixed blocks of kBlock indices, each summed in
-    // index order, then the blocks in order: the same numbers for any thread count.
-    const Particles& p = particles;
-    const double dt = params.dt, h = 0.5 * dt;
-    EnergyLedger& L = energy_;
-    const bool first = L.steps == 0;
-
-    // Walls translate: their work is the force on the particles times the wall's displacement.
-    // The forward half uses the velocity the next step's move_walls() will compute.
-    const std::size_t nw = wall_count();
-    wall_vel_next_.resize(nw);
-    std::vector<Vec3>& v_next = wall_vel_next_;
-    for (std::size_t k = 0; k < planes.size(); ++k) v_next[k] = planes[k].motion.mean_velocity(time - dt, time);
-    for (std::size_t k = 0; k < facets.size(); ++k)
-        v_next[planes.size() + k] = facets[k].motion.mean_velocity(time - dt, time);
-
-    constexpr int64_t kBlock = kEnergyBlock;
-    constexpr int kPT = kParticleSums;   // particle terms, summed per block by advance_particles()
-    constexpr int kCT = 5;               // contact terms: elastic, slip, release, viscous back, fwd
-    const auto blocks = [](int64_t n) { return (n + kBlock - 1) / kBlock; };
-    const int64_t npp = int64_t(pp_.size()), npw = int64_t(pw_.size()), nbd = int64_t(bond_energy_.size());
-    const int64_t bp = int64_t(particle_blocks_.size()) / kPT, bpp = blocks(npp), bpw = blocks(npw),
-                  bbd = blocks(nbd);
-    energy_blocks_.assign(std::size_t((bpp + bpw) * kCT + bbd), 0.0);
-    const double* const sp = particle_blocks_.data();
-    double* const spp = energy_blocks_.data();
-    double* const spw = spp + bpp * kCT;
-    double* const sbd = spw + bpw * kCT;
-#pragma omp parallel num_threads(params.threads)
-    {
-        // Contact terms; `vrel(c)`: velocity of body 2 relative to body 1 at t_n + dt/2, for
-        // the dashpot's forward half.
-        const auto contact_blocks = [&](const std::vector<ContactEnergyStep>& E, int64_t nc, int64_t nblk,
-                                        double* out, auto&& vrel) {
-#pragma omp for schedule(static) nowait
-            for (int64_t b = 0; b < nblk; ++b) {
-                double* s = out + b * kCT;
-                for (int64_t c = b * kBlock; c < std::min(nc, (b + 1) * kBlock); ++c) {
-                    const ContactEnergyStep& e = E[c];
-                    s[0] += e.elastic;
-                    s[1] += e.slip;
-                    s[2] += e.release;
-                    s[3] += e.viscous;
-                    if (e.fv != Vec3{}) s[4] -= dot(e.fv, vrel(c)) * h;
-                }
-            }
-        };
-        contact_blocks(pp_energy_, npp, bpp, spp,
-                       [&](int64_t c) { return p.vel[key_second(pp_.key[c])] - p.vel[key_first(pp_.key[c])]; });
-        contact_blocks(pw_energy_, npw, bpw, spw,
-                       [&](int64_t c) { return p.vel[key_first(pw_.key[c])] - v_next[key_second(pw_.key[c])]; });
-#pragma omp for schedule(static) nowait
-        for (int64_t b = 0; b < bbd; ++b)
-            for (int64_t k = b * kBlock; k < std::min(nbd, (b + 1) * kBlock); ++k) sbd[b] += bond_energy_[k];
-    }
-
-    double back[kTerms] = {}, fwd[kTerms] = {}, kinetic = 0;
-    for (int64_t b = 0; b < bp; ++b) {
-        const double* s = sp + b * kPT;
-        for (int k = 0; k < kTerms; ++k) {
-            back[k] += s[k];
-            fwd[k] += s[kTerms + k];
-        }
-        kinetic += s[2 * kTerms];
-    }
-    for (std::size_t w = 0; w < nw; ++w) {
-        back[kBoundary] -= dot(wall_force_[w], wall_vel_[w]) * h;
-        fwd[kBoundary] -= dot(wall_force_[w], v_next[w]) * h;
-    }
-    double cs[kCT] = {}, elastic_b = 0;
-    for (int64_t b = 0; b < bpp + bpw; ++b)
-        for (int k = 0; k < kCT; ++k) cs[k] += spp[b * kCT + k];  // pp blocks, then pw blocks
-    for (int64_t b = 0; b < bbd; ++b) elastic_b += sbd[b];
-    const double elastic_c = cs[0], slip = cs[1], release = cs[2], visc_back = cs[3], visc_fwd = cs[4];
-
-    if (!first) {  // the back halves and the kernels' terms belong to [t_n - dt, t_n]
-        L.boundary_work += L.pending_boundary + back[kBoundary];
-        L.pressure_work += L.pending_pressure + back[kPressure];
-        L.gravity_work += L.pending_gravity + back[kGravity];
-        L.external_work += L.pending_external + back[kExternal];
-        L.damping_dissipation += L.pending_damping + back[kDamping];
-        L.viscous_dissipation += L.pending_viscous + visc_back;
-        L.friction_slip += slip;
-        L.shear_release += release;
-    }
-    L.pending_boundary = fwd[kBoundary];
-    L.pending_pressure = fwd[kPressure];
-    L.pending_gravity = fwd[kGravity];
-    L.pending_external = fwd[kExternal];
-    L.pending_damping = fwd[kDamping];
-    L.pending_viscous = visc_fwd;
-    L.kinetic = kinetic;
-    L.elastic_contacts = elastic_c;
-    L.elastic_bonds = elastic_b;
-    L.time = t_n;
-    if (first) {
-        L.t0 = t_n;
-        L.stored0 = L.stored();
-    }
-    ++L.steps;
-}
-
 void World::step() {
     compute_forces();
     integrate();
 }
 
-std::size_t World::contact_count() const { return pp_.count_touching() + pw_.count_touching(); }
+std::size_t World::contact_count() const { return particle_contact_count() + walls_.live_count(); }
 
 }  // namespace dem

@@ -1,16 +1,20 @@
 // The World: particles, walls, materials and contacts, advanced by step().
 // step() reads like the method (see docs/model.md):
 //   move walls -> rebuild candidates if anything moved more than half the skin ->
-//   contact forces (sphere-sphere, sphere-wall; history updated) -> gather per particle ->
-//   wall reactions -> integrate (gravity, external forces, local damping, leapfrog) ->
-//   energy ledger (only with params.track_energy; see dem/core/energy.h, docs/energy.md).
+//   open and close contacts -> contact and bond forces (history updated) -> pressure ->
+//   gather per particle -> wall reactions -> integrate (gravity, external forces, local
+//   damping, leapfrog) -> energy ledger (only with params.track_energy; docs/energy.md).
+// The phases live in their own files: the broad phase in dem/detect/broad_phase.cpp, the
+// SIMD force and integration kernels in dem/core/kernels.cpp, the energy ledger's sums in
+// dem/core/energy_ledger.cpp.
 #pragma once
 
 #include <cstdint>
 #include <vector>
 
 #include "dem/bonds/bond_list.h"
-#include "dem/contact/contact_list.h"
+#include "dem/contact/active_contacts.h"
+#include "dem/contact/candidates.h"
 #include "dem/core/energy.h"
 #include "dem/core/material.h"
 #include "dem/core/particles.h"
@@ -30,6 +34,15 @@ struct SimulationParams {
     double skin = 0.0;               // [m] Verlet distance; 0 = half the smallest radius (Yade)
     int threads = 1;                 // OpenMP threads; results do not depend on it
     bool track_energy = false;       // keep the energy ledger (World::energy()); costs nothing when off
+};
+
+// A touching pair as the World reports it (World::for_each_touching).
+struct TouchingContact {
+    uint32_t i = 0, j = 0;  // particle i; particle j, or wall j when `wall`
+    bool wall = false;
+    ContactPhys phys;
+    Vec3 force;             // [N] on body 2 (the wall's contact: on the particle)
+    Vec3 shear;             // [N] shear spring (zero for frictionless pairs)
 };
 
 class World {
@@ -84,7 +97,12 @@ public:
     Vec3 wall_force(std::size_t w) const { return wall_force_[w]; }    // [N] particles on wall
     Vec3 wall_torque(std::size_t w) const { return wall_torque_[w]; }  // [N m] about the origin
     std::size_t contact_count() const;           // touching pairs, particle-particle and wall
-    std::size_t particle_contact_count() const { return pp_.count_touching(); }
+    std::size_t particle_contact_count() const { return fric_.live_count() + smooth_.live_count(); }
+    // Pairs within the skin (touching or not): what the broad phase found at the last rebuild.
+    std::size_t candidate_count() const { return pp_cand_.size() + pw_cand_.size(); }
+    // Calls f(const TouchingContact&) for every touching pair, particle pairs first, each list
+    // in candidate order (particle i, then partner).
+    template <class F> void for_each_touching(F&& f) const;
     // v(t) = v(t-dt/2) + dt/2 a(t): synchronous velocity for output (after compute_forces()).
     Vec3 velocity_at_time(std::size_t i) const;
     Vec3 angular_velocity_at_time(std::size_t i) const;
@@ -93,8 +111,6 @@ public:
     const std::array<Vec3, 3>& facet_vertices(std::size_t f) const { return facet_now_[f]; }
 
     uint64_t rebuild_count() const { return rebuilds_; }
-    const ContactList& particle_contacts() const { return pp_; }
-    const ContactList& wall_contacts() const { return pw_; }
 
     // Energy ledger (docs/energy.md), updated by integrate() while params.track_energy is on.
     const EnergyLedger& energy() const { return energy_; }
@@ -111,47 +127,49 @@ private:
     friend struct WorldSerializer;  // dem/io/checkpoint.cpp: writes and restores the whole state
     void move_walls();
     bool needs_rebuild() const;
+    // Broad phase (dem/detect/broad_phase.cpp): new candidate lists from a cell grid, live
+    // contacts carried over, stores compacted into candidate order, reverse table rebuilt.
     void rebuild_candidates();
-    // Gather CSR tables (pp_start_, pp_entries_, pw_start_) from the current contact lists.
-    void build_gather_tables();
-    // Rebuilds the tables derived from the bond and contact lists (bond tables, gather
-    // tables) without changing the lists. Used after restoring a checkpoint.
+    // Moves every live contact into its store in candidate order (holes dropped); with
+    // `refresh` its coefficients are recomputed from the materials first (and a pair whose
+    // friction became zero or nonzero changes store).
+    void compact_contacts(bool refresh);
+    // Reverse table of the particle candidates (after a rebuild or a restore).
+    void build_reverse_table();
+    // Rebuilds the tables derived from the bond and contact lists without changing the lists
+    // (after restoring a checkpoint).
     void rebuild_derived_tables();
-    void refresh_physics(bool all, const std::vector<uint8_t>& existed_pp,
-                         const std::vector<uint8_t>& existed_pw);
-    template <bool kEnergy> void particle_contact_forces();
+    void build_bond_tables();
+    ContactPhys pair_phys(uint32_t i, uint32_t j) const;   // particle pair
+    ContactPhys wall_phys(uint32_t i, uint32_t w) const;   // particle i against wall w
+    // Opening and closing of contacts: candidates without a slot that touch now get one
+    // (in candidate order, the same for any thread count); slots whose pair opened are freed.
+    void find_new_contacts();
+    void activate_new_contacts();
+    void release_opened_contacts();
     template <bool kEnergy> void wall_contact_forces();
-    template <bool kEnergy> void bond_forces();
-    // Leapfrog update of all particles; returns the largest squared move since the last
-    // rebuild. With kEnergy, also each particle's energy terms of the step.
-    template <bool kEnergy> double advance_particles(double t1);
-    // Adds step n (forces at t_n, velocities v(t_n -/+ dt/2)) to the ledger.
-    void account_energy(double t_n);
-    enum EnergyTerm { kBoundary, kPressure, kGravity, kExternal, kDamping, kTerms };
-    static constexpr int kParticleSums = 2 * kTerms + 1;  // back[], fwd[], kinetic
-    static constexpr int64_t kEnergyBlock = 256;  // entries per energy partial sum (fixed: deterministic)
-    struct ParticleEnergyStep {
-        double back[kTerms] = {}, fwd[kTerms] = {};  // [J] work of each term, both half steps
-        double kinetic = 0;                          // [J] 1/2 m v- . v+ + 1/2 I w- . w+
-    };
-    ParticleEnergyStep particle_energy(std::size_t i, const Vec3& v0, const Vec3& w0, const Vec3& v1,
-                                       const Vec3& w1, const Vec3& a, const Vec3& al) const;
     void gather_forces(bool with_pressure);
     void apply_pressure();
     void sum_wall_reactions();
     double effective_skin() const;
     Vec3 total_force(std::size_t i) const;
+    // Adds step n (forces at t_n, velocities v(t_n -/+ dt/2)) to the ledger (energy_ledger.cpp).
+    void account_energy(double t_n);
 
-    ContactList pp_, pw_;
+    // Contacts: the light candidate lists and the live contacts (dem/contact/).
+    CandidateList pp_cand_, pw_cand_;
+    ActiveContacts fric_, smooth_, walls_;
+    // Candidates found touching this step without a slot, per thread (candidate indices).
+    std::vector<std::vector<uint32_t>> new_pp_, new_pw_;
+    // Slots whose pair opened this step, per thread, per store.
+    std::vector<std::vector<uint32_t>> opened_fric_, opened_smooth_, opened_walls_;
+    double dropped_shear_energy_ = 0;  // [J] shear springs dropped by a physics change (ledger)
+
     BondList bonds_;
     std::vector<uint32_t> bond_start_, bond_entries_;  // gather CSR (bit 31: body 2)
     std::vector<uint32_t> bonded_start_, bonded_with_;   // partners per particle (exclusions)
     bool bonds_dirty_ = false;
-    void build_bond_tables();
     CellGrid grid_;
-    // gather CSR for pp_: per particle, contact indices with bit 31 set when it is body 2
-    std::vector<uint32_t> pp_start_, pp_entries_;
-    std::vector<uint32_t> pw_start_;   // pw_ is sorted by particle: ranges per particle
     std::vector<Vec3> ref_pos_;        // positions at the last rebuild
     std::vector<Vec3> wall_ref_disp_;  // wall displacement at the last rebuild
     std::vector<Vec3> plane_point_, wall_vel_;
@@ -166,18 +184,37 @@ private:
     bool physics_dirty_ = false;
     uint64_t rebuilds_ = 0;
 
-    // Energy tracking (params.track_energy). The per-contact and per-bond terms are written by
-    // the force kernels into their own slots and summed in index order by account_energy(),
-    // so the ledger is the same for any thread count.
+    // Energy tracking (params.track_energy). The kernels sum their terms per fixed block of
+    // entries (dem/core/kernels.h: the same bits for any thread count and vector width);
+    // account_energy() adds the blocks in order.
     EnergyLedger energy_;
-    bool energy_ready_ = false;                       // compute_forces() filled the terms below
-    std::vector<ContactEnergyStep> pp_energy_, pw_energy_;
-    std::vector<double> bond_energy_;                 // [J] stored in each bond
+    bool energy_ready_ = false;        // compute_forces() filled the sums below
+    std::vector<double> fric_energy_, smooth_energy_, wall_energy_, bond_energy_;  // block sums
     std::vector<Vec3> pressure_force_;                // [N] pressure force per particle
     std::vector<double> particle_blocks_;             // particle energy sums per block (integrate())
-    std::vector<double> energy_blocks_;               // scratch of account_energy()
+    double prescribed_energy_[2] = {};                // boundary work of prescribed particles: back, forward
+    std::vector<uint32_t> prescribed_;                // indices of the prescribed particles
+    bool prescribed_dirty_ = true;
+    std::vector<PressureNode> pressure_seen_;         // node list the zeroed pressure_force_ was made for
+    bool pressure_was_on_ = false;
     std::vector<Vec3> wall_vel_next_;                 // scratch of account_energy()
     PhaseProfile profile_;
 };
+
+template <class F> void World::for_each_touching(F&& f) const {
+    const auto visit = [&](const CandidateList& cl, bool wall) {
+        for (std::size_t i = 0; i + 1 < cl.start.size(); ++i)
+            for (uint32_t k = cl.start[i]; k < cl.start[i + 1]; ++k) {
+                const uint32_t s = cl.slot[k];
+                if (s == kNoSlot) continue;
+                const bool smooth = !wall && (s & kSmoothBit);
+                const ActiveContacts& a = wall ? walls_ : smooth ? smooth_ : fric_;
+                const uint32_t c = s & ~kSmoothBit;
+                f(TouchingContact{uint32_t(i), cl.other[k], wall, a.phys[c], a.force[c], a.shear[c]});
+            }
+    };
+    visit(pp_cand_, false);
+    visit(pw_cand_, true);
+}
 
 }  // namespace dem

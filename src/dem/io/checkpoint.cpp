@@ -1,5 +1,7 @@
 #include "dem/io/checkpoint.h"
 
+#include "dem/core/kernels.h"
+
 #include <fcntl.h>
 #include <unistd.h>
 
@@ -22,8 +24,9 @@ static_assert(std::endian::native == std::endian::little,
 // A field added to one of these structs must also be added to the checkpoint (and the format
 // version bumped); these asserts make that impossible to forget.
 static_assert(sizeof(Particles) == 15 * sizeof(std::vector<int>), "update checkpoint.cpp");
-static_assert(sizeof(ContactList) == 8 * sizeof(std::vector<int>), "update checkpoint.cpp");
-static_assert(sizeof(BondList) == 7 * sizeof(std::vector<int>), "update checkpoint.cpp");
+static_assert(sizeof(CandidateList) == 5 * sizeof(std::vector<int>), "update checkpoint.cpp");
+static_assert(sizeof(ActiveContacts) == 11 * sizeof(std::vector<int>), "update checkpoint.cpp");
+static_assert(sizeof(BondList) == 8 * sizeof(std::vector<int>), "update checkpoint.cpp");
 static_assert(sizeof(Material) == sizeof(std::string) + 5 * sizeof(double), "update checkpoint.cpp");
 static_assert(sizeof(Motion) == sizeof(Vec3) + sizeof(std::vector<int>), "update checkpoint.cpp");
 static_assert(sizeof(Plane) == 2 * sizeof(Vec3) + 16 + sizeof(Motion), "update checkpoint.cpp");
@@ -32,8 +35,7 @@ static_assert(sizeof(MembranePressure) == sizeof(std::vector<int>) + 8, "update 
 static_assert(sizeof(SimulationParams) == 4 * 8 + sizeof(Vec3) &&
                   offsetof(SimulationParams, track_energy) == 3 * 8 + sizeof(Vec3) + 4,
               "update checkpoint.cpp");
-static_assert(sizeof(EnergyLedger) == 21 * 8 && sizeof(ContactEnergyStep) == 4 * 8 + sizeof(Vec3),
-              "update checkpoint.cpp");
+static_assert(sizeof(EnergyLedger) == 21 * 8, "update checkpoint.cpp");
 static_assert(sizeof(PressureNode) == 20 && sizeof(DisplacementSample) == 32 &&
                   sizeof(ShearHistory) == 48 && sizeof(ContactPhys) == 32 && sizeof(BondPhys) == 24,
               "padding-free records expected");
@@ -192,7 +194,40 @@ template <class A, class F> void facet_io(A& a, F& f) {
     motion_io(a, f.motion);
 }
 
-template <class A, class C> void contacts_io(A& a, C& c) {
+// Version 2: the light candidate lists and the stores of live contacts.
+template <class A, class C> void candidates_io(A& a, C& c) {
+    a.vec(c.start);
+    a.vec(c.other);
+    a.vec(c.slot);
+}
+
+template <class A, class C> void store_io(A& a, C& c) {
+    a.vec(c.i);
+    a.vec(c.j);
+    a.vec(c.cand);
+    a.vec(c.phys);
+    a.vec(c.shear);
+    a.vec(c.prev_normal);
+    a.vec(c.force);
+    a.vec(c.torque1);
+    a.vec(c.torque2);
+    a.vec(c.point);
+    a.vec(c.fv);
+}
+
+inline uint32_t key_first(uint64_t k) { return uint32_t(k >> 32); }
+inline uint32_t key_second(uint64_t k) { return uint32_t(k & 0xffffffffu); }
+
+// Version 1 kept every candidate with its physics, history and forces, keyed i << 32 | j.
+struct ContactListV1 {
+    std::vector<uint64_t> key;
+    std::vector<ContactPhys> phys;
+    std::vector<ShearHistory> hist;
+    std::vector<Vec3> force, torque1, torque2, point;
+    std::vector<uint8_t> touching;
+};
+
+void contacts_v1_io(Reader& a, ContactListV1& c) {
     a.vec(c.key);
     a.vec(c.phys);
     a.vec(c.hist);
@@ -207,7 +242,12 @@ template <class A, class C> void contacts_io(A& a, C& c) {
 
 struct WorldSerializer {
     // W is `const World` when saving and `World` when loading.
-    template <class A, class W> static void fields(A& a, W& w) {
+    // Version 1 contact lists, read before they are converted.
+    struct V1Contacts {
+        ContactListV1 pp, pw;
+    };
+
+    template <class A, class W> static void fields(A& a, W& w, uint32_t version, V1Contacts* v1 = nullptr) {
         a.section("MATL", [&](A& s) { s.list(w.materials, [](A& x, auto& m) { material_io(x, m); }); });
         a.section("PART", [&](A& s) {
             auto& p = w.particles;
@@ -250,16 +290,36 @@ struct WorldSerializer {
             s.pod(w.dt_of_base_);
             s.pod(w.step_base_);
         });
-        a.section("CONT", [&](A& s) {
-            contacts_io(s, w.pp_);
-            contacts_io(s, w.pw_);
-        });
+        if (version >= 2) {
+            a.section("CONT", [&](A& s) {
+                candidates_io(s, w.pp_cand_);
+                candidates_io(s, w.pw_cand_);
+                store_io(s, w.fric_);
+                store_io(s, w.smooth_);
+                store_io(s, w.walls_);
+            });
+        } else if constexpr (std::is_same_v<A, Reader>) {
+            a.section("CONT", [&](A& s) {
+                contacts_v1_io(s, v1->pp);
+                contacts_v1_io(s, v1->pw);
+            });
+        }
         a.section("BOND", [&](A& s) {
             auto& b = w.bonds_;
             s.vec(b.i);
             s.vec(b.j);
             s.vec(b.phys);
-            s.vec(b.hist);
+            if (version >= 2) {
+                s.vec(b.shear);
+                s.vec(b.prev_normal);
+            } else if constexpr (std::is_same_v<A, Reader>) {
+                std::vector<ShearHistory> hist;
+                s.vec(hist);
+                for (const ShearHistory& h : hist) {
+                    b.shear.push_back(h.shear);
+                    b.prev_normal.push_back(h.prev_normal);
+                }
+            }
             s.vec(b.force);
             s.vec(b.torque1);
             s.vec(b.torque2);
@@ -289,13 +349,63 @@ struct WorldSerializer {
             s.flag(w.params.track_energy);
             s.pod(w.energy_);
             s.flag(w.energy_ready_);
-            if (w.energy_ready_) {
-                s.vec(w.pp_energy_);
-                s.vec(w.pw_energy_);
-                s.vec(w.bond_energy_);
-                s.vec(w.pressure_force_);
+            if (version >= 2) {
+                s.pod(w.dropped_shear_energy_);
+                if (w.energy_ready_) {
+                    s.vec(w.fric_energy_);
+                    s.vec(w.smooth_energy_);
+                    s.vec(w.wall_energy_);
+                    s.vec(w.bond_energy_);
+                    s.vec(w.pressure_force_);
+                }
+            } else if (w.energy_ready_) {
+                // Between compute_forces() and integrate(): the per-contact terms of version 1
+                // have no counterpart here; such files come from a program's own tests only.
+                throw std::runtime_error("a version 1 checkpoint written in the middle of a step cannot be converted");
             }
         });
+    }
+
+    // Version 1 contact lists -> candidate lists and stores (after the particles are read).
+    static void convert_v1(World& w, const V1Contacts& v1_) {
+        const std::size_t n = w.particles.size();
+        const auto convert = [&](const ContactListV1& c, CandidateList& cl, bool walls) {
+            cl.start.assign(n + 1, 0);
+            for (uint64_t k : c.key) {
+                if (key_first(k) >= n) throw std::runtime_error("contact index out of range");
+                ++cl.start[key_first(k) + 1];
+            }
+            for (std::size_t i = 0; i < n; ++i) cl.start[i + 1] += cl.start[i];
+            cl.other.resize(c.key.size());
+            cl.slot.assign(c.key.size(), kNoSlot);
+            for (std::size_t k = 0; k < c.key.size(); ++k) {
+                cl.other[k] = key_second(c.key[k]);
+                if (!c.touching[k]) continue;
+                const uint32_t i = key_first(c.key[k]), j = key_second(c.key[k]);
+                const ContactPhys& ph = c.phys[k];
+                const bool smooth = !walls && ph.mu == 0.0;
+                ActiveContacts& a = walls ? w.walls_ : smooth ? w.smooth_ : w.fric_;
+                const uint32_t s = a.add(i, j, uint32_t(k), ph);
+                if (ph.mu != 0.0) {
+                    a.shear[s] = c.hist[k].shear;
+                    a.prev_normal[s] = c.hist[k].prev_normal;
+                }
+                a.force[s] = c.force[k];
+                a.torque1[s] = c.torque1[k];
+                a.torque2[s] = c.torque2[k];
+                if (walls) a.point[s] = c.point[k];
+                cl.slot[k] = s | (smooth ? kSmoothBit : 0u);
+            }
+        };
+        const std::size_t m = v1_.pp.key.size(), mw = v1_.pw.key.size();
+        if (v1_.pp.phys.size() != m || v1_.pp.hist.size() != m || v1_.pp.touching.size() != m ||
+            v1_.pp.force.size() != m || v1_.pp.torque1.size() != m || v1_.pp.torque2.size() != m ||
+            v1_.pw.phys.size() != mw || v1_.pw.hist.size() != mw || v1_.pw.touching.size() != mw ||
+            v1_.pw.force.size() != mw || v1_.pw.torque2.size() != mw || v1_.pw.point.size() != mw ||
+            v1_.pw.torque1.size() != mw)
+            throw std::runtime_error("contact arrays of different lengths");
+        convert(v1_.pp, w.pp_cand_, false);
+        convert(v1_.pw, w.pw_cand_, true);
     }
 
     static void rebuild(World& w) { w.rebuild_derived_tables(); }
@@ -326,28 +436,56 @@ struct WorldSerializer {
             for (uint32_t r : q.ring)
                 if (r >= n) bad("pressure ring out of range");
         }
-        auto check_list = [&](const ContactList& c, std::size_t second_limit, bool points) {
-            const std::size_t m = c.size();
-            if (c.phys.size() != m || c.hist.size() != m || c.force.size() != m || c.torque1.size() != m ||
-                c.torque2.size() != m || c.touching.size() != m || (points && c.point.size() != m))
-                bad("contact arrays of different lengths");
-            for (uint64_t k : c.key)
-                if (key_first(k) >= n || key_second(k) >= second_limit) bad("contact index out of range");
+        // Candidate lists: CSR shape, partners in range and ascending, slots pointing to live
+        // entries of the right store that point back.
+        auto check_candidates = [&](const CandidateList& c, std::size_t other_limit, bool walls) {
+            if (c.start.empty() && c.other.empty()) return;
+            if (c.start.size() != n + 1 || c.start[0] != 0 || c.start[n] != c.other.size() ||
+                c.slot.size() != c.other.size())
+                bad("candidate list of the wrong shape");
+            for (std::size_t i = 0; i < n; ++i) {
+                if (c.start[i] > c.start[i + 1]) bad("candidate list of the wrong shape");
+                for (uint32_t k = c.start[i]; k < c.start[i + 1]; ++k) {
+                    if (c.other[k] >= other_limit || (!walls && c.other[k] <= i)) bad("contact index out of range");
+                    if (k > c.start[i] && c.other[k] <= c.other[k - 1]) bad("candidates out of order");
+                    const uint32_t s = c.slot[k];
+                    if (s == kNoSlot) continue;
+                    const ActiveContacts& a = walls ? w.walls_ : (s & kSmoothBit) ? w.smooth_ : w.fric_;
+                    const uint32_t q = walls ? s : s & ~kSmoothBit;
+                    if (q >= a.size() || a.cand[q] != k || a.i[q] != i || a.j[q] != c.other[k])
+                        bad("contact slot does not match its candidate");
+                }
+            }
         };
-        check_list(w.pp_, n, false);
-        check_list(w.pw_, nw, true);
+        auto check_store = [&](const ActiveContacts& a, const CandidateList& c) {
+            const std::size_t m = a.size();
+            for (std::size_t s : {a.j.size(), a.cand.size(), a.phys.size(), a.shear.size(), a.prev_normal.size(),
+                                  a.force.size(), a.torque1.size(), a.torque2.size(), a.point.size(), a.fv.size()})
+                if (s != m) bad("contact arrays of different lengths");
+            for (std::size_t q = 0; q < m; ++q)
+                if (a.i[q] >= n || (a.cand[q] != kNoSlot && a.cand[q] >= c.size())) bad("contact index out of range");
+        };
+        check_store(w.fric_, w.pp_cand_);
+        check_store(w.smooth_, w.pp_cand_);
+        check_store(w.walls_, w.pw_cand_);
+        check_candidates(w.pp_cand_, n, false);
+        check_candidates(w.pw_cand_, nw, true);
         const BondList& b = w.bonds_;
         const std::size_t nb = b.size();
-        if (b.j.size() != nb || b.phys.size() != nb || b.hist.size() != nb || b.force.size() != nb ||
-            b.torque1.size() != nb || b.torque2.size() != nb)
+        if (b.j.size() != nb || b.phys.size() != nb || b.shear.size() != nb || b.prev_normal.size() != nb ||
+            b.force.size() != nb || b.torque1.size() != nb || b.torque2.size() != nb)
             bad("bond arrays of different lengths");
         for (std::size_t k = 0; k < nb; ++k)
             if (b.i[k] >= n || b.j[k] >= n) bad("bond index out of range");
         if (!w.candidates_dirty_ && (w.ref_pos_.size() != n || w.wall_ref_disp_.size() != nw))
             bad("rebuild state does not match the particles and walls");
-        if (w.energy_ready_ && (w.pp_energy_.size() != w.pp_.size() || w.pw_energy_.size() != w.pw_.size() ||
-                                w.bond_energy_.size() != nb || w.pressure_force_.size() != n ||
-                                w.wall_force_.size() != nw || w.wall_vel_.size() != nw))
+        using kernels::block_count, kernels::kPairSums;
+        if (w.energy_ready_ &&
+            (w.fric_energy_.size() != std::size_t(block_count(w.fric_.size()) * kPairSums) ||
+             w.smooth_energy_.size() != std::size_t(block_count(w.smooth_.size()) * kPairSums) ||
+             w.wall_energy_.size() != std::size_t(block_count(w.walls_.size()) * kPairSums) ||
+             w.bond_energy_.size() != std::size_t(block_count(nb)) || w.pressure_force_.size() != n ||
+             w.wall_force_.size() != nw || w.wall_vel_.size() != nw))
             bad("energy terms do not match the contacts, bonds and particles");
     }
 };
@@ -357,7 +495,7 @@ void save_checkpoint(const std::string& path, const World& w, const std::string&
     out.buf.append(kMagic, 8);
     out.pod(kCheckpointVersion);
     out.pod(uint64_t(0));  // payload size, patched below
-    WorldSerializer::fields(out, w);
+    WorldSerializer::fields(out, w, kCheckpointVersion);
     out.section("APPS", [&](Writer& s) { s.str(app_state); });
     const uint64_t payload = out.buf.size() - kHeader;
     std::memcpy(out.buf.data() + 12, &payload, 8);
@@ -416,7 +554,7 @@ std::string load_checkpoint(const std::string& path, World& w) {
     if (buf.size() < kHeader) corrupt(path, "file has only " + std::to_string(buf.size()) + " bytes");
     uint32_t version;
     std::memcpy(&version, buf.data() + 8, 4);
-    if (version != kCheckpointVersion)
+    if (version != kCheckpointVersion && version != 1)
         throw std::runtime_error("checkpoint '" + path + "' has format version " + std::to_string(version) +
                                  "; this build supports version " + std::to_string(kCheckpointVersion));
     uint64_t payload;
@@ -430,7 +568,9 @@ std::string load_checkpoint(const std::string& path, World& w) {
 
     Reader in(buf.data() + kHeader, payload, path);
     World restored;
-    WorldSerializer::fields(in, restored);
+    WorldSerializer::V1Contacts v1;
+    WorldSerializer::fields(in, restored, version, &v1);
+    if (version == 1) WorldSerializer::convert_v1(restored, v1);
     std::string app;
     in.section("APPS", [&](Reader& s) { s.str(app); });
     if (!in.done()) corrupt(path, "unexpected data after the last section");

@@ -1,7 +1,7 @@
 // Binary checkpoints of the whole World, so a run can be stopped and resumed with results
 // bitwise identical to an uninterrupted run.
 //
-// File layout (version 1; all integers and doubles in the host's byte order, which must be
+// File layout (version 2; all integers and doubles in the host's byte order, which must be
 // little-endian -- checked at compile time; the files are not meant to move between
 // architectures):
 //   char[8]  magic "VPPDEMCK"
@@ -23,7 +23,10 @@
 
 namespace dem {
 
-inline constexpr uint32_t kCheckpointVersion = 1;
+// Version 2: light candidate lists and stores of live contacts (CONT), bond history as two
+// arrays (BOND), block sums of the energy terms (ENRG). Version 1 files still load: their
+// contact lists are converted (a run resumed from one continues, not bitwise as before).
+inline constexpr uint32_t kCheckpointVersion = 2;
 
 // Saves the complete World state plus an application blob (opaque bytes, e.g. the damper's
 // stage and config) atomically: writes PATH.part, flushes and fsyncs it, renames it to PATH.

@@ -1,0 +1,77 @@
+// The hot loops of World::step() as free functions over arrays, vectorised with Highway and
+// dispatched at run time to the widest SIMD target the processor has (AVX-512, AVX2, SSE4,
+// or plain 128-bit/scalar code). Every target computes the same bits (dem/core/lanes.h), so
+// results do not depend on the machine; a test runs each target and compares.
+//
+// Each kernel works on a range of fixed blocks of kBlock entries (slots, bonds, particles), so
+// that a thread does whole blocks and the energy sums are formed per block the same way
+// whatever the thread count: inside a block every term is summed in 8 "virtual lanes"
+// (entry e goes to lane e % 8, in entry order), then the 8 lanes in order. An 8-lane, 4-lane,
+// 2-lane or scalar target forms exactly these sums.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dem/bonds/bond_list.h"
+#include "dem/contact/active_contacts.h"
+#include "dem/core/particles.h"
+#include "dem/core/vec3.h"
+
+namespace dem::kernels {
+
+inline constexpr int64_t kBlock = 64;  // entries per block (a multiple of 8)
+inline int64_t block_count(std::size_t n) { return (int64_t(n) + kBlock - 1) / kBlock; }
+
+// Particle energy terms summed per block by advance(): the work of each force over the back
+// and forward half steps, and the kinetic energy (docs/energy.md).
+enum ParticleTerm { kBoundary, kPressure, kGravity, kExternal, kDamping, kTerms };
+inline constexpr int kParticleSums = 2 * kTerms + 1;  // back[kTerms], fwd[kTerms], kinetic
+// Contact energy terms summed per block by the pair kernels.
+enum PairSum { kElastic, kSlip, kRelease, kViscous, kPairSums };
+
+struct PairArgs {
+    const Particles* p = nullptr;
+    ActiveContacts* c = nullptr;
+    double dt = 0;                    // [s]
+    int64_t block_begin = 0, block_end = 0;
+    double* energy = nullptr;         // kPairSums per block, indexed by block; nullptr: no ledger
+    std::vector<uint32_t>* opened = nullptr;  // slots of live pairs found apart, appended in order
+};
+// Contacts of the frictional store: geometry, linear law with shear history, torques.
+void frictional_pairs(const PairArgs& a);
+// Contacts of the frictionless store: geometry and normal force only.
+void smooth_pairs(const PairArgs& a);
+
+struct BondArgs {
+    const Particles* p = nullptr;
+    BondList* b = nullptr;
+    double dt = 0;                    // [s]
+    int64_t block_begin = 0, block_end = 0;
+    double* energy = nullptr;         // 1 sum (stored energy) per block; nullptr: no ledger
+};
+void bonds(const BondArgs& a);
+
+struct AdvanceArgs {
+    Particles* p = nullptr;
+    const Vec3* ext_force = nullptr;  // [N] per particle, or nullptr for none
+    const Vec3* pressure = nullptr;   // [N] pressure force per particle (energy terms only), or nullptr
+    const Vec3* ref_pos = nullptr;    // [m] positions at the last rebuild
+    Vec3 gravity;                     // [m/s^2]
+    double dt = 0, lambda = 0;        // [s], local damping [-]
+    int64_t block_begin = 0, block_end = 0;
+    double* energy = nullptr;         // kParticleSums per block; nullptr: no ledger
+};
+// Leapfrog with local damping for the free particles (inv_mass > 0) of the blocks; fixed and
+// prescribed particles are left as they are (World moves the prescribed ones). Returns the
+// largest squared distance of a moved particle from ref_pos [m^2].
+double advance(const AdvanceArgs& a);
+
+// For tests: the SIMD targets compiled in and supported here (Highway target bits, best
+// first), their names, and a switch that makes the dispatch use only `target` (0: all).
+std::vector<int64_t> available_targets();
+std::string target_name(int64_t target);
+void restrict_to_target(int64_t target);
+
+}  // namespace dem::kernels

@@ -1,0 +1,191 @@
+// The broad phase of World::step(): new candidate lists from a cell grid whenever something
+// moved more than half the skin. Live contacts keep their slot data in the stores and are
+// re-attached to their pair's new candidate; the stores are then compacted into candidate
+// order and the reverse table rebuilt.
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+#include "dem/core/parallel.h"
+#include "dem/core/world.h"
+#include "dem/detect/geometry.h"
+
+namespace dem {
+
+namespace {
+
+// Concatenates per-thread lists (thread order = particle order under a static split) into
+// `out`, freeing each list as it goes.
+void concatenate(std::vector<std::vector<uint32_t>>& parts, std::vector<uint32_t>& out) {
+    std::size_t total = 0;
+    for (const auto& v : parts) total += v.size();
+    out.clear();
+    out.reserve(total);
+    for (auto& v : parts) {
+        out.insert(out.end(), v.begin(), v.end());
+        std::vector<uint32_t>().swap(v);
+    }
+}
+
+// Slot of the candidate (i, j) in the new list, or nullptr when the pair is no candidate.
+uint32_t* find_slot(CandidateList& c, uint32_t i, uint32_t j) {
+    const auto b = c.other.begin() + c.start[i], e = c.other.begin() + c.start[i + 1];
+    const auto it = std::lower_bound(b, e, j);
+    return it != e && *it == j ? &c.slot[std::size_t(it - c.other.begin())] : nullptr;
+}
+
+}  // namespace
+
+void World::rebuild_candidates() {
+    const Particles& p = particles;
+    const std::size_t n = p.size();
+    const double skin = effective_skin();
+    if (bonds_dirty_ || bond_start_.size() != n + 1) build_bond_tables();
+    double rmax = 0.0;
+    for (double r : p.radius) rmax = std::max(rmax, r);
+    grid_.build(p.pos, 2.0 * rmax + skin, std::max<int64_t>(int64_t(4 * n), 4096));
+
+    // Facets are registered in every cell their box (grown by rmax + skin) touches, so a
+    // particle only has to look at its own cell's list.
+    std::vector<uint32_t> fstart, fitems;
+    if (!facets.empty()) {
+        fstart.assign(std::size_t(grid_.ncells() + 1), 0);
+        const double grow = rmax + skin;
+        std::vector<std::array<int64_t, 6>> range(facets.size());
+        std::vector<uint8_t> inside(facets.size(), 0);
+        for (std::size_t f = 0; f < facets.size(); ++f) {
+            Vec3 lo = facet_now_[f][0], hi = lo;
+            for (int v = 1; v < 3; ++v)
+                for (int d = 0; d < 3; ++d) {
+                    lo[d] = std::min(lo[d], facet_now_[f][v][d]);
+                    hi[d] = std::max(hi[d], facet_now_[f][v][d]);
+                }
+            bool ok = true;
+            for (int d = 0; d < 3; ++d) {
+                const double a = (lo[d] - grow - grid_.origin[d]) / grid_.cell;
+                const double b = (hi[d] + grow - grid_.origin[d]) / grid_.cell;
+                if (b < 0.0 || a >= double(grid_.dims[d])) ok = false;
+                range[f][d] = std::clamp<int64_t>(int64_t(std::floor(a)), 0, grid_.dims[d] - 1);
+                range[f][d + 3] = std::clamp<int64_t>(int64_t(std::floor(b)), 0, grid_.dims[d] - 1);
+            }
+            inside[f] = ok;
+        }
+        for (int pass = 0; pass < 2; ++pass) {
+            std::vector<uint32_t> fill;
+            if (pass == 1) {
+                for (int64_t c = 0; c < grid_.ncells(); ++c) fstart[c + 1] += fstart[c];
+                fitems.resize(fstart.back());
+                fill.assign(fstart.begin(), fstart.end() - 1);
+            }
+            for (std::size_t f = 0; f < facets.size(); ++f) {
+                if (!inside[f]) continue;
+                const auto& r = range[f];
+                for (int64_t z = r[2]; z <= r[5]; ++z)
+                    for (int64_t y = r[1]; y <= r[4]; ++y)
+                        for (int64_t x = r[0]; x <= r[3]; ++x) {
+                            const int64_t c = grid_.index({x, y, z});
+                            if (pass == 0) ++fstart[c + 1];
+                            else fitems[fill[c]++] = uint32_t(f);
+                        }
+            }
+        }
+    }
+
+    // The old lists go first (the new ones reuse the memory); the live contacts find their
+    // pairs again through the stores' (i, j).
+    pp_cand_.clear();
+    pw_cand_.clear();
+    pp_cand_.start.assign(n + 1, 0);
+    pw_cand_.start.assign(n + 1, 0);
+    const int nt = std::max(1, params.threads);
+    std::vector<std::vector<uint32_t>> pp_other(nt), pw_other(nt);
+    const uint32_t nplanes = uint32_t(planes.size());
+#pragma omp parallel num_threads(nt)
+    {
+        const int tid = thread_id();
+        std::vector<uint32_t> local;
+        // A static split hands out contiguous ranges of i in thread order, so concatenating the
+        // per-thread lists in thread order gives the candidates in particle order.
+#pragma omp for schedule(static)
+        for (std::size_t i = 0; i < n; ++i) {
+            const Vec3 xi = p.pos[i];
+            const double ri = p.radius[i];
+            const auto c = grid_.coords(xi);
+            local.clear();
+            grid_.for_each_neighbour(c, [&](uint32_t j) {
+                if (j <= i || !(p.mask[i] & p.mask[j])) return;
+                if (p.inv_mass[i] == 0.0 && p.inv_mass[j] == 0.0) return;
+                for (uint32_t b = bonded_start_[i]; b < bonded_start_[i + 1]; ++b)
+                    if (bonded_with_[b] == j) return;
+                const double reach = ri + p.radius[j] + skin;
+                if (norm2(p.pos[j] - xi) < reach * reach) local.push_back(j);
+            });
+            std::sort(local.begin(), local.end());
+            pp_other[tid].insert(pp_other[tid].end(), local.begin(), local.end());
+            pp_cand_.start[i + 1] = uint32_t(local.size());
+
+            if (p.inv_mass[i] == 0.0 && !(p.flags[i] & kPrescribed)) continue;  // fixed: no wall contacts
+            uint32_t nw = 0;
+            for (uint32_t w = 0; w < nplanes; ++w) {
+                if (!(planes[w].mask & p.mask[i])) continue;
+                const double s = dot(xi - plane_point_[w], planes[w].normal);
+                const bool near = planes[w].one_sided ? s < ri + skin : std::abs(s) < ri + skin;
+                if (near) {
+                    pw_other[tid].push_back(w);
+                    ++nw;
+                }
+            }
+            if (!facets.empty()) {
+                const int64_t cell = grid_.index(c);
+                for (uint32_t k = fstart[cell]; k < fstart[cell + 1]; ++k) {
+                    const uint32_t f = fitems[k];
+                    if (!(facets[f].mask & p.mask[i])) continue;
+                    const double reach = ri + skin;
+                    if (distance2_to_triangle(xi, facet_now_[f]) < reach * reach) {
+                        pw_other[tid].push_back(nplanes + f);
+                        ++nw;
+                    }
+                }
+            }
+            pw_cand_.start[i + 1] = nw;
+        }
+    }
+    for (CandidateList* cl : {&pp_cand_, &pw_cand_})
+        for (std::size_t i = 0; i < n; ++i) cl->start[i + 1] += cl->start[i];
+    concatenate(pp_other, pp_cand_.other);
+    concatenate(pw_other, pw_cand_.other);
+    pp_cand_.slot.assign(pp_cand_.size(), kNoSlot);
+    pw_cand_.slot.assign(pw_cand_.size(), kNoSlot);
+
+    // Re-attach the live contacts. A touching pair is always within the skin, so it is found,
+    // unless its masks, bonds or fixity changed since: then it is dropped with its history.
+    const auto attach = [](ActiveContacts& a, CandidateList& cl, uint32_t bit) {
+        for (std::size_t s = 0; s < a.size(); ++s) {
+            if (a.cand[s] == kNoSlot) continue;
+            uint32_t* slot = find_slot(cl, a.i[s], a.j[s]);
+            if (!slot) {
+                a.cand[s] = kNoSlot;
+                continue;
+            }
+            *slot = uint32_t(s) | bit;
+            a.cand[s] = uint32_t(slot - cl.slot.data());
+        }
+    };
+    attach(fric_, pp_cand_, 0u);
+    attach(smooth_, pp_cand_, kSmoothBit);
+    attach(walls_, pw_cand_, 0u);
+    compact_contacts(physics_dirty_);
+    physics_dirty_ = false;
+    build_reverse_table();
+
+    ref_pos_ = p.pos;
+    wall_ref_disp_.resize(wall_count());
+    for (std::size_t k = 0; k < planes.size(); ++k) wall_ref_disp_[k] = planes[k].motion.displacement(time);
+    for (std::size_t k = 0; k < facets.size(); ++k)
+        wall_ref_disp_[planes.size() + k] = facets[k].motion.displacement(time);
+    max_disp_ = 0.0;
+    candidates_dirty_ = false;
+    ++rebuilds_;
+}
+
+}  // namespace dem
