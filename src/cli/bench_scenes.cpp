@@ -3,13 +3,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
 
 #include <sys/resource.h>
 
+#include "dem/core/kernels.h"
 #include "dem/core/world.h"
+#include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
 #include "dem/walls/facet_sets.h"
 
@@ -45,6 +48,7 @@ void configure(dem::World& w, int threads) {
     w.params.gravity = {0, 0, -9.81};
     w.params.local_damping = 0.2;
     w.params.threads = threads;
+    if (const char* e = std::getenv("VPPDEM_SKIN")) w.params.skin = std::atof(e);  // TEMP experiment
 }
 
 struct Timing {
@@ -53,8 +57,19 @@ struct Timing {
     uint64_t rebuilds = 0;
 };
 
-Timing run(dem::World& w, long warmup, long steps, bool profile) {
-    for (long s = 0; s < warmup; ++s) w.step();
+Timing run(dem::World& w, const BenchOptions& opt) {
+    const long steps = opt.steps;
+    const bool profile = opt.profile;
+    // --state FILE: the state after the warm-up is kept in FILE (a checkpoint), so repeated
+    // timings (and slow instruction-counting runs) skip the warm-up.
+    if (!opt.state.empty() && std::filesystem::exists(opt.state)) {
+        const int threads = w.params.threads;
+        dem::load_checkpoint(opt.state, w);
+        w.params.threads = threads;
+    } else {
+        for (long s = 0; s < opt.warmup; ++s) w.step();
+        if (!opt.state.empty()) dem::save_checkpoint(opt.state, w, "bench " + opt.scene);
+    }
     w.compute_forces();  // count contacts at the start of the timed window
     Timing t;
     t.contacts_start = w.contact_count();
@@ -105,11 +120,12 @@ void print_result(const BenchOptions& opt, const dem::World& w, const Timing& t)
         "{\"scene\": \"%s\", \"particles\": %zu, \"steps\": %ld, \"warmup\": %ld, \"threads\": %d, "
         "\"wall_s\": %.6g, \"steps_per_s\": %.6g, \"particle_steps_per_s\": %.6g, \"contacts\": %zu, "
         "\"contacts_start\": %zu, \"particle_contacts\": %zu, \"candidates\": %zu, \"bonds\": %zu, "
-        "\"rebuilds\": %llu, \"underpressure\": %g, \"peak_rss_bytes\": %ld%s}\n",
+        "\"rebuilds\": %llu, \"underpressure\": %g, \"peak_rss_bytes\": %ld, \"simd\": \"%s\"%s}\n",
         opt.scene.c_str(), w.particles.size(), opt.steps, opt.warmup, opt.threads, t.wall_s, sps,
         sps * double(w.particles.size()), t.contacts_end, t.contacts_start, w.particle_contact_count(),
         w.candidate_count(), w.bonds().size(),
-        (unsigned long long)t.rebuilds, opt.underpressure, peak_rss_bytes(), profile.c_str());
+        (unsigned long long)t.rebuilds, opt.underpressure, peak_rss_bytes(),
+        dem::kernels::target_name(dem::kernels::available_targets().front()).c_str(), profile.c_str());
     std::fflush(stdout);
 }
 
@@ -139,7 +155,7 @@ void grains_in_cylinder(const BenchOptions& opt) {
     floor.material = grain;
     w.add_plane(floor);
     // Yade's default Verlet distance: half the smallest radius.
-    const Timing t = run(w, opt.warmup, opt.steps, opt.profile);
+    const Timing t = run(w, opt);
     print_result(opt, w, t);
 }
 
@@ -190,7 +206,7 @@ void foil_plus_grains(const BenchOptions& opt) {
             w.pressure.nodes.push_back({uint32_t(r[0]), {uint32_t(r[1]), uint32_t(r[2]), uint32_t(r[3]), uint32_t(r[4])}});
         w.pressure.dp = opt.underpressure;
     }
-    const Timing t = run(w, opt.warmup, opt.steps, opt.profile);
+    const Timing t = run(w, opt);
     print_result(opt, w, t);
 }
 
@@ -200,6 +216,19 @@ void run_bench(const BenchOptions& opt) {
     if (opt.steps < 1) throw std::invalid_argument("--steps must be >= 1");
     if (opt.warmup < 0) throw std::invalid_argument("--warmup must be >= 0");
     if (opt.threads < 1) throw std::invalid_argument("--threads must be >= 1");
+    if (!opt.simd.empty()) {
+        std::string names;
+        for (int64_t t : dem::kernels::available_targets()) {
+            if (dem::kernels::target_name(t) == opt.simd) {
+                dem::kernels::restrict_to_target(t);
+                names.clear();
+                break;
+            }
+            names += (names.empty() ? "" : ", ") + dem::kernels::target_name(t);
+        }
+        if (!names.empty())
+            throw std::invalid_argument("--simd '" + opt.simd + "' is not available here (allowed: " + names + ")");
+    }
     if (opt.scene == "grains-in-cylinder") {
         if (opt.grains.empty()) throw std::invalid_argument("grains-in-cylinder needs --grains FILE");
         grains_in_cylinder(opt);

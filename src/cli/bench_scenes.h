@@ -14,6 +14,8 @@ struct BenchOptions {
     int threads = 1;
     double underpressure = 0; // [Pa] foil-plus-grains: follower pressure on the foil
     bool profile = false;     // print the time per phase of the timed steps
+    std::string state;        // checkpoint of the state after the warm-up: loaded if it exists, else written
+    std::string simd;         // run the kernels on this SIMD target only (names: --simd list); "" = best
 };
 
 // Runs the benchmark and prints one JSON line last (a contract read by outside tools). With

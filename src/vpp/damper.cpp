@@ -178,7 +178,8 @@ double unbalanced_force(const dem::World& w) {
     std::size_t nfree = 0;
     for (std::size_t i = 0; i < p.size(); ++i) {
         if (p.inv_mass[i] == 0.0) continue;
-        net += norm(p.force[i] + p.ext_force[i] + w.params.gravity * p.mass[i]);
+        const dem::Vec3 fx = p.ext_force.empty() ? dem::Vec3{} : p.ext_force[i];
+        net += norm(p.force[i] + fx + w.params.gravity * p.mass[i]);
         ++nfree;
     }
     double fc = 0;

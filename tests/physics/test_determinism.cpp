@@ -1,6 +1,8 @@
 // Results must not depend on the OpenMP thread count: forces are written per contact and
 // gathered per particle in a fixed order, so 1, 2 and 3 threads must give bitwise-identical
-// positions, velocities, angular velocities and wall forces.
+// positions, velocities, angular velocities and wall forces. Nor on the processor: every SIMD
+// target the kernels are compiled for (AVX-512, AVX2, SSE4, ..., scalar) must give the same
+// bits (dem/core/lanes.h).
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -9,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "dem/core/kernels.h"
 #include "helpers.h"
 
 using namespace dem;
@@ -22,7 +25,8 @@ constexpr double kBox = 0.1;
 // about half of the neighbour pairs start overlapping by up to 0.7 mm), random velocities,
 // a box of 5 one-sided planes, two tilted facets (a ramp) just under the packing and a
 // vertical two-sided blade between two columns of it, friction 0.5, gravity, damping 0.2,
-// plus bonds and membrane pressure on the top layer.
+// plus bonds and membrane pressure on the top layer, whose material is frictionless with a
+// dashpot (so frictionless pairs, dashpots and the energy ledger are covered too).
 World make_scene(int threads) {
     World w;
     w.params.threads = threads;
@@ -30,6 +34,7 @@ World make_scene(int threads) {
     w.params.local_damping = 0.2;
     w.add_material(make_material(1e6, 0.5, 1.0));
     w.add_material(make_material(2e6, 0.3, 0.6));  // walls: other stiffness, friction, restitution
+    w.add_material(make_material(1e6, 0.0, 0.8));  // the membrane layer: frictionless, dashpot
     std::mt19937_64 rng(20240607);
     std::uniform_real_distribution<double> rad(0.0045, 0.005), jit(-0.0001, 0.0001), vel(-0.5, 0.5);
     const double pitch = 0.0095;
@@ -42,6 +47,7 @@ World make_scene(int threads) {
                               0.013 + k * pitch + jit(rng)};
                 s.velocity = {vel(rng), vel(rng), vel(rng) - 0.3};
                 s.angular_velocity = {vel(rng) * 20, vel(rng) * 20, vel(rng) * 20};
+                if (k == 4) s.material = 2;
                 w.add_sphere(s);
             }
     auto plane = [&](Vec3 pt, Vec3 n) {
@@ -148,4 +154,30 @@ TEST(PhysicsDeterminism, BitwiseIdenticalAcrossThreadCounts) {
             EXPECT_EQ(s.values[first], ref.values[first]) << "first mismatch at value " << first;
         }
     }
+}
+
+// Each SIMD target of the kernels gives the same bits as the others (and the scalar target is
+// the plain double arithmetic of the lane templates).
+TEST(PhysicsDeterminism, BitwiseIdenticalAcrossSimdTargets) {
+    constexpr int kSteps = 300;
+    const std::vector<int64_t> targets = kernels::available_targets();
+    ASSERT_FALSE(targets.empty());
+    std::cout << "[measure] SIMD targets:";
+    for (int64_t t : targets) std::cout << " " << kernels::target_name(t);
+    std::cout << "\n";
+    kernels::restrict_to_target(targets.front());
+    const Snapshot ref = run(2, kSteps);
+    for (std::size_t k = 1; k < targets.size(); ++k) {
+        kernels::restrict_to_target(targets[k]);
+        const Snapshot s = run(2, kSteps);
+        ASSERT_EQ(s.values.size(), ref.values.size());
+        std::size_t mismatches = 0;
+        for (std::size_t v = 0; v < s.values.size(); ++v)
+            mismatches += std::bit_cast<uint64_t>(s.values[v]) != std::bit_cast<uint64_t>(ref.values[v]);
+        std::cout << "[measure] " << kernels::target_name(targets[k]) << " vs " << kernels::target_name(targets.front())
+                  << ": bitwise mismatches=" << mismatches << " of " << s.values.size() << " (tol 0)\n";
+        EXPECT_EQ(mismatches, 0u) << kernels::target_name(targets[k]);
+        EXPECT_EQ(s.contacts, ref.contacts) << kernels::target_name(targets[k]);
+    }
+    kernels::restrict_to_target(0);
 }

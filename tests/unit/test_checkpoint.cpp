@@ -107,6 +107,7 @@ World make_scene(uint64_t seed = 12345) {
     m.velocity = {0.0, 0.0, 0.2};
     w.set_prescribed(55, w.add_motion(m));  // a piston particle pushed up through the packing
     w.set_fixed(7);
+    w.particles.ext_force.resize(w.particles.size());
     w.particles.ext_force[123] = {0.0, 0.01, 0.0};
     w.params.dt = 0.2 * w.critical_dt();
     return w;

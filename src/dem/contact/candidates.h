@@ -1,9 +1,9 @@
 // The light candidate list: pairs closer than the sum of radii plus the skin, found by the
 // broad phase at each rebuild, stored per particle in CSR form. Most candidates never touch
-// (in a loose packing or a free fall, none do), so a candidate costs 8 bytes (its partner and
-// its contact slot) plus 4 for the reverse table; the shear history and the forces live only
-// with the pairs that touch (ActiveContacts). Why CSR per particle rather than a list of
-// 64-bit pair keys: half the memory, and the gather reads a particle's contacts contiguously.
+// (in a loose packing or a free fall, none do), so a candidate costs 12 bytes (its partner,
+// its contact slot, its gap at the rebuild); the shear history and the forces live only with
+// the pairs that touch (ActiveContacts). Why CSR per particle rather than a list of 64-bit
+// pair keys: less memory, and a particle's candidates are read contiguously.
 #pragma once
 
 #include <cstdint>
@@ -18,10 +18,11 @@ struct CandidateList {
     // particle pairs, wall indices (planes first, then facets) for wall pairs.
     std::vector<uint32_t> start;   // size n + 1
     std::vector<uint32_t> other;
-    std::vector<uint32_t> slot;    // the pair's live contact (ContactStores::slot encoding) or kNoSlot
-    // Particle pairs only: candidates in which j is the partner, for the gather:
-    // rentry[rstart[j] .. rstart[j+1]) are candidate indices, ascending.
-    std::vector<uint32_t> rstart, rentry;
+    std::vector<uint32_t> slot;    // the pair's live contact (kSmoothBit marks the frictionless store) or kNoSlot
+    // [m] surface gap at the rebuild, rounded down. Between rebuilds no particle moves more
+    // than World's max_disp_, so a pair whose gap exceeds twice that cannot touch yet and is
+    // not tested (walls: max_disp_ plus the wall's own move).
+    std::vector<float> gap;
 
     std::size_t size() const { return other.size(); }
     void clear() { *this = CandidateList{}; }

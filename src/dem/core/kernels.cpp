@@ -115,23 +115,130 @@ template <class D, class M> HWY_INLINE void append_lanes(D d, M m, int64_t s, st
         if (bits[l / 8] & (1u << (l % 8))) out->push_back(uint32_t(s + int64_t(l)));
 }
 
+// In-register transpose of N rows of 8 doubles (N = lanes): on return v[k] lane l holds what
+// row l held at column k, for k < 8 (rows given as the first 8/N... see load/store below).
+// Only data moves, so every target gives the same values.
+#if HWY_TARGET <= HWY_AVX3
+HWY_INLINE void transpose8x8(__m512d (&r)[8]) {
+    __m512d t[8], u[8];
+    for (int l = 0; l < 4; ++l) {
+        t[2 * l] = _mm512_unpacklo_pd(r[2 * l], r[2 * l + 1]);      // a0 b0 a2 b2 a4 b4 a6 b6
+        t[2 * l + 1] = _mm512_unpackhi_pd(r[2 * l], r[2 * l + 1]);  // a1 b1 a3 b3 a5 b5 a7 b7
+    }
+    for (int h = 0; h < 2; ++h)      // rows 0-3, rows 4-7
+        for (int o = 0; o < 2; ++o) {  // even, odd columns
+            const __m512d lo = t[4 * h + o], hi = t[4 * h + 2 + o];
+            u[4 * h + o] = _mm512_shuffle_f64x2(lo, hi, 0x88);      // columns o, o+4 of the 4 rows
+            u[4 * h + 2 + o] = _mm512_shuffle_f64x2(lo, hi, 0xdd);  // columns o+2, o+6
+        }
+    for (int f = 0; f < 4; ++f) {  // u[f]: columns f, f+4 of rows 0-3; u[4+f]: the same of rows 4-7
+        r[f] = _mm512_shuffle_f64x2(u[f], u[4 + f], 0x88);
+        r[f + 4] = _mm512_shuffle_f64x2(u[f], u[4 + f], 0xdd);
+    }
+}
+#endif
+
+// Rows: `row(l)` is the address of row l's 8 doubles (64-byte aligned). Fields -> lanes.
+template <class D, class Row> HWY_INLINE void rows_to_lanes(D d, Row&& row, VecD<D> (&out)[8]) {
+    constexpr std::size_t N = hn::MaxLanes(D());
+    if constexpr (N == 1) {
+        for (int k = 0; k < 8; ++k) out[k] = hn::LoadU(d, row(0) + k);
+    }
+#if HWY_TARGET != HWY_SCALAR
+    else if constexpr (N == 2) {
+        const double *a = row(0), *b = row(1);
+        for (int c = 0; c < 4; ++c) {
+            const VecD<D> ra = hn::LoadU(d, a + 2 * c), rb = hn::LoadU(d, b + 2 * c);
+            out[2 * c] = hn::InterleaveLower(d, ra, rb);
+            out[2 * c + 1] = hn::InterleaveUpper(d, ra, rb);
+        }
+    } else if constexpr (N == 4) {
+        for (int h = 0; h < 2; ++h) {
+            const VecD<D> r0 = hn::LoadU(d, row(0) + 4 * h), r1 = hn::LoadU(d, row(1) + 4 * h);
+            const VecD<D> r2 = hn::LoadU(d, row(2) + 4 * h), r3 = hn::LoadU(d, row(3) + 4 * h);
+            const VecD<D> t0 = hn::InterleaveLower(d, r0, r1), t1 = hn::InterleaveUpper(d, r0, r1);
+            const VecD<D> t2 = hn::InterleaveLower(d, r2, r3), t3 = hn::InterleaveUpper(d, r2, r3);
+            out[4 * h] = hn::ConcatLowerLower(d, t2, t0);
+            out[4 * h + 1] = hn::ConcatLowerLower(d, t3, t1);
+            out[4 * h + 2] = hn::ConcatUpperUpper(d, t2, t0);
+            out[4 * h + 3] = hn::ConcatUpperUpper(d, t3, t1);
+        }
+    }
+#endif
+    else {
+#if HWY_TARGET <= HWY_AVX3
+        static_assert(N == 8);
+        __m512d r[8];
+        for (int l = 0; l < 8; ++l) r[l] = _mm512_load_pd(row(l));
+        transpose8x8(r);
+        for (int k = 0; k < 8; ++k) out[k].raw = r[k];
+#endif
+    }
+}
+
+// The inverse: lanes -> fields of N consecutive 64-byte aligned rows starting at `rows`.
+template <class D> HWY_INLINE void lanes_to_rows(D d, const VecD<D> (&in)[8], double* rows) {
+    constexpr std::size_t N = hn::MaxLanes(D());
+    if constexpr (N == 1) {
+        for (int k = 0; k < 8; ++k) hn::StoreU(in[k], d, rows + k);
+    }
+#if HWY_TARGET != HWY_SCALAR
+    else if constexpr (N == 2) {
+        for (int c = 0; c < 4; ++c) {
+            hn::StoreU(hn::InterleaveLower(d, in[2 * c], in[2 * c + 1]), d, rows + 2 * c);
+            hn::StoreU(hn::InterleaveUpper(d, in[2 * c], in[2 * c + 1]), d, rows + 8 + 2 * c);
+        }
+    } else if constexpr (N == 4) {
+        for (int h = 0; h < 2; ++h) {
+            const VecD<D> t0 = hn::InterleaveLower(d, in[4 * h], in[4 * h + 1]);
+            const VecD<D> t1 = hn::InterleaveUpper(d, in[4 * h], in[4 * h + 1]);
+            const VecD<D> t2 = hn::InterleaveLower(d, in[4 * h + 2], in[4 * h + 3]);
+            const VecD<D> t3 = hn::InterleaveUpper(d, in[4 * h + 2], in[4 * h + 3]);
+            hn::StoreU(hn::ConcatLowerLower(d, t2, t0), d, rows + 4 * h);
+            hn::StoreU(hn::ConcatLowerLower(d, t3, t1), d, rows + 8 + 4 * h);
+            hn::StoreU(hn::ConcatUpperUpper(d, t2, t0), d, rows + 16 + 4 * h);
+            hn::StoreU(hn::ConcatUpperUpper(d, t3, t1), d, rows + 24 + 4 * h);
+        }
+    }
+#endif
+    else {
+#if HWY_TARGET <= HWY_AVX3
+        static_assert(N == 8);
+        __m512d r[8];
+        for (int k = 0; k < 8; ++k) r[k] = in[k].raw;
+        transpose8x8(r);
+        for (int l = 0; l < 8; ++l) _mm512_store_pd(rows + 8 * l, r[l]);
+#endif
+    }
+}
+
+// The 8 doubles of the packed records of the particles idx[0..N), as lanes: out[k] holds
+// field k (x y z r vx vy vz unused) of every lane's particle.
+template <class D>
+HWY_INLINE void load_packed(D d, const kernels::PackedParticle* P, const uint32_t* idx, VecD<D> (&out)[8]) {
+    rows_to_lanes(d, [&](int l) { return &P[idx[l]].x; }, out);
+}
+
 // The bodies and velocities of a particle pair, gathered.
 template <class D> struct PairState {
     V3D<D> xi, xj, vi, vj, wi, wj;
     VecD<D> ri, rj;
 };
-template <class D> HWY_INLINE PairState<D> gather_pair(D d, const Particles& p, const uint32_t* i, const uint32_t* j) {
-    const auto I = load_index(d, i), J = load_index(d, j);
-    const auto I3 = times3(I), J3 = times3(J);
+template <class D>
+HWY_INLINE PairState<D> gather_pair(D d, const Particles& p, const kernels::PackedParticle* packed, const uint32_t* i,
+                                    const uint32_t* j) {
+    VecD<D> a[8], b[8];
+    load_packed(d, packed, i, a);
+    load_packed(d, packed, j, b);
     PairState<D> q;
-    q.xi = gather3(d, p.pos.data(), I3);
-    q.xj = gather3(d, p.pos.data(), J3);
-    q.vi = gather3(d, p.vel.data(), I3);
-    q.vj = gather3(d, p.vel.data(), J3);
-    q.wi = gather3(d, p.angvel.data(), I3);
-    q.wj = gather3(d, p.angvel.data(), J3);
-    q.ri = hn::GatherIndex(d, p.radius.data(), I);
-    q.rj = hn::GatherIndex(d, p.radius.data(), J);
+    q.xi = {a[0], a[1], a[2]};
+    q.ri = a[3];
+    q.vi = {a[4], a[5], a[6]};
+    q.xj = {b[0], b[1], b[2]};
+    q.rj = b[3];
+    q.vj = {b[4], b[5], b[6]};
+    q.wi = gather3(d, p.angvel.data(), times3(load_index(d, i)));
+    q.wj = gather3(d, p.angvel.data(), times3(load_index(d, j)));
     return q;
 }
 // Velocity of body 2 relative to body 1 at the contact, lever arms at the full radii along n
@@ -148,7 +255,7 @@ template <class D> HWY_INLINE auto live_mask(D d, const uint32_t* cand) {
 template <bool kEnergy, class D>
 HWY_INLINE void frictional_body(D d, const kernels::PairArgs& a, int64_t s, VecD<D>* terms) {
     ActiveContacts& c = *a.c;
-    const PairState<D> q = gather_pair(d, *a.p, &c.i[s], &c.j[s]);
+    const PairState<D> q = gather_pair(d, *a.p, a.packed, &c.i[s], &c.j[s]);
     const auto live = live_mask(d, &c.cand[s]);
     const VecD<D> zero = hn::Zero(d), dt = hn::Set(d, a.dt), half = hn::Set(d, 0.5);
     // Sphere-sphere geometry (dem/detect/geometry.h, sphere_sphere).
@@ -195,11 +302,11 @@ HWY_INLINE void frictional_body(D d, const kernels::PairArgs& a, int64_t s, VecD
 template <bool kEnergy, class D>
 HWY_INLINE void smooth_body(D d, const kernels::PairArgs& a, int64_t s, VecD<D>* terms) {
     ActiveContacts& c = *a.c;
-    const auto I = load_index(d, &c.i[s]), J = load_index(d, &c.j[s]);
-    const auto I3 = times3(I), J3 = times3(J);
-    const Particles& p = *a.p;
-    const V3D<D> xi = gather3(d, p.pos.data(), I3), xj = gather3(d, p.pos.data(), J3);
-    const VecD<D> ri = hn::GatherIndex(d, p.radius.data(), I), rj = hn::GatherIndex(d, p.radius.data(), J);
+    VecD<D> pi[8], pj[8];
+    load_packed(d, a.packed, &c.i[s], pi);
+    load_packed(d, a.packed, &c.j[s], pj);
+    const V3D<D> xi{pi[0], pi[1], pi[2]}, xj{pj[0], pj[1], pj[2]};
+    const VecD<D> ri = pi[3], rj = pj[3];
     const auto live = live_mask(d, &c.cand[s]);
     const VecD<D> zero = hn::Zero(d), dt = hn::Set(d, a.dt);
     const V3D<D> dx = xj - xi;
@@ -212,7 +319,7 @@ HWY_INLINE void smooth_body(D d, const kernels::PairArgs& a, int64_t s, VecD<D>*
     VecD<D> kn, ks, mu, cn;
     hn::LoadInterleaved4(d, &c.phys[s].kn, kn, ks, mu, cn);
     // Only the normal relative velocity matters here: without shear there is no lever arm.
-    const V3D<D> vrel = gather3(d, p.vel.data(), J3) - gather3(d, p.vel.data(), I3);
+    const V3D<D> vrel = V3D<D>{pj[4], pj[5], pj[6]} - V3D<D>{pi[4], pi[5], pi[6]};
     ContactEnergyLanes<VecD<D>> e;
     const V3D<D> f = normal_contact_force_lanes<kEnergy>(kn, cn, n, overlap, vrel, dt, &e);
     const V3D<D> z3 = zero3(d);
@@ -230,7 +337,7 @@ HWY_INLINE void smooth_body(D d, const kernels::PairArgs& a, int64_t s, VecD<D>*
 template <bool kEnergy, class D>
 HWY_INLINE void bond_body(D d, const kernels::BondArgs& a, int64_t s, VecD<D>* terms) {
     BondList& b = *a.b;
-    const PairState<D> q = gather_pair(d, *a.p, &b.i[s], &b.j[s]);
+    const PairState<D> q = gather_pair(d, *a.p, a.packed, &b.i[s], &b.j[s]);
     const VecD<D> dt = hn::Set(d, a.dt), half = hn::Set(d, 0.5);
     const V3D<D> dx = q.xj - q.xi;
     const VecD<D> dist = hn::Sqrt(norm2(dx));
@@ -289,9 +396,14 @@ HWY_INLINE void advance_body(D d, const kernels::AdvanceArgs& a, int64_t s, VecD
     al.y = al.y * damping_factor(d, al.y * w0.y, lambda);
     al.z = al.z * damping_factor(d, al.z * w0.z, lambda);
     const V3D<D> w1 = w0 + al * dt;
-    store3(d, select(free, v1, v0), &p.vel[s]);
-    store3(d, select(free, x1, x0), &p.pos[s]);
+    const V3D<D> v = select(free, v1, v0), x = select(free, x1, x0);
+    store3(d, v, &p.vel[s]);
+    store3(d, x, &p.pos[s]);
     store3(d, select(free, w1, w0), &p.angvel[s]);
+    if (a.packed) {  // the pair kernels' copy for the next step
+        const VecD<D> rows[8] = {x.x, x.y, x.z, hn::LoadU(d, &p.radius[s]), v.x, v.y, v.z, zero};
+        lanes_to_rows(d, rows, &a.packed[s].x);
+    }
     const V3D<D> moved = x1 - load3(d, &a.ref_pos[s]);
     max_d2 = hn::Max(max_d2, hn::IfThenElseZero(free, norm2(moved)));
     if constexpr (kEnergy) {
@@ -356,6 +468,33 @@ double AdvanceT(const kernels::AdvanceArgs& a) {
     return std::max(hn::GetLane(hn::MaxOfLanes(d, max_v)), hn::GetLane(max_1));
 }
 
+void FilterOpenCandidates(const uint32_t* slot, const float* gap, float reach, int64_t k0, int64_t k1,
+                          std::vector<uint32_t>& out) {
+    const hn::ScalableTag<uint32_t> du;
+    const hn::RebindToFloat<decltype(du)> df;
+    const int64_t N = int64_t(hn::Lanes(du));
+    const std::size_t old = out.size();
+    out.resize(old + std::size_t(k1 - k0) + std::size_t(N));  // CompressStore may write a whole vector
+    uint32_t* dst = out.data() + old;
+    std::size_t cnt = 0;
+    const auto none = hn::Set(du, kNoSlot);
+    const auto limit = hn::Set(df, reach);
+    const auto iota = hn::Iota(du, 0);
+    int64_t k = k0;
+    for (; k + N <= k1; k += N) {
+        const auto m = hn::And(hn::RebindMask(du, hn::Lt(hn::LoadU(df, gap + k), limit)),
+                               hn::Eq(hn::LoadU(du, slot + k), none));
+        cnt += hn::CompressStore(hn::Add(iota, hn::Set(du, uint32_t(k))), m, du, dst + cnt);
+    }
+    for (; k < k1; ++k)
+        if (slot[k] == kNoSlot && gap[k] < reach) dst[cnt++] = uint32_t(k);
+    out.resize(old + cnt);
+}
+
+void PackParticles(const Particles& p, int64_t i0, int64_t i1, kernels::PackedParticle* out) {
+    for (int64_t i = i0; i < i1; ++i) out[i] = kernels::pack(p, i);
+}
+
 void FrictionalPairs(const kernels::PairArgs& a) { a.energy ? FrictionalPairsT<true>(a) : FrictionalPairsT<false>(a); }
 void SmoothPairs(const kernels::PairArgs& a) { a.energy ? SmoothPairsT<true>(a) : SmoothPairsT<false>(a); }
 void Bonds(const kernels::BondArgs& a) { a.energy ? BondsT<true>(a) : BondsT<false>(a); }
@@ -371,6 +510,8 @@ HWY_EXPORT(FrictionalPairs);
 HWY_EXPORT(SmoothPairs);
 HWY_EXPORT(Bonds);
 HWY_EXPORT(Advance);
+HWY_EXPORT(FilterOpenCandidates);
+HWY_EXPORT(PackParticles);
 
 namespace kernels {
 
@@ -378,6 +519,13 @@ void frictional_pairs(const PairArgs& a) { HWY_DYNAMIC_DISPATCH(FrictionalPairs)
 void smooth_pairs(const PairArgs& a) { HWY_DYNAMIC_DISPATCH(SmoothPairs)(a); }
 void bonds(const BondArgs& a) { HWY_DYNAMIC_DISPATCH(Bonds)(a); }
 double advance(const AdvanceArgs& a) { return HWY_DYNAMIC_DISPATCH(Advance)(a); }
+void filter_open_candidates(const uint32_t* slot, const float* gap, float reach, int64_t k0, int64_t k1,
+                            std::vector<uint32_t>& out) {
+    HWY_DYNAMIC_DISPATCH(FilterOpenCandidates)(slot, gap, reach, k0, k1, out);
+}
+void pack_particles(const Particles& p, int64_t i0, int64_t i1, PackedParticle* out) {
+    HWY_DYNAMIC_DISPATCH(PackParticles)(p, i0, i1, out);
+}
 
 std::vector<int64_t> available_targets() { return hwy::SupportedAndGeneratedTargets(); }
 std::string target_name(int64_t target) { return hwy::TargetName(target); }

@@ -31,8 +31,25 @@ inline constexpr int kParticleSums = 2 * kTerms + 1;  // back[kTerms], fwd[kTerm
 // Contact energy terms summed per block by the pair kernels.
 enum PairSum { kElastic, kSlip, kRelease, kViscous, kPairSums };
 
+// The state the pair kernels read of each particle, packed into one cache line so that a
+// vector of pairs loads its particles with a few row loads and a transpose instead of one
+// gather per component (gathers were half the time of the bond kernel). Written each step by
+// World::find_new_contacts() from the particle arrays.
+struct alignas(64) PackedParticle {
+    double x, y, z;     // [m] position
+    double r;           // [m] radius
+    double vx, vy, vz;  // [m/s] velocity (half step)
+    double unused;
+};
+
+inline PackedParticle pack(const Particles& p, std::size_t i) {
+    const Vec3 x = p.pos[i], v = p.vel[i];
+    return {x.x, x.y, x.z, p.radius[i], v.x, v.y, v.z, 0.0};
+}
+
 struct PairArgs {
     const Particles* p = nullptr;
+    const PackedParticle* packed = nullptr;
     ActiveContacts* c = nullptr;
     double dt = 0;                    // [s]
     int64_t block_begin = 0, block_end = 0;
@@ -46,6 +63,7 @@ void smooth_pairs(const PairArgs& a);
 
 struct BondArgs {
     const Particles* p = nullptr;
+    const PackedParticle* packed = nullptr;
     BondList* b = nullptr;
     double dt = 0;                    // [s]
     int64_t block_begin = 0, block_end = 0;
@@ -58,18 +76,28 @@ struct AdvanceArgs {
     const Vec3* ext_force = nullptr;  // [N] per particle, or nullptr for none
     const Vec3* pressure = nullptr;   // [N] pressure force per particle (energy terms only), or nullptr
     const Vec3* ref_pos = nullptr;    // [m] positions at the last rebuild
+    PackedParticle* packed = nullptr; // also write the packed records of the new state (or nullptr)
     Vec3 gravity;                     // [m/s^2]
     double dt = 0, lambda = 0;        // [s], local damping [-]
     int64_t block_begin = 0, block_end = 0;
     double* energy = nullptr;         // kParticleSums per block; nullptr: no ledger
 };
 // Leapfrog with local damping for the free particles (inv_mass > 0) of the blocks; fixed and
-// prescribed particles are left as they are (World moves the prescribed ones). Returns the
+// prescribed particles are left as they are (World moves the prescribed ones). With `packed`
+// the packed records of all particles of the blocks are rewritten. Returns the
 // largest squared distance of a moved particle from ref_pos [m^2].
 double advance(const AdvanceArgs& a);
 
-// For tests: the SIMD targets compiled in and supported here (Highway target bits, best
-// first), their names, and a switch that makes the dispatch use only `target` (0: all).
+// Candidates in [k0, k1) of a CandidateList without a live contact (slot == kNoSlot) whose gap
+// at the rebuild is below `reach` [m]: their indices are appended to `out`, ascending.
+void filter_open_candidates(const uint32_t* slot, const float* gap, float reach, int64_t k0, int64_t k1,
+                            std::vector<uint32_t>& out);
+// Writes the packed records of particles [i0, i1).
+void pack_particles(const Particles& p, int64_t i0, int64_t i1, PackedParticle* out);
+
+// The SIMD targets compiled in and supported here (Highway target bits, best first), their
+// names, and a switch that makes the dispatch use only `target` (0: all again). The kernels
+// run on available_targets().front().
 std::vector<int64_t> available_targets();
 std::string target_name(int64_t target);
 void restrict_to_target(int64_t target);

@@ -3,8 +3,10 @@
 // items, never over a thread's share: results are the same for any number of threads.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
+#include <vector>
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -34,6 +36,36 @@ inline std::pair<int64_t, int64_t> thread_range(int64_t n, int tid, int nt) {
     const int64_t q = n / nt, r = n % nt;
     const int64_t begin = tid * q + (tid < r ? tid : r);
     return {begin, begin + q + (tid < r ? 1 : 0)};
+}
+
+// Thread t's contiguous share of n items weighted by `prefix` (size n + 1, non-decreasing: the
+// work before each item): the split points divide the total work evenly. For loops whose items
+// cost very different amounts (particles with 2 or 20 contacts).
+template <class T> inline std::pair<int64_t, int64_t> weighted_range(const std::vector<T>& prefix, int tid, int nt) {
+    const int64_t n = int64_t(prefix.size()) - 1;
+    if (n <= 0) return {0, 0};
+    const double total = double(prefix.back() - prefix.front());
+    const auto split = [&](int t) -> int64_t {
+        if (t <= 0) return 0;
+        if (t >= nt) return n;
+        const T target = T(double(prefix.front()) + total * t / nt);
+        return std::lower_bound(prefix.begin(), prefix.end() - 1, target) - prefix.begin();
+    };
+    return {split(tid), split(tid + 1)};
+}
+
+// Runs [begin, end) of blocks each thread works on: runs[t] for thread t, ascending.
+using BlockRuns = std::vector<std::vector<std::pair<int64_t, int64_t>>>;
+
+// The runs of blocks 0..nb-1 from their owners (owner(b) in [0, nt)).
+template <class Owner> inline BlockRuns runs_of(int64_t nb, int nt, Owner&& owner) {
+    BlockRuns runs(static_cast<std::size_t>(nt));
+    for (int64_t b = 0; b < nb; ++b) {
+        auto& r = runs[std::size_t(owner(b))];
+        if (!r.empty() && r.back().second == b) ++r.back().second;
+        else r.emplace_back(b, b + 1);
+    }
+    return runs;
 }
 
 }  // namespace dem

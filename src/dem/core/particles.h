@@ -34,7 +34,9 @@ struct Particles {
     std::vector<Vec3> angvel;       // [rad/s] at the half step
     std::vector<Vec3> force;        // [N] gathered from contacts this step (without gravity)
     std::vector<Vec3> torque;       // [N m]
-    std::vector<Vec3> ext_force;    // [N] extra external force set by the application each step
+    // [N] extra external force per particle, set by the application; empty: none (most scenes:
+    // the integrator then reads nothing). Resize to size() to use it.
+    std::vector<Vec3> ext_force;
     std::vector<double> radius;     // [m]
     std::vector<double> mass;       // [kg]
     std::vector<double> inv_mass;   // [1/kg], 0 for fixed and prescribed particles

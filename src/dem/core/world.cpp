@@ -36,7 +36,7 @@ uint32_t World::add_sphere(const SphereDef& d) {
     p.angvel.push_back(free ? d.angular_velocity : Vec3{});
     p.force.emplace_back();
     p.torque.emplace_back();
-    p.ext_force.emplace_back();
+    if (!p.ext_force.empty()) p.ext_force.emplace_back();
     p.radius.push_back(d.radius);
     p.mass.push_back(m);
     p.inv_mass.push_back(free ? 1.0 / m : 0.0);
@@ -76,6 +76,7 @@ void World::set_fixed(uint32_t i) {
     p.vel[i] = p.angvel[i] = Vec3{};
     p.motion[i] = -1;
     physics_dirty_ = prescribed_dirty_ = true;  // reduced masses of its contacts change
+    packed_valid_ = false;
 }
 
 void World::set_prescribed(uint32_t i, uint32_t motion) {
@@ -87,6 +88,7 @@ void World::set_prescribed(uint32_t i, uint32_t motion) {
     // The motion's displacement is measured from where the particle is at time 0 of the motion.
     p.ref_pos[i] = p.pos[i] - motions[motion].displacement(time);
     physics_dirty_ = prescribed_dirty_ = true;
+    packed_valid_ = false;
 }
 
 void World::clear_facets() {
@@ -137,15 +139,13 @@ void World::build_bond_tables() {
         bonded_with_[fill[j]] = i;
         bond_entries_[fill[j]++] = uint32_t(b) | kSideBit;
     }
-    bonded_start_ = bond_start_;
     bonds_dirty_ = false;
 }
 
 double World::effective_skin() const {
     if (params.skin > 0.0) return params.skin;
-    double rmin = std::numeric_limits<double>::max();
-    for (double r : particles.radius) rmin = std::min(rmin, r);
-    return particles.size() ? 0.5 * rmin : 1e-3;
+    const auto& r = particles.radius;
+    return r.empty() ? 1e-3 : 0.5 * *std::min_element(r.begin(), r.end());
 }
 
 double World::critical_dt() const {
@@ -194,9 +194,9 @@ void World::move_walls() {
     }
 }
 
-bool World::needs_rebuild() const {
+bool World::needs_rebuild() {
     if (candidates_dirty_ || ref_pos_.size() != particles.size()) return true;
-    const double skin = effective_skin();
+    const double skin = skin_;  // the skin the candidates were found with
     if (2.0 * max_disp_ > skin) return true;
     double wall_move = 0.0;
     for (std::size_t k = 0; k < planes.size(); ++k)
@@ -204,6 +204,7 @@ bool World::needs_rebuild() const {
     for (std::size_t k = 0; k < facets.size(); ++k)
         wall_move = std::max(wall_move,
                              norm(facets[k].motion.displacement(time) - wall_ref_disp_[planes.size() + k]));
+    wall_move_ = wall_move;
     return max_disp_ + wall_move > skin;
 }
 
@@ -273,17 +274,41 @@ void World::compact_contacts(bool refresh) {
     fric_ = std::move(nf);
     smooth_ = std::move(ns);
     walls_ = std::move(nw);
+    build_interaction_lists();  // the slots moved
 }
 
-void World::build_reverse_table() {
+void World::build_interaction_lists() {
+    using L = InteractionLists;
     const std::size_t n = particles.size();
-    CandidateList& c = pp_cand_;
-    c.rstart.assign(n + 1, 0);
-    for (uint32_t j : c.other) ++c.rstart[j + 1];
-    for (std::size_t i = 0; i < n; ++i) c.rstart[i + 1] += c.rstart[i];
-    c.rentry.resize(c.other.size());
-    std::vector<uint32_t> fill(c.rstart.begin(), c.rstart.end() - 1);
-    for (uint32_t k = 0; k < c.other.size(); ++k) c.rentry[fill[c.other[k]]++] = k;
+    L& l = links_;
+    // Capacity: the particle's bonds and candidates (as body 1 or body 2).
+    l.start.assign(n + 1, 0);
+    l.count.assign(n, 0);
+    for (std::size_t i = 0; i < n; ++i) l.start[i + 1] = bond_start_[i + 1] - bond_start_[i];
+    if (!pp_cand_.start.empty())
+        for (std::size_t i = 0; i < n; ++i) {
+            l.start[i + 1] += pp_cand_.start[i + 1] - pp_cand_.start[i];
+            for (uint32_t k = pp_cand_.start[i]; k < pp_cand_.start[i + 1]; ++k) ++l.start[pp_cand_.other[k] + 1];
+        }
+    if (!pw_cand_.start.empty())
+        for (std::size_t i = 0; i < n; ++i) l.start[i + 1] += pw_cand_.start[i + 1] - pw_cand_.start[i];
+    for (std::size_t i = 0; i < n; ++i) l.start[i + 1] += l.start[i];
+    l.ref.assign(l.start[n], 0);
+    for (std::size_t i = 0; i < n; ++i)
+        for (uint32_t k = bond_start_[i]; k < bond_start_[i + 1]; ++k)
+            l.insert(uint32_t(i), L::make(L::kBond, bond_entries_[k] & kSideBit, bond_entries_[k] & ~kSideBit));
+    for (std::size_t s = 0; s < fric_.size(); ++s)
+        if (fric_.cand[s] != kNoSlot) {
+            l.insert(fric_.i[s], L::make(L::kFrictional, false, uint32_t(s)));
+            l.insert(fric_.j[s], L::make(L::kFrictional, true, uint32_t(s)));
+        }
+    for (std::size_t s = 0; s < smooth_.size(); ++s)
+        if (smooth_.cand[s] != kNoSlot) {
+            l.insert(smooth_.i[s], L::make(L::kFrictionless, false, uint32_t(s)));
+            l.insert(smooth_.j[s], L::make(L::kFrictionless, true, uint32_t(s)));
+        }
+    for (std::size_t s = 0; s < walls_.size(); ++s)
+        if (walls_.cand[s] != kNoSlot) l.insert(walls_.i[s], L::make(L::kWall, true, uint32_t(s)));
 }
 
 void World::rebuild_derived_tables() {
@@ -292,83 +317,161 @@ void World::rebuild_derived_tables() {
     const bool bonds_dirty = bonds_dirty_;
     build_bond_tables();
     bonds_dirty_ = bonds_dirty;
-    if (!pp_cand_.start.empty()) build_reverse_table();
+    build_interaction_lists();
     prescribed_dirty_ = true;
+    skin_ = effective_skin();
     // grid_ is scratch of rebuild_candidates(), rebuilt before every use.
     grid_ = CellGrid{};
+}
+
+// ---------------------------------------------------------------- work sharing
+
+void World::assign_owners() {
+    const Particles& p = particles;
+    const int nt = std::max(1, params.threads);
+    const int64_t n = int64_t(p.size()), nb = kernels::block_count(p.size());
+    owners_for_ = nt;
+    block_owner_.assign(std::size_t(nb), 0);
+    if (nt > 1 && n > 0) {
+        // Slabs along the longest extent of the packing, each with about 1/nt of the work
+        // (a block's work: its particles plus their bonds and candidates).
+        Vec3 lo = p.pos[0], hi = lo;
+        for (const Vec3& x : p.pos)
+            for (int d = 0; d < 3; ++d) {
+                lo[d] = std::min(lo[d], x[d]);
+                hi[d] = std::max(hi[d], x[d]);
+            }
+        int axis = 0;
+        for (int d = 1; d < 3; ++d)
+            if (hi[d] - lo[d] > hi[axis] - lo[axis]) axis = d;
+        std::vector<double> key(std::size_t(nb), 0.0), weight(std::size_t(nb), 0.0);
+        for (int64_t i = 0; i < n; ++i) {
+            key[i / kernels::kBlock] += p.pos[i][axis];
+            weight[i / kernels::kBlock] += 4.0 + (links_.start.size() == std::size_t(n + 1)
+                                                      ? double(links_.start[i + 1] - links_.start[i]) : 0.0);
+        }
+        std::vector<int64_t> order(static_cast<std::size_t>(nb));
+        for (int64_t b = 0; b < nb; ++b) {
+            key[b] /= double(std::min(n, (b + 1) * kernels::kBlock) - b * kernels::kBlock);
+            order[b] = b;
+        }
+        std::stable_sort(order.begin(), order.end(), [&](int64_t a, int64_t b) { return key[a] < key[b]; });
+        double total = 0.0;
+        for (double w : weight) total += w;
+        double before = 0.0;
+        for (int64_t b : order) {
+            block_owner_[b] = std::min(nt - 1, int((before + 0.5 * weight[b]) / total * nt));
+            before += weight[b];
+        }
+    }
+    particle_runs_ = runs_of(nb, nt, [&](int64_t b) { return block_owner_[b]; });
+    bond_runs_ = runs_of(kernels::block_count(bonds_.size()), nt, [&](int64_t b) {
+        return block_owner_[bonds_.i[b * kernels::kBlock] / kernels::kBlock];
+    });
+}
+
+BlockRuns World::store_runs(const ActiveContacts& a) const {
+    // A block of slots goes to the owner of its first slot's particle (slots are in particle
+    // order after each rebuild; the few added since are wherever they fall).
+    return runs_of(kernels::block_count(a.size()), owners_for_,
+                   [&](int64_t b) { return block_owner_[a.i[b * kernels::kBlock] / kernels::kBlock]; });
 }
 
 // ---------------------------------------------------------------- contacts open and close
 
 void World::find_new_contacts() {
-    // Inside the parallel region of compute_forces(). The same geometric tests as the force
-    // kernels, so a pair found here is found touching there.
+    // Inside the parallel region of compute_forces(), over this thread's particles. The same
+    // geometric tests as the force kernels, so a pair found here is found touching there.
+    // Only candidates without a contact that could have closed their gap since the rebuild are
+    // tested (CandidateList::gap); they are picked out by a vector filter, since a branch per
+    // candidate would be mispredicted about every other time. The margin covers the rounding
+    // of the gaps and of the moves.
     const Particles& p = particles;
     const int64_t n = int64_t(p.size());
     const uint32_t nplanes = uint32_t(planes.size());
     const int tid = thread_id();
     std::vector<uint32_t>& npp = new_pp_[tid];
     std::vector<uint32_t>& npw = new_pw_[tid];
+    std::vector<uint32_t>& test = open_scratch_[tid];
     npp.clear();
     npw.clear();
-    const bool walls = !pw_cand_.other.empty();
-#pragma omp for schedule(static)
-    for (int64_t i = 0; i < n; ++i) {
-        const Vec3 xi = p.pos[i];
-        const double ri = p.radius[i];
-        for (uint32_t k = pp_cand_.start[i]; k < pp_cand_.start[i + 1]; ++k) {
-            if (pp_cand_.slot[k] != kNoSlot) continue;
-            const uint32_t j = pp_cand_.other[k];
-            const Vec3 d = p.pos[j] - xi;
-            const double rs = ri + p.radius[j];
-            if (norm2(d) < rs * rs) {
-                npp.push_back(uint32_t(i));
-                npp.push_back(k);
+    const double margin = 1e-9 * skin_;
+    const auto scan = [&](const CandidateList& c, int64_t i0, int64_t i1, float reach, auto&& touches,
+                          std::vector<uint32_t>& hits) {
+        if (c.other.empty()) return;
+        test.clear();
+        kernels::filter_open_candidates(c.slot.data(), c.gap.data(), reach, c.start[i0], c.start[i1], test);
+        int64_t i = i0;
+        for (uint32_t k : test) {
+            while (c.start[i + 1] <= k) ++i;  // the particle of candidate k
+            if (touches(uint32_t(i), c.other[k])) {
+                hits.push_back(uint32_t(i));
+                hits.push_back(k);
             }
         }
-        if (!walls) continue;
-        for (uint32_t k = pw_cand_.start[i]; k < pw_cand_.start[i + 1]; ++k) {
-            if (pw_cand_.slot[k] != kNoSlot) continue;
-            const uint32_t w = pw_cand_.other[k];
+    };
+    for (const auto& [b0, b1] : particle_runs_[tid]) {
+        const int64_t i0 = b0 * kernels::kBlock, i1 = std::min(n, b1 * kernels::kBlock);
+        if (!packed_.empty() && !packed_valid_) kernels::pack_particles(p, i0, i1, packed_.data());
+        scan(pp_cand_, i0, i1, float(2.0 * max_disp_ + margin), [&](uint32_t i, uint32_t j) {
+            const Vec3 d = p.pos[j] - p.pos[i];
+            const double rs = p.radius[i] + p.radius[j];
+            return norm2(d) < rs * rs;
+        }, npp);
+        scan(pw_cand_, i0, i1, float(max_disp_ + wall_move_ + margin), [&](uint32_t i, uint32_t w) {
             ContactGeom g;
-            const bool touch = w < nplanes
-                                   ? sphere_plane(xi, ri, plane_point_[w], planes[w].normal, planes[w].one_sided, g)
-                                   : sphere_facet(xi, ri, facet_now_[w - nplanes], facets[w - nplanes].one_sided, g);
-            if (touch) {
-                npw.push_back(uint32_t(i));
-                npw.push_back(k);
-            }
-        }
+            return w < nplanes ? sphere_plane(p.pos[i], p.radius[i], plane_point_[w], planes[w].normal, planes[w].one_sided, g)
+                               : sphere_facet(p.pos[i], p.radius[i], facet_now_[w - nplanes], facets[w - nplanes].one_sided, g);
+        }, npw);
     }
 }
 
 void World::activate_new_contacts() {
-    // Serial, in candidate order (the per-thread lists hold consecutive particle ranges).
-    for (const auto& list : new_pp_)
-        for (std::size_t q = 0; q < list.size(); q += 2) {
-            const uint32_t i = list[q], k = list[q + 1], j = pp_cand_.other[k];
-            const ContactPhys ph = pair_phys(i, j);
-            if (ph.mu == 0.0) pp_cand_.slot[k] = smooth_.add(i, j, k, ph) | kSmoothBit;
-            else pp_cand_.slot[k] = fric_.add(i, j, k, ph);
-        }
-    for (const auto& list : new_pw_)
-        for (std::size_t q = 0; q < list.size(); q += 2) {
-            const uint32_t i = list[q], k = list[q + 1], w = pw_cand_.other[k];
-            pw_cand_.slot[k] = walls_.add(i, w, k, wall_phys(i, w));
-        }
+    // Serial, in candidate order: the threads' lists are merged and sorted first, so the slots
+    // a new contact gets do not depend on which thread found it.
+    const auto merged = [](std::vector<std::vector<uint32_t>>& lists) {
+        std::vector<std::pair<uint32_t, uint32_t>> all;  // (candidate, particle)
+        for (const auto& l : lists)
+            for (std::size_t q = 0; q < l.size(); q += 2) all.emplace_back(l[q + 1], l[q]);
+        std::sort(all.begin(), all.end());
+        return all;
+    };
+    for (const auto& [k, i] : merged(new_pp_)) {
+        const uint32_t j = pp_cand_.other[k];
+        const ContactPhys ph = pair_phys(i, j);
+        const bool smooth = ph.mu == 0.0;
+        const uint32_t s = (smooth ? smooth_ : fric_).add(i, j, k, ph);
+        pp_cand_.slot[k] = s | (smooth ? kSmoothBit : 0u);
+        const auto src = smooth ? InteractionLists::kFrictionless : InteractionLists::kFrictional;
+        links_.insert(i, InteractionLists::make(src, false, s));
+        links_.insert(j, InteractionLists::make(src, true, s));
+    }
+    for (const auto& [k, i] : merged(new_pw_)) {
+        const uint32_t w = pw_cand_.other[k];
+        pw_cand_.slot[k] = walls_.add(i, w, k, wall_phys(i, w));
+        links_.insert(i, InteractionLists::make(InteractionLists::kWall, true, pw_cand_.slot[k]));
+    }
 }
 
 void World::release_opened_contacts() {
-    const auto release = [](ActiveContacts& a, CandidateList& cl, const std::vector<std::vector<uint32_t>>& opened) {
+    using L = InteractionLists;
+    const auto release = [&](ActiveContacts& a, CandidateList& cl, const std::vector<std::vector<uint32_t>>& opened,
+                             L::Source src) {
         for (const auto& list : opened)
             for (uint32_t s : list) {
                 cl.slot[a.cand[s]] = kNoSlot;
                 a.cand[s] = kNoSlot;
+                if (src == L::kWall) {
+                    links_.erase(a.i[s], L::make(src, true, s));
+                } else {
+                    links_.erase(a.i[s], L::make(src, false, s));
+                    links_.erase(a.j[s], L::make(src, true, s));
+                }
             }
     };
-    release(fric_, pp_cand_, opened_fric_);
-    release(smooth_, pp_cand_, opened_smooth_);
-    release(walls_, pw_cand_, opened_walls_);
+    release(fric_, pp_cand_, opened_fric_, L::kFrictional);
+    release(smooth_, pp_cand_, opened_smooth_, L::kFrictionless);
+    release(walls_, pw_cand_, opened_walls_, L::kWall);
 }
 
 // ---------------------------------------------------------------- forces
@@ -380,9 +483,9 @@ void World::wall_contact_forces() {
     const double dt = params.dt;
     const uint32_t nplanes = uint32_t(planes.size());
     const int64_t ns = int64_t(walls_.size());
-    const auto [b0, b1] = thread_range(kernels::block_count(walls_.size()), thread_id(), thread_count());
     std::vector<uint32_t>& opened = opened_walls_[thread_id()];
     opened.clear();
+    for (const auto& [b0, b1] : wall_runs_[thread_id()])
     for (int64_t b = b0; b < b1; ++b) {
         double sum[kernels::kPairSums] = {};
         for (int64_t s = b * kernels::kBlock; s < std::min(ns, (b + 1) * kernels::kBlock); ++s) {
@@ -448,54 +551,38 @@ void World::apply_pressure() {
 void World::gather_forces(bool with_pressure) {
     Particles& p = particles;
     const int64_t n = int64_t(p.size());
-    const CandidateList& pc = pp_cand_;
-    const CandidateList& wc = pw_cand_;
-    const bool walls = !wc.other.empty();
-#pragma omp for schedule(static)
-    for (int64_t i = 0; i < n; ++i) {
-        Vec3 f, t;
-        // Particle i as body 1, then as body 2, each in candidate order: a fixed order.
-        for (uint32_t k = pc.start[i]; k < pc.start[i + 1]; ++k) {
-            const uint32_t s = pc.slot[k];
-            if (s == kNoSlot) continue;
-            if (s & kSmoothBit) {
-                f -= smooth_.force[s & ~kSmoothBit];
-            } else {
-                f -= fric_.force[s];
-                t += fric_.torque1[s];
-            }
+    using L = InteractionLists;
+    // Force and torque tables by source (L::Source) and side (body 1, body 2). The
+    // frictionless store's torques are never written and stay zero; a wall contact's
+    // particle is always its body 2.
+    const Vec3* const force[4] = {fric_.force.data(), smooth_.force.data(), walls_.force.data(), bonds_.force.data()};
+    const Vec3* const torque[4][2] = {{fric_.torque1.data(), fric_.torque2.data()},
+                                      {smooth_.torque1.data(), smooth_.torque2.data()},
+                                      {walls_.torque2.data(), walls_.torque2.data()},
+                                      {bonds_.torque1.data(), bonds_.torque2.data()}};
+    for (const auto& [b0, b1] : particle_runs_[thread_id()])
+    for (int64_t i = b0 * kernels::kBlock; i < std::min(n, b1 * kernels::kBlock); ++i) {
+        // In list order (a fixed order), alternating between two partial sums so that the
+        // chains of dependent additions are half as long (the gather is bound by them).
+        const uint32_t* r = &links_.ref[links_.start[i]];
+        const uint32_t m = links_.count[i];
+        const auto add = [&](uint32_t ref, Vec3& f, Vec3& t) {
+            const uint32_t src = ref >> 30, second = (ref & L::kSecond) ? 1 : 0, k = ref & L::kIndexMask;
+            // Body 1 gets the opposite of the force on body 2: x - y and x + (-y) round alike.
+            f += force[src][k] * (second ? 1.0 : -1.0);
+            t += torque[src][second][k];
+        };
+        Vec3 fa, ta, fb, tb;
+        uint32_t e = 0;
+        for (; e + 1 < m; e += 2) {
+            add(r[e], fa, ta);
+            add(r[e + 1], fb, tb);
         }
-        for (uint32_t e = pc.rstart[i]; e < pc.rstart[i + 1]; ++e) {
-            const uint32_t s = pc.slot[pc.rentry[e]];
-            if (s == kNoSlot) continue;
-            if (s & kSmoothBit) {
-                f += smooth_.force[s & ~kSmoothBit];
-            } else {
-                f += fric_.force[s];
-                t += fric_.torque2[s];
-            }
-        }
-        if (walls)
-            for (uint32_t k = wc.start[i]; k < wc.start[i + 1]; ++k) {
-                const uint32_t s = wc.slot[k];
-                if (s == kNoSlot) continue;
-                f += walls_.force[s];
-                t += walls_.torque2[s];
-            }
-        for (uint32_t k = bond_start_[i]; k < bond_start_[i + 1]; ++k) {
-            const uint32_t e = bond_entries_[k];
-            const uint32_t b = e & ~kSideBit;
-            if (e & kSideBit) {
-                f += bonds_.force[b];
-                t += bonds_.torque2[b];
-            } else {
-                f -= bonds_.force[b];
-                t += bonds_.torque1[b];
-            }
-        }
-        if (with_pressure) f += pressure_force_[i];
-        p.force[i] = f;
-        p.torque[i] = t;
+        if (e < m) add(r[e], fa, ta);
+        Vec3 fi = fa + fb;
+        if (with_pressure) fi += pressure_force_[i];
+        p.force[i] = fi;
+        p.torque[i] = ta + tb;
     }
 }
 
@@ -521,7 +608,7 @@ void World::compute_forces() {
     const bool track = params.track_energy;
     const bool press = pressure.dp != 0.0 && !pressure.nodes.empty();
     const int nt = std::max(1, params.threads);
-    for (auto* v : {&new_pp_, &new_pw_, &opened_fric_, &opened_smooth_, &opened_walls_}) v->resize(nt);
+    for (auto* v : {&new_pp_, &new_pw_, &open_scratch_, &opened_fric_, &opened_smooth_, &opened_walls_}) v->resize(nt);
     // Pressure slots: only the nodes' entries are written each step, the others stay zero; so
     // the array is zeroed whenever the node list changes or the pressure is switched on or off.
     const bool pslots = press || track;  // the energy ledger reads the (zero) slots too
@@ -533,14 +620,25 @@ void World::compute_forces() {
             pressure_was_on_ = press;
         }
     }
+    if (owners_for_ != nt || block_owner_.size() != std::size_t(kernels::block_count(particles.size())))
+        assign_owners();
     const bool prof = profile_.enabled();
     const double dt = params.dt;
+    // The packed particle state is only needed (and written) when pairs or bonds are computed;
+    // a new contact always involves particles of an existing candidate, so candidates count.
+    const bool pack = !bonds_.i.empty() || !pp_cand_.other.empty();
+    if (!pack) packed_.clear();
+    if (pack && packed_.size() != particles.size()) {
+        packed_.resize(particles.size());
+        packed_valid_ = false;
+    }
     // One parallel region for the whole force computation: the kernels write their own
     // slots and do not wait for each other; barriers order the contact bookkeeping before
     // them and the gather after them.
 #pragma omp parallel num_threads(nt)
     {
-        find_new_contacts();  // ends with a barrier
+        find_new_contacts();
+#pragma omp barrier
 #pragma omp single
         {
             activate_new_contacts();
@@ -551,18 +649,23 @@ void World::compute_forces() {
                 wall_energy_.resize(kernels::block_count(walls_.size()) * kernels::kPairSums);
                 bond_energy_.resize(kernels::block_count(bonds_.size()));
             }
+            fric_runs_ = store_runs(fric_);
+            smooth_runs_ = store_runs(smooth_);
+            wall_runs_ = store_runs(walls_);
         }  // ends with a barrier
         if (prof) {
 #pragma omp master
             profile_.lap(Phase::kNeighbour);
         }
         const int tid = thread_id();
-        const auto [f0, f1] = thread_range(kernels::block_count(fric_.size()), tid, nt);
-        kernels::frictional_pairs({&particles, &fric_, dt, f0, f1, track ? fric_energy_.data() : nullptr,
-                                   &(opened_fric_[tid] = {})});
-        const auto [s0, s1] = thread_range(kernels::block_count(smooth_.size()), tid, nt);
-        kernels::smooth_pairs({&particles, &smooth_, dt, s0, s1, track ? smooth_energy_.data() : nullptr,
-                               &(opened_smooth_[tid] = {})});
+        opened_fric_[tid].clear();
+        opened_smooth_[tid].clear();
+        for (const auto& [b0, b1] : fric_runs_[tid])
+            kernels::frictional_pairs({&particles, packed_.data(), &fric_, dt, b0, b1,
+                                       track ? fric_energy_.data() : nullptr, &opened_fric_[tid]});
+        for (const auto& [b0, b1] : smooth_runs_[tid])
+            kernels::smooth_pairs({&particles, packed_.data(), &smooth_, dt, b0, b1,
+                                   track ? smooth_energy_.data() : nullptr, &opened_smooth_[tid]});
         if (track) wall_contact_forces<true>();
         else wall_contact_forces<false>();
         if (prof) {
@@ -570,8 +673,8 @@ void World::compute_forces() {
 #pragma omp master
             profile_.lap(Phase::kContacts);
         }
-        const auto [b0, b1] = thread_range(kernels::block_count(bonds_.size()), tid, nt);
-        kernels::bonds({&particles, &bonds_, dt, b0, b1, track ? bond_energy_.data() : nullptr});
+        for (const auto& [b0, b1] : bond_runs_[tid])
+            kernels::bonds({&particles, packed_.data(), &bonds_, dt, b0, b1, track ? bond_energy_.data() : nullptr});
         if (prof) {
 #pragma omp barrier
 #pragma omp master
@@ -585,6 +688,7 @@ void World::compute_forces() {
         }
         gather_forces(press);
     }
+    packed_valid_ = !packed_.empty();  // (integrate() keeps it so; invalidate_candidates() does not)
     sum_wall_reactions();
     release_opened_contacts();
     energy_ready_ = track;
@@ -593,7 +697,8 @@ void World::compute_forces() {
 
 Vec3 World::total_force(std::size_t i) const {
     const Particles& p = particles;
-    return p.force[i] + p.ext_force[i] + params.gravity * p.mass[i];
+    const Vec3 fx = p.ext_force.empty() ? Vec3{} : p.ext_force[i];
+    return p.force[i] + fx + params.gravity * p.mass[i];
 }
 
 Vec3 World::velocity_at_time(std::size_t i) const {
@@ -622,19 +727,26 @@ void World::integrate() {
     if (track) particle_blocks_.assign(std::size_t(nblk * kernels::kParticleSums), 0.0);
     kernels::AdvanceArgs args;
     args.p = &p;
-    args.ext_force = p.ext_force.data();
+    if (!p.ext_force.empty() && p.ext_force.size() != p.size())
+        throw std::logic_error("Particles::ext_force must be empty or hold one force per particle");
+    args.ext_force = p.ext_force.empty() ? nullptr : p.ext_force.data();
     args.pressure = track && !pressure_force_.empty() ? pressure_force_.data() : nullptr;
     args.ref_pos = ref_pos_.data();
     args.gravity = params.gravity;
     args.dt = dt;
     args.lambda = params.local_damping;
     args.energy = track ? particle_blocks_.data() : nullptr;
+    args.packed = packed_.size() == p.size() ? packed_.data() : nullptr;
+    if (owners_for_ != nt || block_owner_.size() != std::size_t(nblk)) assign_owners();
     double max_d2 = 0.0;
 #pragma omp parallel num_threads(nt) reduction(max : max_d2)
     {
         kernels::AdvanceArgs a = args;
-        std::tie(a.block_begin, a.block_end) = thread_range(nblk, thread_id(), thread_count());
-        max_d2 = kernels::advance(a);
+        for (const auto& [b0, b1] : particle_runs_[thread_id()]) {
+            a.block_begin = b0;
+            a.block_end = b1;
+            max_d2 = std::max(max_d2, kernels::advance(a));
+        }
     }
     // Prescribed particles follow their motion (few: serial, in index order).
     if (prescribed_dirty_) {
@@ -649,6 +761,7 @@ void World::integrate() {
         const Vec3 v0 = p.vel[i];
         p.vel[i] = m.mean_velocity(time, t1);
         p.pos[i] = p.ref_pos[i] + m.displacement(t1);
+        if (args.packed) packed_[i] = kernels::pack(p, i);
         max_d2 = std::max(max_d2, norm2(p.pos[i] - ref_pos_[i]));
         if (track) {
             // Work done by the prescribed particle on the others: minus the force they exert
@@ -659,6 +772,7 @@ void World::integrate() {
             prescribed_energy_[1] -= dot(fint, p.vel[i]) * h;
         }
     }
+    packed_valid_ = args.packed != nullptr;
     max_disp_ = std::sqrt(max_d2);
     profile_.lap(Phase::kIntegration);
     // Rebase when dt changed or someone set the clock (e.g. a restart from a checkpoint).

@@ -15,8 +15,11 @@
 #include "dem/bonds/bond_list.h"
 #include "dem/contact/active_contacts.h"
 #include "dem/contact/candidates.h"
+#include "dem/contact/interaction_lists.h"
 #include "dem/core/energy.h"
+#include "dem/core/kernels.h"
 #include "dem/core/material.h"
+#include "dem/core/parallel.h"
 #include "dem/core/particles.h"
 #include "dem/core/pressure.h"
 #include "dem/core/profile.h"
@@ -81,8 +84,9 @@ public:
 
     // Contact physics depends on materials; call after changing them mid-run.
     void invalidate_contact_physics() { physics_dirty_ = true; }
-    // Call after moving particles by hand (teleporting, adding) so the candidates are rebuilt.
-    void invalidate_candidates() { candidates_dirty_ = true; }
+    // Call after changing particles by hand between steps (positions, velocities, radii:
+    // teleporting, adding) so the candidates are rebuilt and the kernels see the change.
+    void invalidate_candidates() { candidates_dirty_ = true; packed_valid_ = false; }
 
     void step();            // compute_forces() then integrate()
     void compute_forces();  // forces at the current time t (positions x(t), velocities v(t-dt/2))
@@ -126,7 +130,7 @@ public:
 private:
     friend struct WorldSerializer;  // dem/io/checkpoint.cpp: writes and restores the whole state
     void move_walls();
-    bool needs_rebuild() const;
+    bool needs_rebuild();
     // Broad phase (dem/detect/broad_phase.cpp): new candidate lists from a cell grid, live
     // contacts carried over, stores compacted into candidate order, reverse table rebuilt.
     void rebuild_candidates();
@@ -134,8 +138,9 @@ private:
     // `refresh` its coefficients are recomputed from the materials first (and a pair whose
     // friction became zero or nonzero changes store).
     void compact_contacts(bool refresh);
-    // Reverse table of the particle candidates (after a rebuild or a restore).
-    void build_reverse_table();
+    // The per-particle interaction lists from the bonds and the live contacts (after a
+    // rebuild, a compaction or a restore).
+    void build_interaction_lists();
     // Rebuilds the tables derived from the bond and contact lists without changing the lists
     // (after restoring a checkpoint).
     void rebuild_derived_tables();
@@ -149,6 +154,7 @@ private:
     void release_opened_contacts();
     template <bool kEnergy> void wall_contact_forces();
     void gather_forces(bool with_pressure);
+
     void apply_pressure();
     void sum_wall_reactions();
     double effective_skin() const;
@@ -160,14 +166,28 @@ private:
     CandidateList pp_cand_, pw_cand_;
     ActiveContacts fric_, smooth_, walls_;
     // Candidates found touching this step without a slot, per thread (candidate indices).
-    std::vector<std::vector<uint32_t>> new_pp_, new_pw_;
+    std::vector<std::vector<uint32_t>> new_pp_, new_pw_, open_scratch_;
     // Slots whose pair opened this step, per thread, per store.
     std::vector<std::vector<uint32_t>> opened_fric_, opened_smooth_, opened_walls_;
+    InteractionLists links_;           // per particle: bonds and live contacts (the gather's input)
+    // Work sharing (assign_owners()): each block of kBlock particles belongs to one thread,
+    // chosen by position (slabs along the longest axis, balanced by work), and every other
+    // list is split by the owner of its entries' first particle. So a thread integrates, packs,
+    // gathers and computes the contacts and bonds of one region: the data it reads was mostly
+    // written by itself (a cache line moved between cores costs ~200 ns on a 2-socket-like VM).
+    // Results never depend on it: every sum is formed per block.
+    void assign_owners();
+    BlockRuns store_runs(const ActiveContacts& a) const;
+    std::vector<int> block_owner_;     // owner thread of each particle block
+    int owners_for_ = 0;               // the thread count block_owner_ was made for
+    BlockRuns particle_runs_, bond_runs_, fric_runs_, smooth_runs_, wall_runs_;
+    std::vector<kernels::PackedParticle> packed_;  // the pair kernels' copy of the particle state
+    bool packed_valid_ = false;        // packed_ holds the current state (written by integrate())
     double dropped_shear_energy_ = 0;  // [J] shear springs dropped by a physics change (ledger)
 
     BondList bonds_;
-    std::vector<uint32_t> bond_start_, bond_entries_;  // gather CSR (bit 31: body 2)
-    std::vector<uint32_t> bonded_start_, bonded_with_;   // partners per particle (exclusions)
+    std::vector<uint32_t> bond_start_, bond_entries_;  // bonds per particle (bit 31: body 2)
+    std::vector<uint32_t> bonded_with_;                // the partner of each bond_entries_ entry
     bool bonds_dirty_ = false;
     CellGrid grid_;
     std::vector<Vec3> ref_pos_;        // positions at the last rebuild
@@ -180,6 +200,8 @@ private:
     double time_base_ = 0.0, dt_of_base_ = -1.0;
     uint64_t step_base_ = 0;
     double max_disp_ = 0.0;            // [m] largest particle move since the last rebuild
+    double wall_move_ = 0.0;           // [m] largest wall move since the last rebuild
+    double skin_ = 0.0;                // [m] the skin of the last rebuild (effective_skin() is O(n))
     bool candidates_dirty_ = true;
     bool physics_dirty_ = false;
     uint64_t rebuilds_ = 0;

@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "dem/core/parallel.h"
 #include "dem/core/world.h"
@@ -16,15 +18,22 @@ namespace {
 
 // Concatenates per-thread lists (thread order = particle order under a static split) into
 // `out`, freeing each list as it goes.
-void concatenate(std::vector<std::vector<uint32_t>>& parts, std::vector<uint32_t>& out) {
+template <class T> void concatenate(std::vector<std::vector<T>>& parts, std::vector<T>& out) {
     std::size_t total = 0;
     for (const auto& v : parts) total += v.size();
     out.clear();
     out.reserve(total);
     for (auto& v : parts) {
         out.insert(out.end(), v.begin(), v.end());
-        std::vector<uint32_t>().swap(v);
+        std::vector<T>().swap(v);
     }
+}
+
+// A gap [m] as float, rounded down (the candidate filter must never overestimate it).
+float gap_down(double g) {
+    float f = float(g);
+    if (double(f) > g) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+    return f;
 }
 
 // Slot of the candidate (i, j) in the new list, or nullptr when the pair is no candidate.
@@ -39,10 +48,9 @@ uint32_t* find_slot(CandidateList& c, uint32_t i, uint32_t j) {
 void World::rebuild_candidates() {
     const Particles& p = particles;
     const std::size_t n = p.size();
-    const double skin = effective_skin();
+    const double skin = skin_ = effective_skin();
     if (bonds_dirty_ || bond_start_.size() != n + 1) build_bond_tables();
-    double rmax = 0.0;
-    for (double r : p.radius) rmax = std::max(rmax, r);
+    const double rmax = n ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
     grid_.build(p.pos, 2.0 * rmax + skin, std::max<int64_t>(int64_t(4 * n), 4096));
 
     // Facets are registered in every cell their box (grown by rmax + skin) touches, so a
@@ -99,11 +107,12 @@ void World::rebuild_candidates() {
     pw_cand_.start.assign(n + 1, 0);
     const int nt = std::max(1, params.threads);
     std::vector<std::vector<uint32_t>> pp_other(nt), pw_other(nt);
+    std::vector<std::vector<float>> pp_gap(nt), pw_gap(nt);
     const uint32_t nplanes = uint32_t(planes.size());
 #pragma omp parallel num_threads(nt)
     {
         const int tid = thread_id();
-        std::vector<uint32_t> local;
+        std::vector<std::pair<uint32_t, float>> local;
         // A static split hands out contiguous ranges of i in thread order, so concatenating the
         // per-thread lists in thread order gives the candidates in particle order.
 #pragma omp for schedule(static)
@@ -113,15 +122,20 @@ void World::rebuild_candidates() {
             const auto c = grid_.coords(xi);
             local.clear();
             grid_.for_each_neighbour(c, [&](uint32_t j) {
-                if (j <= i || !(p.mask[i] & p.mask[j])) return;
-                if (p.inv_mass[i] == 0.0 && p.inv_mass[j] == 0.0) return;
-                for (uint32_t b = bonded_start_[i]; b < bonded_start_[i + 1]; ++b)
-                    if (bonded_with_[b] == j) return;
+                // The distance first: it rejects most of the 27 cells' particles.
                 const double reach = ri + p.radius[j] + skin;
-                if (norm2(p.pos[j] - xi) < reach * reach) local.push_back(j);
+                const double d2 = norm2(p.pos[j] - xi);
+                if (j <= i || !(d2 < reach * reach) || !(p.mask[i] & p.mask[j])) return;
+                if (p.inv_mass[i] == 0.0 && p.inv_mass[j] == 0.0) return;
+                for (uint32_t b = bond_start_[i]; b < bond_start_[i + 1]; ++b)
+                    if (bonded_with_[b] == j) return;
+                local.emplace_back(j, gap_down(std::sqrt(d2) - (ri + p.radius[j])));
             });
             std::sort(local.begin(), local.end());
-            pp_other[tid].insert(pp_other[tid].end(), local.begin(), local.end());
+            for (const auto& [j, g] : local) {
+                pp_other[tid].push_back(j);
+                pp_gap[tid].push_back(g);
+            }
             pp_cand_.start[i + 1] = uint32_t(local.size());
 
             if (p.inv_mass[i] == 0.0 && !(p.flags[i] & kPrescribed)) continue;  // fixed: no wall contacts
@@ -129,9 +143,10 @@ void World::rebuild_candidates() {
             for (uint32_t w = 0; w < nplanes; ++w) {
                 if (!(planes[w].mask & p.mask[i])) continue;
                 const double s = dot(xi - plane_point_[w], planes[w].normal);
-                const bool near = planes[w].one_sided ? s < ri + skin : std::abs(s) < ri + skin;
-                if (near) {
+                const double dist = planes[w].one_sided ? s : std::abs(s);
+                if (dist < ri + skin) {
                     pw_other[tid].push_back(w);
+                    pw_gap[tid].push_back(gap_down(dist - ri));
                     ++nw;
                 }
             }
@@ -141,8 +156,10 @@ void World::rebuild_candidates() {
                     const uint32_t f = fitems[k];
                     if (!(facets[f].mask & p.mask[i])) continue;
                     const double reach = ri + skin;
-                    if (distance2_to_triangle(xi, facet_now_[f]) < reach * reach) {
+                    const double d2 = distance2_to_triangle(xi, facet_now_[f]);
+                    if (d2 < reach * reach) {
                         pw_other[tid].push_back(nplanes + f);
+                        pw_gap[tid].push_back(gap_down(std::sqrt(d2) - ri));
                         ++nw;
                     }
                 }
@@ -154,6 +171,8 @@ void World::rebuild_candidates() {
         for (std::size_t i = 0; i < n; ++i) cl->start[i + 1] += cl->start[i];
     concatenate(pp_other, pp_cand_.other);
     concatenate(pw_other, pw_cand_.other);
+    concatenate(pp_gap, pp_cand_.gap);
+    concatenate(pw_gap, pw_cand_.gap);
     pp_cand_.slot.assign(pp_cand_.size(), kNoSlot);
     pw_cand_.slot.assign(pw_cand_.size(), kNoSlot);
 
@@ -174,16 +193,16 @@ void World::rebuild_candidates() {
     attach(fric_, pp_cand_, 0u);
     attach(smooth_, pp_cand_, kSmoothBit);
     attach(walls_, pw_cand_, 0u);
-    compact_contacts(physics_dirty_);
+    compact_contacts(physics_dirty_);  // also rebuilds the interaction lists
     physics_dirty_ = false;
-    build_reverse_table();
+    assign_owners();  // the particles moved: new slabs
 
     ref_pos_ = p.pos;
     wall_ref_disp_.resize(wall_count());
     for (std::size_t k = 0; k < planes.size(); ++k) wall_ref_disp_[k] = planes[k].motion.displacement(time);
     for (std::size_t k = 0; k < facets.size(); ++k)
         wall_ref_disp_[planes.size() + k] = facets[k].motion.displacement(time);
-    max_disp_ = 0.0;
+    max_disp_ = wall_move_ = 0.0;
     candidates_dirty_ = false;
     ++rebuilds_;
 }

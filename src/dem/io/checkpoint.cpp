@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <stdexcept>
 #include <type_traits>
 
@@ -24,7 +25,7 @@ static_assert(std::endian::native == std::endian::little,
 // A field added to one of these structs must also be added to the checkpoint (and the format
 // version bumped); these asserts make that impossible to forget.
 static_assert(sizeof(Particles) == 15 * sizeof(std::vector<int>), "update checkpoint.cpp");
-static_assert(sizeof(CandidateList) == 5 * sizeof(std::vector<int>), "update checkpoint.cpp");
+static_assert(sizeof(CandidateList) == 4 * sizeof(std::vector<int>), "update checkpoint.cpp");
 static_assert(sizeof(ActiveContacts) == 11 * sizeof(std::vector<int>), "update checkpoint.cpp");
 static_assert(sizeof(BondList) == 8 * sizeof(std::vector<int>), "update checkpoint.cpp");
 static_assert(sizeof(Material) == sizeof(std::string) + 5 * sizeof(double), "update checkpoint.cpp");
@@ -199,6 +200,7 @@ template <class A, class C> void candidates_io(A& a, C& c) {
     a.vec(c.start);
     a.vec(c.other);
     a.vec(c.slot);
+    a.vec(c.gap);
 }
 
 template <class A, class C> void store_io(A& a, C& c) {
@@ -328,6 +330,7 @@ struct WorldSerializer {
             s.vec(w.ref_pos_);
             s.vec(w.wall_ref_disp_);
             s.pod(w.max_disp_);
+            if (version >= 2) s.pod(w.wall_move_);
             s.pod(w.rebuilds_);
             s.flag(w.candidates_dirty_);
             s.flag(w.physics_dirty_);
@@ -378,6 +381,8 @@ struct WorldSerializer {
             for (std::size_t i = 0; i < n; ++i) cl.start[i + 1] += cl.start[i];
             cl.other.resize(c.key.size());
             cl.slot.assign(c.key.size(), kNoSlot);
+            // Gaps unknown: every candidate is tested until the next rebuild.
+            cl.gap.assign(c.key.size(), -std::numeric_limits<float>::infinity());
             for (std::size_t k = 0; k < c.key.size(); ++k) {
                 cl.other[k] = key_second(c.key[k]);
                 if (!c.touching[k]) continue;
@@ -416,8 +421,9 @@ struct WorldSerializer {
         const Particles& p = w.particles;
         const std::size_t n = p.size(), nw = w.wall_count();
         auto bad = [&](const char* what) { corrupt(path, what); };
+        if (!p.ext_force.empty() && p.ext_force.size() != n) bad("particle arrays of different lengths");
         for (std::size_t s : {p.vel.size(), p.angvel.size(), p.force.size(), p.torque.size(),
-                              p.ext_force.size(), p.radius.size(), p.mass.size(), p.inv_mass.size(),
+                              p.radius.size(), p.mass.size(), p.inv_mass.size(),
                               p.inv_inertia.size(), p.material.size(), p.mask.size(), p.flags.size(),
                               p.motion.size(), p.ref_pos.size()})
             if (s != n) bad("particle arrays of different lengths");
@@ -441,7 +447,7 @@ struct WorldSerializer {
         auto check_candidates = [&](const CandidateList& c, std::size_t other_limit, bool walls) {
             if (c.start.empty() && c.other.empty()) return;
             if (c.start.size() != n + 1 || c.start[0] != 0 || c.start[n] != c.other.size() ||
-                c.slot.size() != c.other.size())
+                c.slot.size() != c.other.size() || c.gap.size() != c.other.size())
                 bad("candidate list of the wrong shape");
             for (std::size_t i = 0; i < n; ++i) {
                 if (c.start[i] > c.start[i + 1]) bad("candidate list of the wrong shape");

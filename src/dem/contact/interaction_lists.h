@@ -1,0 +1,48 @@
+// What acts on each particle: its bonds and its live contacts, as 32-bit references kept per
+// particle, so the gather reads a particle's interactions in one short list instead of
+// scanning every candidate (most of which do not touch).
+//
+// Each list is kept sorted by reference value: its order, and hence the order in which the
+// gather adds the forces, depends only on which interactions are live, not on when they
+// started. So the lists need not be saved in a checkpoint: rebuilding them gives the same.
+#pragma once
+
+#include <algorithm>
+#include <cstdint>
+#include <vector>
+
+namespace dem {
+
+struct InteractionLists {
+    // Reference layout: bits 31-30 the source, bit 29 set when the particle is body 2 of the
+    // pair, bits 28-0 the index in the source (a store slot or a bond).
+    enum Source : uint32_t { kFrictional = 0, kFrictionless = 1, kWall = 2, kBond = 3 };
+    static constexpr uint32_t kSecond = 1u << 29;
+    static constexpr uint32_t kIndexMask = kSecond - 1;
+    static uint32_t make(Source s, bool second, uint32_t index) {
+        return (uint32_t(s) << 30) | (second ? kSecond : 0u) | index;
+    }
+
+    // Particle i's region is ref[start[i] .. start[i+1]), its first count[i] entries in use;
+    // the region holds as many entries as the particle has bonds and candidates (an upper
+    // bound on what can be live until the next rebuild).
+    std::vector<uint32_t> start, count, ref;
+
+    void insert(uint32_t i, uint32_t r) {
+        uint32_t* b = &ref[start[i]];
+        uint32_t* e = b + count[i]++;
+        uint32_t* at = std::upper_bound(b, e, r);
+        std::move_backward(at, e, e + 1);
+        *at = r;
+    }
+    void erase(uint32_t i, uint32_t r) {
+        uint32_t* b = &ref[start[i]];
+        uint32_t* e = b + count[i];
+        uint32_t* at = std::lower_bound(b, e, r);
+        if (at == e || *at != r) return;
+        std::move(at + 1, e, at);
+        --count[i];
+    }
+};
+
+}  // namespace dem
