@@ -1,4 +1,5 @@
 // The vppdem command line.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -9,6 +10,8 @@
 #include "cli/bench_scenes.h"
 #include "cli/config.h"
 #include "cli/scene_runner.h"
+#include "cli/suggest.h"
+#include "cli/threads.h"
 #include "vpp/config.h"
 #include "vpp/analysis.h"
 #include "vpp/calibrate.h"
@@ -46,7 +49,8 @@ int main(int argc, char** argv) {
         ->check(CLI::ExistingDirectory);
     bench->add_option("--warmup", bo.warmup, "untimed steps first")->check(CLI::NonNegativeNumber);
     bench->add_option("--steps", bo.steps, "timed steps")->check(CLI::PositiveNumber);
-    bench->add_option("--threads", bo.threads, "OpenMP threads")->check(CLI::PositiveNumber);
+    auto* bench_threads = bench->add_option("--threads", bo.threads, std::string("OpenMP threads (") + cli::kDefaultThreadsHelp + ")")
+        ->check(CLI::PositiveNumber);
     bench->add_option("--underpressure", bo.underpressure, "[Pa] follower pressure on the foil");
     bench->add_flag("--profile", bo.profile, "Print the time per phase (neighbour search, contacts, ...)");
 
@@ -118,7 +122,8 @@ int main(int argc, char** argv) {
         c.app = app.add_subcommand(name, help);
         c.app->add_option("study", c.study, "Study file (TOML; docs/studies.md)")->required()->check(CLI::ExistingFile);
         c.app->add_option("--out", c.out, "Output directory (re-running into it resumes the study)")->required();
-        c.app->add_option("--jobs", c.jobs, "Cases run at once on this machine (default: cores / threads per case)")
+        c.app->add_option("--jobs", c.jobs, "Cases run at once on this machine (default: the free cores / threads per case; "
+                                            "free cores: the cores this process may use minus those busy with other work)")
             ->check(CLI::NonNegativeNumber);
         c.app->add_option("--set", c.sets, "Fixed override for every case: section.key=value (repeatable)")
             ->allow_extra_args(false);
@@ -151,6 +156,21 @@ int main(int argc, char** argv) {
         ->allow_extra_args(false)
         ->check(CLI::ExistingFile);
 
+    // An unknown command word: name it and the nearest command (CLI11 alone only says "A
+    // subcommand is required", which hides the typo).
+    if (argc >= 2 && argv[1][0] != '-') {
+        std::vector<std::string> names;
+        for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) names.push_back(sub->get_name());
+        const std::string word = argv[1];
+        if (std::find(names.begin(), names.end(), word) == names.end()) {
+            const std::string near = cli::nearest(word, names);
+            std::string all;
+            for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
+            std::fprintf(stderr, "vppdem: error: unknown command '%s'%s (commands: %s; vppdem --help)\n", word.c_str(),
+                         near.empty() ? "" : ("; did you mean '" + near + "'?").c_str(), all.c_str());
+            return int(CLI::ExitCodes::ExtrasError);
+        }
+    }
     CLI11_PARSE(app, argc, argv);
     int rank = 0, ranks = 1;
     if (*sweep.app || *calib.app) vpp::mpi_init_if_launched(&argc, &argv, &rank, &ranks);
@@ -161,6 +181,7 @@ int main(int argc, char** argv) {
             cli::Scene sc = cli::build_scene(root, base.empty() ? "." : base);
             cli::run_scene(sc, {out_dir, overwrite, quiet});
         } else if (*bench) {
+            if (bench_threads->count() == 0) bo.threads = cli::default_threads();
             cli::run_bench(bo);
         } else if (*tension.app) {
             const vpp::Config c = vpp::load_config(tension.config, tension.sets, {0.01e6});

@@ -1,9 +1,8 @@
 #include "vpp/config.h"
 
 #include <algorithm>
-#include <thread>
-
 #include "cli/config.h"
+#include "cli/threads.h"
 
 namespace vpp {
 
@@ -88,8 +87,9 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
     if (!(c.simulation.local_damping >= 0.0 && c.simulation.local_damping < 1.0))
         s.fail("local_damping", "must be in [0, 1)");
     const int64_t th = s.integer("threads", defaults.threads);
-    if (th < 0 || th > 1024) s.fail("threads", "must be an integer >= 1, or 0 for all cores");
-    c.simulation.threads = th == 0 ? std::max(1, int(std::thread::hardware_concurrency())) : int(th);
+    if (th < 0 || th > 1024) s.fail("threads", "must be an integer 1..1024, or 0 for the default (the free cores)");
+    // 0: the free cores (cli/threads.h), measured only when asked for.
+    c.simulation.threads = th == 0 ? cli::default_threads() : int(th);
     const int64_t seed = s.integer("seed", int64_t(c.simulation.seed));
     if (seed < 0) s.fail("seed", "must be an integer >= 0");
     c.simulation.seed = uint64_t(seed);
