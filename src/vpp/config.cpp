@@ -8,11 +8,25 @@ namespace vpp {
 
 using cfg::Section;
 
+namespace {
+
+// Dotted keys of every value in the table ("process.velocity"), for Config::given.
+void collect_keys(const toml::table& t, const std::string& prefix, std::set<std::string>& out) {
+    for (const auto& [k, v] : t) {
+        const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+        if (const toml::table* sub = v.as_table()) collect_keys(*sub, key, out);
+        else out.insert(key);
+    }
+}
+
+}  // namespace
+
 Config load_config(const std::string& path, const std::vector<std::string>& overrides,
                    const CommandDefaults& defaults) {
     const toml::table root = cfg::load(path, overrides);
     Section top(&root, "");
     Config c;
+    collect_keys(root, "", c.given);
 
     Section g = top.table("grains");
     c.grains.radius = g.positive("radius", g.number("radius", c.grains.radius));
@@ -44,7 +58,16 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
     d.finish();
 
     Section p = top.table("process");
-    c.process.underpressure = p.number("underpressure", defaults.underpressure);
+    // dp = atmospheric - inside pressure: 0 (no vacuum) up to a perfect vacuum. A negative dp
+    // would blow the foil up, and NaN or inf would run to the end with NaN forces.
+    c.process.underpressure = defaults.underpressure;
+    if (const toml::node* n = p.node("underpressure")) {
+        const auto v = n->value<double>();
+        if (!v || !(*v >= 0.0 && *v <= kAtmosphericPressure))
+            p.fail("underpressure", "must be a pressure difference in [0, 101325] Pa (0.101325 MPa, a perfect "
+                                    "vacuum): atmospheric minus the pressure inside the foil");
+        c.process.underpressure = *v;
+    }
     c.process.ramp_time = p.positive("ramp_time", p.number("ramp_time", c.process.ramp_time));
     c.process.hold_time = p.non_negative("hold_time", p.number("hold_time", c.process.hold_time));
     c.process.amplitude = p.positive("amplitude", p.number("amplitude", c.process.amplitude));
