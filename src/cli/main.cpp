@@ -14,6 +14,7 @@
 #include "cli/threads.h"
 #include "vpp/config.h"
 #include "vpp/analysis.h"
+#include "vpp/analyze_command.h"
 #include "vpp/calibrate.h"
 #include "vpp/damper.h"
 #include "vpp/envelope.h"
@@ -90,17 +91,21 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
 
     // vppdem analyze FORCES.csv: cycles.csv from any force-displacement record.
-    auto* analyze = app.add_subcommand("analyze", "Recompute cycles.csv (energy per cycle, W) from a forces CSV");
-    std::string forces_csv, cycles_out, tcol = "time", dcol = "displacement", fcol = "force_total", ccol = "cycle";
-    double radius = 0.0255, dscale = 1.0, fscale = 1.0;
+    auto* analyze = app.add_subcommand("analyze", "Energy per cycle and W of a forces CSV, written to a new file");
+    vpp::AnalyzeOptions ao;
     std::string dunit = "m", funit = "N";
-    analyze->add_option("forces", forces_csv, "CSV with a header")->required()->check(CLI::ExistingFile);
-    analyze->add_option("--out", cycles_out, "Output file (default: cycles.csv beside the input)");
-    analyze->add_option("--radius", radius, "[m] damper radius for W = energy / (pi r^2)")->check(CLI::PositiveNumber);
-    analyze->add_option("--time-column", tcol, "time column");
-    analyze->add_option("--displacement-column", dcol, "displacement column (compression positive)");
-    analyze->add_option("--force-column", fcol, "force column (compression positive)");
-    analyze->add_option("--cycle-column", ccol, "cycle column; empty or absent: cycles found from the displacement");
+    analyze->add_option("forces", ao.forces, "CSV with a header")->required()->check(CLI::ExistingFile);
+    analyze->add_option("--out", ao.out, std::string("Output file (default: ") + vpp::kAnalyzeOutput +
+                                             " beside the input; an existing file needs --overwrite)");
+    analyze->add_option("--radius", ao.radius,
+                        "[m] damper radius for W = energy / (pi r^2) (default: damper.radius of the summary.json "
+                        "beside the input, else 0.0255, the paper's)")
+        ->check(CLI::PositiveNumber);
+    analyze->add_flag("--overwrite", ao.overwrite, "Replace an existing output file");
+    analyze->add_option("--time-column", ao.time_col, "time column");
+    analyze->add_option("--displacement-column", ao.disp_col, "displacement column (compression positive)");
+    analyze->add_option("--force-column", ao.force_col, "force column (compression positive)");
+    analyze->add_option("--cycle-column", ao.cycle_col, "cycle column; empty or absent: cycles found from the displacement");
     analyze->add_option("--displacement-unit", dunit, "m or mm")->check(CLI::IsMember({"m", "mm"}));
     analyze->add_option("--force-unit", funit, "N or kN")->check(CLI::IsMember({"N", "kN"}));
 
@@ -203,19 +208,9 @@ int main(int argc, char** argv) {
             o.profile = damper_profile;
             vpp::run_damper(c, o);
         } else if (*analyze) {
-            dscale = dunit == "mm" ? 1e-3 : 1.0;
-            fscale = funit == "kN" ? 1e3 : 1.0;
-            vpp::LoopSeries s = vpp::read_loop_csv(forces_csv, tcol, dcol, fcol, ccol);
-            for (double& d : s.displacement) d *= dscale;
-            for (double& f : s.force) f *= fscale;
-            const auto cycles = vpp::analyze_cycles(s, radius);
-            const std::string out = cycles_out.empty()
-                ? (std::filesystem::path(forces_csv).parent_path() / "cycles.csv").string() : cycles_out;
-            vpp::write_cycles_csv(out, cycles);
-            std::printf("cycle,dissipated_energy,W,peak_force,min_force\n");
-            for (const auto& r : cycles)
-                std::printf("%d,%.6g,%.6g,%.6g,%.6g\n", r.cycle, r.dissipated_energy, r.W, r.peak_force, r.min_force);
-            std::fprintf(stderr, "wrote %s\n", out.c_str());
+            ao.disp_scale = dunit == "mm" ? 1e-3 : 1.0;
+            ao.force_scale = funit == "kN" ? 1e3 : 1.0;
+            vpp::run_analyze(ao);
         } else if (*sweep.app || *calib.app) {
             StudyCommand& sc = *sweep.app ? sweep : calib;
             const vpp::Study st = vpp::load_study(sc.study, sc.sets);
