@@ -6,6 +6,12 @@
 namespace cfg {
 
 std::string describe(const toml::node& n) {
+    // Arrays on one line (toml++ may spread them over several): messages are one line.
+    if (const toml::array* a = n.as_array()) {
+        std::string out = "[";
+        for (std::size_t k = 0; k < a->size(); ++k) out += (k ? ", " : "") + describe(*a->get(k));
+        return out + "]";
+    }
     std::ostringstream os;
     n.visit([&](const auto& v) { os << v; });
     return os.str();

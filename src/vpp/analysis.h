@@ -57,7 +57,8 @@ struct CycleResult {
 //   cycle's samples: it comes back to its start, to 10% of its own stroke (so cycles of any
 //   amplitude qualify) or to within the last step between samples (a recorded cycle ends one
 //   sample before it closes, which is a large share of the stroke with few samples per cycle).
-//   A cycle cut off after less than about 95% of its period fails.
+//   A cycle cut off before about 95% of its period fails (a triangular stroke; a sinusoidal one
+//   is back within 10% of its stroke from 90% of its period on).
 // Cycles with fewer than 3 samples are skipped; samples with cycle <= 0 are ignored.
 // Throws std::invalid_argument on vectors of different lengths or radius <= 0.
 std::vector<CycleResult> analyze_cycles(const LoopSeries& s, double radius);
