@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -226,6 +227,15 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
     std::size_t best = SIZE_MAX;
     for (std::size_t i = 0; i < cases.size(); ++i) {
         const fs::path dir = out / cases[i].name;
+        // A case that failed in this sweep is not compared, even when its folder still holds
+        // the results of an earlier run (e.g. of a study that has changed since).
+        if (fs::exists(dir / "FAILED")) {
+            std::ifstream in(dir / "FAILED");
+            std::string why;
+            std::getline(in, why);
+            status[i] = "failed: " + why;
+            continue;
+        }
         if (!fs::exists(dir / "summary.json")) {
             status[i] = "failed: simulation did not finish";
             continue;

@@ -312,11 +312,16 @@ TEST(DamperPreparation, SmallDamperAtThePapersVolumeFractionPrepares) {
 }
 
 // process.underpressure is checked by every command that reads it, before anything is written.
+// (Small samples throughout: were a bad value accepted, the run would be seconds, not hours.)
 TEST(DamperPreparation, UnderpressureIsCheckedByEveryCommand) {
     const fs::path d = scratch_path("damper_dp", "");
     fs::remove_all(d);
-    write_file(d / "study.toml", "[grid]\n\"grains.friction\" = [0.3, 0.6]\n");
-    const std::vector<std::string> commands = {"damper", "envelope", "sweep " + (d / "study.toml").string()};
+    const std::string small = " --set damper.radius=0.012 --set damper.height=0.03 --set simulation.threads=1";
+    write_file(d / "study.toml",
+               "[set]\n\"process.velocity\" = 0.1\n\"process.amplitude\" = 0.002\n\"process.cycles\" = 1\n"
+               "\"grains.volume_fraction\" = 0.45\n[grid]\n\"grains.friction\" = [0.3]\n");
+    const std::vector<std::string> commands = {"damper " + kSmall, "envelope" + small,
+                                               "sweep " + (d / "study.toml").string() + small + " --no-plot"};
     for (const char* value : {"nan", "inf", "-1.0", "2e5"}) {
         for (const std::string& cmd : commands) {
             const std::string args =
@@ -326,6 +331,7 @@ TEST(DamperPreparation, UnderpressureIsCheckedByEveryCommand) {
             EXPECT_NE(r.output.find("process.underpressure"), std::string::npos) << args << "\n" << r.output;
             EXPECT_NE(r.output.find("[0, 101325] Pa"), std::string::npos) << args << "\n" << r.output;
             EXPECT_FALSE(fs::exists(d / "out")) << args;
+            fs::remove_all(d / "out");
         }
     }
     fs::remove_all(d);

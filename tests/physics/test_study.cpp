@@ -310,19 +310,39 @@ TEST_F(Study, CalibrationRecoversTheFrictionOfASyntheticExperiment) {
     EXPECT_TRUE(fs::exists(out / "calibration.png"));
     EXPECT_TRUE(fs::exists(out / "summary.csv"));
 
-    // A failed calibration into the same folder (here: the study changed, so every case folder
-    // refuses it) keeps the good results and reports into *_failed files.
+    // A failed calibration into the same folder keeps the good results and reports into
+    // *_failed files: (1) an experiment no case can be compared with (a dead force channel, all
+    // zero); (2) a changed study, which every case folder refuses: those cases are not compared,
+    // although their folders still hold the earlier run's results.
     const std::string json_before = slurp(out / "calibration.json"), misfit_before = slurp(out / "misfit.csv");
-    const Outcome failed = run("calibrate " + study.string() + " --experiment " + expfile.string() + " --out " +
-                               out.string() + " --set process.cycles=3 --no-plot"
-                               " --time-column t_s --displacement-column stroke_mm --force-column load_kN "
-                               "--displacement-unit mm --force-unit kN --compression-negative");
-    EXPECT_EQ(WEXITSTATUS(failed.status), 1) << failed.output;
-    EXPECT_NE(failed.output.find("earlier calibration.json is kept"), std::string::npos) << failed.output;
-    EXPECT_EQ(slurp(out / "calibration.json"), json_before);
-    EXPECT_EQ(slurp(out / "misfit.csv"), misfit_before);
-    EXPECT_TRUE(fs::exists(out / "calibration_failed.json"));
-    EXPECT_TRUE(fs::exists(out / "misfit_failed.csv"));
+    const std::string png_before = slurp(out / "calibration.png");
+    std::string dead;
+    {
+        std::istringstream in(exp.str());
+        std::string line;
+        std::getline(in, line);  // comment
+        std::getline(in, line);  // header
+        dead = "t_s,stroke_mm,load_kN\n";
+        while (std::getline(in, line)) dead += line.substr(0, line.find(',', line.find(',') + 1)) + ",0\n";
+    }
+    const fs::path deadfile = scratch("dead_channel.csv");
+    write_file(deadfile, dead);
+    const std::string columns = " --time-column t_s --displacement-column stroke_mm --force-column load_kN "
+                                "--displacement-unit mm --force-unit kN --compression-negative";
+    for (const std::string& args : {"--experiment " + deadfile.string(),
+                                    "--experiment " + expfile.string() + " --set process.cycles=3"}) {
+        SCOPED_TRACE(args);
+        const Outcome failed =
+            run("calibrate " + study.string() + " " + args + " --out " + out.string() + " --no-plot" + columns);
+        EXPECT_EQ(WEXITSTATUS(failed.status), 1) << failed.output;
+        EXPECT_NE(failed.output.find("earlier calibration.json is kept"), std::string::npos) << failed.output;
+        EXPECT_EQ(slurp(out / "calibration.json"), json_before);
+        EXPECT_EQ(slurp(out / "misfit.csv"), misfit_before);
+        EXPECT_EQ(slurp(out / "calibration.png"), png_before);
+        const std::string report = slurp(out / "calibration_failed.json");
+        EXPECT_NE(report.find("\"best\": null"), std::string::npos) << report;
+        EXPECT_TRUE(fs::exists(out / "misfit_failed.csv"));
+    }
 }
 
 TEST_F(Study, FailedCasesAreReportedAndDoNotStopTheOthers) {
