@@ -2,7 +2,8 @@
 # Installs the Debian 12 packages vppdem needs (as root, or through sudo).
 set -euo pipefail
 pkgs=(build-essential cmake pkg-config libomp-dev libtomlplusplus-dev libcli11-dev
-      libgtest-dev libgmock-dev libbenchmark-dev libhwy-dev python3 python3-matplotlib python3-numpy)
+      libgtest-dev libgmock-dev libbenchmark-dev libhwy-dev python3 python3-matplotlib python3-numpy
+      libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

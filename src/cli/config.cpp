@@ -6,6 +6,12 @@
 namespace cfg {
 
 std::string describe(const toml::node& n) {
+    // Arrays on one line (toml++ may spread them over several): messages are one line.
+    if (const toml::array* a = n.as_array()) {
+        std::string out = "[";
+        for (std::size_t k = 0; k < a->size(); ++k) out += (k ? ", " : "") + describe(*a->get(k));
+        return out + "]";
+    }
     std::ostringstream os;
     n.visit([&](const auto& v) { os << v; });
     return os.str();
@@ -87,7 +93,11 @@ void Section::fail(const std::string& key, const std::string& what) const {
 double Section::number(const std::string& key, double def) {
     const toml::node* n = get(key);
     if (!n) return def;
-    if (auto v = n->value<double>()) return *v;  // integers convert too
+    if (auto v = n->value<double>()) {  // integers convert too
+        // TOML allows nan and inf; no key takes them (a NaN runs to the end with NaN forces).
+        if (!std::isfinite(*v)) fail(key, "must be a finite number");
+        return *v;
+    }
     fail(key, "must be a number");
 }
 
@@ -131,6 +141,7 @@ dem::Vec3 Section::vec3(const std::string& key, const dem::Vec3& def) {
     for (int k = 0; k < 3; ++k) {
         auto x = a->get(k)->value<double>();
         if (!x) fail(key, "must be an array of 3 numbers");
+        if (!std::isfinite(*x)) fail(key, "must be an array of 3 finite numbers");
         v[k] = *x;
     }
     return v;

@@ -1,4 +1,5 @@
 // The vppdem command line.
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -9,8 +10,11 @@
 #include "cli/bench_scenes.h"
 #include "cli/config.h"
 #include "cli/scene_runner.h"
+#include "cli/suggest.h"
+#include "cli/threads.h"
 #include "vpp/config.h"
 #include "vpp/analysis.h"
+#include "vpp/analyze_command.h"
 #include "vpp/calibrate.h"
 #include "vpp/damper.h"
 #include "vpp/envelope.h"
@@ -46,7 +50,8 @@ int main(int argc, char** argv) {
         ->check(CLI::ExistingDirectory);
     bench->add_option("--warmup", bo.warmup, "untimed steps first")->check(CLI::NonNegativeNumber);
     bench->add_option("--steps", bo.steps, "timed steps")->check(CLI::PositiveNumber);
-    bench->add_option("--threads", bo.threads, "OpenMP threads")->check(CLI::PositiveNumber);
+    auto* bench_threads = bench->add_option("--threads", bo.threads, std::string("OpenMP threads (") + cli::kDefaultThreadsHelp + ")")
+        ->check(CLI::PositiveNumber);
     bench->add_option("--underpressure", bo.underpressure, "[Pa] follower pressure on the foil");
     bench->add_flag("--profile", bo.profile, "Print the time per phase (neighbour search, contacts, ...)");
     bench->add_option("--state", bo.state, "Checkpoint after the warm-up: loaded instead of warming up if it exists, else written");
@@ -88,17 +93,21 @@ int main(int argc, char** argv) {
         ->check(CLI::PositiveNumber);
 
     // vppdem analyze FORCES.csv: cycles.csv from any force-displacement record.
-    auto* analyze = app.add_subcommand("analyze", "Recompute cycles.csv (energy per cycle, W) from a forces CSV");
-    std::string forces_csv, cycles_out, tcol = "time", dcol = "displacement", fcol = "force_total", ccol = "cycle";
-    double radius = 0.0255, dscale = 1.0, fscale = 1.0;
+    auto* analyze = app.add_subcommand("analyze", "Energy per cycle and W of a forces CSV, written to a new file");
+    vpp::AnalyzeOptions ao;
     std::string dunit = "m", funit = "N";
-    analyze->add_option("forces", forces_csv, "CSV with a header")->required()->check(CLI::ExistingFile);
-    analyze->add_option("--out", cycles_out, "Output file (default: cycles.csv beside the input)");
-    analyze->add_option("--radius", radius, "[m] damper radius for W = energy / (pi r^2)")->check(CLI::PositiveNumber);
-    analyze->add_option("--time-column", tcol, "time column");
-    analyze->add_option("--displacement-column", dcol, "displacement column (compression positive)");
-    analyze->add_option("--force-column", fcol, "force column (compression positive)");
-    analyze->add_option("--cycle-column", ccol, "cycle column; empty or absent: cycles found from the displacement");
+    analyze->add_option("forces", ao.forces, "CSV with a header")->required()->check(CLI::ExistingFile);
+    analyze->add_option("--out", ao.out, std::string("Output file (default: ") + vpp::kAnalyzeOutput +
+                                             " beside the input; an existing file needs --overwrite)");
+    analyze->add_option("--radius", ao.radius,
+                        "[m] damper radius for W = energy / (pi r^2) (default: damper.radius of the summary.json "
+                        "beside the input, else 0.0255, the paper's)")
+        ->check(CLI::PositiveNumber);
+    analyze->add_flag("--overwrite", ao.overwrite, "Replace an existing output file");
+    analyze->add_option("--time-column", ao.time_col, "time column");
+    analyze->add_option("--displacement-column", ao.disp_col, "displacement column (compression positive)");
+    analyze->add_option("--force-column", ao.force_col, "force column (compression positive)");
+    analyze->add_option("--cycle-column", ao.cycle_col, "cycle column; empty or absent: cycles found from the displacement");
     analyze->add_option("--displacement-unit", dunit, "m or mm")->check(CLI::IsMember({"m", "mm"}));
     analyze->add_option("--force-unit", funit, "N or kN")->check(CLI::IsMember({"N", "kN"}));
 
@@ -120,7 +129,8 @@ int main(int argc, char** argv) {
         c.app = app.add_subcommand(name, help);
         c.app->add_option("study", c.study, "Study file (TOML; docs/studies.md)")->required()->check(CLI::ExistingFile);
         c.app->add_option("--out", c.out, "Output directory (re-running into it resumes the study)")->required();
-        c.app->add_option("--jobs", c.jobs, "Cases run at once on this machine (default: cores / threads per case)")
+        c.app->add_option("--jobs", c.jobs, "Cases run at once on this machine (default: the free cores / threads per case; "
+                                            "free cores: the cores this process may use minus those busy with other work)")
             ->check(CLI::NonNegativeNumber);
         c.app->add_option("--set", c.sets, "Fixed override for every case: section.key=value (repeatable)")
             ->allow_extra_args(false);
@@ -153,6 +163,21 @@ int main(int argc, char** argv) {
         ->allow_extra_args(false)
         ->check(CLI::ExistingFile);
 
+    // An unknown command word: name it and the nearest command (CLI11 alone only says "A
+    // subcommand is required", which hides the typo).
+    if (argc >= 2 && argv[1][0] != '-') {
+        std::vector<std::string> names;
+        for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) names.push_back(sub->get_name());
+        const std::string word = argv[1];
+        if (std::find(names.begin(), names.end(), word) == names.end()) {
+            const std::string near = cli::nearest(word, names);
+            std::string all;
+            for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
+            std::fprintf(stderr, "vppdem: error: unknown command '%s'%s (commands: %s; vppdem --help)\n", word.c_str(),
+                         near.empty() ? "" : ("; did you mean '" + near + "'?").c_str(), all.c_str());
+            return int(CLI::ExitCodes::ExtrasError);
+        }
+    }
     CLI11_PARSE(app, argc, argv);
     int rank = 0, ranks = 1;
     if (*sweep.app || *calib.app) vpp::mpi_init_if_launched(&argc, &argv, &rank, &ranks);
@@ -163,6 +188,7 @@ int main(int argc, char** argv) {
             cli::Scene sc = cli::build_scene(root, base.empty() ? "." : base);
             cli::run_scene(sc, {out_dir, overwrite, quiet});
         } else if (*bench) {
+            if (bench_threads->count() == 0) bo.threads = cli::default_threads();
             cli::run_bench(bo);
         } else if (*tension.app) {
             const vpp::Config c = vpp::load_config(tension.config, tension.sets, {0.01e6});
@@ -184,19 +210,9 @@ int main(int argc, char** argv) {
             o.profile = damper_profile;
             vpp::run_damper(c, o);
         } else if (*analyze) {
-            dscale = dunit == "mm" ? 1e-3 : 1.0;
-            fscale = funit == "kN" ? 1e3 : 1.0;
-            vpp::LoopSeries s = vpp::read_loop_csv(forces_csv, tcol, dcol, fcol, ccol);
-            for (double& d : s.displacement) d *= dscale;
-            for (double& f : s.force) f *= fscale;
-            const auto cycles = vpp::analyze_cycles(s, radius);
-            const std::string out = cycles_out.empty()
-                ? (std::filesystem::path(forces_csv).parent_path() / "cycles.csv").string() : cycles_out;
-            vpp::write_cycles_csv(out, cycles);
-            std::printf("cycle,dissipated_energy,W,peak_force,min_force\n");
-            for (const auto& r : cycles)
-                std::printf("%d,%.6g,%.6g,%.6g,%.6g\n", r.cycle, r.dissipated_energy, r.W, r.peak_force, r.min_force);
-            std::fprintf(stderr, "wrote %s\n", out.c_str());
+            ao.disp_scale = dunit == "mm" ? 1e-3 : 1.0;
+            ao.force_scale = funit == "kN" ? 1e3 : 1.0;
+            vpp::run_analyze(ao);
         } else if (*sweep.app || *calib.app) {
             StudyCommand& sc = *sweep.app ? sweep : calib;
             const vpp::Study st = vpp::load_study(sc.study, sc.sets);

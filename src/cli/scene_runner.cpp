@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "cli/config.h"
+#include "cli/initial_overlaps.h"
 #include "cli/progress.h"
 #include "dem/io/csv.h"
 #include "dem/io/vtk.h"
@@ -56,6 +57,7 @@ dem::Motion read_motion(Section& s) {
             for (int k = 0; k < 4; ++k) {
                 auto x = r->get(k)->value<double>();
                 if (!x) s.fail("displacement", "each row must hold 4 numbers");
+                if (!std::isfinite(*x)) s.fail("displacement", "each row must hold 4 finite numbers");
                 v[k] = *x;
             }
             if (!m.history.empty() && !(v[0] > m.history.back().time))
@@ -71,7 +73,52 @@ fs::path resolve(const std::string& base, const std::string& p) {
     return q.is_absolute() ? q : fs::path(base) / q;
 }
 
+// Name of World wall `wall` (planes, then facets) by its output wall.
+std::string wall_name(const Scene& sc, uint32_t wall) {
+    for (std::size_t k = 0; k < sc.wall_members.size(); ++k) {
+        const auto& m = sc.wall_members[k];
+        const auto it = std::find(m.begin(), m.end(), wall);
+        if (it == m.end()) continue;
+        if (m.size() == 1) return sc.wall_names[k];
+        return sc.wall_names[k] + " triangle " + std::to_string(it - m.begin());
+    }
+    return "wall " + std::to_string(wall);
+}
+
+std::string number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.4g", v);
+    return buf;
+}
+
+// Refuses spheres that start inside each other or a wall (cli/initial_overlaps.h).
+void check_initial_overlaps(const Scene& sc, double tolerance) {
+    const OverlapReport ss = sphere_overlaps(sc.world, tolerance), sw = wall_overlaps(sc.world, tolerance);
+    if (ss.count == 0 && sw.count == 0) return;
+    const bool pair = ss.count > 0 && (sw.count == 0 || ss.worst.fraction >= sw.worst.fraction);
+    const Overlap& o = pair ? ss.worst : sw.worst;
+    const std::string other = o.wall ? wall_name(sc, o.b) : sphere_name(sc, o.b);
+    std::string msg = "initial overlap: " + sphere_name(sc, o.a) + " and " + other + " overlap by " + number(o.overlap) +
+                      " m (" + number(100.0 * o.fraction) + "% of " + (o.wall ? "its" : "the smaller") +
+                      " radius; simulation.max_initial_overlap = " + number(tolerance) + " allows " +
+                      number(100.0 * tolerance) + "%)";
+    const std::size_t n = ss.count + sw.count;
+    if (n > 1)
+        msg += "; " + std::to_string(n) + " overlapping pairs in all (" + std::to_string(ss.count) +
+               " sphere-sphere, " + std::to_string(sw.count) + " sphere-wall)";
+    throw ConfigError(msg + ": an overlap starts as a contact force kn * overlap that throws the spheres out; move "
+                            "them apart, or raise simulation.max_initial_overlap to start them so on purpose");
+}
+
 }  // namespace
+
+std::string sphere_name(const Scene& sc, uint32_t id) {
+    if (id >= sc.sphere_origin.size()) return "sphere " + std::to_string(id);
+    const auto [file, k] = sc.sphere_origin[id];
+    if (file < 0) return "spheres[" + std::to_string(k) + "]";
+    return "sphere_files[" + std::to_string(file) + "] row " + std::to_string(k + 1) + " of '" +
+           sc.sphere_file_paths[std::size_t(file)] + "'";
+}
 
 Scene build_scene(const toml::table& root, const std::string& base_dir) {
     Scene sc;
@@ -102,6 +149,8 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     w.params.threads = int(threads);
     sc.output_interval = sim.positive("output_interval", sim.number("output_interval", 1e-6));
     w.params.skin = sim.non_negative("skin", sim.number("skin", 0.0));
+    // [-] of the smaller radius; a packing written to a few digits touches by a little.
+    const double max_overlap = sim.non_negative("max_initial_overlap", sim.number("max_initial_overlap", 0.01));
     sim.finish();
 
     Section out = top.table("output");
@@ -148,7 +197,9 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
         const uint32_t id = w.add_sphere(d);
         if (motion) w.set_prescribed(id, w.add_motion(*motion));
         if (track) sc.tracked.push_back(id);
+        sc.sphere_origin.push_back({-1, uint32_t(sc.sphere_origin.size())});
     }
+    int32_t file_index = 0;
     for (Section s : top.array_of_tables("sphere_files")) {
         const fs::path path = resolve(base_dir, s.string("path"));
         dem::SphereDef d;
@@ -167,11 +218,19 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
         for (std::size_t k = 0; k < rows.size(); ++k) {
             d.position = {rows[k][0], rows[k][1], rows[k][2]};
             d.radius = rows[k][3];
+            for (int c = 0; c < 4; ++c)
+                if (!std::isfinite(rows[k][std::size_t(c)]))
+                    s.fail("path", "row " + std::to_string(k + 1) + " of '" + path.string() + "' holds " +
+                                       std::to_string(rows[k][std::size_t(c)]) + " in column " + "xyzr"[c] +
+                                       ": must be a finite number");
             if (!(d.radius > 0.0))
                 s.fail("path", "row " + std::to_string(k + 1) + " of '" + path.string() + "' has radius <= 0");
             const uint32_t id = w.add_sphere(d);
             if (track) sc.tracked.push_back(id);
+            sc.sphere_origin.push_back({file_index, uint32_t(k)});
         }
+        sc.sphere_file_paths.push_back(path.string());
+        ++file_index;
     }
 
     for (Section s : top.array_of_tables("planes")) {
@@ -200,6 +259,7 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
             for (int k = 0; k < 3; ++k) {
                 auto x = r->get(k)->value<double>();
                 if (!x) s.fail("vertices", "coordinates must be numbers");
+                if (!std::isfinite(*x)) s.fail("vertices", "coordinates must be finite numbers");
                 f.vertices[v][k] = *x;
             }
         }
@@ -256,6 +316,7 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     }
     top.finish();
     if (w.particles.size() == 0) throw ConfigError("the scene has no spheres: add [[spheres]] or [[sphere_files]]");
+    check_initial_overlaps(sc, max_overlap);
 
     if (sc.dt_auto) {
         w.params.dt = sc.dt_safety * w.critical_dt();

@@ -23,9 +23,18 @@ struct Scene {
     // wall_members[k] lists the World wall indices summed into output wall k.
     std::vector<std::vector<uint32_t>> wall_members;
     std::vector<std::string> wall_names;
+    // Where each sphere came from, for messages: {-1, k} = [[spheres]] entry k, {f, r} = data
+    // row r (0-based) of [[sphere_files]] entry f.
+    std::vector<std::pair<int32_t, uint32_t>> sphere_origin;
+    std::vector<std::string> sphere_file_paths;  // per [[sphere_files]] entry
 };
 
-// Builds a scene; relative file paths are resolved against `base_dir`.
+// "spheres[3]" or "sphere_files[0] row 17 of 'grains.csv'" for sphere `id`.
+std::string sphere_name(const Scene& sc, uint32_t id);
+
+// Builds a scene; relative file paths are resolved against `base_dir`. Refuses (ConfigError)
+// spheres that start overlapping each other or a wall by more than simulation.max_initial_overlap
+// times the smaller radius (cli/initial_overlaps.h), naming both bodies.
 Scene build_scene(const toml::table& root, const std::string& base_dir);
 
 struct RunOptions {

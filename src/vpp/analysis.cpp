@@ -31,18 +31,25 @@ std::vector<CycleResult> analyze_cycles(const LoopSeries& s, double radius) {
         const std::size_t m = idx.size();
         if (m < 3) continue;
         double e = 0, fmax = s.force[idx[0]], fmin = fmax;
+        double dmax = s.displacement[idx[0]], dmin = dmax, step = 0;
         for (std::size_t k = 0; k < m; ++k) {
             const std::size_t a = idx[k], b = idx[(k + 1) % m];
             e += 0.5 * (s.force[a] + s.force[b]) * (s.displacement[b] - s.displacement[a]);
             fmax = std::max(fmax, s.force[a]);
             fmin = std::min(fmin, s.force[a]);
+            dmax = std::max(dmax, s.displacement[a]);
+            dmin = std::min(dmin, s.displacement[a]);
+            if (k + 1 < m) step = std::max(step, std::abs(s.displacement[b] - s.displacement[a]));
         }
+        const double gap = std::abs(s.displacement[idx[m - 1]] - s.displacement[idx[0]]);
         CycleResult r;
         r.cycle = cycle;
         r.dissipated_energy = e;
         r.W = e / area;
         r.peak_force = fmax;
         r.min_force = fmin;
+        r.samples = int(m);
+        r.complete = gap <= std::max(0.1 * (dmax - dmin), 1.5 * step);
         out.push_back(r);
     }
     return out;
@@ -173,6 +180,8 @@ LoopSeries read_loop_csv(const std::string& path, const std::string& time_col,
         s.force.push_back(num(cf));
         if (cc >= 0) cyc.push_back(num(cc));
     }
+    if (s.displacement.empty())
+        throw std::runtime_error("CSV file '" + path + "' has a header but no data rows");
     if (cc >= 0) {
         s.cycle.reserve(cyc.size());
         for (double c : cyc) s.cycle.push_back(int(std::lround(c)));

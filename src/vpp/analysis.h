@@ -25,6 +25,11 @@ struct CycleResult {
     double W = 0;                  // [J/m^2] dissipated_energy / (pi radius^2)
     double peak_force = 0;         // [N]  largest force in the cycle
     double min_force = 0;          // [N]  smallest force in the cycle
+    int samples = 0;               // samples of the cycle
+    // The cycle ends where it started (see analyze_cycles). A record cut short (a killed run's
+    // forces.csv, a measurement stopped early) has a partial last cycle: its area is not the
+    // loop's (W 140 J/m^2 instead of 163 on the tests' damper).
+    bool complete = true;
     // Energy budget of the cycle from the simulation's ledger (docs/energy.md); only a damper
     // run fills these (has_energy), not a loop read from a CSV file.
     bool has_energy = false;
@@ -48,13 +53,20 @@ struct CycleResult {
 //   negative with ours, hence the minus sign. The result does not depend on where the loop
 //   starts, nor on constant offsets of force or displacement (e.g. a zeroed force).
 //   peak_force / min_force: max / min of F over the cycle's samples.
+//   complete: |d_last - d_first| <= max(0.1 (d_max - d_min), 1.5 max |d_{i+1} - d_i|) over the
+//   cycle's samples: it comes back to its start, to 10% of its own stroke (so cycles of any
+//   amplitude qualify) or to within the last step between samples (a recorded cycle ends one
+//   sample before it closes, which is a large share of the stroke with few samples per cycle).
+//   A cycle cut off before about 95% of its period fails (a triangular stroke; a sinusoidal one
+//   is back within 10% of its stroke from 90% of its period on).
 // Cycles with fewer than 3 samples are skipped; samples with cycle <= 0 are ignored.
 // Throws std::invalid_argument on vectors of different lengths or radius <= 0.
 std::vector<CycleResult> analyze_cycles(const LoopSeries& s, double radius);
 
 // Reads a CSV file whose first line (blank lines and lines starting with '#' skipped) is a
 // header of column names; the named columns are picked in any order, other columns are ignored.
-// Every data row must hold a number in each picked column. A missing time_col, disp_col or
+// Every data row must hold a number in each picked column; a file without data rows (a header
+// only) throws. A missing time_col, disp_col or
 // force_col throws std::runtime_error naming the missing column and listing those available;
 // an empty time_col fills time with the sample index.
 // The cycle index is read from cycle_col (values rounded to integers). When cycle_col is empty

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <map>
 #include <numeric>
@@ -91,6 +92,41 @@ LoopSeries read_experiment(const std::string& path, const ExperimentFormat& f) {
     return s;
 }
 
+void check_experiment_orientation(const LoopSeries& s, const std::string& path, bool compression_negative,
+                                  bool compression_first) {
+    double sum = 0, extreme = 0;
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < s.force.size(); ++i)
+        if (s.cycle[i] > 0) {
+            sum += s.force[i];
+            if (std::abs(s.force[i]) > std::abs(extreme)) extreme = s.force[i];
+            ++n;
+        }
+    double area = 0;
+    for (const CycleResult& c : analyze_cycles(s, 1.0)) area += c.dissipated_energy;
+    const std::string flag = compression_negative ? "drop --compression-negative (the rig counts compression positive)"
+                                                  : "pass --compression-negative (the rig counts compression negative)";
+    char buf[160];
+    if (area < 0) {
+        std::snprintf(buf, sizeof buf, "%.4g J", area);
+        throw std::runtime_error("experiment '" + path + "': its loops enclose a negative area (" + buf +
+                                 " over its cycles): a damper dissipates, so with displacement and force both "
+                                 "compression positive its loop has a positive area; here one of the two counts "
+                                 "compression negative: check the columns' sign conventions");
+    }
+    // A compressed damper pushes back: compression positive, its force is positive on average
+    // and largest at full compression. Both negative: the signs are the other way. (Either alone
+    // can happen: a raw force with the foil's pull at rest as offset can be negative on average,
+    // a loop that drops below its start on unloading can have its largest |F| there.) Extension
+    // first (the cap moves up first) is the one protocol where both are negative.
+    if (compression_first && n > 0 && sum / double(n) < 0 && extreme < 0) {
+        std::snprintf(buf, sizeof buf, "mean %.4g N, largest in magnitude %.4g N", sum / double(n), extreme);
+        throw std::runtime_error("experiment '" + path + "': its force over the cycles is negative (" + buf +
+                                 (compression_negative ? std::string(", signs flipped") : std::string()) +
+                                 "): a compressed damper pushes back, so compression must count positive; " + flag);
+    }
+}
+
 LoopSeries read_simulated(const std::string& forces_csv, const std::string& force_column) {
     LoopSeries s = read_loop_csv(forces_csv, "time", "displacement", force_column, "cycle");
     shift_to_zero(s);
@@ -148,7 +184,10 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
     const bool root = opt.sweep.rank == 0;
     const fs::path out(opt.sweep.out_dir);
     // Fail fast on a bad experiment or prediction request, before any simulation.
+    bool compression_first = true;  // every case loads in compression first (the mean force check)
+    for (const StudyCase& c : expand_study(s)) compression_first = compression_first && c.config.process.compression_first;
     const LoopSeries exp = read_experiment(opt.experiment, opt.format);
+    check_experiment_orientation(exp, opt.experiment, opt.format.compression_negative, compression_first);
     GridAxis pred;
     std::vector<LoopSeries> pred_exp;
     if (!opt.predict.empty()) {
@@ -160,7 +199,20 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             throw cfg::ConfigError("--predict gives " + std::to_string(pred.literals.size()) + " value(s) but " +
                                    std::to_string(opt.predict_experiments.size()) +
                                    " --predict-experiment file(s); give one per value, or none");
-        for (const std::string& p : opt.predict_experiments) pred_exp.push_back(read_experiment(p, opt.format));
+        for (const std::string& p : opt.predict_experiments) {
+            pred_exp.push_back(read_experiment(p, opt.format));
+            check_experiment_orientation(pred_exp.back(), p, opt.format.compression_negative, compression_first);
+        }
+        // The predicted values must be valid config values too (before the grid runs for hours).
+        for (const std::string& lit : pred.literals) {
+            std::vector<std::string> sets = s.set;
+            sets.push_back(pred.key + "=" + lit);
+            try {
+                load_config(s.base, sets, {0.06e6, 0.45, 0});
+            } catch (const std::exception& e) {
+                throw cfg::ConfigError("--predict '" + opt.predict + "': " + e.what());
+            }
+        }
     } else if (!opt.predict_experiments.empty()) {
         throw cfg::ConfigError("--predict-experiment needs --predict key=v1,v2,...");
     }
@@ -175,6 +227,15 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
     std::size_t best = SIZE_MAX;
     for (std::size_t i = 0; i < cases.size(); ++i) {
         const fs::path dir = out / cases[i].name;
+        // A case that failed in this sweep is not compared, even when its folder still holds
+        // the results of an earlier run (e.g. of a study that has changed since).
+        if (fs::exists(dir / "FAILED")) {
+            std::ifstream in(dir / "FAILED");
+            std::string why;
+            std::getline(in, why);
+            status[i] = "failed: " + why;
+            continue;
+        }
         if (!fs::exists(dir / "summary.json")) {
             status[i] = "failed: simulation did not finish";
             continue;
@@ -235,7 +296,13 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             preds.push_back(q);
         }
     }
-    if (!root) return (r.failed || pred_failed || best == SIZE_MAX) ? 1 : 0;
+    const bool ok = !r.failed && !pred_failed && best != SIZE_MAX;
+    if (!root) return ok ? 0 : 1;
+    // A calibration that failed (a case failed or could not be compared, a prediction failed)
+    // writes its results under other names: a good calibration.json and misfit.csv from an
+    // earlier run of the same folder stay as they are.
+    const std::string misfit_name = ok ? "misfit.csv" : "misfit_failed.csv";
+    const std::string json_name = ok ? "calibration.json" : "calibration_failed.json";
 
     // misfit.csv: the grid keys, misfit, status, case.
     auto field = [](const std::string& x) {
@@ -253,10 +320,10 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
         if (std::isfinite(misfit[i])) dem::append_number(m, misfit[i]);
         csv += m + "," + field(status[i]) + "," + field(cases[i].name) + "\n";
     }
-    dem::write_text_atomic((out / "misfit.csv").string(), csv);
+    dem::write_text_atomic((out / misfit_name).string(), csv);
 
     // The processed experiment, for the overlay plot.
-    {
+    if (ok) {
         std::string e = "time,displacement,force,cycle\n";
         for (std::size_t i = 0; i < exp.time.size(); ++i) {
             dem::append_number(e, exp.time[i]);
@@ -328,7 +395,11 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
         }
         j.raw("predictions", pj + "]");
     }
-    dem::write_text_atomic((out / "calibration.json").string(), j.text());
+    dem::write_text_atomic((out / json_name).string(), j.text());
+    if (ok) {  // no stale failure report beside a good result
+        fs::remove(out / "misfit_failed.csv");
+        fs::remove(out / "calibration_failed.json");
+    }
 
     if (!opt.sweep.quiet) {
         std::fprintf(stderr, "\n=== vppdem calibrate: %s ===\n", opt.sweep.out_dir.c_str());
@@ -346,14 +417,20 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             if (std::abs(rs - re) > 0.1 * re)
                 std::fprintf(stderr, "WARNING: simulated stroke %.4g mm, measured %.4g mm: set process.amplitude to "
                                      "the experiment's\n", rs * 1e3, re * 1e3);
-            std::fprintf(stderr, "best: %s (misfit %.4g); wrote misfit.csv, calibration.json\n", cases[best].name.c_str(),
-                         misfit[best]);
+            std::fprintf(stderr, "best: %s (misfit %.4g); wrote %s, %s\n", cases[best].name.c_str(), misfit[best],
+                         misfit_name.c_str(), json_name.c_str());
         } else {
-            std::fprintf(stderr, "no case could be compared with the experiment\n");
+            std::fprintf(stderr, "no case could be compared with the experiment; wrote %s, %s\n", misfit_name.c_str(),
+                         json_name.c_str());
         }
+        if (!ok)
+            std::fprintf(stderr, "calibration FAILED (%d case(s) failed%s): results in %s; %s\n", r.failed,
+                         pred_failed ? ", predictions failed" : "", json_name.c_str(),
+                         fs::exists(out / "calibration.json") ? "the earlier calibration.json is kept"
+                                                              : "no calibration.json written");
     }
-    if (opt.plot && best != SIZE_MAX) plot_calibration_dir(opt.sweep.out_dir, opt.sweep.quiet);
-    return (r.failed || pred_failed || best == SIZE_MAX) ? 1 : 0;
+    if (opt.plot && ok) plot_calibration_dir(opt.sweep.out_dir, opt.sweep.quiet);
+    return ok ? 0 : 1;
 }
 
 }  // namespace vpp

@@ -34,6 +34,15 @@ struct ExperimentFormat {
 // minimum), cycles found by split_cycles. Throws naming the file and column on bad input.
 LoopSeries read_experiment(const std::string& path, const ExperimentFormat& f);
 
+// Refuses (std::runtime_error naming the file and the flag to use) a measured loop whose signs
+// cannot be compression positive: loops of negative total area (a damper dissipates, so one of
+// displacement and force counts the other way), or, when the study loads in compression first,
+// a force negative on average over the cycles (a compressed damper pushes back): the record of
+// a rig that counts compression negative, read without --compression-negative (or with it, by
+// a rig that does not). Such a record used to calibrate silently to the wrong sign.
+void check_experiment_orientation(const LoopSeries& s, const std::string& path, bool compression_negative,
+                                  bool compression_first);
+
 // A damper's forces.csv with the chosen force column ("force_zeroed" or "force_total"),
 // displacement shifted like the experiment's.
 LoopSeries read_simulated(const std::string& forces_csv, const std::string& force_column);
@@ -61,7 +70,9 @@ struct CalibrateOptions {
 
 // Runs the study's cases into sweep.out_dir (default grid grains.friction 0:1:0.1 when the study
 // has none), writes misfit.csv, calibration.json, experiment.csv and calibration.png.
-// Returns the exit status (0 ok, 1 when cases failed or no case could be compared).
+// Returns the exit status (0 ok, 1 when cases failed or no case could be compared); on failure
+// the results go to misfit_failed.csv and calibration_failed.json, and the folder's earlier
+// misfit.csv, calibration.json, experiment.csv and calibration.png are left as they are.
 int run_calibration(Study s, const CalibrateOptions& opt);
 
 }  // namespace vpp

@@ -1,19 +1,32 @@
 #include "vpp/config.h"
 
 #include <algorithm>
-#include <thread>
-
 #include "cli/config.h"
+#include "cli/threads.h"
 
 namespace vpp {
 
 using cfg::Section;
+
+namespace {
+
+// Dotted keys of every value in the table ("process.velocity"), for Config::given.
+void collect_keys(const toml::table& t, const std::string& prefix, std::set<std::string>& out) {
+    for (const auto& [k, v] : t) {
+        const std::string key = prefix.empty() ? std::string(k.str()) : prefix + "." + std::string(k.str());
+        if (const toml::table* sub = v.as_table()) collect_keys(*sub, key, out);
+        else out.insert(key);
+    }
+}
+
+}  // namespace
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides,
                    const CommandDefaults& defaults) {
     const toml::table root = cfg::load(path, overrides);
     Section top(&root, "");
     Config c;
+    collect_keys(root, "", c.given);
 
     Section g = top.table("grains");
     c.grains.radius = g.positive("radius", g.number("radius", c.grains.radius));
@@ -45,7 +58,16 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
     d.finish();
 
     Section p = top.table("process");
-    c.process.underpressure = p.number("underpressure", defaults.underpressure);
+    // dp = atmospheric - inside pressure: 0 (no vacuum) up to a perfect vacuum. A negative dp
+    // would blow the foil up, and NaN or inf would run to the end with NaN forces.
+    c.process.underpressure = defaults.underpressure;
+    if (const toml::node* n = p.node("underpressure")) {
+        const auto v = n->value<double>();
+        if (!v || !(*v >= 0.0 && *v <= kAtmosphericPressure))
+            p.fail("underpressure", "must be a pressure difference in [0, 101325] Pa (0.101325 MPa, a perfect "
+                                    "vacuum): atmospheric minus the pressure inside the foil");
+        c.process.underpressure = *v;
+    }
     c.process.ramp_time = p.positive("ramp_time", p.number("ramp_time", c.process.ramp_time));
     c.process.hold_time = p.non_negative("hold_time", p.number("hold_time", c.process.hold_time));
     c.process.amplitude = p.positive("amplitude", p.number("amplitude", c.process.amplitude));
@@ -88,8 +110,9 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
     if (!(c.simulation.local_damping >= 0.0 && c.simulation.local_damping < 1.0))
         s.fail("local_damping", "must be in [0, 1)");
     const int64_t th = s.integer("threads", defaults.threads);
-    if (th < 0 || th > 1024) s.fail("threads", "must be an integer >= 1, or 0 for all cores");
-    c.simulation.threads = th == 0 ? std::max(1, int(std::thread::hardware_concurrency())) : int(th);
+    if (th < 0 || th > 1024) s.fail("threads", "must be an integer 1..1024, or 0 for the default (the free cores)");
+    // 0: the free cores (cli/threads.h), measured only when asked for.
+    c.simulation.threads = th == 0 ? cli::default_threads() : int(th);
     const int64_t seed = s.integer("seed", int64_t(c.simulation.seed));
     if (seed < 0) s.fail("seed", "must be an integer >= 0");
     c.simulation.seed = uint64_t(seed);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <set>
 #include <string>
 
 #include <toml++/toml.h>
@@ -27,8 +28,11 @@ struct DamperDef {
     double cap_friction = -1.0;  // [-] grain-cap friction; < 0: the grains' friction
 };
 
+// dp is the atmosphere's pressure minus the pressure inside the foil: at most a perfect vacuum.
+inline constexpr double kAtmosphericPressure = 101325.0;  // [Pa]
+
 struct ProcessDef {
-    double underpressure = 0.06e6;  // [Pa] dp (the envelope command defaults to 0.01e6)
+    double underpressure = 0.06e6;  // [Pa] dp in [0, kAtmosphericPressure] (the envelope command defaults to 0.01e6)
     double ramp_time = 0.02;        // [s] dp rises linearly from 0 over this time
     double hold_time = 0.08;        // [s] envelope: time held at full dp after the ramp
     double amplitude = 0.010;       // [m] dz
@@ -52,7 +56,7 @@ struct SimulationDef {
     double dt = 0.0;            // [s] when not auto
     double dt_safety = 0.3;     // [-] dt = safety * critical step when auto
     double local_damping = 0.2; // [-]
-    int threads = 1;            // 0 in the file = all cores
+    int threads = 1;            // 0 in the file = the free cores (cli/threads.h)
     uint64_t seed = 1;
     double skin = 0.0;          // [m] 0 = half the smallest radius
 };
@@ -71,13 +75,16 @@ struct Config {
     TensionDef tension;
     SimulationDef simulation;
     OutputDef output;
+    // Dotted keys the file or a --set gave (e.g. "process.velocity"); the others hold defaults.
+    // A run from a checkpoint takes the checkpoint's value of a key not given here.
+    std::set<std::string> given;
 };
 
 // Defaults that differ between commands.
 struct CommandDefaults {
     double underpressure = 0.06e6;  // [Pa] the envelope check uses 0.01 MPa
     double dt_safety = 0.3;         // [-]
-    int threads = 1;                // 0 = all cores
+    int threads = 1;                // 0 = the free cores (cli/threads.h)
 };
 
 // Reads the config (empty path: all defaults) with --set overrides.

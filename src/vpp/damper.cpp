@@ -68,6 +68,10 @@ struct RunState {
     std::vector<EnergyRow> energy;  // the ledger at each sample (rows of energy.csv)
     // Geometry the prepared sample was made with: a --from run must match it.
     std::map<std::string, double> geometry;
+    // Contact, process and simulation settings the run started with (kRunKeys), recorded when
+    // they are applied to the prepared sample; empty before that (prepared.ckpt). A resumed run
+    // continues with these.
+    std::map<std::string, double> settings;
 
     std::string save() const {
         std::ostringstream os;
@@ -75,6 +79,7 @@ struct RunState {
         os << "stage " << int(stage) << "\nstage_t0 " << stage_t0 << "\ncap_d0 " << cap_d0 << "\ncycle_t0 "
            << cycle_t0 << "\nwindow " << window_grains << " " << window_foil << " " << window_n << "\n";
         for (const auto& [k, v] : geometry) os << "geometry " << k << " " << v << "\n";
+        for (const auto& [k, v] : settings) os << "setting " << k << " " << v << "\n";
         for (const Sample& s : samples)
             os << "sample " << s.time << " " << s.displacement << " " << s.grains << " " << s.foil << "\n";
         for (const EnergyRow& e : energy) {
@@ -100,6 +105,11 @@ struct RunState {
                 double v;
                 is >> k >> v;
                 r.geometry[k] = v;
+            } else if (key == "setting") {
+                std::string k;
+                double v;
+                is >> k >> v;
+                r.settings[k] = v;
             } else if (key == "sample") {
                 Sample s;
                 is >> s.time >> s.displacement >> s.grains >> s.foil;
@@ -115,11 +125,107 @@ struct RunState {
     }
 };
 
-std::map<std::string, double> geometry_of(const Config& c) {
-    return {{"grains.radius", c.grains.radius},       {"grains.volume_fraction", c.grains.volume_fraction},
-            {"grains.density", c.grains.density},     {"foil.particle_radius", c.foil.particle_radius},
-            {"foil.density", c.foil.density},         {"damper.radius", c.damper.radius},
-            {"damper.height", c.damper.height},       {"simulation.seed", double(c.simulation.seed)}};
+// A config value stored in the checkpoint's app state, with how to read it from and write it
+// into a Config (captureless lambdas).
+struct StoredKey {
+    const char* key;
+    double (*get)(const Config&);
+    void (*set)(Config&, double);
+};
+
+#define VPP_KEY(name, field) \
+    StoredKey { name, [](const Config& c) { return double(c.field); }, [](Config& c, double v) { c.field = decltype(c.field)(v); } }
+
+// Geometry of the prepared sample. A run from a checkpoint must match the keys it gives and
+// takes the checkpoint's values of the others.
+const StoredKey kGeometryKeys[] = {
+    VPP_KEY("grains.radius", grains.radius),           VPP_KEY("grains.volume_fraction", grains.volume_fraction),
+    VPP_KEY("grains.density", grains.density),         VPP_KEY("foil.particle_radius", foil.particle_radius),
+    VPP_KEY("foil.density", foil.density),             VPP_KEY("damper.radius", damper.radius),
+    VPP_KEY("damper.height", damper.height),           VPP_KEY("simulation.seed", simulation.seed),
+};
+
+// What a run applies to its prepared sample (apply_config_to_prepared) and records from then
+// on: a resumed run continues with these, so its record is one run's, not a splice of two.
+// Not here: simulation.threads (results do not depend on it), output.vtk_interval (frames only).
+const StoredKey kRunKeys[] = {
+    VPP_KEY("grains.friction", grains.friction),
+    VPP_KEY("grains.young", grains.young),
+    VPP_KEY("grains.stiffness_ratio", grains.stiffness_ratio),
+    VPP_KEY("foil.young", foil.young),
+    VPP_KEY("foil.thickness", foil.thickness),
+    VPP_KEY("foil.friction", foil.friction),
+    VPP_KEY("foil.stiffness_ratio", foil.stiffness_ratio),
+    VPP_KEY("damper.cap_friction", damper.cap_friction),
+    VPP_KEY("process.underpressure", process.underpressure),
+    VPP_KEY("process.ramp_time", process.ramp_time),
+    VPP_KEY("process.amplitude", process.amplitude),
+    VPP_KEY("process.velocity", process.velocity),
+    VPP_KEY("process.start_offset", process.start_offset),
+    StoredKey{"process.direction", [](const Config& c) { return c.process.compression_first ? 0.0 : 1.0; },
+              [](Config& c, double v) { c.process.compression_first = v == 0.0; }},
+    VPP_KEY("process.cycles", process.cycles),
+    VPP_KEY("process.samples_per_cycle", process.samples_per_cycle),
+    VPP_KEY("process.sample_window", process.sample_window),
+    VPP_KEY("simulation.local_damping", simulation.local_damping),
+    StoredKey{"simulation.dt", [](const Config& c) { return c.simulation.dt_auto ? 0.0 : c.simulation.dt; },
+              [](Config& c, double v) {
+                  c.simulation.dt_auto = v == 0.0;
+                  c.simulation.dt = v;
+              }},
+    VPP_KEY("simulation.dt_safety", simulation.dt_safety),
+    VPP_KEY("simulation.skin", simulation.skin),
+    StoredKey{"output.energy", [](const Config& c) { return c.output.energy ? 1.0 : 0.0; },
+              [](Config& c, double v) { c.output.energy = v != 0.0; }},
+};
+#undef VPP_KEY
+
+std::map<std::string, double> values_of(const Config& c, const auto& keys) {
+    std::map<std::string, double> m;
+    for (const StoredKey& k : keys) m[k.key] = k.get(c);
+    return m;
+}
+
+bool same_value(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(1.0, std::abs(b)); }
+
+// A stored value as the config file writes it, for messages.
+std::string show(const std::string& key, double v) {
+    if (key == "process.direction") return v == 0.0 ? "\"compression\"" : "\"extension\"";
+    if (key == "output.energy") return v != 0.0 ? "true" : "false";
+    if (key == "simulation.dt" && v == 0.0) return "\"auto\"";
+    if (key == "damper.cap_friction" && v < 0.0) return "(unset: the grains' friction)";
+    std::string out;
+    dem::append_number(out, v);
+    return out;
+}
+
+// Everything a damper run writes into its folder (docs/damper.md, "Outputs"). --overwrite
+// removes all of it before a new run starts, so nothing of the previous run (an energy.csv the
+// new run does not write, a prepared.ckpt of another sample) is left beside the new results.
+// Other files in the folder (notes, a sweep's case.toml) are left alone.
+const char* const kDamperFiles[] = {"forces.csv",   "cycles.csv", "energy.csv",      "summary.json",
+                                    "prepared.ckpt", "run.ckpt",  "loops.png",       "loops_total.png",
+                                    "loops_foil.png", "loops_grains.png", "energy_split.png"};
+
+void remove_previous_outputs(const fs::path& dir, const std::string& spare) {
+    std::error_code ec;
+    auto remove = [&](const fs::path& p) {
+        if (!fs::exists(p)) return;
+        if (!spare.empty() && fs::equivalent(p, spare, ec)) return;  // the checkpoint this run starts from
+        fs::remove(p);
+    };
+    for (const char* f : kDamperFiles) {
+        remove(dir / f);
+        remove(dir / (std::string(f) + ".part"));
+    }
+    if (!fs::is_directory(dir / "vtk")) return;
+    std::vector<fs::path> frames;
+    for (const auto& e : fs::directory_iterator(dir / "vtk")) {
+        const std::string n = e.path().filename().string();
+        if (e.is_regular_file() && n.starts_with("damper_") && (n.ends_with(".vtk") || n.ends_with(".vtk.part")))
+            frames.push_back(e.path());
+    }
+    for (const fs::path& f : frames) fs::remove(f);
 }
 
 // Grain positions: a jittered cubic lattice inside the foil and the funnel above it, filled
@@ -217,6 +323,9 @@ public:
     DamperResult run();
 
 private:
+    void adopt_checkpoint_settings();
+    void check_grains_fit(std::size_t n);
+    void start_output_dir();
     void build();
     void apply_config_to_prepared();
     void stage_fill();
@@ -264,6 +373,103 @@ void DamperRun::log(const char* fmt, ...) const {
     va_start(ap, fmt);
     std::vfprintf(stderr, fmt, ap);
     va_end(ap);
+}
+
+void DamperRun::adopt_checkpoint_settings() {
+    dem::World scratch;  // only the app state is needed here; run() loads the World itself
+    const RunState ck = RunState::load(dem::load_checkpoint(o_.from, scratch));
+    // Geometry: a key the config gives must match the sample's; the others take its values.
+    std::string diffs;
+    for (const StoredKey& k : kGeometryKeys) {
+        const auto it = ck.geometry.find(k.key);
+        const double value = k.get(c_);
+        if (it != ck.geometry.end() && !c_.given.count(k.key)) {
+            k.set(c_, it->second);
+        } else if (it == ck.geometry.end() || !same_value(it->second, value)) {
+            diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + " = " +
+                     (it == ck.geometry.end() ? std::string("?") : show(k.key, it->second)) +
+                     " (the config asks for " + show(k.key, value) + ")";
+        }
+    }
+    if (!diffs.empty())
+        throw std::runtime_error("checkpoint '" + o_.from + "' was prepared with another geometry: " + diffs +
+                                 "; prepare a new sample (run without --from)");
+    if (ck.settings.empty()) {
+        // A prepared sample (or a run stopped before its settings were applied) takes the
+        // config's settings. Only a checkpoint of an older vppdem can be past that point
+        // without them: it is run with the config's settings, as that vppdem did.
+        if (ck.stage > Stage::Prepared) {
+            warnings_.push_back("resume: the checkpoint stores no run settings (older vppdem); using the config's");
+            log("damper: warning: checkpoint '%s' (an older vppdem's) stores no process settings: the config's are "
+                "used; give the ones the run started with\n", o_.from.c_str());
+        }
+        return;
+    }
+    // A run that started: it continues with its own settings, whatever the command line says;
+    // a key given with another value is refused rather than spliced into the record.
+    std::string conflicts;
+    for (const StoredKey& k : kRunKeys) {
+        const auto it = ck.settings.find(k.key);
+        if (it == ck.settings.end()) continue;
+        if (c_.given.count(k.key) && !same_value(k.get(c_), it->second))
+            conflicts += (conflicts.empty() ? "" : ", ") + std::string(k.key) + " = " + show(k.key, it->second) +
+                         " in the checkpoint, " + show(k.key, k.get(c_)) + " given";
+        else
+            k.set(c_, it->second);
+    }
+    if (!conflicts.empty())
+        throw std::runtime_error("checkpoint '" + o_.from + "' continues a run with other settings: " + conflicts +
+                                 "; a resumed run keeps the settings it started with: leave these keys out (or give "
+                                 "the checkpoint's values), or start a new run from the sample's prepared.ckpt");
+}
+
+void DamperRun::check_grains_fit(std::size_t n) {
+    const double rk = c_.grains.radius;
+    const double r_in = L_.radius - c_.foil.particle_radius;  // [m] inner surface of the foil
+    if (rk > r_in / 3.0)
+        throw std::runtime_error("config key 'grains.radius' = " + show("", rk) +
+                                 ": too large for the damper; at most a third of the foil's inner radius (" +
+                                 show("", r_in / 3.0) + " m)");
+    // Fewest grains: one layer across the foil. A VPP damper is a packing that the vacuum
+    // jams; grains that do not even cover the bottom once lie loose on the lower cap, the
+    // cap never loads them and the "loop" is the foil's alone (0 grains gave a negative W).
+    // A hexagonal layer of circles of radius r_k covers pi / (2 sqrt 3) = 0.907 of the area.
+    const double v_grain = 4.0 / 3.0 * std::numbers::pi * rk * rk * rk;
+    const std::size_t n_layer = std::size_t(std::max(1.0, std::floor(0.9069 * (r_in / rk) * (r_in / rk))));
+    if (n < n_layer) {
+        const double phi_min = double(n_layer) * v_grain /
+                               (std::numbers::pi * c_.damper.radius * c_.damper.radius * c_.damper.height);
+        throw std::runtime_error("config key 'grains.volume_fraction' = " + show("", c_.grains.volume_fraction) +
+                                 ": gives " + std::to_string(n) + " grain(s) in this damper; at least " +
+                                 std::to_string(n_layer) + " are needed (one layer across the foil's inner radius " +
+                                 show("", r_in) + " m), i.e. grains.volume_fraction >= " + show("", phi_min));
+    }
+    // Densest: the grains must fit into the foil once the cap is down. Poured grains settle at
+    // random close packing (0.64) at most; more needs the foil to bulge out, which it does (it
+    // is elastic), by a hoop strain of sqrt(phi_in / 0.64) - 1: unusual, warned. Above the
+    // densest packing of spheres (0.74, a perfect crystal) the grains cannot be put into the
+    // unstretched foil at all: refused.
+    const double v_in = std::numbers::pi * r_in * r_in * z_top_;
+    const double phi_in = double(n) * v_grain / v_in;
+    if (phi_in > 0.74)
+        throw std::runtime_error("config key 'grains.volume_fraction' = " + show("", c_.grains.volume_fraction) +
+                                 ": " + std::to_string(n) + " grains fill " + show("", std::round(1000 * phi_in) / 10) +
+                                 "% of the foil's interior (radius " + show("", r_in) + " m, height " +
+                                 show("", z_top_) + " m); at most 74% (the densest sphere packing) can be prepared");
+    if (phi_in > 0.64) {
+        char msg[256];
+        std::snprintf(msg, sizeof msg,
+                      "prepare: %zu grains fill %.1f%% of the foil's interior, above random close packing (64%%): the "
+                      "foil bulges by about %.1f%% (hoop strain) when the cap compresses them",
+                      n, 100.0 * phi_in, 100.0 * (std::sqrt(phi_in / 0.64) - 1.0));
+        warnings_.push_back(msg);
+        log("damper: warning: %s\n", msg);
+    }
+}
+
+void DamperRun::start_output_dir() {
+    cli::prepare_output_dir(o_.out_dir, o_.overwrite);
+    if (o_.overwrite) remove_previous_outputs(out_, o_.from);
 }
 
 void DamperRun::build() {
@@ -381,6 +587,7 @@ void DamperRun::apply_config_to_prepared() {
     w_.params.local_damping = c_.simulation.local_damping;
     w_.params.threads = c_.simulation.threads;
     w_.params.skin = c_.simulation.skin;
+    st_.settings = values_of(c_, kRunKeys);  // from now on the run is bound to these
 }
 
 void DamperRun::stage_vacuum() {
@@ -530,24 +737,15 @@ void DamperRun::write_forces() {
 }
 
 DamperResult DamperRun::run() {
+    // From a checkpoint: its geometry (and, for a run that started, its settings) first, since
+    // the foil is built from the config.
+    if (!o_.from.empty()) adopt_checkpoint_settings();
     build();
     const std::size_t n_foil = L_.particles.size();
     const std::size_t n = grain_count(c_);
     g0_ = uint32_t(n_foil);
     g1_ = uint32_t(n_foil + n);
-    // Do the grains fit? Solid volume against the foil's interior (random close packing ~0.64).
-    const double r_in = L_.radius - c_.foil.particle_radius;
-    const double v_in = std::numbers::pi * r_in * r_in * z_top_;
-    const double v_grains = double(n) * 4.0 / 3.0 * std::numbers::pi * std::pow(c_.grains.radius, 3);
-    if (v_grains > 0.60 * v_in)
-        throw std::runtime_error("config key 'grains.volume_fraction' = " + std::to_string(c_.grains.volume_fraction) +
-                                 ": " + std::to_string(n) + " grains fill " +
-                                 std::to_string(100.0 * v_grains / v_in) +
-                                 "% of the foil's interior; at most 60% fit (random close packing)");
-    if (c_.grains.radius > r_in / 3.0)
-        throw std::runtime_error("config key 'grains.radius' = " + std::to_string(c_.grains.radius) +
-                                 ": too large for the damper; at most a third of the foil's inner radius (" +
-                                 std::to_string(r_in / 3.0) + " m)");
+    check_grains_fit(n);
 
     if (o_.from.empty()) {
         // Materials in fixed order: grain (frictionless while filling), cap, funnel.
@@ -587,36 +785,27 @@ DamperResult DamperRun::run() {
             f.mask = kMaskCap;
             w_.add_facet(f);
         }
-        st_.geometry = geometry_of(c_);
+        st_.geometry = values_of(c_, kGeometryKeys);
         w_.params.dt = resolve_dt(c_.simulation, w_);
-        cli::prepare_output_dir(o_.out_dir, o_.overwrite);  // only now: bad input writes nothing
+        start_output_dir();  // only now: bad input writes nothing
         log("damper: %zu grains (r_k = %.4g m), foil %d x %d = %zu particles (radius %.5g m), height %.5g m, "
-            "dt = %.4g s\n", n, c_.grains.radius, L_.cols, L_.rows, n_foil, L_.radius, z_top_, w_.params.dt);
+            "dt = %.4g s, %d thread(s)\n", n, c_.grains.radius, L_.cols, L_.rows, n_foil, L_.radius, z_top_,
+            w_.params.dt, c_.simulation.threads);
         next_stage(Stage::Fill);
     } else {
         const std::string blob = dem::load_checkpoint(o_.from, w_);
         st_ = RunState::load(blob);
-        // Refuse a sample prepared with another geometry, naming every key that differs.
-        std::string diffs;
-        for (const auto& [key, value] : geometry_of(c_)) {
-            auto it = st_.geometry.find(key);
-            if (it == st_.geometry.end() || std::abs(it->second - value) > 1e-12 * std::max(1.0, std::abs(value)))
-                diffs += (diffs.empty() ? "" : ", ") + key + " = " +
-                         (it == st_.geometry.end() ? std::string("?") : std::to_string(it->second)) +
-                         " (the config asks for " + std::to_string(value) + ")";
-        }
-        if (!diffs.empty())
-            throw std::runtime_error("checkpoint '" + o_.from + "' was prepared with another geometry: " + diffs +
-                                     "; prepare a new sample (run without --from)");
         if (w_.particles.size() != n_foil + n)
             throw std::runtime_error("checkpoint '" + o_.from + "' does not hold this damper's particles");
-        // Resuming into the folder the checkpoint lives in is allowed; anything else must be new.
+        // Resuming continues the run whose run.ckpt lives in --out; anything else (a branch from
+        // a prepared sample, even into its own folder) starts a new run there.
         std::error_code ec;
-        const bool resuming = fs::exists(out_) && fs::equivalent(fs::absolute(o_.from).parent_path(), out_, ec);
-        if (!resuming) cli::prepare_output_dir(o_.out_dir, o_.overwrite);
-        log("damper: starting from %s at stage '%s', t = %.4g s\n", o_.from.c_str(), stage_name(st_.stage), w_.time);
+        const bool resuming = fs::exists(out_ / "run.ckpt") && fs::equivalent(o_.from, out_ / "run.ckpt", ec);
+        if (!resuming) start_output_dir();
+        log("damper: starting from %s at stage '%s', t = %.4g s, %d thread(s)\n", o_.from.c_str(),
+            stage_name(st_.stage), w_.time, c_.simulation.threads);
         // A prepared sample takes the config's contact and process settings; a resumed run keeps
-        // its own, but for the thread count (set below for every path).
+        // its own (adopt_checkpoint_settings), but for the thread count (set below for every path).
         if (st_.stage == Stage::Prepared) {
             apply_config_to_prepared();
             w_.params.dt = resolve_dt(c_.simulation, w_);
@@ -683,6 +872,7 @@ DamperResult DamperRun::run() {
         }
     }
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    r.config = c_;
     return r;
 }
 
@@ -693,9 +883,10 @@ void DamperRun::finish() {
 
 }  // namespace
 
-DamperResult run_damper(const Config& c, const DamperOptions& opt) {
-    DamperRun run(c, opt);
+DamperResult run_damper(const Config& config, const DamperOptions& opt) {
+    DamperRun run(config, opt);
     DamperResult r = run.run();
+    const Config& c = r.config;  // what the run used: a resumed run's settings are its checkpoint's
     const fs::path out(opt.out_dir);
     write_cycles_csv((out / "cycles.csv").string(), r.cycles);
 

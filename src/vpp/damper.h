@@ -31,8 +31,13 @@ struct DamperResult {
     double inertial_number = 0;
     std::vector<CycleResult> cycles;
     double run_seconds = 0;
+    Config config;  // the settings the run used: a run from a checkpoint takes some of its values
 };
 
+// With opt.from: the checkpoint's geometry replaces the config's (a geometry key the config
+// gives with another value is an error), and a checkpoint of a run that started (run.ckpt past
+// the preparation) also gives its contact, process and simulation settings (kRunKeys in
+// damper.cpp; a key given with another value is an error naming both values).
 DamperResult run_damper(const Config& c, const DamperOptions& opt);
 
 // Number of grains for the volume fraction: round(phi * pi r_p^2 H_p / (4/3 pi r_k^3)).

@@ -20,6 +20,7 @@
 #endif
 
 #include "cli/config.h"
+#include "cli/threads.h"
 #include "dem/io/csv.h"
 #include "vpp/damper.h"
 
@@ -508,7 +509,8 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
 
     int jobs = opt.jobs;
     if (jobs <= 0) {
-        const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+        // The free cores, not all of them: a busy core slows every case's threads (cli/threads.h).
+        const int cores = cli::default_threads();
         const int per_case = cases.empty() ? 1 : std::max(1, cases[0].config.simulation.threads);
         jobs = opt.ranks > 1 ? 1 : std::max(1, cores / per_case);
     }

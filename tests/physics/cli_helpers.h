@@ -2,9 +2,14 @@
 // energy through the damper): run a command, read its CSV outputs, scratch folders.
 #pragma once
 
+#include <signal.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cstdio>
+#include <functional>
+#include <thread>
 #include <filesystem>
 #include <fstream>
 #include <map>
@@ -44,6 +49,42 @@ inline Outcome shell(const std::string& command) {
 
 // `vppdem ARGS`.
 inline Outcome run(const std::string& args) { return shell(kBinary + " " + args); }
+
+// Starts `vppdem ARGS` in the background (output discarded), waits until `ready()` holds
+// (polled every 10 ms), then kills it (SIGKILL). Returns true when the kill interrupted the
+// command; false when it ended first (finished or failed) or `ready()` never held in timeout_s.
+// The tests of resuming kill a run at a known point instead of after a fixed time, which a fast
+// machine outruns and a busy one never reaches.
+inline bool kill_when(const std::string& args, const std::function<bool()>& ready, double timeout_s = 300) {
+    const std::string cmd = "exec " + kBinary + " " + args + " > /dev/null 2>&1";
+    const pid_t pid = fork();
+    if (pid < 0) return false;
+    if (pid == 0) {
+        execl("/bin/sh", "sh", "-c", cmd.c_str(), (char*)nullptr);
+        _exit(127);
+    }
+    const auto t0 = std::chrono::steady_clock::now();
+    while (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < timeout_s) {
+        if (waitpid(pid, nullptr, WNOHANG) == pid) return false;  // ended by itself
+        if (ready()) break;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    const bool running = waitpid(pid, nullptr, WNOHANG) == 0;
+    kill(pid, SIGKILL);
+    waitpid(pid, nullptr, 0);
+    return running && ready();
+}
+
+// Rows of a CSV file after its header (0 when it is missing).
+inline std::size_t data_rows(const fs::path& p) {
+    std::ifstream in(p);
+    std::size_t n = 0;
+    std::string line;
+    if (!std::getline(in, line)) return 0;
+    while (std::getline(in, line))
+        if (!line.empty()) ++n;
+    return n;
+}
 
 // TMP/vppdem_<tag>_<pid>/<name>: one folder per test process.
 inline fs::path scratch_path(const std::string& tag, const std::string& name) {

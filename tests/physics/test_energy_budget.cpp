@@ -390,8 +390,11 @@ TEST_F(EnergyDamper, ResumedRunWritesTheSameEnergy) {
     const fs::path d = scratch("restart");
     const std::string args = " damper --out " + d.string() + " --from " + (scratch("base") / "prepared.ckpt").string() +
                              " --checkpoint-every 0.3 " + kSmallDamper;
-    shell("timeout -s KILL 2.5 " + kBinary + args);
+    // Killed once cycling has written part of its record (forces.csv comes with the checkpoints).
+    ASSERT_TRUE(kill_when(args, [&] { return data_rows(d / "forces.csv") > 0; })) << "the run ended before the kill";
     ASSERT_TRUE(fs::exists(d / "run.ckpt"));
+    ASSERT_FALSE(fs::exists(d / "summary.json"));  // interrupted: no final summary
+    ASSERT_LT(data_rows(d / "energy.csv"), data_rows(scratch("base") / "energy.csv"));
     const Outcome r = shell(kBinary + " damper --out " + d.string() + " --from " +
                             (d / "run.ckpt").string() + " " + kSmallDamper);
     ASSERT_EQ(r.status, 0) << r.output;

@@ -127,8 +127,13 @@ TEST(Foil, EmptyEnvelopeFoldsInwardAndComesToRest) {
 }
 
 TEST(Foil, BondNetworkConservesEnergyWithoutDamping) {
-    // A strip with random velocities, no damping, no walls: kinetic + bond elastic energy stays
-    // bounded (leapfrog: fluctuates, no drift); bonds never break even when stretched far.
+    // A strip with random velocities, no damping, no walls: the bond network neither creates nor
+    // loses energy. E = kinetic (synchronous velocities v(t), not the leapfrog's half-step ones,
+    // whose offset alone moves E by a few per cent) + bond elastic energy, checked every 100 of
+    // 100000 steps at dt = 0.1 of the critical step: |E - E0| < 1% of E0 both ways. Leapfrog
+    // keeps a bounded ripple and no drift: measured +0.25% at most (and -0.12% over twice the
+    // steps); a local damping of only 0.001 loses 99% of E in this run. Bonds never break even
+    // when stretched far.
     dem::World w;
     w.params.gravity = {0, 0, 0};
     vpp::FoilDef f;
@@ -140,11 +145,11 @@ TEST(Foil, BondNetworkConservesEnergyWithoutDamping) {
         w.particles.angvel[i] = {20 * u(rng), 20 * u(rng), 20 * u(rng)};
     }
     w.params.dt = 0.1 * w.critical_dt();
-    auto energy = [&] {
+    auto energy = [&] {  // after compute_forces(): positions and bond springs at t
         const auto& p = w.particles;
         double e = 0;
         for (uint32_t i : L.particles)
-            e += 0.5 * p.mass[i] * norm2(p.vel[i]) + 0.5 / p.inv_inertia[i] * norm2(p.angvel[i]);
+            e += 0.5 * p.mass[i] * norm2(w.velocity_at_time(i)) + 0.5 / p.inv_inertia[i] * norm2(w.angular_velocity_at_time(i));
         const auto& b = w.bonds();
         for (std::size_t k = 0; k < b.size(); ++k) {
             const double d = norm(p.pos[b.j[k]] - p.pos[b.i[k]]) - b.phys[k].rest_length;
@@ -154,15 +159,22 @@ TEST(Foil, BondNetworkConservesEnergyWithoutDamping) {
     };
     w.compute_forces();
     const double e0 = energy();
-    double emax = e0;
+    const std::size_t bonds = w.bonds().size();
+    double emin = e0, emax = e0;
     for (int s = 0; s < 100000; ++s) {
         w.integrate();
         w.compute_forces();
-        if (s % 100 == 0) emax = std::max(emax, energy());
+        if (s % 100 == 0) {
+            const double e = energy();
+            emin = std::min(emin, e);
+            emax = std::max(emax, e);
+        }
     }
-    std::printf("bond network: E0 %.6g J, max %.6g J (%.3f%%)\n", e0, emax, 100.0 * (emax / e0 - 1.0));
-    EXPECT_LT(emax, 1.03 * e0);
-    EXPECT_GT(emax, 0.97 * e0);  // and does not leak either (no damping anywhere)
+    std::printf("bond network: E0 %.6g J, min %.6g J (%+.4f%%), max %.6g J (%+.4f%%)\n", e0, emin,
+                100.0 * (emin / e0 - 1.0), emax, 100.0 * (emax / e0 - 1.0));
+    EXPECT_LT(emax, 1.01 * e0);  // creates no energy
+    EXPECT_GT(emin, 0.99 * e0);  // and loses none (no damping anywhere)
+    EXPECT_EQ(w.bonds().size(), bonds);
 }
 
 TEST(Foil, BondsNeverBreak) {

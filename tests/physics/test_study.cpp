@@ -108,6 +108,75 @@ TEST(StudyUnits, MisfitIsZeroForTheSameLoopAndGrowsWithTheDifference) {
     EXPECT_GT(mc, mb);
 }
 
+// A rig that counts compression negative: the parallelogram loop of the misfit test, 3 cycles,
+// stroke 2 mm from an offset origin, in mm and N; sign -1 flips both columns, `force_sign` the
+// force alone.
+std::string rig_record(double sign, double force_sign = 1.0) {
+    std::ostringstream os;
+    os << "t,stroke,load\n";
+    for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 40; ++k) {
+            const double d = k < 20 ? 2.0 * k / 20.0 : 2.0 * (40 - k) / 20.0;  // [mm]
+            const double f = 10 * d + (k < 20 ? 2.0 : -2.0);                    // [N]
+            os << c * 40 + k << "," << sign * (d + 12.5) << "," << sign * force_sign * f << "\n";
+        }
+    return os.str();
+}
+
+TEST(StudyUnits, AnExperimentWithTheOtherSignConventionIsRefused) {
+    const fs::path p = scratch_path("study_units", "rig.csv");
+    vpp::ExperimentFormat fmt;
+    fmt.time_col = "t";
+    fmt.disp_col = "stroke";
+    fmt.force_col = "load";
+    fmt.disp_scale = 1e-3;
+    auto check = [&](const std::string& text, bool flag) {
+        write_file(p, text);
+        fmt.compression_negative = flag;
+        const vpp::LoopSeries s = vpp::read_experiment(p.string(), fmt);
+        vpp::check_experiment_orientation(s, p.string(), flag, true);
+    };
+    EXPECT_NO_THROW(check(rig_record(1.0), false));
+    EXPECT_NO_THROW(check(rig_record(-1.0), true));
+    // Compression negative, read as it is: refused, naming the flag.
+    try {
+        check(rig_record(-1.0), false);
+        FAIL() << "accepted a compression-negative record without --compression-negative";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("pass --compression-negative"), std::string::npos) << e.what();
+    }
+    // The flag on a compression-positive record: refused, saying to drop it.
+    try {
+        check(rig_record(1.0), true);
+        FAIL() << "accepted a compression-positive record with --compression-negative";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("drop --compression-negative"), std::string::npos) << e.what();
+    }
+    // Only the force the other way: the loop runs backwards (negative area).
+    try {
+        check(rig_record(1.0, -1.0), false);
+        FAIL() << "accepted a loop of negative area";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("negative area"), std::string::npos) << e.what();
+    }
+    // Extension first: a negative force is what that protocol gives.
+    write_file(p, rig_record(-1.0));
+    fmt.compression_negative = false;
+    EXPECT_NO_THROW(vpp::check_experiment_orientation(vpp::read_experiment(p.string(), fmt), p.string(), false, false));
+    fs::remove_all(p.parent_path());
+}
+
+TEST_F(Study, CalibrationRefusesAnExperimentOfTheOtherSignAndRunsNothing) {
+    const fs::path study = scratch("sign.toml"), out = scratch("sign_out"), exp = scratch("rig.csv");
+    write_file(study, kTwoFrictions);
+    write_file(exp, rig_record(-1.0));
+    const Outcome r = run("calibrate " + study.string() + " --experiment " + exp.string() + " --out " + out.string() +
+                          " --time-column t --displacement-column stroke --force-column load --displacement-unit mm");
+    EXPECT_NE(r.status, 0);
+    EXPECT_NE(r.output.find("--compression-negative"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out));
+}
+
 TEST_F(Study, SweepSharesOnePreparationAndWritesTheSummary) {
     const fs::path study = scratch("two.toml"), out = scratch("sweep");
     write_file(study, kTwoFrictions);
@@ -240,6 +309,40 @@ TEST_F(Study, CalibrationRecoversTheFrictionOfASyntheticExperiment) {
     EXPECT_LT(mis.at("0.6"), 0.05);  // noise only
     EXPECT_TRUE(fs::exists(out / "calibration.png"));
     EXPECT_TRUE(fs::exists(out / "summary.csv"));
+
+    // A failed calibration into the same folder keeps the good results and reports into
+    // *_failed files: (1) an experiment no case can be compared with (a dead force channel, all
+    // zero); (2) a changed study, which every case folder refuses: those cases are not compared,
+    // although their folders still hold the earlier run's results.
+    const std::string json_before = slurp(out / "calibration.json"), misfit_before = slurp(out / "misfit.csv");
+    const std::string png_before = slurp(out / "calibration.png");
+    std::string dead;
+    {
+        std::istringstream in(exp.str());
+        std::string line;
+        std::getline(in, line);  // comment
+        std::getline(in, line);  // header
+        dead = "t_s,stroke_mm,load_kN\n";
+        while (std::getline(in, line)) dead += line.substr(0, line.find(',', line.find(',') + 1)) + ",0\n";
+    }
+    const fs::path deadfile = scratch("dead_channel.csv");
+    write_file(deadfile, dead);
+    const std::string columns = " --time-column t_s --displacement-column stroke_mm --force-column load_kN "
+                                "--displacement-unit mm --force-unit kN --compression-negative";
+    for (const std::string& args : {"--experiment " + deadfile.string(),
+                                    "--experiment " + expfile.string() + " --set process.cycles=3"}) {
+        SCOPED_TRACE(args);
+        const Outcome failed =
+            run("calibrate " + study.string() + " " + args + " --out " + out.string() + " --no-plot" + columns);
+        EXPECT_EQ(WEXITSTATUS(failed.status), 1) << failed.output;
+        EXPECT_NE(failed.output.find("earlier calibration.json is kept"), std::string::npos) << failed.output;
+        EXPECT_EQ(slurp(out / "calibration.json"), json_before);
+        EXPECT_EQ(slurp(out / "misfit.csv"), misfit_before);
+        EXPECT_EQ(slurp(out / "calibration.png"), png_before);
+        const std::string report = slurp(out / "calibration_failed.json");
+        EXPECT_NE(report.find("\"best\": null"), std::string::npos) << report;
+        EXPECT_TRUE(fs::exists(out / "misfit_failed.csv"));
+    }
 }
 
 TEST_F(Study, FailedCasesAreReportedAndDoNotStopTheOthers) {

@@ -324,3 +324,58 @@ TEST(Analysis, WriteCyclesCsvHeaderAndRows) {
     write_cycles_csv(path, {});
     EXPECT_EQ(read_file(path), "cycle,dissipated_energy,W,peak_force,min_force\n");
 }
+
+TEST(Analysis, PartialCyclesAreFlagged) {
+    // Three elliptic cycles of 500 samples, the last one cut off at a fraction f of its period.
+    // Cut at 30-80% of the period: partial (the ellipse is back within 10% of its stroke, and so
+    // counted complete, from about 90% of its period on).
+    for (const double f : {0.3, 0.5, 0.8}) {
+        LoopSeries s = ellipse(0.01, 100.0, 10.0, 3);
+        const std::size_t keep = 2 * kN + std::size_t(f * kN);
+        s.time.resize(keep);
+        s.displacement.resize(keep);
+        s.force.resize(keep);
+        s.cycle.resize(keep);
+        const auto r = analyze_cycles(s, 0.02);
+        ASSERT_EQ(r.size(), 3u);
+        EXPECT_TRUE(r[0].complete);
+        EXPECT_TRUE(r[1].complete);
+        EXPECT_FALSE(r[2].complete) << "cut at " << f;
+        EXPECT_EQ(r[2].samples, int(f * kN));
+    }
+    // Whole cycles of any amplitude, and cycles with few samples (the last sample one step
+    // before closing is a quarter of the stroke with 4 samples), are complete.
+    LoopSeries s;
+    const int n = 4;
+    for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < n; ++k) {
+            const double A = 0.001 * (c + 1);
+            s.time.push_back(c * n + k);
+            s.displacement.push_back(k <= n / 2 ? A * k / (n / 2) : A * (n - k) / (n / 2));
+            s.force.push_back(k < n / 2 ? 10.0 : -10.0);
+            s.cycle.push_back(c + 1);
+        }
+    for (const CycleResult& c : analyze_cycles(s, 0.02)) EXPECT_TRUE(c.complete) << "cycle " << c.cycle;
+    // A first cycle that starts at the far end (a record begun mid-cycle) is partial too.
+    LoopSeries late = ellipse(0.01, 100.0, 10.0, 2);
+    for (std::size_t i = 0; i < std::size_t(kN / 2); ++i) late.cycle[i] = 1;
+    for (std::size_t i = std::size_t(kN / 2); i < late.cycle.size(); ++i) late.cycle[i] = i < std::size_t(kN) ? 2 : 3;
+    const auto r = analyze_cycles(late, 0.02);
+    ASSERT_EQ(r.size(), 3u);
+    EXPECT_FALSE(r[0].complete);  // the first half of a cycle
+    EXPECT_FALSE(r[1].complete);  // the second half
+    EXPECT_TRUE(r[2].complete);
+}
+
+TEST(Analysis, CsvWithAHeaderOnlyIsAnError) {
+    const TempDir dir;
+    const std::string path = dir / "empty.csv";
+    write_file(path, "# no data\ntime,displacement,force_total,cycle\n\n");
+    try {
+        read_loop_csv(path, "time", "displacement", "force_total", "cycle");
+        FAIL() << "no exception";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("no data rows"), std::string::npos) << e.what();
+        EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
+    }
+}

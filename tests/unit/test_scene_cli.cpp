@@ -595,6 +595,64 @@ TEST(SceneCli, ErrorsNameTheKeyAndWriteNothing) {
     }
 }
 
+TEST(SceneCli, OverlapsAndNonFiniteNumbersAreRefusedBeforeAnythingIsWritten) {
+    // Spheres that start inside each other or a wall are thrown out at thousands of m/s; NaN or
+    // inf in a number runs on NaN or fails deep inside. All are refused up front, naming the
+    // bodies (or the key) and the overlap, exit status 2, one line, nothing written.
+    auto sphere = [](double x, double y, double z, double r = 0.01) {
+        std::ostringstream os;
+        os << "[[spheres]]\nmaterial = \"glass\"\nradius = " << r << "\nposition = [" << x << ", " << y << ", " << z
+           << "]\n";
+        return os.str();
+    };
+    const std::string floor = "[[planes]]\nmaterial = \"glass\"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\n";
+    const std::string cylinder = "[[facet_sets]]\ntype = \"cylinder\"\nmaterial = \"glass\"\nradius = 0.05\n"
+                                 "height = 0.2\nsegments = 12\n";
+    const std::string files = "[[sphere_files]]\npath = \"g.csv\"\nmaterial = \"glass\"\n";
+    struct Case {
+        const char* name;
+        std::string toml, csv, expected, also;
+    };
+    const std::vector<Case> cases = {
+        {"overlapping pair", sphere(0, 0, 1) + sphere(0.01, 0, 1), "", "spheres[0] and spheres[1] overlap by 0.01 m",
+         "100% of the smaller radius"},
+        {"identical centres", sphere(0, 0, 1) + sphere(0, 0, 1, 0.005), "", "spheres[0] and spheres[1]", "300%"},
+        {"sphere in the floor", sphere(0, 0, 0.004) + floor, "", "spheres[0] and planes[0] overlap by 0.006 m",
+         "max_initial_overlap"},
+        {"sphere in a facet set", sphere(0.045, 0, 0.1) + cylinder, "", "spheres[0] and facet_sets[0] triangle",
+         "overlap by"},
+        {"sphere file row on a sphere", sphere(0, 0, 1) + files, "0.5,0,1,0.01\n0.005,0,1,0.01\n",
+         "spheres[0] and sphere_files[0] row 2 of", "g.csv"},
+        {"nan in a sphere file", sphere(0, 0, 1) + files, "x,y,z,r\n0.5,nan,1,0.01\n", "sphere_files[0].path",
+         "finite"},
+        {"nan velocity", sphere(0, 0, 1) + "velocity = [nan, 0.0, 0.0]\n", "", "spheres[0].velocity", "finite"},
+        {"inf position", sphere(0, 0, 1) + "[[spheres]]\nmaterial = \"glass\"\nradius = 0.01\nposition = [inf, 0.0, 1.0]\n",
+         "", "spheres[1].position", "finite"},
+        {"nan gravity", "[simulation]\ngravity = [0.0, 0.0, nan]\n" + sphere(0, 0, 1), "", "simulation.gravity", "finite"},
+        {"nan in a displacement history", sphere(0, 0, 1) + "displacement = [[0.0, 0.0, 0.0, 0.0], [1.0, nan, 0.0, 0.0]]\n",
+         "", "spheres[0].displacement", "finite"},
+    };
+    for (const auto& c : cases) {
+        SCOPED_TRACE(c.name);
+        TempDir d;
+        write_file(d / "s.toml", std::string(kGlass) + c.toml);
+        if (!c.csv.empty()) write_file(d / "g.csv", c.csv);
+        const Result r = run_scene(d / "s.toml", d / "out");
+        EXPECT_EQ(r.rc, 2) << r.output;
+        EXPECT_NE(r.output.find(c.expected), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find(c.also), std::string::npos) << r.output;
+        EXPECT_LE(std::count(r.output.begin(), r.output.end(), '\n'), 1) << r.output;
+        EXPECT_FALSE(fs::exists(d / "out"));
+    }
+    // An overlap on purpose: allowed by raising the tolerance.
+    TempDir d;
+    write_file(d / "s.toml", std::string(kGlass) + "[simulation]\ngravity = [0.0, 0.0, 0.0]\nduration = 1e-6\n" +
+                                 sphere(0, 0, 1) + sphere(0.019, 0, 1));
+    EXPECT_NE(run_scene(d / "s.toml", d / "out").rc, 0);
+    const Result ok = run_scene(d / "s.toml", d / "out", "--set simulation.max_initial_overlap=0.2");
+    EXPECT_EQ(ok.rc, 0) << ok.output;
+}
+
 TEST(SceneCli, MissingSceneFileFails) {
     TempDir d;
     const Result r = run_scene(d / "nope.toml", d / "out");

@@ -1,0 +1,80 @@
+#include "vpp/analyze_command.h"
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "vpp/analysis.h"
+
+namespace vpp {
+
+namespace fs = std::filesystem;
+
+double radius_from_summary(const std::string& summary_json) {
+    std::ifstream in(summary_json);
+    if (!in) return 0.0;
+    std::stringstream ss;
+    ss << in.rdbuf();
+    const std::string text = ss.str();
+    const std::string key = "\"damper.radius\":";
+    const auto k = text.find(key);
+    if (k == std::string::npos) return 0.0;
+    char* end = nullptr;
+    const double r = std::strtod(text.c_str() + k + key.size(), &end);
+    return end != text.c_str() + k + key.size() && r > 0.0 ? r : 0.0;
+}
+
+void run_analyze(const AnalyzeOptions& o) {
+    const fs::path input(o.forces);
+    const fs::path out = o.out.empty() ? input.parent_path() / kAnalyzeOutput : fs::path(o.out);
+    std::error_code ec;
+    if (fs::exists(out) && fs::equivalent(out, input, ec))
+        throw std::runtime_error("--out '" + out.string() + "' is the input file");
+    if (fs::exists(out) && !o.overwrite)
+        throw std::runtime_error("'" + out.string() + "' exists; pass --overwrite to replace it, or --out another file");
+
+    double radius = o.radius;
+    std::string which;
+    const fs::path summary = input.parent_path() / "summary.json";
+    if (radius > 0.0) {
+        which = "--radius";
+    } else if (const double r = radius_from_summary(summary.string()); r > 0.0) {
+        radius = r;
+        which = "damper.radius of " + summary.string();
+    } else {
+        radius = kPaperRadius;
+        which = "the paper's damper: no summary.json with damper.radius beside the input; give --radius";
+    }
+
+    LoopSeries s = read_loop_csv(o.forces, o.time_col, o.disp_col, o.force_col, o.cycle_col);
+    for (double& d : s.displacement) d *= o.disp_scale;
+    for (double& f : s.force) f *= o.force_scale;
+    std::vector<CycleResult> cycles, partial;
+    for (const CycleResult& c : analyze_cycles(s, radius)) (c.complete ? cycles : partial).push_back(c);
+    std::string left_out;
+    for (const CycleResult& c : partial) left_out += (left_out.empty() ? "" : ", ") + std::to_string(c.cycle);
+    if (cycles.empty())
+        throw std::runtime_error("'" + o.forces + "' holds no complete cycle" +
+                                 (partial.empty() ? std::string(" (a cycle goes from the start position to the far "
+                                                                "end and back)")
+                                                  : " (partial: cycle " + left_out + ")"));
+    write_cycles_csv(out.string(), cycles);
+
+    std::fprintf(stderr, "radius %.6g m (%s)\n", radius, which.c_str());
+    for (const CycleResult& c : partial)
+        std::fprintf(stderr,
+                     "warning: cycle %d is partial (it does not come back to where it started: %d samples); left "
+                     "out, its area is not a loop's\n",
+                     c.cycle, c.samples);
+    std::printf("cycle,dissipated_energy,W,peak_force,min_force\n");
+    for (const auto& r : cycles)
+        std::printf("%d,%.6g,%.6g,%.6g,%.6g\n", r.cycle, r.dissipated_energy, r.W, r.peak_force, r.min_force);
+    std::fprintf(stderr, "wrote %s%s\n", out.string().c_str(),
+                 partial.empty() ? "" : (" (complete cycles only; left out: cycle " + left_out + ")").c_str());
+}
+
+}  // namespace vpp
