@@ -70,6 +70,10 @@ Timing run(dem::World& w, const BenchOptions& opt) {
         for (long s = 0; s < opt.warmup; ++s) w.step();
         if (!opt.state.empty()) dem::save_checkpoint(opt.state, w, "bench " + opt.scene);
     }
+    if (opt.energy) {
+        w.params.track_energy = true;
+        w.reset_energy();
+    }
     w.compute_forces();  // count contacts at the start of the timed window
     Timing t;
     t.contacts_start = w.contact_count();
@@ -120,12 +124,13 @@ void print_result(const BenchOptions& opt, const dem::World& w, const Timing& t)
         "{\"scene\": \"%s\", \"particles\": %zu, \"steps\": %ld, \"warmup\": %ld, \"threads\": %d, "
         "\"wall_s\": %.6g, \"steps_per_s\": %.6g, \"particle_steps_per_s\": %.6g, \"contacts\": %zu, "
         "\"contacts_start\": %zu, \"particle_contacts\": %zu, \"candidates\": %zu, \"bonds\": %zu, "
-        "\"rebuilds\": %llu, \"underpressure\": %g, \"peak_rss_bytes\": %ld, \"simd\": \"%s\"%s}\n",
+        "\"rebuilds\": %llu, \"underpressure\": %g, \"peak_rss_bytes\": %ld, \"simd\": \"%s\", \"energy\": %s%s}\n",
         opt.scene.c_str(), w.particles.size(), opt.steps, opt.warmup, opt.threads, t.wall_s, sps,
         sps * double(w.particles.size()), t.contacts_end, t.contacts_start, w.particle_contact_count(),
         w.candidate_count(), w.bonds().size(),
         (unsigned long long)t.rebuilds, opt.underpressure, peak_rss_bytes(),
-        dem::kernels::target_name(dem::kernels::available_targets().front()).c_str(), profile.c_str());
+        dem::kernels::target_name(dem::kernels::available_targets().front()).c_str(), opt.energy ? "true" : "false",
+        profile.c_str());
     std::fflush(stdout);
 }
 
@@ -134,13 +139,17 @@ void grains_in_cylinder(const BenchOptions& opt) {
     configure(w, opt.threads);
     const uint32_t grain = w.add_material(grain_material());
     double top = 0;
-    for (const auto& r : dem::read_numeric_csv(opt.grains, 4)) {
-        dem::SphereDef d;
-        d.position = {r[0], r[1], r[2]};
-        d.radius = r[3];
-        d.material = grain;
-        w.add_sphere(d);
-        top = std::max(top, r[2] + r[3]);
+    {
+        const auto rows = dem::read_numeric_csv(opt.grains, 4);  // freed before the run
+        w.reserve(rows.size());
+        for (const auto& r : rows) {
+            dem::SphereDef d;
+            d.position = {r[0], r[1], r[2]};
+            d.radius = r[3];
+            d.material = grain;
+            w.add_sphere(d);
+            top = std::max(top, r[2] + r[3]);
+        }
     }
     // As Yade's geom.facetCylinder(radius=0.0255, height=H_wall, segmentsNumber=72) and a
     // floor utils.wall(0, axis=2).

@@ -15,6 +15,7 @@ struct BenchOptions {
     double underpressure = 0; // [Pa] foil-plus-grains: follower pressure on the foil
     bool profile = false;     // print the time per phase of the timed steps
     std::string state;        // checkpoint of the state after the warm-up: loaded if it exists, else written
+    bool energy = false;      // keep the energy ledger during the timed steps
     std::string simd;         // run the kernels on this SIMD target only (names: --simd list); "" = best
 };
 

@@ -55,6 +55,7 @@ int main(int argc, char** argv) {
     bench->add_option("--underpressure", bo.underpressure, "[Pa] follower pressure on the foil");
     bench->add_flag("--profile", bo.profile, "Print the time per phase (neighbour search, contacts, ...)");
     bench->add_option("--state", bo.state, "Checkpoint after the warm-up: loaded instead of warming up if it exists, else written");
+    bench->add_flag("--energy", bo.energy, "Keep the energy ledger during the timed steps");
     bench->add_option("--simd", bo.simd, "Run the kernels on this SIMD target only (default: the best here)");
 
     // vppdem tension|envelope [CONFIG] --out DIR [--set ...]: the foil checks of the paper.

@@ -23,17 +23,18 @@ struct InteractionLists {
         return (uint32_t(s) << 30) | (second ? kSecond : 0u) | index;
     }
 
-    // Particle i's region is ref[start[i] .. start[i+1]), its first count[i] entries in use;
-    // the region holds as many entries as the particle has bonds and candidates (an upper
-    // bound on what can be live until the next rebuild).
+    // Particle i's region is ref[start[i] .. start[i+1]), its first count[i] entries in use.
     std::vector<uint32_t> start, count, ref;
 
-    void insert(uint32_t i, uint32_t r) {
+    // Returns false (and changes nothing) when particle i's region is full.
+    bool insert(uint32_t i, uint32_t r) {
+        if (start[i] + count[i] == start[i + 1]) return false;
         uint32_t* b = &ref[start[i]];
         uint32_t* e = b + count[i]++;
         uint32_t* at = std::upper_bound(b, e, r);
         std::move_backward(at, e, e + 1);
         *at = r;
+        return true;
     }
     void erase(uint32_t i, uint32_t r) {
         uint32_t* b = &ref[start[i]];

@@ -404,7 +404,10 @@ HWY_INLINE void advance_body(D d, const kernels::AdvanceArgs& a, int64_t s, VecD
         const VecD<D> rows[8] = {x.x, x.y, x.z, hn::LoadU(d, &p.radius[s]), v.x, v.y, v.z, zero};
         lanes_to_rows(d, rows, &a.packed[s].x);
     }
-    const V3D<D> moved = x1 - load3(d, &a.ref_pos[s]);
+    const hn::Rebind<float, D> df;
+    hn::Vec<decltype(df)> rx, ry, rz;
+    hn::LoadInterleaved3(df, &a.ref_pos[s].x, rx, ry, rz);
+    const V3D<D> moved = x1 - V3D<D>{hn::PromoteTo(d, rx), hn::PromoteTo(d, ry), hn::PromoteTo(d, rz)};
     max_d2 = hn::Max(max_d2, hn::IfThenElseZero(free, norm2(moved)));
     if constexpr (kEnergy) {
         // World::particle terms (docs/energy.md): trapezoid halves of each force's work.

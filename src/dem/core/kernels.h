@@ -75,7 +75,7 @@ struct AdvanceArgs {
     Particles* p = nullptr;
     const Vec3* ext_force = nullptr;  // [N] per particle, or nullptr for none
     const Vec3* pressure = nullptr;   // [N] pressure force per particle (energy terms only), or nullptr
-    const Vec3* ref_pos = nullptr;    // [m] positions at the last rebuild
+    const FloatVec3* ref_pos = nullptr;  // [m] positions at the last rebuild
     PackedParticle* packed = nullptr; // also write the packed records of the new state (or nullptr)
     Vec3 gravity;                     // [m/s^2]
     double dt = 0, lambda = 0;        // [s], local damping [-]

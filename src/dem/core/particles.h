@@ -46,7 +46,9 @@ struct Particles {
     std::vector<uint32_t> flags;
     // cold
     std::vector<int32_t> motion;    // index into World::motions for kPrescribed, else -1
-    std::vector<Vec3> ref_pos;      // [m] reference position for prescribed motion
+    // [m] reference position of prescribed particles (position = ref_pos + motion displacement);
+    // empty until a particle is made prescribed (World::set_prescribed sizes it).
+    std::vector<Vec3> ref_pos;
 
     std::size_t size() const { return pos.size(); }
 };

@@ -36,4 +36,9 @@ constexpr double norm2(const Vec3& a) { return dot(a, a); }
 inline double norm(const Vec3& a) { return std::sqrt(norm2(a)); }
 inline Vec3 normalized(const Vec3& a) { return a / norm(a); }
 
+// A position stored in single precision (reference positions of the broad phase).
+struct FloatVec3 {
+    float x = 0.0f, y = 0.0f, z = 0.0f;
+};
+
 }  // namespace dem

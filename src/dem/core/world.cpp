@@ -45,9 +45,17 @@ uint32_t World::add_sphere(const SphereDef& d) {
     p.mask.push_back(d.mask);
     p.flags.push_back(d.flags);
     p.motion.push_back(-1);
-    p.ref_pos.push_back(d.position);
+    if (!p.ref_pos.empty()) p.ref_pos.push_back(d.position);
     candidates_dirty_ = prescribed_dirty_ = true;
     return uint32_t(p.size() - 1);
+}
+
+void World::reserve(std::size_t n) {
+    Particles& p = particles;
+    for (auto* v : {&p.pos, &p.vel, &p.angvel, &p.force, &p.torque}) v->reserve(n);
+    for (auto* v : {&p.radius, &p.mass, &p.inv_mass, &p.inv_inertia}) v->reserve(n);
+    for (auto* v : {&p.material, &p.mask, &p.flags}) v->reserve(n);
+    p.motion.reserve(n);
 }
 
 uint32_t World::add_plane(const Plane& pl) {
@@ -86,6 +94,7 @@ void World::set_prescribed(uint32_t i, uint32_t motion) {
     p.angvel[i] = Vec3{};
     p.motion[i] = int32_t(motion);
     // The motion's displacement is measured from where the particle is at time 0 of the motion.
+    if (p.ref_pos.size() != p.size()) p.ref_pos = p.pos;
     p.ref_pos[i] = p.pos[i] - motions[motion].displacement(time);
     physics_dirty_ = prescribed_dirty_ = true;
     packed_valid_ = false;
@@ -281,34 +290,32 @@ void World::build_interaction_lists() {
     using L = InteractionLists;
     const std::size_t n = particles.size();
     L& l = links_;
-    // Capacity: the particle's bonds and candidates (as body 1 or body 2).
-    l.start.assign(n + 1, 0);
+    // Each particle's region holds its bonds and live contacts plus some room for contacts
+    // that start before the next rebuild (when a region is full, the lists are laid out anew).
+    const auto each = [&](auto&& f) {
+        for (std::size_t i = 0; i < n; ++i)
+            for (uint32_t k = bond_start_[i]; k < bond_start_[i + 1]; ++k)
+                f(uint32_t(i), L::make(L::kBond, bond_entries_[k] & kSideBit, bond_entries_[k] & ~kSideBit));
+        for (std::size_t s = 0; s < fric_.size(); ++s)
+            if (fric_.cand[s] != kNoSlot) {
+                f(fric_.i[s], L::make(L::kFrictional, false, uint32_t(s)));
+                f(fric_.j[s], L::make(L::kFrictional, true, uint32_t(s)));
+            }
+        for (std::size_t s = 0; s < smooth_.size(); ++s)
+            if (smooth_.cand[s] != kNoSlot) {
+                f(smooth_.i[s], L::make(L::kFrictionless, false, uint32_t(s)));
+                f(smooth_.j[s], L::make(L::kFrictionless, true, uint32_t(s)));
+            }
+        for (std::size_t s = 0; s < walls_.size(); ++s)
+            if (walls_.cand[s] != kNoSlot) f(walls_.i[s], L::make(L::kWall, true, uint32_t(s)));
+    };
     l.count.assign(n, 0);
-    for (std::size_t i = 0; i < n; ++i) l.start[i + 1] = bond_start_[i + 1] - bond_start_[i];
-    if (!pp_cand_.start.empty())
-        for (std::size_t i = 0; i < n; ++i) {
-            l.start[i + 1] += pp_cand_.start[i + 1] - pp_cand_.start[i];
-            for (uint32_t k = pp_cand_.start[i]; k < pp_cand_.start[i + 1]; ++k) ++l.start[pp_cand_.other[k] + 1];
-        }
-    if (!pw_cand_.start.empty())
-        for (std::size_t i = 0; i < n; ++i) l.start[i + 1] += pw_cand_.start[i + 1] - pw_cand_.start[i];
-    for (std::size_t i = 0; i < n; ++i) l.start[i + 1] += l.start[i];
+    each([&](uint32_t i, uint32_t) { ++l.count[i]; });
+    l.start.assign(n + 1, 0);
+    for (std::size_t i = 0; i < n; ++i) l.start[i + 1] = l.start[i] + l.count[i] + 2 + l.count[i] / 4;
+    l.count.assign(n, 0);
     l.ref.assign(l.start[n], 0);
-    for (std::size_t i = 0; i < n; ++i)
-        for (uint32_t k = bond_start_[i]; k < bond_start_[i + 1]; ++k)
-            l.insert(uint32_t(i), L::make(L::kBond, bond_entries_[k] & kSideBit, bond_entries_[k] & ~kSideBit));
-    for (std::size_t s = 0; s < fric_.size(); ++s)
-        if (fric_.cand[s] != kNoSlot) {
-            l.insert(fric_.i[s], L::make(L::kFrictional, false, uint32_t(s)));
-            l.insert(fric_.j[s], L::make(L::kFrictional, true, uint32_t(s)));
-        }
-    for (std::size_t s = 0; s < smooth_.size(); ++s)
-        if (smooth_.cand[s] != kNoSlot) {
-            l.insert(smooth_.i[s], L::make(L::kFrictionless, false, uint32_t(s)));
-            l.insert(smooth_.j[s], L::make(L::kFrictionless, true, uint32_t(s)));
-        }
-    for (std::size_t s = 0; s < walls_.size(); ++s)
-        if (walls_.cand[s] != kNoSlot) l.insert(walls_.i[s], L::make(L::kWall, true, uint32_t(s)));
+    each([&](uint32_t i, uint32_t r) { l.insert(i, r); });
 }
 
 void World::rebuild_derived_tables() {
@@ -443,13 +450,15 @@ void World::activate_new_contacts() {
         const uint32_t s = (smooth ? smooth_ : fric_).add(i, j, k, ph);
         pp_cand_.slot[k] = s | (smooth ? kSmoothBit : 0u);
         const auto src = smooth ? InteractionLists::kFrictionless : InteractionLists::kFrictional;
-        links_.insert(i, InteractionLists::make(src, false, s));
-        links_.insert(j, InteractionLists::make(src, true, s));
+        if (!links_.insert(i, InteractionLists::make(src, false, s)) ||
+            !links_.insert(j, InteractionLists::make(src, true, s)))
+            build_interaction_lists();  // a region was full: lay the lists out anew (with this contact)
     }
     for (const auto& [k, i] : merged(new_pw_)) {
         const uint32_t w = pw_cand_.other[k];
         pw_cand_.slot[k] = walls_.add(i, w, k, wall_phys(i, w));
-        links_.insert(i, InteractionLists::make(InteractionLists::kWall, true, pw_cand_.slot[k]));
+        if (!links_.insert(i, InteractionLists::make(InteractionLists::kWall, true, pw_cand_.slot[k])))
+            build_interaction_lists();
     }
 }
 
@@ -626,10 +635,10 @@ void World::compute_forces() {
     const double dt = params.dt;
     // The packed particle state is only needed (and written) when pairs or bonds are computed;
     // a new contact always involves particles of an existing candidate, so candidates count.
-    const bool pack = !bonds_.i.empty() || !pp_cand_.other.empty();
-    if (!pack) packed_.clear();
-    if (pack && packed_.size() != particles.size()) {
-        packed_.resize(particles.size());
+    // The packed records exist while there are bonds or particle contacts (a free fall of
+    // 1e5 grains needs none); the first contacts get them in activate_new_contacts().
+    if (packed_.size() != particles.size() || (bonds_.i.empty() && fric_.size() + smooth_.size() == 0)) {
+        packed_.clear();
         packed_valid_ = false;
     }
     // One parallel region for the whole force computation: the kernels write their own
@@ -648,6 +657,10 @@ void World::compute_forces() {
                 smooth_energy_.resize(kernels::block_count(smooth_.size()) * kernels::kPairSums);
                 wall_energy_.resize(kernels::block_count(walls_.size()) * kernels::kPairSums);
                 bond_energy_.resize(kernels::block_count(bonds_.size()));
+            }
+            if (packed_.empty() && (!bonds_.i.empty() || fric_.size() + smooth_.size() > 0)) {
+                packed_.resize(particles.size());
+                for (std::size_t i = 0; i < particles.size(); ++i) packed_[i] = kernels::pack(particles, i);
             }
             fric_runs_ = store_runs(fric_);
             smooth_runs_ = store_runs(smooth_);
@@ -762,7 +775,8 @@ void World::integrate() {
         p.vel[i] = m.mean_velocity(time, t1);
         p.pos[i] = p.ref_pos[i] + m.displacement(t1);
         if (args.packed) packed_[i] = kernels::pack(p, i);
-        max_d2 = std::max(max_d2, norm2(p.pos[i] - ref_pos_[i]));
+        const FloatVec3 r = ref_pos_[i];
+        max_d2 = std::max(max_d2, norm2(p.pos[i] - Vec3{r.x, r.y, r.z}));
         if (track) {
             // Work done by the prescribed particle on the others: minus the force they exert
             // on it (contacts and bonds, not the pressure it carries) times its displacement.
@@ -773,7 +787,7 @@ void World::integrate() {
         }
     }
     packed_valid_ = args.packed != nullptr;
-    max_disp_ = std::sqrt(max_d2);
+    max_disp_ = std::sqrt(max_d2) + ref_round_;
     profile_.lap(Phase::kIntegration);
     // Rebase when dt changed or someone set the clock (e.g. a restart from a checkpoint).
     if (dt != dt_of_base_ || time != time_base_ + double(steps - step_base_) * dt_of_base_) {

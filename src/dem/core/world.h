@@ -63,6 +63,8 @@ public:
 
     uint32_t add_material(const Material& m);
     uint32_t add_sphere(const SphereDef& d);
+    // Room for n particles in all per-particle arrays (saves the growth copies of large scenes).
+    void reserve(std::size_t n);
     uint32_t add_plane(const Plane& p);
     uint32_t add_facet(const Facet& f);
     uint32_t add_motion(const Motion& m);
@@ -190,7 +192,10 @@ private:
     std::vector<uint32_t> bonded_with_;                // the partner of each bond_entries_ entry
     bool bonds_dirty_ = false;
     CellGrid grid_;
-    std::vector<Vec3> ref_pos_;        // positions at the last rebuild
+    // [m] positions at the last rebuild, in float (half the memory of a large scene): the
+    // moves measured against them are enlarged by ref_round_, a bound of the rounding.
+    std::vector<FloatVec3> ref_pos_;
+    double ref_round_ = 0.0;           // [m]
     std::vector<Vec3> wall_ref_disp_;  // wall displacement at the last rebuild
     std::vector<Vec3> plane_point_, wall_vel_;
     std::vector<std::array<Vec3, 3>> facet_now_;

@@ -21,6 +21,11 @@ namespace {
 template <class T> void concatenate(std::vector<std::vector<T>>& parts, std::vector<T>& out) {
     std::size_t total = 0;
     for (const auto& v : parts) total += v.size();
+    if (parts.size() == 1) {  // one thread: its list is the result (no copy: peak memory)
+        out.swap(parts[0]);
+        std::vector<T>().swap(parts[0]);
+        return;
+    }
     out.clear();
     out.reserve(total);
     for (auto& v : parts) {
@@ -53,11 +58,15 @@ void World::rebuild_candidates() {
     const double rmax = n ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
     grid_.build(p.pos, 2.0 * rmax + skin, std::max<int64_t>(int64_t(4 * n), 4096));
 
-    // Facets are registered in every cell their box (grown by rmax + skin) touches, so a
-    // particle only has to look at its own cell's list.
+    // Facets are registered in every cell of a coarser grid (2 x 2 x 2 particle cells) that
+    // their box (grown by rmax + skin) touches, so a particle only has to look at its own coarse
+    // cell's list. Coarse because facets are often large (a cylinder wall of full height): in
+    // the particle grid their lists were among the largest arrays of a run.
     std::vector<uint32_t> fstart, fitems;
+    const std::array<int64_t, 3> fdims{(grid_.dims[0] + 1) / 2, (grid_.dims[1] + 1) / 2, (grid_.dims[2] + 1) / 2};
+    const auto fcell = [&](int64_t x, int64_t y, int64_t z) { return (z * fdims[1] + y) * fdims[0] + x; };
     if (!facets.empty()) {
-        fstart.assign(std::size_t(grid_.ncells() + 1), 0);
+        fstart.assign(std::size_t(fdims[0] * fdims[1] * fdims[2] + 1), 0);
         const double grow = rmax + skin;
         std::vector<std::array<int64_t, 6>> range(facets.size());
         std::vector<uint8_t> inside(facets.size(), 0);
@@ -73,15 +82,15 @@ void World::rebuild_candidates() {
                 const double a = (lo[d] - grow - grid_.origin[d]) / grid_.cell;
                 const double b = (hi[d] + grow - grid_.origin[d]) / grid_.cell;
                 if (b < 0.0 || a >= double(grid_.dims[d])) ok = false;
-                range[f][d] = std::clamp<int64_t>(int64_t(std::floor(a)), 0, grid_.dims[d] - 1);
-                range[f][d + 3] = std::clamp<int64_t>(int64_t(std::floor(b)), 0, grid_.dims[d] - 1);
+                range[f][d] = std::clamp<int64_t>(int64_t(std::floor(a)), 0, grid_.dims[d] - 1) / 2;
+                range[f][d + 3] = std::clamp<int64_t>(int64_t(std::floor(b)), 0, grid_.dims[d] - 1) / 2;
             }
             inside[f] = ok;
         }
         for (int pass = 0; pass < 2; ++pass) {
             std::vector<uint32_t> fill;
             if (pass == 1) {
-                for (int64_t c = 0; c < grid_.ncells(); ++c) fstart[c + 1] += fstart[c];
+                for (std::size_t c = 0; c + 1 < fstart.size(); ++c) fstart[c + 1] += fstart[c];
                 fitems.resize(fstart.back());
                 fill.assign(fstart.begin(), fstart.end() - 1);
             }
@@ -91,7 +100,7 @@ void World::rebuild_candidates() {
                 for (int64_t z = r[2]; z <= r[5]; ++z)
                     for (int64_t y = r[1]; y <= r[4]; ++y)
                         for (int64_t x = r[0]; x <= r[3]; ++x) {
-                            const int64_t c = grid_.index({x, y, z});
+                            const int64_t c = fcell(x, y, z);
                             if (pass == 0) ++fstart[c + 1];
                             else fitems[fill[c]++] = uint32_t(f);
                         }
@@ -100,7 +109,10 @@ void World::rebuild_candidates() {
     }
 
     // The old lists go first (the new ones reuse the memory); the live contacts find their
-    // pairs again through the stores' (i, j).
+    // pairs again through the stores' (i, j). The per-thread lists get room for about as many
+    // candidates as last time (first time: 6 per particle, a dense packing's half list), so
+    // they do not grow by doubling: up to twice the memory, in the largest arrays of the step.
+    const std::size_t hint = pp_cand_.other.empty() ? 6 * n : pp_cand_.other.size() + pp_cand_.other.size() / 8;
     pp_cand_.clear();
     pw_cand_.clear();
     pp_cand_.start.assign(n + 1, 0);
@@ -113,6 +125,8 @@ void World::rebuild_candidates() {
     {
         const int tid = thread_id();
         std::vector<std::pair<uint32_t, float>> local;
+        pp_other[tid].reserve(hint / std::size_t(thread_count()) + 64);
+        pp_gap[tid].reserve(hint / std::size_t(thread_count()) + 64);
         // A static split hands out contiguous ranges of i in thread order, so concatenating the
         // per-thread lists in thread order gives the candidates in particle order.
 #pragma omp for schedule(static)
@@ -151,7 +165,7 @@ void World::rebuild_candidates() {
                 }
             }
             if (!facets.empty()) {
-                const int64_t cell = grid_.index(c);
+                const int64_t cell = fcell(c[0] / 2, c[1] / 2, c[2] / 2);
                 for (uint32_t k = fstart[cell]; k < fstart[cell + 1]; ++k) {
                     const uint32_t f = fitems[k];
                     if (!(facets[f].mask & p.mask[i])) continue;
@@ -197,7 +211,16 @@ void World::rebuild_candidates() {
     physics_dirty_ = false;
     assign_owners();  // the particles moved: new slabs
 
-    ref_pos_ = p.pos;
+    ref_pos_.resize(n);
+    double big = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3 x = p.pos[i];
+        ref_pos_[i] = {float(x.x), float(x.y), float(x.z)};
+        big = std::max({big, std::abs(x.x), std::abs(x.y), std::abs(x.z)});
+    }
+    // A float rounds a coordinate by at most 2^-24 of it (relative): |x - ref| <= |x - float
+    // ref| + sqrt(3) 2^-24 max|x|; twice that for safety.
+    ref_round_ = 2.0 * 1.7320508075688772 * big * 0x1p-24;
     wall_ref_disp_.resize(wall_count());
     for (std::size_t k = 0; k < planes.size(); ++k) wall_ref_disp_[k] = planes[k].motion.displacement(time);
     for (std::size_t k = 0; k < facets.size(); ++k)

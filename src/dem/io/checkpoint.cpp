@@ -327,7 +327,14 @@ struct WorldSerializer {
             s.vec(b.torque2);
         });
         a.section("VRLT", [&](A& s) {
-            s.vec(w.ref_pos_);
+            if (version >= 2) {
+                s.vec(w.ref_pos_);
+                s.pod(w.ref_round_);
+            } else if constexpr (std::is_same_v<A, Reader>) {
+                std::vector<Vec3> ref;
+                s.vec(ref);
+                w.candidates_dirty_ = true;  // version 1: rebuild at the next step
+            }
             s.vec(w.wall_ref_disp_);
             s.pod(w.max_disp_);
             if (version >= 2) s.pod(w.wall_move_);
@@ -422,16 +429,17 @@ struct WorldSerializer {
         const std::size_t n = p.size(), nw = w.wall_count();
         auto bad = [&](const char* what) { corrupt(path, what); };
         if (!p.ext_force.empty() && p.ext_force.size() != n) bad("particle arrays of different lengths");
+        if (!p.ref_pos.empty() && p.ref_pos.size() != n) bad("particle arrays of different lengths");
         for (std::size_t s : {p.vel.size(), p.angvel.size(), p.force.size(), p.torque.size(),
                               p.radius.size(), p.mass.size(), p.inv_mass.size(),
                               p.inv_inertia.size(), p.material.size(), p.mask.size(), p.flags.size(),
-                              p.motion.size(), p.ref_pos.size()})
+                              p.motion.size()})
             if (s != n) bad("particle arrays of different lengths");
         for (std::size_t i = 0; i < n; ++i) {
             if (p.material[i] >= w.materials.size()) bad("particle material out of range");
             if (p.motion[i] >= int64_t(w.motions.size()) || p.motion[i] < -1)
                 bad("particle motion out of range");
-            if ((p.flags[i] & kPrescribed) && p.motion[i] < 0) bad("prescribed particle without motion");
+            if ((p.flags[i] & kPrescribed) && (p.motion[i] < 0 || p.ref_pos.empty())) bad("prescribed particle without motion");
         }
         for (const Plane& pl : w.planes)
             if (pl.material >= w.materials.size()) bad("wall material out of range");
