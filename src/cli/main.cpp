@@ -50,7 +50,7 @@ int main(int argc, char** argv) {
         ->check(CLI::ExistingDirectory);
     bench->add_option("--warmup", bo.warmup, "untimed steps first")->check(CLI::NonNegativeNumber);
     bench->add_option("--steps", bo.steps, "timed steps")->check(CLI::PositiveNumber);
-    auto* bench_threads = bench->add_option("--threads", bo.threads, std::string("OpenMP threads (") + cli::kDefaultThreadsHelp + ")")
+    auto* bench_threads = bench->add_option("--threads", bo.threads, std::string("threads of the step (") + cli::kDefaultThreadsHelp + ")")
         ->check(CLI::PositiveNumber);
     bench->add_option("--underpressure", bo.underpressure, "[Pa] follower pressure on the foil");
     bench->add_flag("--profile", bo.profile, "Print the time per phase (neighbour search, contacts, ...)");

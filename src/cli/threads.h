@@ -1,9 +1,9 @@
 // The default thread count of every command: the cores this process may use that are not busy
-// with other work, so a run never starts more OpenMP threads than there are free cores.
+// with other work, so a run never starts more step threads than there are free cores.
 //
-// Why: OpenMP threads wait for each other at every barrier of a time step. When one of them
+// Why: The threads of a step wait for each other at every barrier of a time step. When one of them
 // shares its core with another busy process, all of them wait for it, and a spinning wait makes
-// it worse: on the 2-core machine with a benchmark on one core, a 2-thread damper took 150 s
+// it worse (dem/core/thread_team.h): on the 2-core machine with a benchmark on one core, a 2-thread damper took 150 s
 // where 1 thread took 11 s. An explicit thread count (--threads, simulation.threads) is always
 // honoured; only the default adapts.
 //

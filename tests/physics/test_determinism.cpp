@@ -1,4 +1,4 @@
-// Results must not depend on the OpenMP thread count: forces are written per contact and
+// Results must not depend on the thread count: forces are written per contact and
 // gathered per particle in a fixed order, so 1, 2 and 3 threads must give bitwise-identical
 // positions, velocities, angular velocities and wall forces. Nor on the processor: every SIMD
 // target the kernels are compiled for (AVX-512, AVX2, SSE4, ..., scalar) must give the same

@@ -33,6 +33,23 @@ struct ActiveContacts {
         for (uint32_t c : cand) n += c != kNoSlot;
         return n;
     }
+    // Gives a new contact with zero history the first hole at or after *cursor (then moves the
+    // cursor past it), or a new slot at the end; returns the slot. Filling the lowest holes
+    // first keeps the slots a function of which contacts are live, not of who found them.
+    uint32_t place(uint32_t a, uint32_t b, uint32_t candidate, const ContactPhys& p, std::size_t* cursor) {
+        while (*cursor < cand.size() && cand[*cursor] != kNoSlot) ++*cursor;
+        if (*cursor == cand.size()) {
+            ++*cursor;
+            return add(a, b, candidate, p);
+        }
+        const std::size_t s = (*cursor)++;
+        i[s] = a;
+        j[s] = b;
+        cand[s] = candidate;
+        phys[s] = p;
+        shear[s] = prev_normal[s] = force[s] = torque1[s] = torque2[s] = point[s] = fv[s] = Vec3{};
+        return uint32_t(s);
+    }
     // Appends a slot for a new contact with zero history; returns its index.
     uint32_t add(uint32_t a, uint32_t b, uint32_t candidate, const ContactPhys& p) {
         i.push_back(a);

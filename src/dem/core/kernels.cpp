@@ -494,6 +494,28 @@ void FilterOpenCandidates(const uint32_t* slot, const float* gap, float reach, i
     out.resize(old + cnt);
 }
 
+void TouchingPairs(const kernels::PackedParticle* P, const uint32_t* I, const uint32_t* J, std::size_t m,
+                   std::vector<uint32_t>& hits) {
+    const hn::ScalableTag<double> d;
+    const std::size_t N = hn::Lanes(d);
+    const auto test = [&](auto dd, std::size_t q) {
+        VecD<decltype(dd)> a[8], b[8];
+        load_packed(dd, P, I + q, a);
+        load_packed(dd, P, J + q, b);
+        const V3<VecD<decltype(dd)>> dx{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+        const auto rs = a[3] + b[3];
+        const auto touch = norm2(dx) < rs * rs;  // as sphere_sphere and the pair kernels
+        if (hn::AllFalse(dd, touch)) return;
+        uint8_t bits[8] = {};
+        hn::StoreMaskBits(dd, touch, bits);
+        for (std::size_t l = 0; l < hn::Lanes(dd); ++l)
+            if (bits[l / 8] & (1u << (l % 8))) hits.push_back(uint32_t(q + l));
+    };
+    std::size_t q = 0;
+    for (; q + N <= m; q += N) test(d, q);
+    for (; q < m; ++q) test(hn::CappedTag<double, 1>(), q);
+}
+
 void PackParticles(const Particles& p, int64_t i0, int64_t i1, kernels::PackedParticle* out) {
     for (int64_t i = i0; i < i1; ++i) out[i] = kernels::pack(p, i);
 }
@@ -515,6 +537,7 @@ HWY_EXPORT(Bonds);
 HWY_EXPORT(Advance);
 HWY_EXPORT(FilterOpenCandidates);
 HWY_EXPORT(PackParticles);
+HWY_EXPORT(TouchingPairs);
 
 namespace kernels {
 
@@ -525,6 +548,10 @@ double advance(const AdvanceArgs& a) { return HWY_DYNAMIC_DISPATCH(Advance)(a); 
 void filter_open_candidates(const uint32_t* slot, const float* gap, float reach, int64_t k0, int64_t k1,
                             std::vector<uint32_t>& out) {
     HWY_DYNAMIC_DISPATCH(FilterOpenCandidates)(slot, gap, reach, k0, k1, out);
+}
+void touching_pairs(const PackedParticle* packed, const uint32_t* i, const uint32_t* j, std::size_t m,
+                    std::vector<uint32_t>& hits) {
+    HWY_DYNAMIC_DISPATCH(TouchingPairs)(packed, i, j, m, hits);
 }
 void pack_particles(const Particles& p, int64_t i0, int64_t i1, PackedParticle* out) {
     HWY_DYNAMIC_DISPATCH(PackParticles)(p, i0, i1, out);

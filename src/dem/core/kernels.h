@@ -92,6 +92,10 @@ double advance(const AdvanceArgs& a);
 // at the rebuild is below `reach` [m]: their indices are appended to `out`, ascending.
 void filter_open_candidates(const uint32_t* slot, const float* gap, float reach, int64_t k0, int64_t k1,
                             std::vector<uint32_t>& out);
+// Of the pairs (i[q], j[q]), q < m, those whose spheres overlap (the test of the pair kernels,
+// on packed records): their q appended to `hits`, ascending.
+void touching_pairs(const PackedParticle* packed, const uint32_t* i, const uint32_t* j, std::size_t m,
+                    std::vector<uint32_t>& hits);
 // Writes the packed records of particles [i0, i1).
 void pack_particles(const Particles& p, int64_t i0, int64_t i1, PackedParticle* out);
 

@@ -1,6 +1,7 @@
-// Work splitting inside the step's OpenMP parallel regions. Every split is a pure function of
-// the item count and the thread count, and every sum the step forms runs over fixed blocks of
-// items, never over a thread's share: results are the same for any number of threads.
+// Work splitting inside the step's parallel sections (dem/core/thread_team.h). Every split is a
+// pure function of the item count and the thread count, and every sum the step forms runs over
+// fixed blocks of items, never over a thread's share: results are the same for any number of
+// threads.
 #pragma once
 
 #include <algorithm>
@@ -8,29 +9,18 @@
 #include <utility>
 #include <vector>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
-
 namespace dem {
 
-inline int thread_id() {
-#ifdef _OPENMP
-    return omp_get_thread_num();
-#else
-    return 0;
-#endif
-}
+// The calling thread's index and the thread count inside ThreadTeam::run (0 and 1 outside).
+namespace detail {
+inline thread_local int tls_thread_id = 0;
+inline thread_local int tls_thread_count = 1;
+}  // namespace detail
 
-inline int thread_count() {
-#ifdef _OPENMP
-    return omp_get_num_threads();
-#else
-    return 1;
-#endif
-}
+inline int thread_id() { return detail::tls_thread_id; }
+inline int thread_count() { return detail::tls_thread_count; }
 
-// Thread t's contiguous share [begin, end) of n items among nt threads (OpenMP's static
+// Thread t's contiguous share [begin, end) of n items among nt threads (a static
 // schedule): shares differ by at most one item and follow the thread order.
 inline std::pair<int64_t, int64_t> thread_range(int64_t n, int tid, int nt) {
     const int64_t q = n / nt, r = n % nt;

@@ -283,6 +283,7 @@ void World::compact_contacts(bool refresh) {
     fric_ = std::move(nf);
     smooth_ = std::move(ns);
     walls_ = std::move(nw);
+    holes_ = 0;
     build_interaction_lists();  // the slots moved
 }
 
@@ -354,8 +355,10 @@ void World::assign_owners() {
         std::vector<double> key(std::size_t(nb), 0.0), weight(std::size_t(nb), 0.0);
         for (int64_t i = 0; i < n; ++i) {
             key[i / kernels::kBlock] += p.pos[i][axis];
-            weight[i / kernels::kBlock] += 4.0 + (links_.start.size() == std::size_t(n + 1)
-                                                      ? double(links_.start[i + 1] - links_.start[i]) : 0.0);
+            // Integration, the gather (live interactions) and the candidate tests.
+            weight[i / kernels::kBlock] +=
+                4.0 + (links_.start.size() == std::size_t(n + 1) ? double(links_.start[i + 1] - links_.start[i]) : 0.0) +
+                (pp_cand_.start.size() == std::size_t(n + 1) ? 0.5 * double(pp_cand_.start[i + 1] - pp_cand_.start[i]) : 0.0);
         }
         std::vector<int64_t> order(static_cast<std::size_t>(nb));
         for (int64_t b = 0; b < nb; ++b) {
@@ -417,10 +420,35 @@ void World::find_new_contacts() {
             }
         }
     };
+    // Particle pairs with packed records: the tests in SIMD on (i, j) lists.
+    const auto scan_pairs = [&](int64_t i0, int64_t i1, float reach) {
+        const CandidateList& c = pp_cand_;
+        if (c.other.empty()) return;
+        test.clear();
+        kernels::filter_open_candidates(c.slot.data(), c.gap.data(), reach, c.start[i0], c.start[i1], test);
+        std::vector<uint32_t>& is = pair_i_[tid];
+        std::vector<uint32_t>& js = pair_j_[tid];
+        is.resize(test.size());
+        js.resize(test.size());
+        int64_t i = i0;
+        for (std::size_t q = 0; q < test.size(); ++q) {
+            while (c.start[i + 1] <= test[q]) ++i;
+            is[q] = uint32_t(i);
+            js[q] = c.other[test[q]];
+        }
+        std::vector<uint32_t>& hits = pair_hits_[tid];
+        hits.clear();
+        kernels::touching_pairs(packed_.data(), is.data(), js.data(), test.size(), hits);
+        for (uint32_t q : hits) {
+            npp.push_back(is[q]);
+            npp.push_back(test[q]);
+        }
+    };
     for (const auto& [b0, b1] : particle_runs_[tid]) {
         const int64_t i0 = b0 * kernels::kBlock, i1 = std::min(n, b1 * kernels::kBlock);
         if (!packed_.empty() && !packed_valid_) kernels::pack_particles(p, i0, i1, packed_.data());
-        scan(pp_cand_, i0, i1, float(2.0 * max_disp_ + margin), [&](uint32_t i, uint32_t j) {
+        if (!packed_.empty()) scan_pairs(i0, i1, float(2.0 * max_disp_ + margin));
+        else scan(pp_cand_, i0, i1, float(2.0 * max_disp_ + margin), [&](uint32_t i, uint32_t j) {
             const Vec3 d = p.pos[j] - p.pos[i];
             const double rs = p.radius[i] + p.radius[j];
             return norm2(d) < rs * rs;
@@ -443,11 +471,17 @@ void World::activate_new_contacts() {
         std::sort(all.begin(), all.end());
         return all;
     };
+    // New contacts fill the holes of opened ones, lowest first (in candidate order).
+    std::size_t new_count = 0;
+    for (const auto* lists : {&new_pp_, &new_pw_})
+        for (const auto& l : *lists) new_count += l.size() / 2;
+    std::size_t fric_cursor = 0, smooth_cursor = 0, wall_cursor = 0;
+    const std::size_t before = fric_.size() + smooth_.size() + walls_.size();
     for (const auto& [k, i] : merged(new_pp_)) {
         const uint32_t j = pp_cand_.other[k];
         const ContactPhys ph = pair_phys(i, j);
         const bool smooth = ph.mu == 0.0;
-        const uint32_t s = (smooth ? smooth_ : fric_).add(i, j, k, ph);
+        const uint32_t s = smooth ? smooth_.place(i, j, k, ph, &smooth_cursor) : fric_.place(i, j, k, ph, &fric_cursor);
         pp_cand_.slot[k] = s | (smooth ? kSmoothBit : 0u);
         const auto src = smooth ? InteractionLists::kFrictionless : InteractionLists::kFrictional;
         if (!links_.insert(i, InteractionLists::make(src, false, s)) ||
@@ -456,11 +490,15 @@ void World::activate_new_contacts() {
     }
     for (const auto& [k, i] : merged(new_pw_)) {
         const uint32_t w = pw_cand_.other[k];
-        pw_cand_.slot[k] = walls_.add(i, w, k, wall_phys(i, w));
+        pw_cand_.slot[k] = walls_.place(i, w, k, wall_phys(i, w), &wall_cursor);
         if (!links_.insert(i, InteractionLists::make(InteractionLists::kWall, true, pw_cand_.slot[k])))
             build_interaction_lists();
     }
+    const std::size_t after = fric_.size() + smooth_.size() + walls_.size();
+    const std::size_t filled = (new_count - (after - before));
+    holes_ = holes_ > filled ? holes_ - filled : 0;
 }
+
 
 void World::release_opened_contacts() {
     using L = InteractionLists;
@@ -470,6 +508,7 @@ void World::release_opened_contacts() {
             for (uint32_t s : list) {
                 cl.slot[a.cand[s]] = kNoSlot;
                 a.cand[s] = kNoSlot;
+                ++holes_;
                 if (src == L::kWall) {
                     links_.erase(a.i[s], L::make(src, true, s));
                 } else {
@@ -609,15 +648,20 @@ void World::sum_wall_reactions() {
 void World::compute_forces() {
     profile_.start();
     move_walls();
+    // Holes left by opened contacts are dropped at each rebuild; where contacts come and go
+    // much faster than rebuilds happen (a collapsing column), also once they are a quarter of
+    // the slots, so the kernels do not sweep mostly empty stores.
     if (needs_rebuild()) rebuild_candidates();
-    else if (physics_dirty_) compact_contacts(true);
+    else if (physics_dirty_ || holes_ > (fric_.size() + smooth_.size() + walls_.size()) / 4 + 256) compact_contacts(physics_dirty_);
     physics_dirty_ = false;
     profile_.lap(Phase::kNeighbour);
 
     const bool track = params.track_energy;
     const bool press = pressure.dp != 0.0 && !pressure.nodes.empty();
     const int nt = std::max(1, params.threads);
-    for (auto* v : {&new_pp_, &new_pw_, &open_scratch_, &opened_fric_, &opened_smooth_, &opened_walls_}) v->resize(nt);
+    for (auto* v : {&new_pp_, &new_pw_, &open_scratch_, &pair_i_, &pair_j_, &pair_hits_, &opened_fric_, &opened_smooth_,
+                    &opened_walls_})
+        v->resize(nt);
     // Pressure slots: only the nodes' entries are written each step, the others stay zero; so
     // the array is zeroed whenever the node list changes or the pressure is switched on or off.
     const bool pslots = press || track;  // the energy ledger reads the (zero) slots too
@@ -644,12 +688,10 @@ void World::compute_forces() {
     // One parallel region for the whole force computation: the kernels write their own
     // slots and do not wait for each other; barriers order the contact bookkeeping before
     // them and the gather after them.
-#pragma omp parallel num_threads(nt)
-    {
+    team_->run(nt, [&](int tid) {
         find_new_contacts();
-#pragma omp barrier
-#pragma omp single
-        {
+        team_->barrier();
+        if (tid == 0) {
             activate_new_contacts();
             if (track) {
                 // Every block sum is written by the kernels below.
@@ -665,12 +707,9 @@ void World::compute_forces() {
             fric_runs_ = store_runs(fric_);
             smooth_runs_ = store_runs(smooth_);
             wall_runs_ = store_runs(walls_);
-        }  // ends with a barrier
-        if (prof) {
-#pragma omp master
-            profile_.lap(Phase::kNeighbour);
         }
-        const int tid = thread_id();
+        team_->barrier();
+        if (prof && tid == 0) profile_.lap(Phase::kNeighbour);
         opened_fric_[tid].clear();
         opened_smooth_[tid].clear();
         for (const auto& [b0, b1] : fric_runs_[tid])
@@ -681,26 +720,21 @@ void World::compute_forces() {
                                    track ? smooth_energy_.data() : nullptr, &opened_smooth_[tid]});
         if (track) wall_contact_forces<true>();
         else wall_contact_forces<false>();
-        if (prof) {
-#pragma omp barrier
-#pragma omp master
-            profile_.lap(Phase::kContacts);
-        }
+        // With profiling on, a barrier after each phase so that its time is the slowest thread's.
+        const auto lap = [&](Phase ph) {
+            if (!prof) return;
+            team_->barrier();
+            if (tid == 0) profile_.lap(ph);
+        };
+        lap(Phase::kContacts);
         for (const auto& [b0, b1] : bond_runs_[tid])
             kernels::bonds({&particles, packed_.data(), &bonds_, dt, b0, b1, track ? bond_energy_.data() : nullptr});
-        if (prof) {
-#pragma omp barrier
-#pragma omp master
-            profile_.lap(Phase::kBonds);
-        }
+        lap(Phase::kBonds);
         if (press) apply_pressure();
-#pragma omp barrier
-        if (prof) {
-#pragma omp master
-            profile_.lap(Phase::kPressure);
-        }
+        team_->barrier();
+        if (prof && tid == 0) profile_.lap(Phase::kPressure);
         gather_forces(press);
-    }
+    });
     packed_valid_ = !packed_.empty();  // (integrate() keeps it so; invalidate_candidates() does not)
     sum_wall_reactions();
     release_opened_contacts();
@@ -751,16 +785,17 @@ void World::integrate() {
     args.energy = track ? particle_blocks_.data() : nullptr;
     args.packed = packed_.size() == p.size() ? packed_.data() : nullptr;
     if (owners_for_ != nt || block_owner_.size() != std::size_t(nblk)) assign_owners();
-    double max_d2 = 0.0;
-#pragma omp parallel num_threads(nt) reduction(max : max_d2)
-    {
+    std::vector<double>& thread_max = thread_max_d2_;
+    thread_max.assign(std::size_t(nt), 0.0);
+    team_->run(nt, [&](int tid) {
         kernels::AdvanceArgs a = args;
-        for (const auto& [b0, b1] : particle_runs_[thread_id()]) {
+        for (const auto& [b0, b1] : particle_runs_[tid]) {
             a.block_begin = b0;
             a.block_end = b1;
-            max_d2 = std::max(max_d2, kernels::advance(a));
+            thread_max[tid] = std::max(thread_max[tid], kernels::advance(a));
         }
-    }
+    });
+    double max_d2 = *std::max_element(thread_max.begin(), thread_max.end());
     // Prescribed particles follow their motion (few: serial, in index order).
     if (prescribed_dirty_) {
         prescribed_.clear();

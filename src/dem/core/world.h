@@ -23,6 +23,7 @@
 #include "dem/core/particles.h"
 #include "dem/core/pressure.h"
 #include "dem/core/profile.h"
+#include "dem/core/thread_team.h"
 #include "dem/core/vec3.h"
 #include "dem/detect/cell_grid.h"
 #include "dem/walls/motion.h"
@@ -35,7 +36,7 @@ struct SimulationParams {
     Vec3 gravity{0.0, 0.0, -9.81};   // [m/s^2]
     double local_damping = 0.0;      // [-] Yade's non-viscous damping coefficient lambda
     double skin = 0.0;               // [m] Verlet distance; 0 = half the smallest radius (Yade)
-    int threads = 1;                 // OpenMP threads; results do not depend on it
+    int threads = 1;                 // threads of the step; results do not depend on it
     bool track_energy = false;       // keep the energy ledger (World::energy()); costs nothing when off
 };
 
@@ -168,7 +169,7 @@ private:
     CandidateList pp_cand_, pw_cand_;
     ActiveContacts fric_, smooth_, walls_;
     // Candidates found touching this step without a slot, per thread (candidate indices).
-    std::vector<std::vector<uint32_t>> new_pp_, new_pw_, open_scratch_;
+    std::vector<std::vector<uint32_t>> new_pp_, new_pw_, open_scratch_, pair_i_, pair_j_, pair_hits_;
     // Slots whose pair opened this step, per thread, per store.
     std::vector<std::vector<uint32_t>> opened_fric_, opened_smooth_, opened_walls_;
     InteractionLists links_;           // per particle: bonds and live contacts (the gather's input)
@@ -185,6 +186,7 @@ private:
     BlockRuns particle_runs_, bond_runs_, fric_runs_, smooth_runs_, wall_runs_;
     std::vector<kernels::PackedParticle> packed_;  // the pair kernels' copy of the particle state
     bool packed_valid_ = false;        // packed_ holds the current state (written by integrate())
+    std::size_t holes_ = 0;            // slots freed since the last compaction
     double dropped_shear_energy_ = 0;  // [J] shear springs dropped by a physics change (ledger)
 
     BondList bonds_;
@@ -226,6 +228,8 @@ private:
     bool pressure_was_on_ = false;
     std::vector<Vec3> wall_vel_next_;                 // scratch of account_energy()
     PhaseProfile profile_;
+    TeamHandle team_;                  // the threads of the step (dem/core/thread_team.h)
+    std::vector<double> thread_max_d2_;
 };
 
 template <class F> void World::for_each_touching(F&& f) const {

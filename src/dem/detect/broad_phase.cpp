@@ -121,16 +121,14 @@ void World::rebuild_candidates() {
     std::vector<std::vector<uint32_t>> pp_other(nt), pw_other(nt);
     std::vector<std::vector<float>> pp_gap(nt), pw_gap(nt);
     const uint32_t nplanes = uint32_t(planes.size());
-#pragma omp parallel num_threads(nt)
-    {
-        const int tid = thread_id();
+    team_->run(nt, [&](int tid) {
         std::vector<std::pair<uint32_t, float>> local;
         pp_other[tid].reserve(hint / std::size_t(thread_count()) + 64);
         pp_gap[tid].reserve(hint / std::size_t(thread_count()) + 64);
-        // A static split hands out contiguous ranges of i in thread order, so concatenating the
-        // per-thread lists in thread order gives the candidates in particle order.
-#pragma omp for schedule(static)
-        for (std::size_t i = 0; i < n; ++i) {
+        // Contiguous ranges of i in thread order, so concatenating the per-thread lists in
+        // thread order gives the candidates in particle order.
+        const auto [r0, r1] = thread_range(int64_t(n), tid, nt);
+        for (std::size_t i = std::size_t(r0); i < std::size_t(r1); ++i) {
             const Vec3 xi = p.pos[i];
             const double ri = p.radius[i];
             const auto c = grid_.coords(xi);
@@ -180,7 +178,7 @@ void World::rebuild_candidates() {
             }
             pw_cand_.start[i + 1] = nw;
         }
-    }
+    });
     for (CandidateList* cl : {&pp_cand_, &pw_cand_})
         for (std::size_t i = 0; i < n; ++i) cl->start[i + 1] += cl->start[i];
     concatenate(pp_other, pp_cand_.other);
