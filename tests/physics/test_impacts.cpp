@@ -129,3 +129,37 @@ TEST_P(LocalDampingImpactTest, ExitSpeedRatio) {
 }
 
 INSTANTIATE_TEST_SUITE_P(PhysicsImpact, LocalDampingImpactTest, ::testing::Values(0.1, 0.3));
+
+// The normal dashpot is not clipped (docs/model.md, "dashpot"): a decision, pinned here. With
+// e = 0.5 the total normal force at the end of an impact on a plane pulls, by the dashpot part
+// alone, F_end = -cn v_out = -cn e v_in (the overlap is zero there), and that is the smallest
+// force of the impact (4 zeta^2 < 1: the force still falls as the overlap closes). The elastic
+// part never pulls: the force at the deepest overlap equals kn d_max + 0 (vn = 0 there).
+// Tolerance 1%: the last step's overlap is at most v_out dt = 1/1234 of the travel.
+TEST(PhysicsImpact, DashpotPullsAtTheEndOfAnImpactAsDocumented) {
+    Material mat = make_material(1e7, 0.0, 0.5);
+    World w = sphere_plane_world(mat, kR, kV, kSteps);
+    const double m = sphere_mass(mat.density, kR), kn = mat.young * kR;
+    const double zeta = damping_ratio_from_restitution(0.5);
+    const double cn = 2.0 * zeta * std::sqrt(m * kn);
+    double fmin = 0.0, fmax = 0.0, vout = 0.0;
+    bool touched = false;
+    for (int s = 0; s < 5 * int(kSteps); ++s) {
+        w.compute_forces();
+        const double fz = -w.wall_force(0).z;  // force of the plane on the sphere
+        if (w.contact_count() > 0) {
+            touched = true;
+            fmin = std::min(fmin, fz);
+            fmax = std::max(fmax, fz);
+        } else if (touched) {
+            vout = w.particles.vel[0].z;
+            break;
+        }
+        w.integrate();
+    }
+    ASSERT_TRUE(touched);
+    EXPECT_LT(report_rel("dashpot_exit_speed_over_e", vout, 0.5 * kV, 0.01), 0.01);
+    EXPECT_LT(fmin, 0.0);  // it pulls
+    EXPECT_LT(report_rel("dashpot_end_pull", -fmin, cn * 0.5 * kV, 0.01), 0.01);
+    EXPECT_LT(-fmin, 0.3 * fmax);  // a short pull, here 26% of the peak force
+}

@@ -23,18 +23,24 @@ struct InteractionLists {
         return (uint32_t(s) << 30) | (second ? kSecond : 0u) | index;
     }
 
-    // Particle i's region is ref[start[i] .. start[i+1]), its first count[i] entries in use.
-    std::vector<uint32_t> start, count, ref;
+    // Particle i's region is ref[start[i] .. start[i] + cap[i]), its first count[i] entries in
+    // use. A full region moves to the end of `ref` with twice the room (the next rebuild lays
+    // the lists out afresh, in particle order).
+    std::vector<uint32_t> start, count, cap, ref;
 
-    // Returns false (and changes nothing) when particle i's region is full.
-    bool insert(uint32_t i, uint32_t r) {
-        if (start[i] + count[i] == start[i + 1]) return false;
+    void insert(uint32_t i, uint32_t r) {
+        if (count[i] == cap[i]) {
+            const uint32_t from = start[i], n = count[i];
+            start[i] = uint32_t(ref.size());
+            cap[i] = 2 * n + 2;
+            ref.resize(ref.size() + cap[i]);
+            std::copy(ref.begin() + from, ref.begin() + from + n, ref.begin() + start[i]);
+        }
         uint32_t* b = &ref[start[i]];
         uint32_t* e = b + count[i]++;
         uint32_t* at = std::upper_bound(b, e, r);
         std::move_backward(at, e, e + 1);
         *at = r;
-        return true;
     }
     void erase(uint32_t i, uint32_t r) {
         uint32_t* b = &ref[start[i]];

@@ -312,10 +312,16 @@ void World::build_interaction_lists() {
     };
     l.count.assign(n, 0);
     each([&](uint32_t i, uint32_t) { ++l.count[i]; });
-    l.start.assign(n + 1, 0);
-    for (std::size_t i = 0; i < n; ++i) l.start[i + 1] = l.start[i] + l.count[i] + 2 + l.count[i] / 4;
+    l.start.assign(n, 0);
+    l.cap.resize(n);
+    uint32_t at = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        l.start[i] = at;
+        l.cap[i] = l.count[i] + 2 + l.count[i] / 4;
+        at += l.cap[i];
+    }
     l.count.assign(n, 0);
-    l.ref.assign(l.start[n], 0);
+    l.ref.assign(at, 0);
     each([&](uint32_t i, uint32_t r) { l.insert(i, r); });
 }
 
@@ -357,7 +363,7 @@ void World::assign_owners() {
             key[i / kernels::kBlock] += p.pos[i][axis];
             // Integration, the gather (live interactions) and the candidate tests.
             weight[i / kernels::kBlock] +=
-                4.0 + (links_.start.size() == std::size_t(n + 1) ? double(links_.start[i + 1] - links_.start[i]) : 0.0) +
+                4.0 + (links_.count.size() == std::size_t(n) ? double(links_.count[i]) : 0.0) +
                 (pp_cand_.start.size() == std::size_t(n + 1) ? 0.5 * double(pp_cand_.start[i + 1] - pp_cand_.start[i]) : 0.0);
         }
         std::vector<int64_t> order(static_cast<std::size_t>(nb));
@@ -484,15 +490,13 @@ void World::activate_new_contacts() {
         const uint32_t s = smooth ? smooth_.place(i, j, k, ph, &smooth_cursor) : fric_.place(i, j, k, ph, &fric_cursor);
         pp_cand_.slot[k] = s | (smooth ? kSmoothBit : 0u);
         const auto src = smooth ? InteractionLists::kFrictionless : InteractionLists::kFrictional;
-        if (!links_.insert(i, InteractionLists::make(src, false, s)) ||
-            !links_.insert(j, InteractionLists::make(src, true, s)))
-            build_interaction_lists();  // a region was full: lay the lists out anew (with this contact)
+        links_.insert(i, InteractionLists::make(src, false, s));
+        links_.insert(j, InteractionLists::make(src, true, s));
     }
     for (const auto& [k, i] : merged(new_pw_)) {
         const uint32_t w = pw_cand_.other[k];
         pw_cand_.slot[k] = walls_.place(i, w, k, wall_phys(i, w), &wall_cursor);
-        if (!links_.insert(i, InteractionLists::make(InteractionLists::kWall, true, pw_cand_.slot[k])))
-            build_interaction_lists();
+        links_.insert(i, InteractionLists::make(InteractionLists::kWall, true, pw_cand_.slot[k]));
     }
     const std::size_t after = fric_.size() + smooth_.size() + walls_.size();
     const std::size_t filled = (new_count - (after - before));
