@@ -8,7 +8,9 @@ Reads DIR/calibration.json (keys "case", "simulated_force", "cycles_compared", "
 compression positive, displacement from its minimum) and DIR/<case>/forces.csv of the best case,
 and writes DIR/calibration.png: left, the measured and the best simulated loops over the
 compared cycles (displacements shifted to start at 0, as in the misfit); right, the misfit of
-every grid point against the first grid key (one line per combination of the others).
+every grid point against the first grid key (one line per combination of the others), with its
+95% interval over the seeds as error bars and the range of grid values whose interval overlaps the
+best's shaded.
 Runs under Debian's /usr/bin/python3 (matplotlib, numpy).
 """
 import csv
@@ -83,19 +85,23 @@ def main():
         if t not in groups:
             groups.append(t)
     for t in groups:
-        pts = sorted((g[xkey], g["misfit"]) for g in grid if tuple(g[k] for k in others) == t)
+        # With seeds: the mean misfit and its 95% interval (misfit_ci95; None with one seed).
+        pts = sorted((g[xkey], g["misfit"], g.get("misfit_ci95") or 0.0)
+                     for g in grid if tuple(g[k] for k in others) == t)
         label = ", ".join(f"{k} = {v}" for k, v in zip(others, t)) or None
         xs = [p[0] for p in pts]
-        if all(isinstance(x, (int, float)) for x in xs):
-            a2.plot(xs, [p[1] for p in pts], "o-", label=label)
-        else:
-            a2.plot(range(len(xs)), [p[1] for p in pts], "o-", label=label)
+        xv = xs if all(isinstance(x, (int, float)) for x in xs) else list(range(len(xs)))
+        a2.errorbar(xv, [p[1] for p in pts], yerr=[p[2] for p in pts], fmt="o-", capsize=3, label=label)
+        if xv is not xs:
             a2.set_xticks(range(len(xs)), [str(x) for x in xs])
+    unc = cal.get("uncertainty", {}).get(xkey)
+    if unc and all(isinstance(v, (int, float)) for v in unc) and len(unc) > 1:
+        a2.axvspan(min(unc), max(unc), color="C3", alpha=0.08, label="interval overlaps the best's")
     a2.axvline(cal["best"][xkey], color="C3", ls="--", lw=0.8) if isinstance(cal["best"][xkey], (int, float)) else None
     a2.set_xlabel(xkey)
     a2.set_ylabel("misfit")
     a2.grid(True, alpha=0.3)
-    if others:
+    if others or unc:
         a2.legend(fontsize=8)
     fig.tight_layout()
     out = os.path.join(d, "calibration.png")
