@@ -235,6 +235,10 @@ CaseOutcome read_finished(const fs::path& dir, const Config& config) {
     const auto k = js.find("\"run_seconds\":");
     if (k != std::string::npos) o.run_seconds = std::strtod(js.c_str() + k + 14, nullptr);
     o.warnings = json_string_array(js, "warnings");
+    if (const auto g = js.find("\"grains\":"); g != std::string::npos) o.grains = std::atoi(js.c_str() + g + 9);
+    if (const auto p = js.find("\"preparation\":"); p != std::string::npos)
+        if (const auto f = js.find("\"packing_fraction\":", p); f != std::string::npos)
+            o.packing_fraction = std::strtod(js.c_str() + f + 19, nullptr);
     return o;
 }
 
@@ -247,9 +251,9 @@ std::string one_line(std::string msg) {
 // One case's outcome as a line of tab-separated fields (MPI gather); the message last.
 std::string serialize(std::size_t i, const CaseOutcome& o) {
     char buf[512];
-    std::snprintf(buf, sizeof buf, "%zu\t%d\t%d\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%d\t%d\t%.17g\t%.17g\t", i,
-                  int(o.ok), int(o.skipped), o.W, o.dissipated_energy, o.peak_force, o.run_seconds, o.W_settled,
-                  o.settled_cycles, o.first_settled, o.friction_share, o.damping_share);
+    std::snprintf(buf, sizeof buf, "%zu\t%d\t%d\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%d\t%d\t%.17g\t%.17g\t%d\t%.17g\t",
+                  i, int(o.ok), int(o.skipped), o.W, o.dissipated_energy, o.peak_force, o.run_seconds, o.W_settled,
+                  o.settled_cycles, o.first_settled, o.friction_share, o.damping_share, o.grains, o.packing_fraction);
     std::string warnings;
     for (const std::string& w : o.warnings) {
         if (!warnings.empty()) warnings += '\x1f';
@@ -260,7 +264,7 @@ std::string serialize(std::size_t i, const CaseOutcome& o) {
 
 void deserialize(const std::string& text, std::vector<CaseOutcome>& out) {
     std::istringstream is(text);
-    constexpr int kFields = 13;  // before the message
+    constexpr int kFields = 15;  // before the message
     for (std::string line; std::getline(is, line);) {
         if (line.empty()) continue;
         std::vector<std::string> f;
@@ -284,7 +288,9 @@ void deserialize(const std::string& text, std::vector<CaseOutcome>& out) {
         o.first_settled = std::atoi(f[9].c_str());
         o.friction_share = num(10);
         o.damping_share = num(11);
-        std::stringstream ws(f[12]);
+        o.grains = std::atoi(f[12].c_str());
+        o.packing_fraction = num(13);
+        std::stringstream ws(f[14]);
         for (std::string w; std::getline(ws, w, '\x1f');) o.warnings.push_back(w);
         o.message = line.substr(p);
         if (i < out.size()) out[i] = o;
@@ -602,7 +608,7 @@ std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases, con
     std::string out;
     for (const GridAxis& a : s.grid) out += csv_field(a.key) + ",";
     out += "W,dissipated_energy,peak_force,run_seconds,status,case,"
-           "W_settled,settled_cycles,first_settled_cycle,friction_share,damping_share,warnings\n";
+           "W_settled,settled_cycles,first_settled_cycle,friction_share,damping_share,grains,packing_fraction,warnings\n";
     for (std::size_t i = 0; i < cases.size(); ++i) {
         for (const std::string& l : cases[i].labels) out += csv_field(l) + ",";
         const CaseOutcome& o = outcomes[i];
@@ -613,9 +619,10 @@ std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases, con
         if (o.ok)
             out += num(o.W_settled) + "," + std::to_string(o.settled_cycles) + "," +
                    (o.first_settled > 0 ? std::to_string(o.first_settled) : std::string()) + "," +
-                   num(o.friction_share) + "," + num(o.damping_share) + ",";
+                   num(o.friction_share) + "," + num(o.damping_share) + "," + std::to_string(o.grains) + "," +
+                   num(o.packing_fraction) + ",";
         else
-            out += ",,,,,";
+            out += ",,,,,,,";
         std::string w;
         for (const std::string& x : o.warnings) {
             if (!w.empty()) w += " | ";
@@ -654,7 +661,8 @@ std::string cases_csv(const Study& s, const std::vector<StudyCase>& cases, const
         if (q == "peak_force") return o.peak_force;
         if (q == "dissipated_energy") return o.dissipated_energy;
         if (q == "friction_share") return o.friction_share;
-        return o.damping_share;
+        if (q == "damping_share") return o.damping_share;
+        return o.packing_fraction;
     };
     for (const auto& g : ensemble_groups(s, cases)) {
         const StudyCase& first = cases[g.front()];
@@ -789,6 +797,9 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             if (last.has_energy)
                 dissipation_shares(last.friction_dissipation, last.damping_dissipation, last.viscous_dissipation, o);
             o.warnings = r.warnings;
+            o.grains = int(r.grains);
+            if (const auto it = r.report.find("prepare.packing_fraction"); it != r.report.end())
+                o.packing_fraction = it->second;
         } catch (const std::exception& e) {
             o.ok = false;
             o.message = e.what();

@@ -99,6 +99,10 @@ struct CaseOutcome {
     // Shares of the last cycle's dissipation (energy ledger; NaN without it):
     // friction / (friction + damping + viscous), damping / (the same).
     double friction_share = kNaN, damping_share = kNaN;
+    // The prepared sample: grains (after the re-fills) and the packing fraction of the foil's
+    // interior up to the cap at the end of the preparation (summary.json "preparation").
+    int grains = 0;
+    double packing_fraction = kNaN;
     std::vector<std::string> warnings;  // the case's summary.json "warnings"
 };
 
@@ -113,13 +117,13 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt);
 
 // The summary.csv text, one row per run: the swept keys, then W, dissipated_energy, peak_force,
 // run_seconds, status, case (the contract), then W_settled, settled_cycles, first_settled_cycle,
-// friction_share, damping_share, warnings (docs/studies.md, "Outputs").
+// friction_share, damping_share, grains, packing_fraction, warnings (docs/studies.md, "Outputs").
 std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases,
                         const std::vector<CaseOutcome>& outcomes);
 
 // Quantities summarised over an ensemble, in summary_cases.csv's order.
 inline const std::vector<std::string> kEnsembleQuantities = {"W", "W_settled", "peak_force", "dissipated_energy",
-                                                             "friction_share", "damping_share"};
+                                                             "friction_share", "damping_share", "packing_fraction"};
 
 // The summary_cases.csv text, one row per case of the grid without its seed axis (all rows of
 // summary.csv that differ only in simulation.seed): the other swept keys, `seeds` (runs in the

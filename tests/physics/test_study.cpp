@@ -187,18 +187,20 @@ TEST_F(Study, SweepSharesOnePreparationAndWritesTheSummary) {
     ASSERT_EQ(rows.size(), 3u) << slurp(out / "summary.csv");
     // The contract columns first, then the ones added later (docs/studies.md, "Outputs").
     EXPECT_EQ(rows[0], "grains.friction,W,dissipated_energy,peak_force,run_seconds,status,case,"
-                       "W_settled,settled_cycles,first_settled_cycle,friction_share,damping_share,warnings");
+                       "W_settled,settled_cycles,first_settled_cycle,friction_share,damping_share,grains,packing_fraction,warnings");
     double W[2];
     for (int k = 0; k < 2; ++k) {
         const auto c = cells(rows[std::size_t(k) + 1]);
-        ASSERT_EQ(c.size(), 13u) << rows[std::size_t(k) + 1];
+        ASSERT_EQ(c.size(), 15u) << rows[std::size_t(k) + 1];
         // Two cycles never settle (W_settled empty, 0 settled cycles); the ledger gives the split;
         // the warnings of the case (this toy is not quasi-static) are in the last column.
         EXPECT_EQ(c[7], "");
         EXPECT_EQ(c[8], "0");
         EXPECT_GT(std::stod(c[10]), 0.2);
         EXPECT_NEAR(std::stod(c[10]) + std::stod(c[11]), 1.0, 1e-9);
-        EXPECT_NE(c[12].find("not quasi-static"), std::string::npos) << c[12];
+        EXPECT_GT(std::stoi(c[12]), 50);                       // grains after the re-fills
+        EXPECT_GT(std::stod(c[13]), 0.5);                      // packing fraction
+        EXPECT_NE(c[14].find("not quasi-static"), std::string::npos) << c[14];
         EXPECT_EQ(c[0], k == 0 ? "0.3" : "0.6");
         EXPECT_EQ(c[5], "ok");
         W[k] = std::stod(c[1]);

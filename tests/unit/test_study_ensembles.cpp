@@ -165,5 +165,5 @@ TEST(StudyEnsembles, CasesTableHoldsTheMeanAndTheStudentInterval) {
     const std::string sum = summary_csv(s, cases, out);
     EXPECT_EQ(sum.substr(0, sum.find('\n')),
               "grains.friction,simulation.seed,W,dissipated_energy,peak_force,run_seconds,status,case,"
-              "W_settled,settled_cycles,first_settled_cycle,friction_share,damping_share,warnings");
+              "W_settled,settled_cycles,first_settled_cycle,friction_share,damping_share,grains,packing_fraction,warnings");
 }
