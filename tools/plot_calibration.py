@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Plots a `vppdem calibrate` output folder.
 
-usage: plot_calibration.py DIR
+usage: plot_calibration.py DIR [--caption TEXT]
 
 Reads DIR/calibration.json (keys "case", "simulated_force", "cycles_compared", "grid", "best",
 "misfit"), DIR/experiment.csv (`time,displacement,force,cycle`: the measured loop in SI units,
@@ -41,9 +41,12 @@ def read_csv(path):
 
 
 def main():
-    if len(sys.argv) != 2:
-        fail("usage: plot_calibration.py DIR")
-    d = sys.argv[1]
+    import argparse
+    ap = argparse.ArgumentParser(description="plot of a vppdem calibrate folder")
+    ap.add_argument("dir")
+    ap.add_argument("--caption", default="", help="text under the figure (e.g. the command that made it)")
+    args = ap.parse_args()
+    d = args.dir
     try:
         with open(os.path.join(d, "calibration.json")) as f:
             cal = json.load(f)
@@ -103,7 +106,9 @@ def main():
     a2.grid(True, alpha=0.3)
     if others or unc:
         a2.legend(fontsize=8)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.04 if args.caption else 0, 1, 1))
+    if args.caption:
+        fig.text(0.01, 0.005, args.caption, fontsize=5, color="0.35", wrap=True)
     out = os.path.join(d, "calibration.png")
     fig.savefig(out, dpi=120)
     print(f"wrote {out}")
