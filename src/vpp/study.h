@@ -8,9 +8,10 @@
 //     [grid]                               # every combination is one case
 //     "grains.friction" = [0.0, 0.3, 0.6]  # a list, or "start:stop:step" (stop included)
 //     "process.underpressure" = [0.02e6, 0.08e6]
-// Cases whose grid values differ only in process / contact keys (kShareableKeys) share one
-// preparation: the first case of each geometry group prepares, the others branch from its
-// prepared.ckpt. Cases run on a pool of threads (one damper per thread, simulation.threads = 1
+//     seeds = 3                            # optional: an ensemble, simulation.seed = 1..3
+// Cases whose grid values differ only in keys that do not act before the end of the preparation
+// (kShareableKeys: grain and cap friction, process.*, output.*, analysis.*, threads) share one
+// preparation: the first case of each group prepares, the others branch from its prepared.ckpt. Cases run on a pool of threads (one damper per thread, simulation.threads = 1
 // unless the study sets it), and under MPI round-robin over the ranks.
 #pragma once
 
