@@ -1,14 +1,16 @@
 #!/usr/bin/env python3
 """Plots a `vppdem calibrate` output folder.
 
-usage: plot_calibration.py DIR
+usage: plot_calibration.py DIR [--caption TEXT]
 
 Reads DIR/calibration.json (keys "case", "simulated_force", "cycles_compared", "grid", "best",
 "misfit"), DIR/experiment.csv (`time,displacement,force,cycle`: the measured loop in SI units,
 compression positive, displacement from its minimum) and DIR/<case>/forces.csv of the best case,
 and writes DIR/calibration.png: left, the measured and the best simulated loops over the
 compared cycles (displacements shifted to start at 0, as in the misfit); right, the misfit of
-every grid point against the first grid key (one line per combination of the others).
+every grid point against the first grid key (one line per combination of the others), with its
+95% interval over the seeds as error bars and the range of grid values whose interval overlaps the
+best's shaded.
 Runs under Debian's /usr/bin/python3 (matplotlib, numpy).
 """
 import csv
@@ -39,9 +41,12 @@ def read_csv(path):
 
 
 def main():
-    if len(sys.argv) != 2:
-        fail("usage: plot_calibration.py DIR")
-    d = sys.argv[1]
+    import argparse
+    ap = argparse.ArgumentParser(description="plot of a vppdem calibrate folder")
+    ap.add_argument("dir")
+    ap.add_argument("--caption", default="", help="text under the figure (e.g. the command that made it)")
+    args = ap.parse_args()
+    d = args.dir
     try:
         with open(os.path.join(d, "calibration.json")) as f:
             cal = json.load(f)
@@ -83,21 +88,27 @@ def main():
         if t not in groups:
             groups.append(t)
     for t in groups:
-        pts = sorted((g[xkey], g["misfit"]) for g in grid if tuple(g[k] for k in others) == t)
+        # With seeds: the mean misfit and its 95% interval (misfit_ci95; None with one seed).
+        pts = sorted((g[xkey], g["misfit"], g.get("misfit_ci95") or 0.0)
+                     for g in grid if tuple(g[k] for k in others) == t)
         label = ", ".join(f"{k} = {v}" for k, v in zip(others, t)) or None
         xs = [p[0] for p in pts]
-        if all(isinstance(x, (int, float)) for x in xs):
-            a2.plot(xs, [p[1] for p in pts], "o-", label=label)
-        else:
-            a2.plot(range(len(xs)), [p[1] for p in pts], "o-", label=label)
+        xv = xs if all(isinstance(x, (int, float)) for x in xs) else list(range(len(xs)))
+        a2.errorbar(xv, [p[1] for p in pts], yerr=[p[2] for p in pts], fmt="o-", capsize=3, label=label)
+        if xv is not xs:
             a2.set_xticks(range(len(xs)), [str(x) for x in xs])
+    unc = cal.get("uncertainty", {}).get(xkey)
+    if unc and all(isinstance(v, (int, float)) for v in unc) and len(unc) > 1:
+        a2.axvspan(min(unc), max(unc), color="C3", alpha=0.08, label="interval overlaps the best's")
     a2.axvline(cal["best"][xkey], color="C3", ls="--", lw=0.8) if isinstance(cal["best"][xkey], (int, float)) else None
     a2.set_xlabel(xkey)
     a2.set_ylabel("misfit")
     a2.grid(True, alpha=0.3)
-    if others:
+    if others or unc:
         a2.legend(fontsize=8)
-    fig.tight_layout()
+    fig.tight_layout(rect=(0, 0.04 if args.caption else 0, 1, 1))
+    if args.caption:
+        fig.text(0.01, 0.005, args.caption, fontsize=5, color="0.35", wrap=True)
     out = os.path.join(d, "calibration.png")
     fig.savefig(out, dpi=120)
     print(f"wrote {out}")

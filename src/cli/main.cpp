@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
         CLI::App* app = nullptr;
         std::string study, out;
         std::vector<std::string> sets;
-        int jobs = 0;
+        int jobs = 0, seeds = 0;
         bool quiet = false, no_plot = false;
         double ckpt_every = 60.0;
     };
@@ -137,6 +137,8 @@ int main(int argc, char** argv) {
             ->allow_extra_args(false);
         c.app->add_option("--checkpoint-every", c.ckpt_every, "[s] wall-clock time between checkpoints of a case")
             ->check(CLI::PositiveNumber);
+        c.app->add_option("--seeds", c.seeds, "Ensemble: run every case with simulation.seed = 1..N (replaces the "
+                                              "study's seeds; docs/studies.md)");
         c.app->add_flag("--quiet", c.quiet, "No progress output");
         c.app->add_flag("--no-plot", c.no_plot, "Do not draw the PNG plots at the end");
     };
@@ -216,7 +218,7 @@ int main(int argc, char** argv) {
             vpp::run_analyze(ao);
         } else if (*sweep.app || *calib.app) {
             StudyCommand& sc = *sweep.app ? sweep : calib;
-            const vpp::Study st = vpp::load_study(sc.study, sc.sets);
+            const vpp::Study st = vpp::load_study(sc.study, sc.sets, sc.seeds);
             vpp::SweepOptions so;
             so.out_dir = sc.out;
             so.jobs = sc.jobs;

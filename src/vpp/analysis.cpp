@@ -194,8 +194,11 @@ LoopSeries read_loop_csv(const std::string& path, const std::string& time_col,
 void write_cycles_csv(const std::string& path, const std::vector<CycleResult>& cycles) {
     const bool energy = !cycles.empty() && std::all_of(cycles.begin(), cycles.end(),
                                                        [](const CycleResult& c) { return c.has_energy; });
+    const bool settle = !cycles.empty() && std::all_of(cycles.begin(), cycles.end(),
+                                                       [](const CycleResult& c) { return c.has_settled; });
     std::string out = "cycle,dissipated_energy,W,peak_force,min_force";
     if (energy) out += ",friction_dissipation,damping_dissipation,viscous_dissipation";
+    if (settle) out += ",settled";
     out += '\n';
     for (const auto& c : cycles) {
         out += std::to_string(c.cycle);
@@ -208,6 +211,7 @@ void write_cycles_csv(const std::string& path, const std::vector<CycleResult>& c
                 out += ',';
                 dem::append_number(out, v);
             }
+        if (settle) out += c.settled ? ",1" : ",0";
         out += '\n';
     }
     dem::write_text_atomic(path, out);

@@ -38,6 +38,9 @@ struct CycleResult {
     double viscous_dissipation = 0;   // [J] normal dashpots
     double boundary_work = 0;         // [J] work of the cap and the top ring on the sample
     double energy_residual = 0;       // [J] input - stored change - dissipated over the cycle
+    // Stationarity of the loop (vpp/settle.h); only a damper run fills these (has_settled).
+    bool has_settled = false;
+    bool settled = false;             // W has settled by this cycle (the criterion in settle.h)
 };
 
 // Per cycle (samples grouped by their cycle index, results in increasing cycle order):
@@ -93,7 +96,8 @@ std::vector<int> split_cycles(const std::vector<double>& displacement);
 
 // Writes `cycle,dissipated_energy,W,peak_force,min_force` and one row per cycle, atomically;
 // when the cycles carry an energy budget (has_energy), the columns
-// `friction_dissipation,damping_dissipation,viscous_dissipation` [J] follow.
+// `friction_dissipation,damping_dissipation,viscous_dissipation` [J] follow; when they carry the
+// stationarity flag (has_settled, a damper run), a last column `settled` (0 or 1).
 void write_cycles_csv(const std::string& path, const std::vector<CycleResult>& cycles);
 
 }  // namespace vpp

@@ -14,6 +14,7 @@
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
 #include "vpp/plot.h"
+#include "vpp/stats.h"
 
 namespace vpp {
 
@@ -180,7 +181,9 @@ Misfit loop_misfit(const LoopSeries& sim, const LoopSeries& exp, int points) {
 }
 
 int run_calibration(Study s, const CalibrateOptions& opt) {
-    if (s.grid.empty()) s.grid.push_back(axis_from_text("grains.friction", "0:1:0.1"));
+    // No grid (the seeds alone are no grid): the paper's calibration grid.
+    if (s.grid.size() == (seed_axis(s) >= 0 ? 1u : 0u))
+        s.grid.insert(s.grid.begin(), axis_from_text("grains.friction", "0:1:0.1"));
     const bool root = opt.sweep.rank == 0;
     const fs::path out(opt.sweep.out_dir);
     // Fail fast on a bad experiment or prediction request, before any simulation.
@@ -219,12 +222,23 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
 
     const SweepResult r = run_sweep(s, opt.sweep);
     const auto& cases = r.cases;
+    const int seed = seed_axis(s);
+    // The grid point of a case: its labels without the seed (the ensemble's runs share it).
+    auto point_json = [&](const StudyCase& c) {
+        dem::JsonObject b;
+        for (std::size_t k = 0; k < s.grid.size(); ++k) {
+            if (int(k) == seed) continue;
+            const auto& ax = s.grid[k];
+            const std::size_t v = std::size_t(std::find(ax.labels.begin(), ax.labels.end(), c.labels[k]) - ax.labels.begin());
+            b.raw(ax.key, json_value(ax.labels[v], ax.literals[v]));
+        }
+        return b;
+    };
 
-    // Misfit of every finished case (read from its folder, so every MPI rank agrees).
+    // Misfit of every finished run (read from its folder, so every MPI rank agrees).
     std::vector<double> misfit(cases.size(), std::numeric_limits<double>::quiet_NaN());
     std::vector<std::string> status(cases.size());
     std::vector<Misfit> detail(cases.size());
-    std::size_t best = SIZE_MAX;
     for (std::size_t i = 0; i < cases.size(); ++i) {
         const fs::path dir = out / cases[i].name;
         // A case that failed in this sweep is not compared, even when its folder still holds
@@ -244,27 +258,58 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             detail[i] = loop_misfit(read_simulated((dir / "forces.csv").string(), opt.force_column), exp, opt.points);
             misfit[i] = detail[i].value;
             status[i] = "ok";
-            if (best == SIZE_MAX || misfit[i] < misfit[best]) best = i;
         } catch (const std::exception& e) {
             status[i] = std::string("failed: ") + e.what();
         }
     }
 
-    // Prediction at the best grid point.
+    // Per grid point: the mean misfit over its seeds and its 95% interval (vpp/stats.h); a point
+    // counts only when every seed was compared. The best point has the smallest mean.
+    struct Point {
+        std::vector<std::size_t> runs;  // case indices, one per seed
+        Interval misfit;
+        std::string status = "ok";
+    };
+    std::vector<Point> points;
+    for (const auto& g : ensemble_groups(s, cases)) {
+        Point p;
+        p.runs = g;
+        std::vector<double> m;
+        for (std::size_t i : g) {
+            if (status[i] != "ok" && p.status == "ok") p.status = status[i];
+            m.push_back(misfit[i]);
+        }
+        if (p.status == "ok") p.misfit = mean_interval(m);
+        points.push_back(p);
+    }
+    std::size_t best = SIZE_MAX;
+    for (std::size_t k = 0; k < points.size(); ++k)
+        if (points[k].status == "ok" && (best == SIZE_MAX || points[k].misfit.mean < points[best].misfit.mean)) best = k;
+    // Uncertainty of the best point: the grid points whose misfit interval overlaps the best's
+    // (with one seed there is no interval and only equal misfits overlap).
+    std::vector<std::size_t> near;
+    if (best != SIZE_MAX)
+        for (std::size_t k = 0; k < points.size(); ++k)
+            if (points[k].status == "ok" && overlaps(points[k].misfit, points[best].misfit)) near.push_back(k);
+    const std::size_t best_run = best == SIZE_MAX ? SIZE_MAX : points[best].runs.front();
+
+    // Prediction at the best grid point (every seed of the ensemble).
     struct Prediction {
-        std::string label, literal, name;
-        double W = std::numeric_limits<double>::quiet_NaN(), misfit = std::numeric_limits<double>::quiet_NaN();
-        std::string status;
+        std::string label, literal;
+        std::vector<std::string> names;
+        Interval W, misfit;
+        std::string status = "ok";
     };
     std::vector<Prediction> preds;
     int pred_failed = 0;
     if (!pred.key.empty() && best != SIZE_MAX) {
         Study p = s;
         p.grid = {pred};
+        if (seed >= 0) p.grid.push_back(s.grid[std::size_t(seed)]);
         for (std::size_t k = 0; k < s.grid.size(); ++k) {
-            if (s.grid[k].key == pred.key) continue;
+            if (s.grid[k].key == pred.key || int(k) == seed) continue;
             const auto& ax = s.grid[k];
-            const std::size_t j = std::size_t(std::find(ax.labels.begin(), ax.labels.end(), cases[best].labels[k]) -
+            const std::size_t j = std::size_t(std::find(ax.labels.begin(), ax.labels.end(), cases[best_run].labels[k]) -
                                               ax.labels.begin());
             p.set.push_back(ax.key + "=" + ax.literals[j]);
         }
@@ -274,53 +319,81 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             std::fprintf(stderr, "calibrate: predicting %s at the best grid point\n", opt.predict.c_str());
         const SweepResult pr = run_sweep(p, so);
         pred_failed = pr.failed;
-        for (std::size_t i = 0; i < pr.cases.size(); ++i) {
+        for (const auto& g : ensemble_groups(p, pr.cases)) {
             Prediction q;
-            q.label = pred.labels[i];
-            q.literal = pred.literals[i];
-            q.name = "predict/" + pr.cases[i].name;
-            const fs::path dir = out / q.name;
-            if (!fs::exists(dir / "summary.json")) {
-                q.status = "failed: simulation did not finish";
-            } else {
+            const std::size_t v = std::size_t(std::find(pred.labels.begin(), pred.labels.end(), pr.cases[g.front()].labels[0]) -
+                                              pred.labels.begin());
+            q.label = pred.labels[v];
+            q.literal = pred.literals[v];
+            std::vector<double> W, m;
+            for (std::size_t i : g) {
+                const std::string name = "predict/" + pr.cases[i].name;
+                q.names.push_back(name);
+                const fs::path dir = out / name;
+                if (!fs::exists(dir / "summary.json")) {
+                    if (q.status == "ok") q.status = "failed: simulation did not finish";
+                    continue;
+                }
                 try {
                     const LoopSeries sim = read_simulated((dir / "forces.csv").string(), opt.force_column);
                     const auto cyc = analyze_cycles(sim, pr.cases[i].config.damper.radius);
-                    if (!cyc.empty()) q.W = cyc.back().W;
-                    if (!pred_exp.empty()) q.misfit = loop_misfit(sim, pred_exp[i], opt.points).value;
-                    q.status = "ok";
+                    if (!cyc.empty()) W.push_back(cyc.back().W);
+                    if (!pred_exp.empty()) m.push_back(loop_misfit(sim, pred_exp[v], opt.points).value);
                 } catch (const std::exception& e) {
-                    q.status = std::string("failed: ") + e.what();
+                    if (q.status == "ok") q.status = std::string("failed: ") + e.what();
                 }
             }
+            q.W = mean_interval(W);
+            q.misfit = mean_interval(m);
             preds.push_back(q);
         }
     }
-    const bool ok = !r.failed && !pred_failed && best != SIZE_MAX;
+    const bool ok = !r.failed && !pred_failed && best != SIZE_MAX &&
+                    std::all_of(points.begin(), points.end(), [](const Point& p) { return p.status == "ok"; });
     if (!root) return ok ? 0 : 1;
     // A calibration that failed (a case failed or could not be compared, a prediction failed)
     // writes its results under other names: a good calibration.json and misfit.csv from an
     // earlier run of the same folder stay as they are.
-    const std::string misfit_name = ok ? "misfit.csv" : "misfit_failed.csv";
-    const std::string json_name = ok ? "calibration.json" : "calibration_failed.json";
+    const std::string suffix = ok ? "" : "_failed";
+    const std::string misfit_name = "misfit" + suffix + ".csv", runs_name = "misfit_runs" + suffix + ".csv";
+    const std::string json_name = "calibration" + suffix + ".json";
 
-    // misfit.csv: the grid keys, misfit, status, case.
     auto field = [](const std::string& x) {
         if (x.find_first_of(",\"\n") == std::string::npos) return x;
         std::string q = "\"";
         for (char c : x) q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
         return q + "\"";
     };
+    auto number = [](double v) {
+        std::string t;
+        if (std::isfinite(v)) dem::append_number(t, v);
+        return t;
+    };
+    // misfit.csv: one row per grid point: the grid keys but the seed, misfit (the mean over the
+    // seeds), status, case (its first seed's folder), then misfit_n, misfit_sd, misfit_ci95.
     std::string csv;
-    for (const GridAxis& a : s.grid) csv += field(a.key) + ",";
-    csv += "misfit,status,case\n";
-    for (std::size_t i = 0; i < cases.size(); ++i) {
-        for (const std::string& l : cases[i].labels) csv += field(l) + ",";
-        std::string m;
-        if (std::isfinite(misfit[i])) dem::append_number(m, misfit[i]);
-        csv += m + "," + field(status[i]) + "," + field(cases[i].name) + "\n";
+    for (std::size_t k = 0; k < s.grid.size(); ++k)
+        if (int(k) != seed) csv += field(s.grid[k].key) + ",";
+    csv += "misfit,status,case,misfit_n,misfit_sd,misfit_ci95\n";
+    for (const Point& p : points) {
+        const StudyCase& c = cases[p.runs.front()];
+        for (std::size_t k = 0; k < c.labels.size(); ++k)
+            if (int(k) != seed) csv += field(c.labels[k]) + ",";
+        csv += number(p.misfit.mean) + "," + field(p.status) + "," + field(c.name) + "," + std::to_string(p.misfit.n) +
+               "," + number(p.misfit.sd) + "," + number(p.misfit.half) + "\n";
     }
     dem::write_text_atomic((out / misfit_name).string(), csv);
+    if (seed >= 0) {
+        // misfit_runs.csv: one row per run, the seed included.
+        std::string runs;
+        for (const GridAxis& a : s.grid) runs += field(a.key) + ",";
+        runs += "misfit,status,case\n";
+        for (std::size_t i = 0; i < cases.size(); ++i) {
+            for (const std::string& l : cases[i].labels) runs += field(l) + ",";
+            runs += number(misfit[i]) + "," + field(status[i]) + "," + field(cases[i].name) + "\n";
+        }
+        dem::write_text_atomic((out / runs_name).string(), runs);
+    }
 
     // The processed experiment, for the overlay plot.
     if (ok) {
@@ -336,24 +409,47 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
         dem::write_text_atomic((out / "experiment.csv").string(), e);
     }
 
+    auto names_json = [&](const std::vector<std::size_t>& runs) {
+        std::string t = "[";
+        for (std::size_t k = 0; k < runs.size(); ++k) t += (k ? ", " : "") + dem::JsonObject::quote(cases[runs[k]].name);
+        return t + "]";
+    };
     dem::JsonObject j;
     if (best != SIZE_MAX) {
-        dem::JsonObject b;
+        const Point& b = points[best];
+        j.raw("best", point_json(cases[best_run]).value())
+            .num("misfit", b.misfit.mean)
+            .num("misfit_sd", b.misfit.sd)
+            .num("misfit_ci95", b.misfit.half)
+            .num("seeds", double(b.misfit.n))
+            .str("case", cases[best_run].name)
+            .raw("cases", names_json(b.runs));
+        // The range of each grid key over the points whose interval overlaps the best's.
+        dem::JsonObject u;
+        u.str("rule", "grid points whose 95% misfit interval (mean over seeds +- t_{0.975,n-1} sd/sqrt(n)) overlaps "
+                      "the best point's; with one seed, only points of equal misfit");
         for (std::size_t k = 0; k < s.grid.size(); ++k) {
+            if (int(k) == seed) continue;
             const auto& ax = s.grid[k];
-            const std::size_t v = std::size_t(std::find(ax.labels.begin(), ax.labels.end(), cases[best].labels[k]) -
-                                              ax.labels.begin());
-            b.raw(ax.key, json_value(ax.labels[v], ax.literals[v]));
+            std::vector<std::size_t> idx;
+            for (std::size_t q : near)
+                idx.push_back(std::size_t(std::find(ax.labels.begin(), ax.labels.end(), cases[points[q].runs.front()].labels[k]) -
+                                          ax.labels.begin()));
+            std::sort(idx.begin(), idx.end());
+            idx.erase(std::unique(idx.begin(), idx.end()), idx.end());
+            std::string vals = "[";
+            for (std::size_t m = 0; m < idx.size(); ++m) vals += (m ? ", " : "") + json_value(ax.labels[idx[m]], ax.literals[idx[m]]);
+            u.raw(ax.key, vals + "]");
         }
-        const std::string bt = b.value();
-        j.raw("best", bt).num("misfit", misfit[best]).str("case", cases[best].name);
+        j.raw("uncertainty", u.value());
         std::string cyc = "[", rms = "[", en = "[";
-        for (std::size_t k = 0; k < detail[best].cycles.size(); ++k) {
-            cyc += (k ? ", " : "") + std::to_string(detail[best].cycles[k]);
+        const Misfit& d = detail[best_run];
+        for (std::size_t k = 0; k < d.cycles.size(); ++k) {
+            cyc += (k ? ", " : "") + std::to_string(d.cycles[k]);
             rms += (k ? ", " : "");
-            dem::append_number(rms, detail[best].rms[k]);
+            dem::append_number(rms, d.rms[k]);
             en += (k ? ", " : "");
-            dem::append_number(en, detail[best].energy[k]);
+            dem::append_number(en, d.energy[k]);
         }
         j.raw("cycles_compared", cyc + "]").raw("best_rms_per_cycle", rms + "]").raw("best_energy_per_cycle", en + "]");
     } else {
@@ -365,29 +461,43 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
         .str("misfit_definition",
              "mean over the stabilised cycles (2..n) of rms_c + energy_c; rms_c = RMS of F_sim - F_exp over "
              "points_per_branch displacements per loading and unloading branch, over the measured cycle's peak "
-             "|F|; energy_c = |E_sim - E_exp| / |E_exp| (loop areas)");
+             "|F|; energy_c = |E_sim - E_exp| / |E_exp| (loop areas); with seeds, the mean over the seeds of a grid "
+             "point, with its 95% interval (Student t, n - 1 degrees of freedom)");
     std::string grid = "[";
-    for (std::size_t i = 0; i < cases.size(); ++i) {
-        dem::JsonObject g;
-        for (std::size_t k = 0; k < s.grid.size(); ++k) {
-            const auto& ax = s.grid[k];
-            const std::size_t v = std::size_t(std::find(ax.labels.begin(), ax.labels.end(), cases[i].labels[k]) -
-                                              ax.labels.begin());
-            g.raw(ax.key, json_value(ax.labels[v], ax.literals[v]));
+    for (std::size_t k = 0; k < points.size(); ++k) {
+        const Point& p = points[k];
+        dem::JsonObject g = point_json(cases[p.runs.front()]);
+        std::string per = "[";
+        for (std::size_t m = 0; m < p.runs.size(); ++m) {
+            per += (m ? ", " : "");
+            if (std::isfinite(misfit[p.runs[m]])) dem::append_number(per, misfit[p.runs[m]]);
+            else per += "null";
         }
-        g.num("misfit", misfit[i]).str("case", cases[i].name);
+        g.num("misfit", p.misfit.mean)
+            .num("misfit_sd", p.misfit.sd)
+            .num("misfit_ci95", p.misfit.half)
+            .raw("misfit_per_seed", per + "]")
+            .str("case", cases[p.runs.front()].name)
+            .raw("cases", names_json(p.runs))
+            .str("status", p.status);
         const std::string t = g.value();
-        grid += (i ? ", " : "") + t;
+        grid += (k ? ", " : "") + t;
     }
     j.raw("grid", grid + "]");
     if (!preds.empty()) {
         std::string pj = "[";
         for (std::size_t i = 0; i < preds.size(); ++i) {
             dem::JsonObject q;
+            std::string names = "[";
+            for (std::size_t m = 0; m < preds[i].names.size(); ++m)
+                names += (m ? ", " : "") + dem::JsonObject::quote(preds[i].names[m]);
             q.raw(pred.key, json_value(preds[i].label, preds[i].literal))
-                .str("case", preds[i].name)
-                .num("W", preds[i].W)
-                .num("misfit", preds[i].misfit)
+                .str("case", preds[i].names.empty() ? "" : preds[i].names.front())
+                .raw("cases", names + "]")
+                .num("W", preds[i].W.mean)
+                .num("W_ci95", preds[i].W.half)
+                .num("misfit", preds[i].misfit.mean)
+                .num("misfit_ci95", preds[i].misfit.half)
                 .str("status", preds[i].status);
             if (!opt.predict_experiments.empty()) q.str("experiment", opt.predict_experiments[i]);
             const std::string t = q.value();
@@ -398,26 +508,45 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
     dem::write_text_atomic((out / json_name).string(), j.text());
     if (ok) {  // no stale failure report beside a good result
         fs::remove(out / "misfit_failed.csv");
+        fs::remove(out / "misfit_runs_failed.csv");
         fs::remove(out / "calibration_failed.json");
+        if (seed < 0) fs::remove(out / "misfit_runs.csv");  // of an earlier calibration with seeds
     }
 
     if (!opt.sweep.quiet) {
         std::fprintf(stderr, "\n=== vppdem calibrate: %s ===\n", opt.sweep.out_dir.c_str());
-        for (std::size_t i = 0; i < cases.size(); ++i)
-            std::fprintf(stderr, "%s %-40s misfit %s\n", i == best ? "*" : " ", cases[i].name.c_str(),
-                         std::isfinite(misfit[i]) ? std::to_string(misfit[i]).c_str() : status[i].c_str());
+        for (std::size_t k = 0; k < points.size(); ++k) {
+            const Point& p = points[k];
+            std::string name = cases[p.runs.front()].name;
+            if (p.runs.size() > 1) name += " and " + std::to_string(p.runs.size() - 1) + " more seed(s)";
+            char m[128];
+            if (p.status != "ok") std::snprintf(m, sizeof m, "%s", p.status.substr(0, 120).c_str());
+            else if (std::isfinite(p.misfit.half)) std::snprintf(m, sizeof m, "%.4g +- %.2g", p.misfit.mean, p.misfit.half);
+            else std::snprintf(m, sizeof m, "%.4g", p.misfit.mean);
+            std::fprintf(stderr, "%s %-48s misfit %s\n", k == best ? "*" : " ", name.c_str(), m);
+        }
         for (const Prediction& q : preds)
-            std::fprintf(stderr, "  predicted %s = %s: W = %.5g J/m^2%s\n", pred.key.c_str(), q.label.c_str(), q.W,
-                         std::isfinite(q.misfit) ? (", misfit " + std::to_string(q.misfit)).c_str() : "");
+            std::fprintf(stderr, "  predicted %s = %s: W = %.5g J/m^2%s\n", pred.key.c_str(), q.label.c_str(), q.W.mean,
+                         std::isfinite(q.misfit.mean) ? (", misfit " + std::to_string(q.misfit.mean)).c_str() : "");
         if (best != SIZE_MAX) {
             // A stroke that differs from the experiment's makes the comparison meaningless: warn.
-            const LoopSeries sim = read_simulated((out / cases[best].name / "forces.csv").string(), opt.force_column);
+            const LoopSeries sim = read_simulated((out / cases[best_run].name / "forces.csv").string(), opt.force_column);
             const double rs = *std::max_element(sim.displacement.begin(), sim.displacement.end());
             const double re = *std::max_element(exp.displacement.begin(), exp.displacement.end());
             if (std::abs(rs - re) > 0.1 * re)
                 std::fprintf(stderr, "WARNING: simulated stroke %.4g mm, measured %.4g mm: set process.amplitude to "
                                      "the experiment's\n", rs * 1e3, re * 1e3);
-            std::fprintf(stderr, "best: %s (misfit %.4g); wrote %s, %s\n", cases[best].name.c_str(), misfit[best],
+            std::string range;
+            for (std::size_t k = 0; k < s.grid.size(); ++k) {
+                if (int(k) == seed) continue;
+                std::vector<std::string> v;
+                for (std::size_t q : near) v.push_back(cases[points[q].runs.front()].labels[k]);
+                range += " " + s.grid[k].key + " in {";
+                for (std::size_t m = 0; m < v.size(); ++m) range += (m ? ", " : "") + v[m];
+                range += "}";
+            }
+            std::fprintf(stderr, "best: %s (misfit %.4g over %zu seed(s)); within its interval:%s; wrote %s, %s\n",
+                         cases[best_run].name.c_str(), points[best].misfit.mean, points[best].misfit.n, range.c_str(),
                          misfit_name.c_str(), json_name.c_str());
         } else {
             std::fprintf(stderr, "no case could be compared with the experiment; wrote %s, %s\n", misfit_name.c_str(),

@@ -53,6 +53,7 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
     c.damper.height = d.positive("height", d.number("height", c.damper.height));
     c.damper.cap_friction = d.number("cap_friction", -1.0);
     if (d.has("cap_friction") && !(c.damper.cap_friction >= 0.0)) d.fail("cap_friction", "must be >= 0");
+    c.damper.refill = d.boolean("refill", c.damper.refill);
     if (c.damper.radius < 4.0 * c.foil.particle_radius) d.fail("radius", "must be at least 4 foil particle radii");
     if (c.damper.height < 4.0 * c.foil.particle_radius) d.fail("height", "must be at least 4 foil particle radii");
     d.finish();
@@ -124,6 +125,13 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
     c.output.vtk_interval = o.non_negative("vtk_interval", o.number("vtk_interval", 0.0));
     c.output.energy = o.boolean("energy", true);
     o.finish();
+
+    Section a = top.table("analysis");
+    c.analysis.settle_tolerance = a.number("settle_tolerance", c.analysis.settle_tolerance);
+    if (!(c.analysis.settle_tolerance > 0.0 && c.analysis.settle_tolerance < 1.0))
+        a.fail("settle_tolerance", "must be a fraction in (0, 1), e.g. 0.03 for 3% (the relative change of W from "
+                                   "one cycle to the next below which W counts as settled)");
+    a.finish();
 
     top.finish();
     return c;

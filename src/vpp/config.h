@@ -26,6 +26,11 @@ struct DamperDef {
     double radius = 0.0255;  // [m] r_p
     double height = 0.100;   // [m] H_p
     double cap_friction = -1.0;  // [-] grain-cap friction; < 0: the grains' friction
+    // Preparation: after the pour, add grains (re-fill, as the experiment does) until they stand
+    // above the damper height, so that the cap comes down onto them and compresses them to
+    // H_p (docs/damper.md, "Preparation"). false: exactly the grains of grains.volume_fraction,
+    // poured once; the cap may end above them (warned).
+    bool refill = true;
 };
 
 // dp is the atmosphere's pressure minus the pressure inside the foil: at most a perfect vacuum.
@@ -67,6 +72,11 @@ struct OutputDef {
     bool energy = true;         // damper: energy ledger during cycling (energy.csv; ~25% slower)
 };
 
+// Post-processing of the recorded loops; acts on no simulation, so it never needs a new run.
+struct AnalysisDef {
+    double settle_tolerance = 0.03;  // [-] W has settled when it changes by at most this fraction (vpp/settle.h)
+};
+
 struct Config {
     GrainsDef grains;
     FoilDef foil;
@@ -75,6 +85,7 @@ struct Config {
     TensionDef tension;
     SimulationDef simulation;
     OutputDef output;
+    AnalysisDef analysis;
     // Dotted keys the file or a --set gave (e.g. "process.velocity"); the others hold defaults.
     // A run from a checkpoint takes the checkpoint's value of a key not given here.
     std::set<std::string> given;

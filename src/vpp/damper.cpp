@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <numbers>
 #include <random>
@@ -72,6 +73,15 @@ struct RunState {
     // they are applied to the prepared sample; empty before that (prepared.ckpt). A resumed run
     // continues with these.
     std::map<std::string, double> settings;
+    // Grains in the sample (the pour and its re-fills); 0 in a checkpoint of an older vppdem,
+    // whose sample holds grain_count(config) grains.
+    std::size_t grains = 0;
+    // What the preparation and the start of cycling measured (the "preparation" and
+    // "start_of_cycling" objects of summary.json), e.g. "prepare.cap_force".
+    std::map<std::string, double> report;
+    // Every warning of the run so far, the preparation's included: a branch from prepared.ckpt
+    // and a resumed run report them too (summary.json "warnings").
+    std::vector<std::string> warnings;
 
     std::string save() const {
         std::ostringstream os;
@@ -80,6 +90,9 @@ struct RunState {
            << cycle_t0 << "\nwindow " << window_grains << " " << window_foil << " " << window_n << "\n";
         for (const auto& [k, v] : geometry) os << "geometry " << k << " " << v << "\n";
         for (const auto& [k, v] : settings) os << "setting " << k << " " << v << "\n";
+        if (grains > 0) os << "grains " << grains << "\n";
+        for (const auto& [k, v] : report) os << "report " << k << " " << v << "\n";
+        for (const std::string& w : warnings) os << "warning " << w << "\n";  // one line each (warn() strips newlines)
         for (const Sample& s : samples)
             os << "sample " << s.time << " " << s.displacement << " " << s.grains << " " << s.foil << "\n";
         for (const EnergyRow& e : energy) {
@@ -110,6 +123,17 @@ struct RunState {
                 double v;
                 is >> k >> v;
                 r.settings[k] = v;
+            } else if (key == "grains") {
+                is >> r.grains;
+            } else if (key == "report") {
+                std::string k;
+                double v;
+                is >> k >> v;
+                r.report[k] = v;
+            } else if (key == "warning") {
+                std::string w;
+                std::getline(is, w);
+                r.warnings.push_back(w.empty() ? w : w.substr(1));  // the space after the key
             } else if (key == "sample") {
                 Sample s;
                 is >> s.time >> s.displacement >> s.grains >> s.foil;
@@ -131,6 +155,9 @@ struct StoredKey {
     const char* key;
     double (*get)(const Config&);
     void (*set)(Config&, double);
+    // The value a checkpoint of an older vppdem, which did not store this key, was made with
+    // (NaN: every checkpoint stores it).
+    double legacy = std::numeric_limits<double>::quiet_NaN();
 };
 
 #define VPP_KEY(name, field) \
@@ -143,6 +170,9 @@ const StoredKey kGeometryKeys[] = {
     VPP_KEY("grains.density", grains.density),         VPP_KEY("foil.particle_radius", foil.particle_radius),
     VPP_KEY("foil.density", foil.density),             VPP_KEY("damper.radius", damper.radius),
     VPP_KEY("damper.height", damper.height),           VPP_KEY("simulation.seed", simulation.seed),
+    // Samples of an older vppdem were poured once (no re-fill).
+    StoredKey{"damper.refill", [](const Config& c) { return c.damper.refill ? 1.0 : 0.0; },
+              [](Config& c, double v) { c.damper.refill = v != 0.0; }, 0.0},
 };
 
 // What a run applies to its prepared sample (apply_config_to_prepared) and records from then
@@ -191,7 +221,7 @@ bool same_value(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max
 // A stored value as the config file writes it, for messages.
 std::string show(const std::string& key, double v) {
     if (key == "process.direction") return v == 0.0 ? "\"compression\"" : "\"extension\"";
-    if (key == "output.energy") return v != 0.0 ? "true" : "false";
+    if (key == "output.energy" || key == "damper.refill") return v != 0.0 ? "true" : "false";
     if (key == "simulation.dt" && v == 0.0) return "\"auto\"";
     if (key == "damper.cap_friction" && v < 0.0) return "(unset: the grains' friction)";
     std::string out;
@@ -230,23 +260,26 @@ void remove_previous_outputs(const fs::path& dir, const std::string& spare) {
 
 // Grain positions: a jittered cubic lattice inside the foil and the funnel above it, filled
 // from the bottom up, so the grains never overlap each other, the foil or the funnel.
+// A re-fill (refill = true) places its grains the same way above z_floor (the top of the grains
+// already in) in the funnel that is there, as many of n as fit, with its own random stream.
 std::vector<Vec3> generate_grains(const Config& c, const FoilLattice& L, std::size_t n, double z_top,
-                                  double funnel_top_radius, double& funnel_height) {
+                                  double funnel_top_radius, double& funnel_height, double z_floor = 0.0,
+                                  uint64_t stream = 0, bool refill = false) {
     const double rk = c.grains.radius, rf = c.foil.particle_radius;
     const double gap = 0.05 * rk;                // [m] clearance to every wall
     const double s = 2.0 * rk * 1.04;            // [m] lattice spacing
     const double r_in = L.radius - rf;           // [m] inner surface of the foil
-    std::mt19937_64 rng(c.simulation.seed);
+    std::mt19937_64 rng(c.simulation.seed + stream * 0x9E3779B97F4A7C15ull);
     std::uniform_real_distribution<double> jit(-0.015 * rk, 0.015 * rk);
     // Funnel: cone from r_in at z_top to funnel_top_radius; grow it until the sites suffice.
-    funnel_height = 2.0 * r_in;
-    for (int attempt = 0; attempt < 40; ++attempt, funnel_height *= 1.25) {
+    if (!refill) funnel_height = 2.0 * r_in;
+    for (int attempt = 0; attempt < (refill ? 1 : 40); ++attempt, funnel_height *= refill ? 1.0 : 1.25) {
         std::vector<Vec3> sites;
         const double slope = (funnel_top_radius - r_in) / funnel_height;
         const double half_angle = std::atan(slope);
         const int nxy = int(funnel_top_radius / s) + 1;
         for (int kz = 0;; ++kz) {
-            const double z = rk + gap + kz * s;
+            const double z = z_floor + rk + gap + kz * s;
             if (z > z_top + funnel_height - rk - gap) break;
             // Largest centre radius at this height: inside the foil or inside the cone (the
             // wall distance of a cone point is its radial distance times cos(half angle)).
@@ -263,8 +296,8 @@ std::vector<Vec3> generate_grains(const Config& c, const FoilLattice& L, std::si
                 }
             if (sites.size() >= n + n / 20) break;
         }
-        if (sites.size() < n) continue;
-        std::vector<Vec3> out(sites.begin(), sites.begin() + long(n));
+        if (sites.size() < n && !refill) continue;
+        std::vector<Vec3> out(sites.begin(), sites.begin() + long(std::min(n, sites.size())));
         for (Vec3& p : out) p += Vec3{jit(rng), jit(rng), jit(rng)};
         return out;
     }
@@ -340,6 +373,16 @@ private:
     void vtk_frame(const char* tag);
     double top_ring_force_z() const;
     void next_stage(Stage s);
+    // Re-fill (damper.refill): adds grains above the settled ones when their level is below the
+    // damper height; returns false when the level is reached (or re-filling is off or exhausted).
+    bool refill();
+    double fill_level() const;
+    double highest_grain_top() const;
+    double packing_fraction(double inner_radius, double height) const;
+    void record_start_of_cycling(const Sample& first);
+    // Logs a warning and keeps it for summary.json (and the checkpoints, so branches and
+    // resumed runs report it too).
+    void warn(const std::string& what);
     // Settling checks fall at fixed times after the stage start (every `check` seconds), so a
     // resumed run takes its decisions at the same steps as an uninterrupted one.
     double next_check_after(double t, double check) const {
@@ -364,7 +407,11 @@ private:
     std::chrono::steady_clock::time_point last_ckpt_ = start_;
     int vtk_count_ = 0;
     double next_vtk_ = 0.0;
-    std::vector<std::string> warnings_;
+    std::vector<std::string> pending_warnings_;  // found before the checkpoint's state is loaded
+    std::size_t ckpt_grains_ = 0;               // grains stored in the --from checkpoint (0: unknown)
+
+public:
+    const RunState& state() const { return st_; }
 };
 
 void DamperRun::log(const char* fmt, ...) const {
@@ -380,17 +427,21 @@ void DamperRun::adopt_checkpoint_settings() {
     const RunState ck = RunState::load(dem::load_checkpoint(o_.from, scratch));
     // Geometry: a key the config gives must match the sample's; the others take its values.
     std::string diffs;
+    std::map<std::string, double> geometry = ck.geometry;
+    for (const StoredKey& k : kGeometryKeys)
+        if (!geometry.count(k.key) && std::isfinite(k.legacy)) geometry[k.key] = k.legacy;
     for (const StoredKey& k : kGeometryKeys) {
-        const auto it = ck.geometry.find(k.key);
+        const auto it = geometry.find(k.key);
         const double value = k.get(c_);
-        if (it != ck.geometry.end() && !c_.given.count(k.key)) {
+        if (it != geometry.end() && !c_.given.count(k.key)) {
             k.set(c_, it->second);
-        } else if (it == ck.geometry.end() || !same_value(it->second, value)) {
+        } else if (it == geometry.end() || !same_value(it->second, value)) {
             diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + " = " +
-                     (it == ck.geometry.end() ? std::string("?") : show(k.key, it->second)) +
+                     (it == geometry.end() ? std::string("?") : show(k.key, it->second)) +
                      " (the config asks for " + show(k.key, value) + ")";
         }
     }
+    ckpt_grains_ = ck.grains;
     if (!diffs.empty())
         throw std::runtime_error("checkpoint '" + o_.from + "' was prepared with another geometry: " + diffs +
                                  "; prepare a new sample (run without --from)");
@@ -399,7 +450,8 @@ void DamperRun::adopt_checkpoint_settings() {
         // config's settings. Only a checkpoint of an older vppdem can be past that point
         // without them: it is run with the config's settings, as that vppdem did.
         if (ck.stage > Stage::Prepared) {
-            warnings_.push_back("resume: the checkpoint stores no run settings (older vppdem); using the config's");
+            pending_warnings_.push_back("resume: the checkpoint (an older vppdem's) stores no run settings; the "
+                                        "config's are used");
             log("damper: warning: checkpoint '%s' (an older vppdem's) stores no process settings: the config's are "
                 "used; give the ones the run started with\n", o_.from.c_str());
         }
@@ -462,8 +514,7 @@ void DamperRun::check_grains_fit(std::size_t n) {
                       "prepare: %zu grains fill %.1f%% of the foil's interior, above random close packing (64%%): the "
                       "foil bulges by about %.1f%% (hoop strain) when the cap compresses them",
                       n, 100.0 * phi_in, 100.0 * (std::sqrt(phi_in / 0.64) - 1.0));
-        warnings_.push_back(msg);
-        log("damper: warning: %s\n", msg);
+        warn(msg);
     }
 }
 
@@ -519,10 +570,95 @@ void DamperRun::vtk_frame(const char* tag) {
     dem::write_particles_vtk((out_ / "vtk" / name).string(), w_, true);
 }
 
+void DamperRun::warn(const std::string& what) {
+    std::string w = what;
+    for (char& ch : w)
+        if (ch == '\n' || ch == '\r') ch = ' ';
+    st_.warnings.push_back(w);
+    log("damper: warning: %s\n", w.c_str());
+}
+
+double DamperRun::highest_grain_top() const {
+    double top = 0;
+    for (uint32_t i = g0_; i < g1_; ++i) top = std::max(top, w_.particles.pos[i].z + w_.particles.radius[i]);
+    return top;
+}
+
+// Level of the grains' top surface [m]: the mean top (z + r) of the highest layer, i.e. of the
+// n_layer highest grains, n_layer the grains of one hexagonal layer across the foil (0.907
+// (r_in / r_k)^2). The single highest grain would say little: one grain resting on the others
+// stands a radius above the surface, and a cap that meets only it ends above the packing.
+double DamperRun::fill_level() const {
+    const double r_in = L_.radius - c_.foil.particle_radius, rk = c_.grains.radius;
+    std::vector<double> tops;
+    for (uint32_t i = g0_; i < g1_; ++i) tops.push_back(w_.particles.pos[i].z + w_.particles.radius[i]);
+    const std::size_t layer = std::clamp<std::size_t>(std::size_t(0.9069 * (r_in / rk) * (r_in / rk)), 1, tops.size());
+    std::partial_sort(tops.begin(), tops.begin() + long(layer), tops.end(), std::greater<double>());
+    double sum = 0;
+    for (std::size_t k = 0; k < layer; ++k) sum += tops[k];
+    return sum / double(layer);
+}
+
+// Grain volume over the cylinder of this inner radius and height: the packing fraction of
+// summary.json ("preparation", "start_of_cycling").
+double DamperRun::packing_fraction(double inner_radius, double height) const {
+    double v = 0;
+    for (uint32_t i = g0_; i < g1_; ++i) v += 4.0 / 3.0 * std::numbers::pi * std::pow(w_.particles.radius[i], 3);
+    return v / (std::numbers::pi * inner_radius * inner_radius * height);
+}
+
+bool DamperRun::refill() {
+    if (!c_.damper.refill) return false;
+    // The level the grains must reach before the cap comes down: the damper height plus a
+    // quarter of a grain radius, so that the cap meets the top layer, not a few grains that
+    // stand out of it (kRefillMargin, measured: docs/damper.md "Preparation").
+    constexpr double kRefillMargin = 0.25;  // [grain radii]
+    constexpr int kMaxRefills = 8;
+    const double rk = c_.grains.radius, r_in = L_.radius - c_.foil.particle_radius;
+    const double target = z_top_ + kRefillMargin * rk, level = fill_level();
+    if (level >= target) return false;
+    const int done = st_.report.count("prepare.refills") ? int(st_.report.at("prepare.refills")) : 0;
+    char msg[256];
+    if (done >= kMaxRefills) {
+        std::snprintf(msg, sizeof msg,
+                      "prepare: after %d re-fills the grains reach %.4g m, below the damper height %.4g m: the cap "
+                      "compresses less than the top layer", done, level, z_top_);
+        warn(msg);
+        return false;
+    }
+    // As many grains as fill the gap at the packing fraction of the bed below (the grains
+    // settle to about the same packing), one more so that every re-fill adds at least one.
+    const double v_k = 4.0 / 3.0 * std::numbers::pi * rk * rk * rk;
+    const double area = std::numbers::pi * r_in * r_in;
+    const double phi_bed = double(g1_ - g0_) * v_k / (area * level);
+    const std::size_t add = std::size_t(std::ceil(phi_bed * area * (target - level) / v_k)) + 1;
+    double funnel_h = st_.report.at("prepare.funnel_height");
+    const auto pos = generate_grains(c_, L_, add, z_top_, 1.6 * L_.radius, funnel_h, highest_grain_top(),
+                                     uint64_t(done + 1), true);
+    if (pos.empty()) {
+        warn("prepare: no room in the funnel for a re-fill; the grains stay below the damper height");
+        return false;
+    }
+    for (const Vec3& p : pos) {
+        dem::SphereDef d;
+        d.position = p;
+        d.radius = rk;
+        d.material = kGrainMat;
+        d.mask = kGrainMask;
+        w_.add_sphere(d);
+    }
+    g1_ += uint32_t(pos.size());
+    st_.grains = g1_ - g0_;
+    st_.report["prepare.refills"] = done + 1;
+    w_.invalidate_candidates();
+    log("[prepare] grains level %.4f m, below %.4f m: re-fill %d adds %zu grains (%u in all)\n", level, target,
+        done + 1, pos.size(), g1_ - g0_);
+    return true;
+}
+
 void DamperRun::stage_fill() {
     const double max_time = 1.5;  // [s] of falling; a column of 20 cm settles in well under 1 s
     const double check = 2e-3;    // [s] between settling checks
-    const double ke_ref = settle_energy_scale();
     cli::Progress prog("prepare: fill", uint64_t(max_time / w_.params.dt), o_.quiet);
     double next_check = next_check_after(w_.time, check);
     for (;;) {
@@ -533,39 +669,78 @@ void DamperRun::stage_fill() {
         next_check = next_check_after(w_.time, check);
         const double t = w_.time - st_.stage_t0;
         const double ke = grains_kinetic_energy(w_, g0_, g1_);
-        if (t > 0.15 && ke < 1e-4 * ke_ref) {
+        // The grains start at rest: a minimum time lets them fall first (a re-fill's grains
+        // start just above the others and fall less far).
+        const bool refilled = st_.report.count("prepare.refills") > 0;
+        bool settled = false;
+        if (t > (refilled ? 0.1 : 0.15) && ke < 1e-4 * settle_energy_scale()) {
             log("[prepare] grains settled after %.3f s (kinetic energy %.3g J)\n", t, ke);
-            break;
+            settled = true;
+        } else if (t > max_time) {
+            warn("prepare: grains not fully settled after 1.5 s of filling");
+            settled = true;
         }
-        if (t > max_time) {
-            warnings_.push_back("filling: grains not fully settled after 1.5 s");
-            log("[prepare] warning: grains still moving after %.2f s (kinetic energy %.3g J)\n", t, ke);
-            break;
-        }
+        if (!settled) continue;
+        if (!refill()) break;
+        // A re-fill starts the stage again: a checkpoint with the new grains, the settling clock.
+        next_stage(Stage::Fill);
+        next_check = next_check_after(w_.time, check);
     }
 }
 
 void DamperRun::stage_compress() {
     // Bring the cap just above the highest grain (nothing touches it on the way), then move it
-    // down to the top ring at 0.1 m/s and let the grains rearrange.
-    double top = 0;
-    for (uint32_t i = g0_; i < g1_; ++i) top = std::max(top, w_.particles.pos[i].z + w_.particles.radius[i]);
+    // down to the top ring at 0.1 m/s and let the grains rearrange; the re-filled grains stand
+    // above the top ring, so the cap meets them and pushes them down to the damper height.
+    const double top = highest_grain_top(), level = fill_level();
     const double z_cap0 = w_.planes[kTopCap].point.z;
     const double z_start = std::max(z_top_, top + 1e-4);
-    const double speed = 0.1, hold = 0.02;
+    const double speed = 0.1, hold = 0.02, window = 0.005;  // [m/s], [s], [s] (cap force averaged over the window)
     const double t0 = w_.time, t1 = t0 + (z_start - z_top_) / speed;
     dem::Motion m;
     m.history = {{t0 - 1e-12, {0, 0, z_start - z_cap0}}, {t1 + 1e-12, {0, 0, z_top_ - z_cap0}}};
     w_.planes[kTopCap].motion = m;
     w_.invalidate_candidates();
-    log("[prepare] cap from %.4f m down to %.4f m (grains top %.4f m)\n", z_start, z_top_, top);
+    log("[prepare] cap from %.4f m down to %.4f m (grains top %.4f m, level of the top layer %.4f m)\n", z_start,
+        z_top_, top, level);
     const uint64_t n = uint64_t((t1 + hold - w_.time) / w_.params.dt) + 1;
     cli::Progress prog("prepare: compress", n, o_.quiet);
+    double f_max = 0, f_sum = 0;
+    long f_n = 0;
     for (uint64_t s = 0; s < n; ++s) {
         w_.step();
         prog.update(s + 1, w_.time);
+        const double f = w_.wall_force(kTopCap).z;  // [N] grains on the cap, pushing it up
+        f_max = std::max(f_max, f);
+        if (w_.time > t1 + hold - window) {
+            f_sum += f;
+            ++f_n;
+        }
     }
     w_.clear_facets();  // the funnel goes
+    const double r_in = L_.radius - c_.foil.particle_radius;
+    const double cap_force = f_n ? f_sum / double(f_n) : 0.0;
+    auto& r = st_.report;
+    r["prepare.grains"] = double(g1_ - g0_);
+    r["prepare.grain_top"] = top;
+    r["prepare.fill_level"] = level;
+    r["prepare.cap_travel"] = std::max(0.0, top - z_top_);
+    r["prepare.cap_force"] = cap_force;
+    r["prepare.cap_force_max"] = f_max;
+    r["prepare.packing_fraction"] = packing_fraction(r_in, z_top_);
+    r["prepare.packing_fraction_nominal"] =
+        packing_fraction(c_.damper.radius, c_.damper.height);
+    log("[prepare] cap travel %.3g mm on the grains, cap force %.4g N at the end (%.4g N at most), packing "
+        "fraction %.4f of the foil's interior\n", 1e3 * r["prepare.cap_travel"], cap_force, f_max,
+        r["prepare.packing_fraction"]);
+    if (!(cap_force > 0)) {
+        char msg[320];
+        std::snprintf(msg, sizeof msg,
+                      "prepare: the cap ends above the grains (no force on it at the damper height %.4g m; their "
+                      "top layer is at %.4g m): the first part of every compression meets no grains%s",
+                      z_top_, level, c_.damper.refill ? "" : "; damper.refill = true fills the foil up to the cap");
+        warn(msg);
+    }
 }
 
 void DamperRun::apply_config_to_prepared() {
@@ -615,11 +790,35 @@ void DamperRun::stage_vacuum() {
             break;
         }
         if (t > ramp + max_hold) {
-            warnings_.push_back("vacuum: sample not fully at rest after the hold time");
-            log("[vacuum] warning: not at rest after %.2f s (kinetic energy %.3g J, unbalanced %.3g)\n", t, ke, ub);
+            char msg[160];
+            std::snprintf(msg, sizeof msg, "vacuum: sample not at rest %.2f s after the ramp (kinetic energy %.3g J, "
+                          "unbalanced force %.3g)", t - ramp, ke, ub);
+            warn(msg);
             break;
         }
     }
+}
+
+// The sample as cycling starts (after the vacuum and the start offset): the cap's height and
+// force, the packing fraction in the foil as the vacuum has drawn it in (its mean radius over the
+// free rows; the end rings stay at the build radius), and the cap's travel on the grains since it
+// first met them in the preparation.
+void DamperRun::record_start_of_cycling(const Sample& first) {
+    double sum = 0;
+    std::size_t cnt = 0;
+    for (int k = 1; k + 1 < L_.rows; ++k)
+        for (uint32_t i : L_.row(k)) {
+            sum += std::hypot(w_.particles.pos[i].x, w_.particles.pos[i].y);
+            ++cnt;
+        }
+    const double r_foil = cnt ? sum / double(cnt) : L_.radius;
+    const double cap_z = w_.plane_point(kTopCap).z;
+    auto& r = st_.report;
+    r["cycle.foil_mean_radius"] = r_foil;
+    r["cycle.cap_height"] = cap_z;
+    r["cycle.cap_force"] = first.grains;
+    r["cycle.packing_fraction"] = packing_fraction(r_foil - c_.foil.particle_radius, cap_z);
+    if (r.count("prepare.grain_top")) r["cycle.cap_travel"] = std::max(0.0, r.at("prepare.grain_top") - cap_z);
 }
 
 void DamperRun::stage_cycle() {
@@ -656,8 +855,7 @@ void DamperRun::stage_cycle() {
         w_.params.track_energy = c_.output.energy;
         if (c_.output.energy) w_.reset_energy();
     } else if (!w_.params.track_energy && c_.output.energy) {
-        warnings_.push_back("energy: resumed from a checkpoint without an energy ledger; no energy.csv");
-        log("[cycle] warning: the checkpoint has no energy ledger (written by an older vppdem); no energy.csv\n");
+        warn("energy: resumed from a checkpoint without an energy ledger (an older vppdem's); no energy.csv");
     }
     const bool energy = w_.params.track_energy;
     const double t_end = st_.cycle_t0 + ncyc * T;
@@ -690,6 +888,7 @@ void DamperRun::stage_cycle() {
                 sampled = true;
                 // The ledger counts from the first sample: works and dissipations are 0 there.
                 if (energy && s == 0) w_.reset_energy();
+                if (s == 0) record_start_of_cycling(smp);
             }
         }
         w_.profile().lap(dem::Phase::kOutput);
@@ -742,10 +941,11 @@ DamperResult DamperRun::run() {
     if (!o_.from.empty()) adopt_checkpoint_settings();
     build();
     const std::size_t n_foil = L_.particles.size();
-    const std::size_t n = grain_count(c_);
+    // The pour's grains; a checkpoint holds those and its re-fills' (an older one: the pour's).
+    const std::size_t n = ckpt_grains_ > 0 ? ckpt_grains_ : grain_count(c_);
     g0_ = uint32_t(n_foil);
     g1_ = uint32_t(n_foil + n);
-    check_grains_fit(n);
+    if (o_.from.empty()) check_grains_fit(n);  // a checkpoint's sample was checked when it was prepared
 
     if (o_.from.empty()) {
         // Materials in fixed order: grain (frictionless while filling), cap, funnel.
@@ -786,6 +986,9 @@ DamperResult DamperRun::run() {
             w_.add_facet(f);
         }
         st_.geometry = values_of(c_, kGeometryKeys);
+        st_.grains = n;
+        st_.report["prepare.grains_poured"] = double(n);
+        st_.report["prepare.funnel_height"] = funnel_h;
         w_.params.dt = resolve_dt(c_.simulation, w_);
         start_output_dir();  // only now: bad input writes nothing
         log("damper: %zu grains (r_k = %.4g m), foil %d x %d = %zu particles (radius %.5g m), height %.5g m, "
@@ -797,6 +1000,8 @@ DamperResult DamperRun::run() {
         st_ = RunState::load(blob);
         if (w_.particles.size() != n_foil + n)
             throw std::runtime_error("checkpoint '" + o_.from + "' does not hold this damper's particles");
+        st_.grains = n;
+        st_.warnings.insert(st_.warnings.end(), pending_warnings_.begin(), pending_warnings_.end());
         // Resuming continues the run whose run.ckpt lives in --out; anything else (a branch from
         // a prepared sample, even into its own folder) starts a new run there.
         std::error_code ec;
@@ -835,7 +1040,7 @@ DamperResult DamperRun::run() {
     finish();
 
     DamperResult r;
-    r.grains = n;
+    r.grains = g1_ - g0_;
     r.foil_particles = n_foil;
     r.bonds = w_.bonds().size();
     r.foil_columns = L_.cols;
@@ -871,6 +1076,9 @@ DamperResult DamperRun::run() {
             cr.energy_residual = d(10);
         }
     }
+    r.settling = mark_settled(r.cycles, c_.analysis.settle_tolerance);
+    r.report = st_.report;
+    r.warnings = st_.warnings;
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     r.config = c_;
     return r;
@@ -892,6 +1100,25 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
 
     const double I = r.inertial_number;
     const bool quasi_static = I < 1e-3;
+    char msg[320];
+    if (!quasi_static) {
+        std::snprintf(msg, sizeof msg, "not quasi-static: inertial number %.2g >= 1e-3; lower process.velocity", I);
+        r.warnings.push_back(msg);
+    }
+    if (r.settling.count == 0 && !r.cycles.empty()) {
+        std::string changes;
+        for (std::size_t k = 1; k < r.cycles.size(); ++k) {
+            char b[32];
+            std::snprintf(b, sizeof b, "%s%.1f%%", changes.empty() ? "" : ", ",
+                          100.0 * std::abs(r.cycles[k].W - r.cycles[k - 1].W) / std::abs(r.cycles[k - 1].W));
+            changes += b;
+        }
+        std::snprintf(msg, sizeof msg,
+                      "no cycle settled: W must change by at most %g%% from cycle to cycle in two consecutive cycles "
+                      "(changes: %s); run more cycles (process.cycles) or widen analysis.settle_tolerance",
+                      100.0 * r.settling.tolerance, changes.empty() ? "one cycle only" : changes.c_str());
+        r.warnings.push_back(msg);
+    }
     std::string cycles_json = "[";
     for (std::size_t k = 0; k < r.cycles.size(); ++k) {
         const CycleResult& cr = r.cycles[k];
@@ -902,6 +1129,7 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
             j.num("boundary_work", cr.boundary_work).num("friction_dissipation", cr.friction_dissipation)
                 .num("damping_dissipation", cr.damping_dissipation).num("viscous_dissipation", cr.viscous_dissipation)
                 .num("energy_residual", cr.energy_residual);
+        j.boolean("settled", cr.settled);
         const std::string t = j.value();
         cycles_json += (k ? ", " : "") + t;
     }
@@ -917,8 +1145,21 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
         .num("process.amplitude", c.process.amplitude).num("process.velocity", c.process.velocity)
         .num("process.cycles", double(c.process.cycles)).num("process.samples_per_cycle", double(c.process.samples_per_cycle))
         .num("process.sample_window", c.process.sample_window).num("simulation.local_damping", c.simulation.local_damping)
-        .num("simulation.threads", c.simulation.threads).num("simulation.seed", double(c.simulation.seed));
+        .num("simulation.threads", c.simulation.threads).num("simulation.seed", double(c.simulation.seed))
+        .boolean("damper.refill", c.damper.refill).num("analysis.settle_tolerance", c.analysis.settle_tolerance);
     const std::string in = inputs.value();
+    // The report's entries with this prefix, without it (absent ones are left out: a sample of
+    // an older vppdem did not measure them).
+    auto report_json = [&](const std::string& prefix) {
+        dem::JsonObject o;
+        for (const auto& [k, v] : r.report)
+            if (k.starts_with(prefix) && k != "prepare.funnel_height") o.num(k.substr(prefix.size()), v);
+        return o.value();
+    };
+    std::string warnings_json = "[";
+    for (std::size_t k = 0; k < r.warnings.size(); ++k)
+        warnings_json += (k ? ", " : "") + dem::JsonObject::quote(r.warnings[k]);
+    warnings_json += "]";
     dem::JsonObject j;
     j.raw("inputs", in)
         .num("underpressure", c.process.underpressure)
@@ -936,6 +1177,14 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
         .num("inertial_number", I)
         .boolean("quasi_static", quasi_static)
         .raw("cycles", cycles_json)
+        .num("settle_tolerance", r.settling.tolerance)
+        .raw("first_settled_cycle", r.settling.first > 0 ? std::to_string(r.settling.first) : "null")
+        .num("settled_cycles", double(r.settling.count))
+        .num("W_settled", r.settling.W_mean)
+        .num("inner_radius", r.foil_radius - c.foil.particle_radius)
+        .raw("preparation", report_json("prepare."))
+        .raw("start_of_cycling", report_json("cycle."))
+        .raw("warnings", warnings_json)
         .num("run_seconds", r.run_seconds)
         .str("from", opt.from);
     dem::write_text_atomic((out / "summary.json").string(), j.text());
@@ -958,6 +1207,10 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
                              cr.friction_dissipation, cr.damping_dissipation, cr.viscous_dissipation,
                              cr.boundary_work != 0 ? 100.0 * cr.energy_residual / std::abs(cr.boundary_work) : 0.0);
         }
+        if (r.settling.count > 0)
+            std::fprintf(stderr, "W settled (changes <= %g%%) from cycle %d: W_settled = %.5g J/m^2 over %zu cycle(s)\n",
+                         100.0 * r.settling.tolerance, r.settling.first, r.settling.W_mean, r.settling.count);
+        for (const std::string& w : r.warnings) std::fprintf(stderr, "WARNING: %s\n", w.c_str());
         std::fprintf(stderr, "run time %.1f s; outputs: forces.csv energy.csv cycles.csv summary.json prepared.ckpt run.ckpt vtk/%s\n",
                      r.run_seconds, opt.plot ? " loops*.png" : "");
     }

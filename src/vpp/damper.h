@@ -6,11 +6,13 @@
 //   record:  forces.csv (grains on the cap, foil on the top ring), cycles.csv, summary.json
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
 #include "vpp/analysis.h"
 #include "vpp/config.h"
+#include "vpp/settle.h"
 
 namespace vpp {
 
@@ -29,7 +31,13 @@ struct DamperResult {
     int foil_columns = 0, foil_rows = 0;
     double foil_radius = 0, height = 0, dt = 0;
     double inertial_number = 0;
-    std::vector<CycleResult> cycles;
+    std::vector<CycleResult> cycles;  // with the stationarity flag (settled) of each
+    Settling settling;                // analysis.settle_tolerance applied to the cycles' W
+    // The preparation and the start of cycling as measured ("prepare.cap_force",
+    // "cycle.packing_fraction", ...; summary.json "preparation", "start_of_cycling").
+    std::map<std::string, double> report;
+    // Every warning of the run, the preparation's included (summary.json "warnings").
+    std::vector<std::string> warnings;
     double run_seconds = 0;
     Config config;  // the settings the run used: a run from a checkpoint takes some of its values
 };

@@ -23,16 +23,28 @@
 #include "cli/threads.h"
 #include "dem/io/csv.h"
 #include "vpp/damper.h"
+#include "vpp/settle.h"
+#include "vpp/stats.h"
 
 namespace vpp {
 
 namespace fs = std::filesystem;
 using cfg::ConfigError;
 
-const std::vector<std::string> kShareableKeys = {
-    "grains.friction", "grains.young",  "grains.stiffness_ratio", "foil.young",
-    "foil.thickness",  "foil.friction", "foil.stiffness_ratio",   "damper.cap_friction",
-    "process.*",       "simulation.local_damping", "simulation.threads", "output.*"};
+// Only what does not act before the end of the preparation (prepared.ckpt) may differ between
+// the cases of one preparation; everything else would give a case a sample it did not ask for.
+// - grains.friction, damper.cap_friction: the fill and the cap's compression are frictionless
+//   (the grain, cap and funnel materials have friction 0 until apply_config_to_prepared() in
+//   damper.cpp gives them the config's);
+// - process.*: the vacuum and the cycles come after prepared.ckpt;
+// - simulation.threads (results do not depend on it), output.* (files only), analysis.*
+//   (post-processing).
+// Not here, because they act while the grains fall and the cap compresses them: grain and foil
+// stiffnesses (grains.young, grains.stiffness_ratio, foil.*: contact stiffness, time step,
+// bonds), simulation.local_damping, dt, dt_safety, skin, and the geometry. Test
+// Study.SharedKeysLeaveThePreparedSampleBitwiseUnchanged.
+const std::vector<std::string> kShareableKeys = {"grains.friction", "damper.cap_friction", "process.*",
+                                                 "simulation.threads", "output.*", "analysis.*"};
 
 bool is_shareable_key(const std::string& key) {
     for (const std::string& k : kShareableKeys) {
@@ -149,57 +161,137 @@ std::string case_record(const Study& s, const StudyCase& c) {
     return os.str();
 }
 
-// The last cycle of a finished case folder (cycles.csv) and its run time (summary.json).
-CaseOutcome read_finished(const fs::path& dir) {
+// The strings of the array `key` in a JSON text written by dem::JsonObject (summary.json
+// "warnings"); empty when the key is missing.
+std::vector<std::string> json_string_array(const std::string& js, const std::string& key) {
+    std::vector<std::string> out;
+    std::size_t p = js.find("\"" + key + "\":");
+    if (p == std::string::npos) return out;
+    p = js.find('[', p);
+    if (p == std::string::npos) return out;
+    ++p;
+    while (p < js.size()) {
+        while (p < js.size() && (js[p] == ' ' || js[p] == ',' || js[p] == '\n')) ++p;
+        if (p >= js.size() || js[p] != '"') break;  // ']' or anything but a string ends it
+        std::string v;
+        for (++p; p < js.size() && js[p] != '"'; ++p) {
+            if (js[p] == '\\' && p + 1 < js.size()) {
+                ++p;
+                v += js[p] == 'n' ? '\n' : js[p];
+            } else {
+                v += js[p];
+            }
+        }
+        out.push_back(v);
+        ++p;
+    }
+    return out;
+}
+
+// Shares of the dissipation in a cycle: friction / total, damping / total (NaN without energy).
+void dissipation_shares(double friction, double damping, double viscous, CaseOutcome& o) {
+    const double total = friction + damping + viscous;
+    if (!(total > 0)) return;
+    o.friction_share = friction / total;
+    o.damping_share = damping / total;
+}
+
+// The last cycle of a finished case folder (cycles.csv), the stationarity of its cycles (the
+// case's analysis.settle_tolerance applied to the W column, as the damper did), its run time
+// and warnings (summary.json).
+CaseOutcome read_finished(const fs::path& dir, const Config& config) {
     CaseOutcome o;
     o.ok = true;
     o.skipped = true;
     std::vector<std::string> header;
     const auto rows = dem::read_numeric_csv((dir / "cycles.csv").string(), 4, &header);
     if (rows.empty()) throw std::runtime_error((dir / "cycles.csv").string() + " holds no cycle");
-    auto col = [&](const std::string& name) {
+    auto index = [&](const std::string& name) -> long {
         const auto it = std::find(header.begin(), header.end(), name);
-        if (it == header.end()) throw std::runtime_error((dir / "cycles.csv").string() + ": no column " + name);
-        return rows.back()[std::size_t(it - header.begin())];
+        return it == header.end() ? -1 : long(it - header.begin());
+    };
+    auto col = [&](const std::string& name) {
+        const long k = index(name);
+        if (k < 0) throw std::runtime_error((dir / "cycles.csv").string() + ": no column " + name);
+        return rows.back()[std::size_t(k)];
     };
     o.W = col("W");
     o.dissipated_energy = col("dissipated_energy");
     o.peak_force = col("peak_force");
+    if (index("friction_dissipation") >= 0 && index("damping_dissipation") >= 0 && index("viscous_dissipation") >= 0)
+        dissipation_shares(col("friction_dissipation"), col("damping_dissipation"), col("viscous_dissipation"), o);
+    std::vector<CycleResult> cycles;
+    for (const auto& r : rows) {
+        CycleResult c;
+        c.cycle = int(std::lround(r[std::size_t(index("cycle"))]));
+        c.W = r[std::size_t(index("W"))];
+        cycles.push_back(c);
+    }
+    const Settling st = settle_cycles(cycles, config.analysis.settle_tolerance);
+    o.W_settled = st.W_mean;
+    o.settled_cycles = int(st.count);
+    o.first_settled = st.first;
     const std::string js = read_text(dir / "summary.json");
     const auto k = js.find("\"run_seconds\":");
     if (k != std::string::npos) o.run_seconds = std::strtod(js.c_str() + k + 14, nullptr);
+    o.warnings = json_string_array(js, "warnings");
+    if (const auto g = js.find("\"grains\":"); g != std::string::npos) o.grains = std::atoi(js.c_str() + g + 9);
+    if (const auto p = js.find("\"preparation\":"); p != std::string::npos)
+        if (const auto f = js.find("\"packing_fraction\":", p); f != std::string::npos)
+            o.packing_fraction = std::strtod(js.c_str() + f + 19, nullptr);
     return o;
 }
 
-std::string serialize(std::size_t i, const CaseOutcome& o) {
-    std::string msg = o.message;
+std::string one_line(std::string msg) {
     for (char& c : msg)
-        if (c == '\t' || c == '\n') c = ' ';
-    char buf[256];
-    std::snprintf(buf, sizeof buf, "%zu\t%d\t%d\t%.17g\t%.17g\t%.17g\t%.17g\t", i, int(o.ok), int(o.skipped), o.W,
-                  o.dissipated_energy, o.peak_force, o.run_seconds);
-    return buf + msg + "\n";
+        if (c == '\t' || c == '\n' || c == '\r') c = ' ';
+    return msg;
+}
+
+// One case's outcome as a line of tab-separated fields (MPI gather); the message last.
+std::string serialize(std::size_t i, const CaseOutcome& o) {
+    char buf[512];
+    std::snprintf(buf, sizeof buf, "%zu\t%d\t%d\t%.17g\t%.17g\t%.17g\t%.17g\t%.17g\t%d\t%d\t%.17g\t%.17g\t%d\t%.17g\t",
+                  i, int(o.ok), int(o.skipped), o.W, o.dissipated_energy, o.peak_force, o.run_seconds, o.W_settled,
+                  o.settled_cycles, o.first_settled, o.friction_share, o.damping_share, o.grains, o.packing_fraction);
+    std::string warnings;
+    for (const std::string& w : o.warnings) {
+        if (!warnings.empty()) warnings += '\x1f';
+        warnings += one_line(w);
+    }
+    return buf + warnings + "\t" + one_line(o.message) + "\n";
 }
 
 void deserialize(const std::string& text, std::vector<CaseOutcome>& out) {
     std::istringstream is(text);
+    constexpr int kFields = 15;  // before the message
     for (std::string line; std::getline(is, line);) {
         if (line.empty()) continue;
         std::vector<std::string> f;
         std::size_t p = 0;
-        for (int k = 0; k < 7; ++k) {
+        for (int k = 0; k < kFields; ++k) {
             const std::size_t q = line.find('\t', p);
             f.push_back(line.substr(p, q - p));
             p = q + 1;
         }
         CaseOutcome o;
         const std::size_t i = std::stoul(f[0]);
+        auto num = [&](int k) { return std::strtod(f[std::size_t(k)].c_str(), nullptr); };
         o.ok = f[1] == "1";
         o.skipped = f[2] == "1";
-        o.W = std::strtod(f[3].c_str(), nullptr);
-        o.dissipated_energy = std::strtod(f[4].c_str(), nullptr);
-        o.peak_force = std::strtod(f[5].c_str(), nullptr);
-        o.run_seconds = std::strtod(f[6].c_str(), nullptr);
+        o.W = num(3);
+        o.dissipated_energy = num(4);
+        o.peak_force = num(5);
+        o.run_seconds = num(6);
+        o.W_settled = num(7);
+        o.settled_cycles = std::atoi(f[8].c_str());
+        o.first_settled = std::atoi(f[9].c_str());
+        o.friction_share = num(10);
+        o.damping_share = num(11);
+        o.grains = std::atoi(f[12].c_str());
+        o.packing_fraction = num(13);
+        std::stringstream ws(f[14]);
+        for (std::string w; std::getline(ws, w, '\x1f');) o.warnings.push_back(w);
         o.message = line.substr(p);
         if (i < out.size()) out[i] = o;
     }
@@ -290,19 +382,32 @@ std::vector<double> parse_range(const std::string& key, const std::string& text,
     return out;
 }
 
-Study load_study(const std::string& path, const std::vector<std::string>& extra_sets) {
+Study load_study(const std::string& path, const std::vector<std::string>& extra_sets, int seeds_override) {
     if (!fs::is_regular_file(path)) throw ConfigError("study file '" + path + "' not found");
     const toml::table root = cfg::parse_file(path, "study");
     Study s;
     s.path = path;
     const std::string where = "study '" + path + "': ";
-    static const std::set<std::string> allowed = {"base", "description", "share_preparation", "set", "grid"};
+    static const std::set<std::string> allowed = {"base", "description", "share_preparation", "seeds", "set", "grid"};
     for (const auto& [k, v] : root) {
         const std::string key(k.str());
         if (!allowed.count(key))
             throw ConfigError(where + "unknown key '" + key +
-                              "' (allowed: base, description, share_preparation, [set], [grid])");
+                              "' (allowed: base, description, share_preparation, seeds, [set], [grid])");
     }
+    int seeds = 0;
+    if (const toml::node* n = root.get("seeds")) {
+        const auto v = n->value_exact<int64_t>();
+        if (!v || *v < 1 || *v > kMaxSeeds)
+            throw ConfigError(where + "key 'seeds' = " + cfg::describe(*n) + ": must be an integer in 1.." +
+                              std::to_string(kMaxSeeds) + " (an ensemble of that many realisations: simulation.seed "
+                              "1, 2, ..., seeds)");
+        seeds = int(*v);
+    }
+    if (seeds_override < 0 || seeds_override > kMaxSeeds)
+        throw ConfigError("--seeds " + std::to_string(seeds_override) + ": must be an integer in 1.." +
+                          std::to_string(kMaxSeeds));
+    if (seeds_override > 0) seeds = seeds_override;
     if (const toml::node* b = root.get("base")) {
         if (!b->as_string()) throw ConfigError(where + "key 'base' must be a string (a config file path)");
         fs::path p(b->as_string()->get());
@@ -317,6 +422,12 @@ Study load_study(const std::string& path, const std::vector<std::string>& extra_
         if (!sp->as_boolean()) throw ConfigError(where + "key 'share_preparation' must be true or false");
         s.share_preparation = sp->as_boolean()->get();
     }
+    // TOML puts a key written after a [table] header into that table: `seeds = 3` under [set]
+    // would be taken for a config key and refused as unknown, which hides the slip.
+    for (const char* table : {"set", "grid"})
+        if (const toml::node* t = root.get(table); t && t->as_table() && t->as_table()->contains("seeds"))
+            throw ConfigError(where + "'seeds' is a top-level key of the study, not a config key: write it before "
+                                      "[set] and [grid]");
     std::set<std::string> seen;
     if (const toml::node* st = root.get("set")) {
         if (!st->as_table()) throw ConfigError(where + "'set' must be a table [set] of config keys");
@@ -369,7 +480,29 @@ Study load_study(const std::string& path, const std::vector<std::string>& extra_
             s.grid.push_back(std::move(ax));
         }
     }
+    if (seeds > 0) {
+        // The ensemble: simulation.seed = 1..seeds as the last grid key (varying fastest), so
+        // the seeds of one case sit side by side; --seeds replaces a seed list of [grid].
+        const std::string from = seeds_override > 0 ? "--seeds" : "key 'seeds'";
+        for (const std::string& x : s.set)
+            if (x.starts_with("simulation.seed="))
+                throw ConfigError(where + from + " and a fixed simulation.seed (" + x +
+                                  ") contradict each other: give one of them");
+        const auto it = std::find_if(s.grid.begin(), s.grid.end(), [](const GridAxis& a) { return a.key == "simulation.seed"; });
+        if (it != s.grid.end()) {
+            if (seeds_override == 0)
+                throw ConfigError(where + "key 'seeds' and a [grid] list of simulation.seed both give the seeds: keep one");
+            s.grid.erase(it);
+        }
+        s.grid.push_back(axis_from_text("simulation.seed", "1:" + std::to_string(seeds) + ":1"));
+    }
     return s;
+}
+
+int seed_axis(const Study& s) {
+    for (std::size_t k = 0; k < s.grid.size(); ++k)
+        if (s.grid[k].key == "simulation.seed") return int(k);
+    return -1;
 }
 
 GridAxis axis_from_text(const std::string& key, const std::string& values) {
@@ -474,14 +607,86 @@ std::string list_cases(const std::vector<StudyCase>& cases) {
 std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes) {
     std::string out;
     for (const GridAxis& a : s.grid) out += csv_field(a.key) + ",";
-    out += "W,dissipated_energy,peak_force,run_seconds,status,case\n";
+    out += "W,dissipated_energy,peak_force,run_seconds,status,case,"
+           "W_settled,settled_cycles,first_settled_cycle,friction_share,damping_share,grains,packing_fraction,warnings\n";
     for (std::size_t i = 0; i < cases.size(); ++i) {
         for (const std::string& l : cases[i].labels) out += csv_field(l) + ",";
         const CaseOutcome& o = outcomes[i];
         if (o.ok) out += num(o.W) + "," + num(o.dissipated_energy) + "," + num(o.peak_force) + ",";
         else out += ",,,";
         out += num(o.run_seconds) + "," + csv_field(o.ok ? "ok" : "failed: " + o.message) + "," +
-               csv_field(cases[i].name) + "\n";
+               csv_field(cases[i].name) + ",";
+        if (o.ok)
+            out += num(o.W_settled) + "," + std::to_string(o.settled_cycles) + "," +
+                   (o.first_settled > 0 ? std::to_string(o.first_settled) : std::string()) + "," +
+                   num(o.friction_share) + "," + num(o.damping_share) + "," + std::to_string(o.grains) + "," +
+                   num(o.packing_fraction) + ",";
+        else
+            out += ",,,,,,,";
+        std::string w;
+        for (const std::string& x : o.warnings) {
+            if (!w.empty()) w += " | ";
+            w += x;
+        }
+        out += csv_field(w) + "\n";
+    }
+    return out;
+}
+
+std::vector<std::vector<std::size_t>> ensemble_groups(const Study& s, const std::vector<StudyCase>& cases) {
+    const int seed = seed_axis(s);
+    std::vector<std::vector<std::size_t>> groups;
+    std::map<std::vector<std::string>, std::size_t> index;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        std::vector<std::string> key = cases[i].labels;
+        if (seed >= 0) key.erase(key.begin() + seed);
+        const auto [it, inserted] = index.emplace(key, groups.size());
+        if (inserted) groups.emplace_back();
+        groups[it->second].push_back(i);
+    }
+    return groups;
+}
+
+std::string cases_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes) {
+    const int seed = seed_axis(s);
+    std::string out;
+    for (std::size_t k = 0; k < s.grid.size(); ++k)
+        if (int(k) != seed) out += csv_field(s.grid[k].key) + ",";
+    out += "seeds,ok";
+    for (const std::string& q : kEnsembleQuantities) out += "," + q + "_n," + q + "_mean," + q + "_sd," + q + "_ci95";
+    out += ",cases\n";
+    auto value = [](const CaseOutcome& o, const std::string& q) {
+        if (q == "W") return o.W;
+        if (q == "W_settled") return o.W_settled;
+        if (q == "peak_force") return o.peak_force;
+        if (q == "dissipated_energy") return o.dissipated_energy;
+        if (q == "friction_share") return o.friction_share;
+        if (q == "damping_share") return o.damping_share;
+        return o.packing_fraction;
+    };
+    for (const auto& g : ensemble_groups(s, cases)) {
+        const StudyCase& first = cases[g.front()];
+        for (std::size_t k = 0; k < first.labels.size(); ++k)
+            if (int(k) != seed) out += csv_field(first.labels[k]) + ",";
+        std::size_t ok = 0;
+        for (std::size_t i : g) ok += outcomes[i].ok;
+        out += std::to_string(g.size()) + "," + std::to_string(ok);
+        for (const std::string& q : kEnsembleQuantities) {
+            std::vector<double> x;
+            for (std::size_t i : g)
+                if (outcomes[i].ok) x.push_back(value(outcomes[i], q));
+            const Interval iv = mean_interval(x);
+            for (const std::string& field : {std::to_string(iv.n), num(iv.mean), num(iv.sd), num(iv.half)}) {
+                out += ',';
+                out += field;
+            }
+        }
+        std::string names;
+        for (std::size_t i : g) {
+            if (!names.empty()) names += ';';
+            names += cases[i].name;
+        }
+        out += "," + csv_field(names) + "\n";
     }
     return out;
 }
@@ -568,7 +773,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
                 throw std::runtime_error("folder '" + dir.string() +
                                          "' holds a case run with other settings (see its case.toml); the study "
                                          "changed: use another --out, or remove the folder");
-            if (fs::exists(dir / "summary.json")) return read_finished(dir);
+            if (fs::exists(dir / "summary.json")) return read_finished(dir, c.config);
             dem::write_text_atomic((dir / "case.toml").string(), rec);
             DamperOptions d;
             d.out_dir = dir.string();
@@ -581,10 +786,20 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             const DamperResult r = run_damper(c.config, d);
             if (r.cycles.empty()) throw std::runtime_error("the run recorded no complete cycle");
             o.ok = true;
-            o.W = r.cycles.back().W;
-            o.dissipated_energy = r.cycles.back().dissipated_energy;
-            o.peak_force = r.cycles.back().peak_force;
+            const CycleResult& last = r.cycles.back();
+            o.W = last.W;
+            o.dissipated_energy = last.dissipated_energy;
+            o.peak_force = last.peak_force;
             o.run_seconds = r.run_seconds;
+            o.W_settled = r.settling.W_mean;
+            o.settled_cycles = int(r.settling.count);
+            o.first_settled = r.settling.first;
+            if (last.has_energy)
+                dissipation_shares(last.friction_dissipation, last.damping_dissipation, last.viscous_dissipation, o);
+            o.warnings = r.warnings;
+            o.grains = int(r.grains);
+            if (const auto it = r.report.find("prepare.packing_fraction"); it != r.report.end())
+                o.packing_fraction = it->second;
         } catch (const std::exception& e) {
             o.ok = false;
             o.message = e.what();
@@ -651,9 +866,10 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
         deserialize(all, res.outcomes);
         for (const CaseOutcome& o : res.outcomes) res.failed += o.ok ? 0 : 1;
         dem::write_text_atomic((out / "summary.csv").string(), summary_csv(s, cases, res.outcomes));
+        dem::write_text_atomic((out / "summary_cases.csv").string(), cases_csv(s, cases, res.outcomes));
         if (!opt.quiet)
-            std::fprintf(stderr, "sweep: %zu cases, %d failed; wrote %s\n", cases.size(), res.failed,
-                         (out / "summary.csv").string().c_str());
+            std::fprintf(stderr, "sweep: %zu cases, %d failed; wrote %s and summary_cases.csv\n", cases.size(),
+                         res.failed, (out / "summary.csv").string().c_str());
     }
     res.failed = broadcast_int(res.failed);
     return res;

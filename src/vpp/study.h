@@ -8,12 +8,14 @@
 //     [grid]                               # every combination is one case
 //     "grains.friction" = [0.0, 0.3, 0.6]  # a list, or "start:stop:step" (stop included)
 //     "process.underpressure" = [0.02e6, 0.08e6]
-// Cases whose grid values differ only in process / contact keys (kShareableKeys) share one
-// preparation: the first case of each geometry group prepares, the others branch from its
-// prepared.ckpt. Cases run on a pool of threads (one damper per thread, simulation.threads = 1
+//     seeds = 3                            # optional: an ensemble, simulation.seed = 1..3
+// Cases whose grid values differ only in keys that do not act before the end of the preparation
+// (kShareableKeys: grain and cap friction, process.*, output.*, analysis.*, threads) share one
+// preparation: the first case of each group prepares, the others branch from its prepared.ckpt. Cases run on a pool of threads (one damper per thread, simulation.threads = 1
 // unless the study sets it), and under MPI round-robin over the ranks.
 #pragma once
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -43,7 +45,14 @@ bool is_shareable_key(const std::string& key);
 
 // Reads and checks a study file (ConfigError naming the key on bad input); extra_sets are
 // appended to [set]. An empty [grid] (or none) gives one case.
-Study load_study(const std::string& path, const std::vector<std::string>& extra_sets = {});
+// Ensembles: `seeds = N` (top level; or seeds_override > 0, the command line's --seeds, which
+// also replaces a [grid] list of simulation.seed) adds simulation.seed = 1..N as the last grid
+// key. A [grid] list "simulation.seed" = [...] is an ensemble too.
+inline constexpr int kMaxSeeds = 1000;
+Study load_study(const std::string& path, const std::vector<std::string>& extra_sets = {}, int seeds_override = 0);
+
+// Index of the ensemble axis (grid key simulation.seed), -1 without one.
+int seed_axis(const Study& s);
 
 // Parses "start:stop:step" (stop included when it lies on the grid, to 1e-9 of a step);
 // integers when all three are integers. Throws ConfigError naming `key`.
@@ -78,11 +87,24 @@ struct SweepOptions {
 };
 
 struct CaseOutcome {
+    static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     bool ok = false;
     bool skipped = false;        // finished in an earlier run of the sweep
     std::string message;         // failure message
     double W = 0, dissipated_energy = 0, peak_force = 0;  // last cycle
     double run_seconds = 0;
+    // Stationary loops (vpp/settle.h): mean W of the settled cycles (NaN: none settled), how
+    // many settled, the first (0: none).
+    double W_settled = kNaN;
+    int settled_cycles = 0, first_settled = 0;
+    // Shares of the last cycle's dissipation (energy ledger; NaN without it):
+    // friction / (friction + damping + viscous), damping / (the same).
+    double friction_share = kNaN, damping_share = kNaN;
+    // The prepared sample: grains (after the re-fills) and the packing fraction of the foil's
+    // interior up to the cap at the end of the preparation (summary.json "preparation").
+    int grains = 0;
+    double packing_fraction = kNaN;
+    std::vector<std::string> warnings;  // the case's summary.json "warnings"
 };
 
 struct SweepResult {
@@ -94,9 +116,27 @@ struct SweepResult {
 // Runs (or resumes) the sweep into opt.out_dir: one folder per case, DIR/summary.csv (rank 0).
 SweepResult run_sweep(const Study& s, const SweepOptions& opt);
 
-// The summary.csv text: the swept keys, W, dissipated_energy, peak_force, run_seconds, status.
+// The summary.csv text, one row per run: the swept keys, then W, dissipated_energy, peak_force,
+// run_seconds, status, case (the contract), then W_settled, settled_cycles, first_settled_cycle,
+// friction_share, damping_share, grains, packing_fraction, warnings (docs/studies.md, "Outputs").
 std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases,
                         const std::vector<CaseOutcome>& outcomes);
+
+// Quantities summarised over an ensemble, in summary_cases.csv's order.
+inline const std::vector<std::string> kEnsembleQuantities = {"W", "W_settled", "peak_force", "dissipated_energy",
+                                                             "friction_share", "damping_share", "packing_fraction"};
+
+// The summary_cases.csv text, one row per case of the grid without its seed axis (all rows of
+// summary.csv that differ only in simulation.seed): the other swept keys, `seeds` (runs in the
+// case), `ok` (finished runs), then per quantity Q of kEnsembleQuantities `Q_n,Q_mean,Q_sd,Q_ci95`
+// over the finished runs that have Q (vpp/stats.h: Student t, n - 1 degrees of freedom; ci95 the
+// half width, the interval is mean +- ci95), then `cases` (the runs' folders, ';'-separated).
+// A study without seeds has one run per row (n = 1: sd and ci95 empty).
+std::string cases_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes);
+
+// Rows of the ensemble table: the indices of the runs of each case (grid order), the seed axis
+// left out.
+std::vector<std::vector<std::size_t>> ensemble_groups(const Study& s, const std::vector<StudyCase>& cases);
 
 // MPI helpers (no-ops without MPI or outside mpirun).
 void mpi_init_if_launched(int* argc, char*** argv, int* rank, int* ranks);

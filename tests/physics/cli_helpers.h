@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
 #include <cstdio>
 #include <functional>
 #include <thread>
@@ -110,6 +112,22 @@ inline std::string slurp(const fs::path& p) {
     std::stringstream ss;
     ss << in.rdbuf();
     return ss.str();
+}
+
+// The number after "key": in a JSON text (a summary.json), searched from the first occurrence
+// of "within": (an enclosing object's key) when given; NaN when missing or null.
+inline double json_number(const std::string& js, const std::string& key, const std::string& within = "") {
+    std::size_t p = 0;
+    if (!within.empty()) {
+        p = js.find("\"" + within + "\":");
+        if (p == std::string::npos) return std::nan("");
+    }
+    p = js.find("\"" + key + "\":", p);
+    if (p == std::string::npos) return std::nan("");
+    const char* s = js.c_str() + p + key.size() + 3;
+    char* end = nullptr;
+    const double v = std::strtod(s, &end);
+    return end == s ? std::nan("") : v;
 }
 
 inline void write_file(const fs::path& p, const std::string& text) {

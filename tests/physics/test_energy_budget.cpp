@@ -355,7 +355,7 @@ TEST_F(EnergyDamper, BalanceClosesPerCycle) {
     std::string cheader;
     const auto c = read_columns(scratch("base") / "cycles.csv", &cheader);
     EXPECT_EQ(cheader, "cycle,dissipated_energy,W,peak_force,min_force,friction_dissipation,damping_dissipation,"
-                       "viscous_dissipation");
+                       "viscous_dissipation,settled");
     ASSERT_EQ(c.at("cycle").size(), 2u);
     const std::size_t S = 80;
     for (std::size_t k = 0; k < 2; ++k) {

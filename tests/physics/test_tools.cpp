@@ -1,0 +1,163 @@
+// The Python tools and the regeneration script of the studies (tools/paired_velocity.py,
+// tools/synthetic_experiment.py, scripts/trust_studies.sh), run as the lead runs them, against
+// hand-computed answers or on the tests' small damper.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_helpers.h"
+
+namespace {
+
+using namespace cli_test;
+
+const std::string kPython = "/usr/bin/python3 ";
+const fs::path kSource = VPPDEM_SOURCE_DIR;
+
+std::vector<std::string> fields(const std::string& line) {
+    std::vector<std::string> out;
+    std::stringstream ss(line);
+    for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
+    if (!line.empty() && line.back() == ',') out.push_back("");
+    return out;
+}
+
+// Rows of a CSV as maps from column name to text.
+std::vector<std::map<std::string, std::string>> rows_of(const fs::path& p) {
+    std::istringstream in(slurp(p));
+    std::string line;
+    std::getline(in, line);
+    const auto h = fields(line);
+    std::vector<std::map<std::string, std::string>> out;
+    while (std::getline(in, line)) {
+        if (line.empty()) continue;
+        const auto f = fields(line);
+        std::map<std::string, std::string> r;
+        for (std::size_t k = 0; k < h.size() && k < f.size(); ++k) r[h[k]] = f[k];
+        out.push_back(r);
+    }
+    return out;
+}
+
+}  // namespace
+
+// Three seeds whose packings differ by +-10 J/m^2 (far more than the velocity effect): the
+// unpaired intervals overlap everywhere, the paired differences do not. W(v, s) = base_s +
+// offset(v, s) with offsets 0 (0.005 m/s), 1, 2, 0 (0.05 m/s), 10, 11, 9 (0.1 m/s): at 0.05 m/s the
+// differences 1, 2, 0 have mean 1, sd 1 and the interval 1 +- t_{0.975,2} / sqrt(3) = 1 +- 2.484,
+// which holds 0; at 0.1 m/s 10 +- 2.484, which does not. The converged velocity is 0.05 m/s.
+TEST(Tools, PairedVelocityIntervalsByHand) {
+    const fs::path d = scratch_path("tools", "paired");
+    fs::remove_all(d);
+    std::string csv = "process.underpressure,process.velocity,simulation.seed,W,dissipated_energy,peak_force,run_seconds,"
+                      "status,case,W_settled,settled_cycles,first_settled_cycle,friction_share,damping_share,grains,"
+                      "packing_fraction,warnings\n";
+    const double base[3] = {100, 110, 90};
+    const std::map<std::string, std::vector<double>> offset = {
+        {"0.1", {10, 11, 9}}, {"0.05", {1, 2, 0}}, {"0.005", {0, 0, 0}}};
+    for (const auto& [v, off] : offset)
+        for (int s = 0; s < 3; ++s)
+            csv += "60000," + v + "," + std::to_string(s + 1) + "," + std::to_string(base[s] + off[std::size_t(s)]) +
+                   ",1,500,1,ok,c" + v + "_" + std::to_string(s) + ",,0,,,,60,0.6,\n";
+    write_file(d / "summary.csv", csv);
+    const Outcome r = shell(kPython + (kSource / "tools/paired_velocity.py").string() + " " + d.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("W: fastest velocity within the paired 95% interval of 0.005 m/s (and every slower one): "
+                            "0.05 m/s"), std::string::npos) << r.output;
+    const double t2 = 0.95 / std::sqrt(2 * 0.975 * 0.025);  // t_{0.975,2}, closed form
+    int seen = 0;
+    for (const auto& row : rows_of(d / "paired_velocity.csv")) {
+        if (row.at("quantity") != "W") continue;
+        const std::string v = row.at("velocity");
+        EXPECT_EQ(row.at("n"), "3");
+        EXPECT_EQ(row.at("diff_n"), "3");
+        if (v == "0.05") {
+            ++seen;
+            EXPECT_NEAR(std::stod(row.at("diff_mean")), 1.0, 1e-9);
+            EXPECT_NEAR(std::stod(row.at("diff_sd")), 1.0, 1e-9);
+            EXPECT_NEAR(std::stod(row.at("diff_ci95")), t2 / std::sqrt(3.0), 1e-8);
+            EXPECT_EQ(row.at("within"), "1");
+            EXPECT_EQ(row.at("converged"), "1");
+            // Unpaired: 101, 112, 90: mean 101, sd 11, half width t2 * 11 / sqrt(3).
+            EXPECT_NEAR(std::stod(row.at("mean")), 101.0, 1e-9);
+            EXPECT_NEAR(std::stod(row.at("ci95")), t2 * 11.0 / std::sqrt(3.0), 1e-7);
+        } else if (v == "0.1") {
+            ++seen;
+            EXPECT_NEAR(std::stod(row.at("diff_mean")), 10.0, 1e-9);
+            EXPECT_EQ(row.at("within"), "0");
+            EXPECT_EQ(row.at("converged"), "0");
+        }
+    }
+    EXPECT_EQ(seen, 2);
+    EXPECT_TRUE(fs::exists(d / "paired_velocity.png"));
+    // A sweep without seeds cannot be paired: said so, nonzero exit.
+    write_file(d / "noseed" / "summary.csv", "process.velocity,W,status\n0.1,5,ok\n");
+    const Outcome bad = shell(kPython + (kSource / "tools/paired_velocity.py").string() + " " + (d / "noseed").string());
+    EXPECT_NE(bad.status, 0);
+    EXPECT_NE(bad.output.find("simulation.seed"), std::string::npos) << bad.output;
+    fs::remove_all(d);
+}
+
+// The synthetic rig record: mm, kN, compression negative, from an offset origin; without noise
+// it is the run's force_zeroed and displacement exactly (to the 9 digits written).
+TEST(Tools, SyntheticExperimentIsTheRunAsARigWritesIt) {
+    const fs::path d = scratch_path("tools", "synthetic");
+    fs::remove_all(d);
+    write_file(d / "forces.csv", "time,displacement,force_total,force_grains,force_foil,force_zeroed,cycle\n"
+                                 "0,0,5,6,-1,0,1\n0.1,0.002,85,80,5,80,1\n0.2,0,7,8,-1,2,1\n");
+    const Outcome r = shell(kPython + (kSource / "tools/synthetic_experiment.py").string() + " " +
+                            (d / "forces.csv").string() + " " + (d / "exp.csv").string() +
+                            " --disp-noise 0 --force-noise 0");
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::istringstream in(slurp(d / "exp.csv"));
+    std::string line;
+    std::getline(in, line);
+    EXPECT_EQ(line.rfind("# synthetic record", 0), 0u) << line;
+    std::getline(in, line);
+    EXPECT_EQ(line, "t_s,stroke_mm,load_kN");
+    std::getline(in, line);
+    EXPECT_EQ(line, "0,-12.5,-0");
+    std::getline(in, line);
+    EXPECT_EQ(line, "0.1,-14.5,-0.08");
+    EXPECT_FALSE(fs::exists(d / "exp.csv.part"));
+    fs::remove_all(d);
+}
+
+// scripts/trust_studies.sh on the small damper (its SETS knob), one study, two seeds, one cycle:
+// the study runs, its summaries and figures land in DOCS, and SOURCES.md names the command.
+TEST(Tools, TrustStudiesScriptRunsAStudyAndPublishesIt) {
+    const fs::path d = scratch_path("tools", "trust");
+    fs::remove_all(d);
+    const std::string env = "VPPDEM=" + kBinary + " OUT=" + (d / "out").string() + " DOCS=" + (d / "docs").string() +
+                            " SEEDS=2 CYCLES=1 VELOCITY=0.1 SETS='--set damper.radius=0.012 --set damper.height=0.03 "
+                            "--set grains.volume_fraction=0.45 --set process.amplitude=0.0005 "
+                            "--set process.samples_per_cycle=40 --set simulation.threads=1' ";
+    const std::string script = "bash " + (kSource / "scripts/trust_studies.sh").string();
+    const Outcome r = shell(env + script + " underpressure");
+    ASSERT_EQ(r.status, 0) << r.output;
+    for (const char* f : {"study_underpressure_W.png", "study_underpressure_loops.png",
+                          "data/study_underpressure_summary.csv", "data/study_underpressure_cases.csv"})
+        EXPECT_TRUE(fs::exists(d / "docs" / f)) << f;
+    const auto cases = rows_of(d / "docs" / "data" / "study_underpressure_cases.csv");
+    ASSERT_EQ(cases.size(), 4u);  // four underpressures, two seeds each
+    for (const auto& c : cases) {
+        EXPECT_EQ(c.at("seeds"), "2");
+        EXPECT_EQ(c.at("W_n"), "2");
+    }
+    const std::string sources = slurp(d / "docs" / "data" / "SOURCES.md");
+    EXPECT_NE(sources.find("sweep examples/study_underpressure.toml --out " + (d / "out").string() + "/underpressure "
+                           "--seeds 2 --set process.cycles=1"),
+              std::string::npos) << sources;
+    // Bad knobs: named, nothing run.
+    const Outcome bad = shell(env + "SEEDS=0 " + script + " underpressure");
+    EXPECT_EQ(WEXITSTATUS(bad.status), 2) << bad.output;
+    EXPECT_NE(bad.output.find("SEEDS = '0'"), std::string::npos) << bad.output;
+    const Outcome unknown = shell(env + script + " frictoin");
+    EXPECT_NE(unknown.status, 0);
+    EXPECT_NE(unknown.output.find("unknown study 'frictoin'"), std::string::npos) << unknown.output;
+    fs::remove_all(d);
+}
