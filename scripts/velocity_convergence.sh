@@ -1,0 +1,108 @@
+#!/usr/bin/env bash
+# Reruns the velocity convergence measured for issue 12 and publishes its tables and figures
+# (docs/studies.md, "Velocity convergence: results"):
+#   quick       the paper's damper, dp 0.02 / 0.06 MPa x 0.1 ... 0.01 m/s, 2 cycles, SEEDS_QUICK seeds
+#               (examples/study_velocity_quick.toml; about 3 hours on the 2-core machine)
+#   small       the small damper, dp 0.02 / 0.06 MPa x 0.1 ... 0.002 m/s, 3 cycles, SEEDS_SMALL seeds
+#               (examples/study_velocity_small.toml; about 40 minutes on one core)
+#   small_paper one cycle at the paper's 3.33e-4 m/s from every small-damper sample (about 10
+#               minutes each)
+# usage: scripts/velocity_convergence.sh [PART ...]   (default: all three, in this order)
+# Knobs: VPPDEM (default build/vppdem), OUT (default out/velocity), SEEDS_QUICK (2), SEEDS_SMALL (3),
+#        JOBS (runs at once; default the free cores), DOCS (default docs).
+# Resumable: the same command continues where it stopped. In the background:
+#   nohup nice -n 19 bash scripts/velocity_convergence.sh > velocity.log 2>&1 &
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+VPPDEM=${VPPDEM:-build/vppdem}
+OUT=${OUT:-out/velocity}
+SEEDS_QUICK=${SEEDS_QUICK:-2}
+SEEDS_SMALL=${SEEDS_SMALL:-3}
+JOBS=${JOBS:-}
+DOCS=${DOCS:-docs}
+PY=/usr/bin/python3  # Debian's, with matplotlib and numpy
+
+[ -x "$VPPDEM" ] || { echo "velocity_convergence.sh: no vppdem binary at $VPPDEM (build it: bash scripts/build.sh)" >&2; exit 2; }
+for v in SEEDS_QUICK SEEDS_SMALL; do
+  [[ ${!v} =~ ^[1-9][0-9]*$ ]] || { echo "velocity_convergence.sh: $v = '${!v}': must be an integer >= 1" >&2; exit 2; }
+done
+[ -z "$JOBS" ] || [[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "velocity_convergence.sh: JOBS = '$JOBS': must be an integer >= 1" >&2; exit 2; }
+jobs_arg=${JOBS:+--jobs $JOBS}
+parts=("$@")
+all=(quick small small_paper)
+[ ${#parts[@]} -gt 0 ] || parts=("${all[@]}")
+for s in "${parts[@]}"; do
+  [[ " ${all[*]} " == *" $s "* ]] || { echo "velocity_convergence.sh: unknown part '$s' (parts: ${all[*]})" >&2; exit 2; }
+done
+mkdir -p "$OUT" "$DOCS/data"
+
+# Copies FILE to DEST through a temporary name (a reader never sees half a file).
+publish() { cp "$1" "$2.part" && mv -f "$2.part" "$2"; }
+
+# Records in docs/data/SOURCES.md that FILE(S) came from COMMAND (the same table as
+# scripts/trust_studies.sh writes).
+record() {
+  local files=$1 cmd=$2 src="$DOCS/data/SOURCES.md"
+  [ -f "$src" ] || printf '# Where the files in docs/ come from\n\nOne line per file set: the files, the command, when, the vppdem commit.\n\n| files | command | date | commit |\n|---|---|---|---|\n' > "$src"
+  local commit
+  commit=$(git rev-parse --short HEAD 2>/dev/null || echo "?")
+  { grep -v -F "| $files |" "$src" || true; printf '| %s | `%s` | %s | %s |\n' "$files" "$cmd" "$(date -u +%Y-%m-%d)" "$commit"; } > "$src.part"
+  mv -f "$src.part" "$src"
+}
+
+analyse() {  # NAME SWEEP_DIR [--extra DIRS...]
+  local name=$1 dir=$2
+  shift 2
+  local cmd="$PY tools/velocity_cycles.py $dir $* --out $dir/$name"
+  echo "== $name: $cmd"
+  $cmd --caption "$cmd"
+  publish "$dir/$name.csv" "$DOCS/data/$name.csv"
+  publish "$dir/$name.png" "$DOCS/$name.png"
+  publish "$dir/summary.csv" "$DOCS/data/${name}_summary.csv"
+  record "$name.png, data/$name.csv, data/${name}_summary.csv" "$cmd"
+}
+
+small_paper_dirs() {
+  local d=()
+  for dp in 0.02e6 0.06e6; do
+    for s in $(seq "$SEEDS_SMALL"); do
+      [ -f "$OUT/small_paper_dp${dp}_s$s/summary.json" ] && d+=("$OUT/small_paper_dp${dp}_s$s")
+    done
+  done
+  echo "${d[@]}"
+}
+
+for part in "${parts[@]}"; do
+  case $part in
+    quick)
+      cmd="$VPPDEM sweep examples/study_velocity_quick.toml --out $OUT/quick --seeds $SEEDS_QUICK --set simulation.threads=1 $jobs_arg --no-plot"
+      echo "== quick: $cmd"
+      $cmd || echo "velocity_convergence.sh: quick: some runs failed (see $OUT/quick/summary.csv)" >&2
+      analyse velocity_quick "$OUT/quick"
+      ;;
+    small)
+      cmd="$VPPDEM sweep examples/study_velocity_small.toml --out $OUT/small --seeds $SEEDS_SMALL --set simulation.threads=1 $jobs_arg --no-plot"
+      echo "== small: $cmd"
+      $cmd || echo "velocity_convergence.sh: small: some runs failed (see $OUT/small/summary.csv)" >&2
+      analyse velocity_small "$OUT/small"
+      ;;
+    small_paper)
+      for dp in 0.02e6 0.06e6; do
+        for s in $(seq "$SEEDS_SMALL"); do
+          ckpt=$(ls "$OUT"/small/*simulation.seed=$s/prepared.ckpt 2>/dev/null | head -1 || true)
+          [ -n "$ckpt" ] || { echo "velocity_convergence.sh: small_paper needs the small study's samples: run 'small' first" >&2; exit 2; }
+          d="$OUT/small_paper_dp${dp}_s$s"
+          if [ -f "$d/summary.json" ]; then echo "   $d done earlier"; continue; fi
+          if [ -f "$d/run.ckpt" ]; then $VPPDEM damper --from "$d/run.ckpt" --out "$d" --no-plot --quiet; continue; fi
+          echo "== small_paper dp $dp seed $s"
+          $VPPDEM damper --from "$ckpt" --out "$d" --no-plot --quiet --set process.velocity=3.33e-4 --set process.cycles=1 \
+            --set process.underpressure=$dp --set process.amplitude=0.002 --set process.samples_per_cycle=200 \
+            --set output.energy=true --set simulation.threads=1
+        done
+      done
+      # shellcheck disable=SC2046
+      analyse velocity_small "$OUT/small" --extra $(small_paper_dirs)
+      ;;
+  esac
+done

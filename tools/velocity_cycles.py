@@ -1,0 +1,164 @@
+#!/usr/bin/env python3
+"""Velocity convergence cycle by cycle: paired differences of W (and of the energy ledger's
+friction and local-damping dissipation, where the runs recorded them) against a reference
+velocity, per underpressure and per cycle (docs/studies.md, "Velocity convergence: results").
+
+usage: velocity_cycles.py SWEEP_DIR [--extra RUN_DIR ...] [--reference V] [--out PREFIX]
+                          [--caption TEXT]
+
+SWEEP_DIR: a `vppdem sweep` over process.velocity x simulation.seed (and process.underpressure);
+every run's cycles.csv is read (not only the last cycle, as tools/paired_velocity.py does), so
+cycle k at one velocity is compared with cycle k at the reference velocity from the same prepared
+sample. --extra: further damper runs branched from the same samples (e.g. one cycle at the
+paper's 3.33e-4 m/s); their summary.json gives velocity, underpressure and the seed is read from
+the run's case (the --from checkpoint's folder name ...simulation.seed=S...). --reference: the
+velocity to compare with (default: the slowest present for each underpressure and cycle).
+
+For each underpressure dp, cycle k, velocity v and quantity Q (W [J/m^2], friction and damping
+dissipation [J]): d_s = Q(v, k, s) - Q(v_ref, k, s) over the seeds s present at both; the mean,
+sample sd and the 95% Student-t interval of d; the relative difference mean(d) / mean(Q_ref).
+Writes PREFIX.csv:
+  underpressure,cycle,velocity,quantity,n,mean,sd,ref_velocity,diff_n,diff_mean,diff_ci95,rel_diff,within
+and PREFIX.png (W per cycle against velocity, one panel per underpressure, every seed a thin line,
+the mean bold). Runs under /usr/bin/python3 (numpy, matplotlib).
+"""
+import argparse
+import csv
+import glob
+import json
+import math
+import os
+import re
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from paired_velocity import interval  # noqa: E402  (n, mean, sd, ci95 half width; Student t)
+
+QUANTITIES = ["W", "friction_dissipation", "damping_dissipation", "peak_force"]
+
+
+def fail(msg):
+    print(f"velocity_cycles.py: {msg}", file=sys.stderr)
+    sys.exit(1)
+
+
+def read_cycles(path):
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def key_value(text, key):
+    m = re.search(re.escape(key) + r"=([^_/]+)", text)
+    return float(m.group(1)) if m else None
+
+
+def runs_of_sweep(d):
+    out = []
+    for case in sorted(glob.glob(os.path.join(d, "*", "cycles.csv"))):
+        name = os.path.basename(os.path.dirname(case))
+        v = key_value(name, "process.velocity")
+        dp = key_value(name, "process.underpressure")
+        s = key_value(name, "simulation.seed")
+        if v is None or dp is None or s is None:
+            continue
+        out.append((dp, v, int(s), read_cycles(case)))
+    return out
+
+
+def run_of_extra(d):
+    with open(os.path.join(d, "summary.json")) as f:
+        summ = json.load(f)
+    inputs = summ.get("inputs", {})
+    frm = summ.get("from", "")
+    s = key_value(frm, "simulation.seed")
+    if s is None:
+        fail(f"{d}: cannot tell the seed from its checkpoint path '{frm}'")
+    v = inputs.get("process.velocity")
+    dp = inputs.get("process.underpressure", summ.get("underpressure"))
+    if v is None:
+        fail(f"{d}: summary.json has no inputs.process.velocity")
+    return (float(dp), float(v), int(s), read_cycles(os.path.join(d, "cycles.csv")))
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("sweep")
+    ap.add_argument("--extra", nargs="*", default=[])
+    ap.add_argument("--reference", type=float)
+    ap.add_argument("--out")
+    ap.add_argument("--caption", default="")
+    a = ap.parse_args()
+    runs = runs_of_sweep(a.sweep) + [run_of_extra(d) for d in a.extra]
+    if not runs:
+        fail(f"no finished runs in {a.sweep}")
+    prefix = a.out or os.path.join(a.sweep, "velocity_cycles")
+    # table[(dp, cycle, v, q)][seed] = value
+    table = {}
+    for dp, v, s, cycles in runs:
+        for row in cycles:
+            k = int(row["cycle"])
+            for q in QUANTITIES:
+                if q in row and row[q] not in ("", "nan"):
+                    table.setdefault((dp, k, v, q), {})[s] = float(row[q])
+    rows = []
+    for dp in sorted({t[0] for t in table}):
+        for k in sorted({t[1] for t in table if t[0] == dp}):
+            for q in QUANTITIES:
+                vs = sorted({t[2] for t in table if t[0] == dp and t[1] == k and t[3] == q})
+                if not vs:
+                    continue
+                ref = a.reference if a.reference in vs else vs[0]
+                base = table[(dp, k, ref, q)]
+                for v in vs:
+                    cur = table[(dp, k, v, q)]
+                    _, m, sd, _ = interval(list(cur.values()))
+                    common = sorted(set(cur) & set(base))
+                    d = [cur[s] - base[s] for s in common]
+                    _, dm, dsd, dci = interval(d) if d else (0,) + (float("nan"),) * 3
+                    bm = sum(base[s] for s in common) / len(common) if common else float("nan")
+                    within = "" if len(d) < 2 else int(abs(dm) <= dci)
+                    rows.append([dp, k, v, q, len(cur), m, sd, ref, len(d), dm, dci,
+                                 dm / bm if bm else float("nan"), within])
+    with open(prefix + ".csv.part", "w", newline="") as f:
+        w = csv.writer(f)
+        w.writerow(["underpressure", "cycle", "velocity", "quantity", "n", "mean", "sd", "ref_velocity",
+                    "diff_n", "diff_mean", "diff_ci95", "rel_diff", "within"])
+        for r in rows:
+            w.writerow([f"{x:.6g}" if isinstance(x, float) else x for x in r])
+    os.replace(prefix + ".csv.part", prefix + ".csv")
+    for r in rows:
+        if r[3] == "W":
+            print(f"dp {r[0]:g} Pa cycle {r[1]} v {r[2]:g} m/s: W {r[5]:.1f} (n {r[4]}), "
+                  f"paired to {r[7]:g}: {r[9]:+.1f} +- {r[10]:.1f} ({100 * r[11]:+.1f}%)")
+    try:
+        import matplotlib
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+    except ImportError:
+        print("velocity_cycles.py: no matplotlib (run under /usr/bin/python3): no figure", file=sys.stderr)
+        return
+    dps = sorted({t[0] for t in table})
+    fig, axes = plt.subplots(1, len(dps), figsize=(5.5 * len(dps), 4.2), squeeze=False)
+    for ax, dp in zip(axes[0], dps):
+        for k in sorted({t[1] for t in table if t[0] == dp}):
+            vs = sorted({t[2] for t in table if t[0] == dp and t[1] == k and t[3] == "W"})
+            seeds = sorted({s for v in vs for s in table[(dp, k, v, "W")]})
+            for s in seeds:
+                pts = [(v, table[(dp, k, v, "W")][s]) for v in vs if s in table[(dp, k, v, "W")]]
+                ax.plot([p[0] for p in pts], [p[1] for p in pts], lw=0.6, alpha=0.5, color=f"C{k - 1}")
+            means = [sum(table[(dp, k, v, "W")].values()) / len(table[(dp, k, v, "W")]) for v in vs]
+            ax.plot(vs, means, "o-", lw=2, color=f"C{k - 1}", label=f"cycle {k}")
+        ax.set_xscale("log")
+        ax.set_xlabel("loading velocity v_z [m/s]")
+        ax.set_ylabel("W [J/m^2]")
+        ax.set_title(f"dp = {dp / 1e6:g} MPa (thin: one seed each)")
+        ax.legend(fontsize=8)
+    if a.caption:
+        fig.text(0.01, 0.005, a.caption, fontsize=6, family="monospace", va="bottom", wrap=True)
+    fig.tight_layout(rect=(0, 0.06 if a.caption else 0, 1, 1))
+    fig.savefig(prefix + ".png.part.png", dpi=110)
+    os.replace(prefix + ".png.part.png", prefix + ".png")
+
+
+if __name__ == "__main__":
+    main()
