@@ -7,11 +7,11 @@
 
 #include <CLI/CLI.hpp>
 
-#include "cli/bench_scenes.h"
-#include "cli/config.h"
-#include "cli/scene_runner.h"
-#include "cli/suggest.h"
-#include "cli/threads.h"
+#include "scene/bench_scenes.h"
+#include "scene/config.h"
+#include "scene/scene_runner.h"
+#include "scene/suggest.h"
+#include "scene/threads.h"
 #include "vpp/config.h"
 #include "vpp/analysis.h"
 #include "vpp/analyze_command.h"

@@ -10,7 +10,7 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "cli/config.h"
+#include "scene/config.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
 #include "vpp/plot.h"

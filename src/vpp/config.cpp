@@ -1,8 +1,8 @@
 #include "vpp/config.h"
 
 #include <algorithm>
-#include "cli/config.h"
-#include "cli/threads.h"
+#include "scene/config.h"
+#include "scene/threads.h"
 
 namespace vpp {
 
@@ -112,7 +112,7 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
         s.fail("local_damping", "must be in [0, 1)");
     const int64_t th = s.integer("threads", defaults.threads);
     if (th < 0 || th > 1024) s.fail("threads", "must be an integer 1..1024, or 0 for the default (the free cores)");
-    // 0: the free cores (cli/threads.h), measured only when asked for.
+    // 0: the free cores (scene/threads.h), measured only when asked for.
     c.simulation.threads = th == 0 ? cli::default_threads() : int(th);
     const int64_t seed = s.integer("seed", int64_t(c.simulation.seed));
     if (seed < 0) s.fail("seed", "must be an integer >= 0");

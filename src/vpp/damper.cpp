@@ -13,8 +13,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "cli/progress.h"
-#include "cli/scene_runner.h"
+#include "scene/progress.h"
+#include "scene/scene_runner.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"

@@ -19,8 +19,8 @@
 #include <mpi.h>
 #endif
 
-#include "cli/config.h"
-#include "cli/threads.h"
+#include "scene/config.h"
+#include "scene/threads.h"
 #include "dem/io/csv.h"
 #include "vpp/damper.h"
 #include "vpp/settle.h"
@@ -714,7 +714,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
 
     int jobs = opt.jobs;
     if (jobs <= 0) {
-        // The free cores, not all of them: a busy core slows every case's threads (cli/threads.h).
+        // The free cores, not all of them: a busy core slows every case's threads (scene/threads.h).
         const int cores = cli::default_threads();
         const int per_case = cases.empty() ? 1 : std::max(1, cases[0].config.simulation.threads);
         jobs = opt.ranks > 1 ? 1 : std::max(1, cores / per_case);
