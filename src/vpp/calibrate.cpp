@@ -14,6 +14,7 @@
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
 #include "vpp/plot.h"
+#include "vpp/settings.h"
 #include "vpp/stats.h"
 
 namespace vpp {
@@ -211,7 +212,7 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             std::vector<std::string> sets = s.set;
             sets.push_back(pred.key + "=" + lit);
             try {
-                load_config(s.base, sets, {0.06e6, 0.45, 0});
+                load_config(s.base, sets, damper_command_defaults());
             } catch (const std::exception& e) {
                 throw cfg::ConfigError("--predict '" + opt.predict + "': " + e.what());
             }

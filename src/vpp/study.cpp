@@ -23,6 +23,7 @@
 #include "scene/threads.h"
 #include "dem/io/csv.h"
 #include "vpp/damper.h"
+#include "vpp/settings.h"
 #include "vpp/settle.h"
 #include "vpp/stats.h"
 
@@ -31,27 +32,9 @@ namespace vpp {
 namespace fs = std::filesystem;
 using cfg::ConfigError;
 
-// Only what does not act before the end of the preparation (prepared.ckpt) may differ between
-// the cases of one preparation; everything else would give a case a sample it did not ask for.
-// - grains.friction, damper.cap_friction: the fill and the cap's compression are frictionless
-//   (the grain, cap and funnel materials have friction 0 until apply_config_to_prepared() in
-//   damper.cpp gives them the config's);
-// - process.*: the vacuum and the cycles come after prepared.ckpt;
-// - simulation.threads (results do not depend on it), output.* (files only), analysis.*
-//   (post-processing).
-// Not here, because they act while the grains fall and the cap compresses them: grain and foil
-// stiffnesses (grains.young, grains.stiffness_ratio, foil.*: contact stiffness, time step,
-// bonds), simulation.local_damping, dt, dt_safety, skin, and the geometry. Test
-// Study.SharedKeysLeaveThePreparedSampleBitwiseUnchanged.
-const std::vector<std::string> kShareableKeys = {"grains.friction", "damper.cap_friction", "process.*",
-                                                 "simulation.threads", "output.*", "analysis.*"};
-
-bool is_shareable_key(const std::string& key) {
-    for (const std::string& k : kShareableKeys) {
-        if (k.ends_with(".*") ? key.starts_with(k.substr(0, k.size() - 1)) : key == k) return true;
-    }
-    return false;
-}
+// Which keys may differ between the cases of one preparation: the settings table's rule and
+// why (vpp/settings.cpp, shares_preparation).
+bool is_shareable_key(const std::string& key) { return may_share_preparation(key); }
 
 namespace {
 
@@ -586,7 +569,7 @@ std::vector<StudyCase> expand_study(const Study& s) {
                     break;
                 }
         try {
-            c.config = load_config(s.base, c.overrides, {0.06e6, 0.45, 0});
+            c.config = load_config(s.base, c.overrides, damper_command_defaults());
         } catch (const std::exception& e) {
             throw ConfigError("study '" + s.path + "', case " + c.name + ": " + e.what());
         }
