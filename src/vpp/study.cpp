@@ -19,6 +19,8 @@
 #include <mpi.h>
 #endif
 
+#include <nlohmann/json.hpp>
+
 #include "scene/config.h"
 #include "scene/threads.h"
 #include "dem/io/csv.h"
@@ -144,33 +146,6 @@ std::string case_record(const Study& s, const StudyCase& c) {
     return os.str();
 }
 
-// The strings of the array `key` in a JSON text written by dem::JsonObject (summary.json
-// "warnings"); empty when the key is missing.
-std::vector<std::string> json_string_array(const std::string& js, const std::string& key) {
-    std::vector<std::string> out;
-    std::size_t p = js.find("\"" + key + "\":");
-    if (p == std::string::npos) return out;
-    p = js.find('[', p);
-    if (p == std::string::npos) return out;
-    ++p;
-    while (p < js.size()) {
-        while (p < js.size() && (js[p] == ' ' || js[p] == ',' || js[p] == '\n')) ++p;
-        if (p >= js.size() || js[p] != '"') break;  // ']' or anything but a string ends it
-        std::string v;
-        for (++p; p < js.size() && js[p] != '"'; ++p) {
-            if (js[p] == '\\' && p + 1 < js.size()) {
-                ++p;
-                v += js[p] == 'n' ? '\n' : js[p];
-            } else {
-                v += js[p];
-            }
-        }
-        out.push_back(v);
-        ++p;
-    }
-    return out;
-}
-
 // Shares of the dissipation in a cycle: friction / total, damping / total (NaN without energy).
 void dissipation_shares(double friction, double damping, double viscous, CaseOutcome& o) {
     const double total = friction + damping + viscous;
@@ -214,14 +189,23 @@ CaseOutcome read_finished(const fs::path& dir, const Config& config) {
     o.W_settled = st.W_mean;
     o.settled_cycles = int(st.count);
     o.first_settled = st.first;
-    const std::string js = read_text(dir / "summary.json");
-    const auto k = js.find("\"run_seconds\":");
-    if (k != std::string::npos) o.run_seconds = std::strtod(js.c_str() + k + 14, nullptr);
-    o.warnings = json_string_array(js, "warnings");
-    if (const auto g = js.find("\"grains\":"); g != std::string::npos) o.grains = std::atoi(js.c_str() + g + 9);
-    if (const auto p = js.find("\"preparation\":"); p != std::string::npos)
-        if (const auto f = js.find("\"packing_fraction\":", p); f != std::string::npos)
-            o.packing_fraction = std::strtod(js.c_str() + f + 19, nullptr);
+    // A key that is absent (a summary of an older vppdem) keeps its default; one that is not a
+    // number (null: a non-finite value) reads as 0, as the string search before did.
+    const nlohmann::json js = nlohmann::json::parse(read_text(dir / "summary.json"), nullptr, false);
+    auto number = [](const nlohmann::json& obj, const char* key, auto& out) {
+        if (!obj.is_object()) return;
+        const auto it = obj.find(key);
+        using T = std::remove_reference_t<decltype(out)>;
+        if (it != obj.end()) out = it->is_number() ? T(it->template get<double>()) : T(0);
+    };
+    number(js, "run_seconds", o.run_seconds);
+    number(js, "grains", o.grains);
+    if (js.is_object() && js.contains("preparation")) number(js["preparation"], "packing_fraction", o.packing_fraction);
+    if (js.is_object() && js.contains("warnings") && js["warnings"].is_array())
+        for (const nlohmann::json& w : js["warnings"]) {
+            if (!w.is_string()) break;  // anything but a string ends the list, as before
+            o.warnings.push_back(w.get<std::string>());
+        }
     return o;
 }
 
