@@ -102,22 +102,10 @@ std::string sanitize(const std::string& s) {
     return out;
 }
 
-std::string csv_field(const std::string& s) {
-    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"') out += "\"\"";
-        else if (c == '\n' || c == '\r') out += ' ';
-        else out += c;
-    }
-    return out + "\"";
-}
-
-std::string num(double v) {
-    std::string s;
-    if (std::isfinite(v)) dem::append_number(s, v);
-    return s;
-}
+// Cells of summary.csv and summary_cases.csv: the CSV rules every hand-built table shares
+// (dem/io/csv.h).
+std::string csv_field(const std::string& s) { return dem::csv_text(s); }
+std::string num(double v) { return dem::csv_number(v); }
 
 std::string read_text(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
