@@ -7,11 +7,11 @@
 
 #include <CLI/CLI.hpp>
 
-#include "cli/bench_scenes.h"
-#include "cli/config.h"
-#include "cli/scene_runner.h"
-#include "cli/suggest.h"
-#include "cli/threads.h"
+#include "scene/bench_scenes.h"
+#include "scene/config.h"
+#include "scene/scene_runner.h"
+#include "scene/suggest.h"
+#include "scene/threads.h"
 #include "vpp/config.h"
 #include "vpp/analysis.h"
 #include "vpp/analyze_command.h"
@@ -19,6 +19,7 @@
 #include "vpp/damper.h"
 #include "vpp/envelope.h"
 #include "vpp/plot.h"
+#include "vpp/settings.h"
 #include "vpp/study.h"
 #include "vpp/tension.h"
 
@@ -166,6 +167,10 @@ int main(int argc, char** argv) {
         ->allow_extra_args(false)
         ->check(CLI::ExistingFile);
 
+    // vppdem config-reference: docs/config.md, from the settings table.
+    auto* config_reference = app.add_subcommand(
+        "config-reference", "Print the reference of every config key (Markdown; docs/config.md is its output)");
+
     // An unknown command word: name it and the nearest command (CLI11 alone only says "A
     // subcommand is required", which hides the typo).
     if (argc >= 2 && argv[1][0] != '-') {
@@ -185,7 +190,9 @@ int main(int argc, char** argv) {
     int rank = 0, ranks = 1;
     if (*sweep.app || *calib.app) vpp::mpi_init_if_launched(&argc, &argv, &rank, &ranks);
     try {
-        if (*scene) {
+        if (*config_reference) {
+            std::printf("%s", vpp::config_reference_markdown().c_str());
+        } else if (*scene) {
             const auto root = cfg::load(scene_file, sets);
             const std::string base = std::filesystem::path(scene_file).parent_path().string();
             cli::Scene sc = cli::build_scene(root, base.empty() ? "." : base);
@@ -194,15 +201,15 @@ int main(int argc, char** argv) {
             if (bench_threads->count() == 0) bo.threads = cli::default_threads();
             cli::run_bench(bo);
         } else if (*tension.app) {
-            const vpp::Config c = vpp::load_config(tension.config, tension.sets, {0.01e6});
+            const vpp::Config c = vpp::load_config(tension.config, tension.sets, vpp::foil_command_defaults());
             cli::prepare_output_dir(tension.out, tension.overwrite);
             vpp::run_tension(c, tension.out, tension.quiet);
         } else if (*envelope.app) {
-            const vpp::Config c = vpp::load_config(envelope.config, envelope.sets, {0.01e6});
+            const vpp::Config c = vpp::load_config(envelope.config, envelope.sets, vpp::foil_command_defaults());
             cli::prepare_output_dir(envelope.out, envelope.overwrite);
             vpp::run_envelope(c, envelope.out, envelope.quiet);
         } else if (*damper.app) {
-            const vpp::Config c = vpp::load_config(damper.config, damper.sets, {0.06e6, 0.45, 0});
+            const vpp::Config c = vpp::load_config(damper.config, damper.sets, vpp::damper_command_defaults());
             vpp::DamperOptions o;
             o.out_dir = damper.out;
             o.from = from;

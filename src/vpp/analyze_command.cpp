@@ -8,6 +8,8 @@
 #include <stdexcept>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "vpp/analysis.h"
 
 namespace vpp {
@@ -17,15 +19,14 @@ namespace fs = std::filesystem;
 double radius_from_summary(const std::string& summary_json) {
     std::ifstream in(summary_json);
     if (!in) return 0.0;
-    std::stringstream ss;
-    ss << in.rdbuf();
-    const std::string text = ss.str();
-    const std::string key = "\"damper.radius\":";
-    const auto k = text.find(key);
-    if (k == std::string::npos) return 0.0;
-    char* end = nullptr;
-    const double r = std::strtod(text.c_str() + k + key.size(), &end);
-    return end != text.c_str() + k + key.size() && r > 0.0 ? r : 0.0;
+    // Not JSON, or no positive number there: 0, and the caller says which radius it took.
+    const nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+    if (!j.is_object() || !j.contains("inputs") || !j["inputs"].is_object()) return 0.0;
+    const nlohmann::json& inputs = j["inputs"];
+    const auto it = inputs.find("damper.radius");
+    if (it == inputs.end() || !it->is_number()) return 0.0;
+    const double r = it->get<double>();
+    return r > 0.0 ? r : 0.0;
 }
 
 void run_analyze(const AnalyzeOptions& o) {

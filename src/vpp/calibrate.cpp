@@ -10,10 +10,11 @@
 #include <numeric>
 #include <stdexcept>
 
-#include "cli/config.h"
+#include "scene/config.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
 #include "vpp/plot.h"
+#include "vpp/settings.h"
 #include "vpp/stats.h"
 
 namespace vpp {
@@ -211,7 +212,7 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             std::vector<std::string> sets = s.set;
             sets.push_back(pred.key + "=" + lit);
             try {
-                load_config(s.base, sets, {0.06e6, 0.45, 0});
+                load_config(s.base, sets, damper_command_defaults());
             } catch (const std::exception& e) {
                 throw cfg::ConfigError("--predict '" + opt.predict + "': " + e.what());
             }
@@ -358,17 +359,9 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
     const std::string misfit_name = "misfit" + suffix + ".csv", runs_name = "misfit_runs" + suffix + ".csv";
     const std::string json_name = "calibration" + suffix + ".json";
 
-    auto field = [](const std::string& x) {
-        if (x.find_first_of(",\"\n") == std::string::npos) return x;
-        std::string q = "\"";
-        for (char c : x) q += c == '"' ? std::string("\"\"") : std::string(1, c == '\n' ? ' ' : c);
-        return q + "\"";
-    };
-    auto number = [](double v) {
-        std::string t;
-        if (std::isfinite(v)) dem::append_number(t, v);
-        return t;
-    };
+    // The study's cells (dem/io/csv.h), so that misfit.csv quotes as summary.csv does.
+    auto field = [](const std::string& x) { return dem::csv_text(x); };
+    auto number = [](double v) { return dem::csv_number(v); };
     // misfit.csv: one row per grid point: the grid keys but the seed, misfit (the mean over the
     // seeds), status, case (its first seed's folder), then misfit_n, misfit_sd, misfit_ci95.
     std::string csv;

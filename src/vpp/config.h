@@ -61,7 +61,7 @@ struct SimulationDef {
     double dt = 0.0;            // [s] when not auto
     double dt_safety = 0.3;     // [-] dt = safety * critical step when auto
     double local_damping = 0.2; // [-]
-    int threads = 1;            // 0 in the file = the free cores (cli/threads.h)
+    int threads = 1;            // 0 in the file = the free cores (scene/threads.h)
     uint64_t seed = 1;
     double skin = 0.0;          // [m] 0 = half the smallest radius
 };
@@ -95,7 +95,7 @@ struct Config {
 struct CommandDefaults {
     double underpressure = 0.06e6;  // [Pa] the envelope check uses 0.01 MPa
     double dt_safety = 0.3;         // [-]
-    int threads = 1;                // 0 = the free cores (cli/threads.h)
+    int threads = 1;                // 0 = the free cores (scene/threads.h)
 };
 
 // Reads the config (empty path: all defaults) with --set overrides.

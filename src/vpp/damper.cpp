@@ -13,14 +13,15 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "cli/progress.h"
-#include "cli/scene_runner.h"
+#include "scene/progress.h"
+#include "scene/scene_runner.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
 #include "dem/io/vtk.h"
 #include "dem/walls/facet_sets.h"
 #include "vpp/plot.h"
+#include "vpp/settings.h"
 
 namespace vpp {
 
@@ -149,66 +150,18 @@ struct RunState {
     }
 };
 
-// A config value stored in the checkpoint's app state, with how to read it from and write it
-// into a Config (captureless lambdas).
-struct StoredKey {
-    const char* key;
-    double (*get)(const Config&);
-    void (*set)(Config&, double);
-    // The value a checkpoint of an older vppdem, which did not store this key, was made with
-    // (NaN: every checkpoint stores it).
-    double legacy = std::numeric_limits<double>::quiet_NaN();
-};
-
-#define VPP_KEY(name, field) \
-    StoredKey { name, [](const Config& c) { return double(c.field); }, [](Config& c, double v) { c.field = decltype(c.field)(v); } }
+// A config value stored in the checkpoint's app state: a row of the settings table, with how to
+// read it from and write it into a Config (vpp/settings.h).
+using StoredKey = Setting;
 
 // Geometry of the prepared sample. A run from a checkpoint must match the keys it gives and
 // takes the checkpoint's values of the others.
-const StoredKey kGeometryKeys[] = {
-    VPP_KEY("grains.radius", grains.radius),           VPP_KEY("grains.volume_fraction", grains.volume_fraction),
-    VPP_KEY("grains.density", grains.density),         VPP_KEY("foil.particle_radius", foil.particle_radius),
-    VPP_KEY("foil.density", foil.density),             VPP_KEY("damper.radius", damper.radius),
-    VPP_KEY("damper.height", damper.height),           VPP_KEY("simulation.seed", simulation.seed),
-    // Samples of an older vppdem were poured once (no re-fill).
-    StoredKey{"damper.refill", [](const Config& c) { return c.damper.refill ? 1.0 : 0.0; },
-              [](Config& c, double v) { c.damper.refill = v != 0.0; }, 0.0},
-};
+const std::vector<StoredKey> kGeometryKeys = geometry_settings();
 
 // What a run applies to its prepared sample (apply_config_to_prepared) and records from then
 // on: a resumed run continues with these, so its record is one run's, not a splice of two.
 // Not here: simulation.threads (results do not depend on it), output.vtk_interval (frames only).
-const StoredKey kRunKeys[] = {
-    VPP_KEY("grains.friction", grains.friction),
-    VPP_KEY("grains.young", grains.young),
-    VPP_KEY("grains.stiffness_ratio", grains.stiffness_ratio),
-    VPP_KEY("foil.young", foil.young),
-    VPP_KEY("foil.thickness", foil.thickness),
-    VPP_KEY("foil.friction", foil.friction),
-    VPP_KEY("foil.stiffness_ratio", foil.stiffness_ratio),
-    VPP_KEY("damper.cap_friction", damper.cap_friction),
-    VPP_KEY("process.underpressure", process.underpressure),
-    VPP_KEY("process.ramp_time", process.ramp_time),
-    VPP_KEY("process.amplitude", process.amplitude),
-    VPP_KEY("process.velocity", process.velocity),
-    VPP_KEY("process.start_offset", process.start_offset),
-    StoredKey{"process.direction", [](const Config& c) { return c.process.compression_first ? 0.0 : 1.0; },
-              [](Config& c, double v) { c.process.compression_first = v == 0.0; }},
-    VPP_KEY("process.cycles", process.cycles),
-    VPP_KEY("process.samples_per_cycle", process.samples_per_cycle),
-    VPP_KEY("process.sample_window", process.sample_window),
-    VPP_KEY("simulation.local_damping", simulation.local_damping),
-    StoredKey{"simulation.dt", [](const Config& c) { return c.simulation.dt_auto ? 0.0 : c.simulation.dt; },
-              [](Config& c, double v) {
-                  c.simulation.dt_auto = v == 0.0;
-                  c.simulation.dt = v;
-              }},
-    VPP_KEY("simulation.dt_safety", simulation.dt_safety),
-    VPP_KEY("simulation.skin", simulation.skin),
-    StoredKey{"output.energy", [](const Config& c) { return c.output.energy ? 1.0 : 0.0; },
-              [](Config& c, double v) { c.output.energy = v != 0.0; }},
-};
-#undef VPP_KEY
+const std::vector<StoredKey> kRunKeys = run_settings();
 
 std::map<std::string, double> values_of(const Config& c, const auto& keys) {
     std::map<std::string, double> m;
@@ -1135,18 +1088,8 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
     }
     cycles_json += "]";
     dem::JsonObject inputs;
-    inputs.num("grains.radius", c.grains.radius).num("grains.density", c.grains.density)
-        .num("grains.young", c.grains.young).num("grains.friction", c.grains.friction)
-        .num("grains.stiffness_ratio", c.grains.stiffness_ratio).num("grains.volume_fraction", c.grains.volume_fraction)
-        .num("foil.young", c.foil.young).num("foil.thickness", c.foil.thickness)
-        .num("foil.particle_radius", c.foil.particle_radius).num("foil.density", c.foil.density)
-        .num("foil.friction", c.foil.friction).num("damper.radius", c.damper.radius)
-        .num("damper.height", c.damper.height).num("process.underpressure", c.process.underpressure)
-        .num("process.amplitude", c.process.amplitude).num("process.velocity", c.process.velocity)
-        .num("process.cycles", double(c.process.cycles)).num("process.samples_per_cycle", double(c.process.samples_per_cycle))
-        .num("process.sample_window", c.process.sample_window).num("simulation.local_damping", c.simulation.local_damping)
-        .num("simulation.threads", c.simulation.threads).num("simulation.seed", double(c.simulation.seed))
-        .boolean("damper.refill", c.damper.refill).num("analysis.settle_tolerance", c.analysis.settle_tolerance);
+    for (const Setting& k : summary_inputs())
+        k.type == SettingType::Boolean ? (void)inputs.boolean(k.key, k.get(c) != 0.0) : (void)inputs.num(k.key, k.get(c));
     const std::string in = inputs.value();
     // The report's entries with this prefix, without it (absent ones are left out: a sample of
     // an older vppdem did not measure them).

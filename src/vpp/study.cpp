@@ -19,10 +19,13 @@
 #include <mpi.h>
 #endif
 
-#include "cli/config.h"
-#include "cli/threads.h"
+#include <nlohmann/json.hpp>
+
+#include "scene/config.h"
+#include "scene/threads.h"
 #include "dem/io/csv.h"
 #include "vpp/damper.h"
+#include "vpp/settings.h"
 #include "vpp/settle.h"
 #include "vpp/stats.h"
 
@@ -31,27 +34,9 @@ namespace vpp {
 namespace fs = std::filesystem;
 using cfg::ConfigError;
 
-// Only what does not act before the end of the preparation (prepared.ckpt) may differ between
-// the cases of one preparation; everything else would give a case a sample it did not ask for.
-// - grains.friction, damper.cap_friction: the fill and the cap's compression are frictionless
-//   (the grain, cap and funnel materials have friction 0 until apply_config_to_prepared() in
-//   damper.cpp gives them the config's);
-// - process.*: the vacuum and the cycles come after prepared.ckpt;
-// - simulation.threads (results do not depend on it), output.* (files only), analysis.*
-//   (post-processing).
-// Not here, because they act while the grains fall and the cap compresses them: grain and foil
-// stiffnesses (grains.young, grains.stiffness_ratio, foil.*: contact stiffness, time step,
-// bonds), simulation.local_damping, dt, dt_safety, skin, and the geometry. Test
-// Study.SharedKeysLeaveThePreparedSampleBitwiseUnchanged.
-const std::vector<std::string> kShareableKeys = {"grains.friction", "damper.cap_friction", "process.*",
-                                                 "simulation.threads", "output.*", "analysis.*"};
-
-bool is_shareable_key(const std::string& key) {
-    for (const std::string& k : kShareableKeys) {
-        if (k.ends_with(".*") ? key.starts_with(k.substr(0, k.size() - 1)) : key == k) return true;
-    }
-    return false;
-}
+// Which keys may differ between the cases of one preparation: the settings table's rule and
+// why (vpp/settings.cpp, shares_preparation).
+bool is_shareable_key(const std::string& key) { return may_share_preparation(key); }
 
 namespace {
 
@@ -117,22 +102,10 @@ std::string sanitize(const std::string& s) {
     return out;
 }
 
-std::string csv_field(const std::string& s) {
-    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
-    std::string out = "\"";
-    for (char c : s) {
-        if (c == '"') out += "\"\"";
-        else if (c == '\n' || c == '\r') out += ' ';
-        else out += c;
-    }
-    return out + "\"";
-}
-
-std::string num(double v) {
-    std::string s;
-    if (std::isfinite(v)) dem::append_number(s, v);
-    return s;
-}
+// Cells of summary.csv and summary_cases.csv: the CSV rules every hand-built table shares
+// (dem/io/csv.h).
+std::string csv_field(const std::string& s) { return dem::csv_text(s); }
+std::string num(double v) { return dem::csv_number(v); }
 
 std::string read_text(const fs::path& p) {
     std::ifstream in(p, std::ios::binary);
@@ -159,33 +132,6 @@ std::string case_record(const Study& s, const StudyCase& c) {
     }
     os << "]\n";
     return os.str();
-}
-
-// The strings of the array `key` in a JSON text written by dem::JsonObject (summary.json
-// "warnings"); empty when the key is missing.
-std::vector<std::string> json_string_array(const std::string& js, const std::string& key) {
-    std::vector<std::string> out;
-    std::size_t p = js.find("\"" + key + "\":");
-    if (p == std::string::npos) return out;
-    p = js.find('[', p);
-    if (p == std::string::npos) return out;
-    ++p;
-    while (p < js.size()) {
-        while (p < js.size() && (js[p] == ' ' || js[p] == ',' || js[p] == '\n')) ++p;
-        if (p >= js.size() || js[p] != '"') break;  // ']' or anything but a string ends it
-        std::string v;
-        for (++p; p < js.size() && js[p] != '"'; ++p) {
-            if (js[p] == '\\' && p + 1 < js.size()) {
-                ++p;
-                v += js[p] == 'n' ? '\n' : js[p];
-            } else {
-                v += js[p];
-            }
-        }
-        out.push_back(v);
-        ++p;
-    }
-    return out;
 }
 
 // Shares of the dissipation in a cycle: friction / total, damping / total (NaN without energy).
@@ -231,14 +177,23 @@ CaseOutcome read_finished(const fs::path& dir, const Config& config) {
     o.W_settled = st.W_mean;
     o.settled_cycles = int(st.count);
     o.first_settled = st.first;
-    const std::string js = read_text(dir / "summary.json");
-    const auto k = js.find("\"run_seconds\":");
-    if (k != std::string::npos) o.run_seconds = std::strtod(js.c_str() + k + 14, nullptr);
-    o.warnings = json_string_array(js, "warnings");
-    if (const auto g = js.find("\"grains\":"); g != std::string::npos) o.grains = std::atoi(js.c_str() + g + 9);
-    if (const auto p = js.find("\"preparation\":"); p != std::string::npos)
-        if (const auto f = js.find("\"packing_fraction\":", p); f != std::string::npos)
-            o.packing_fraction = std::strtod(js.c_str() + f + 19, nullptr);
+    // A key that is absent (a summary of an older vppdem) keeps its default; one that is not a
+    // number (null: a non-finite value) reads as 0, as the string search before did.
+    const nlohmann::json js = nlohmann::json::parse(read_text(dir / "summary.json"), nullptr, false);
+    auto number = [](const nlohmann::json& obj, const char* key, auto& out) {
+        if (!obj.is_object()) return;
+        const auto it = obj.find(key);
+        using T = std::remove_reference_t<decltype(out)>;
+        if (it != obj.end()) out = it->is_number() ? T(it->template get<double>()) : T(0);
+    };
+    number(js, "run_seconds", o.run_seconds);
+    number(js, "grains", o.grains);
+    if (js.is_object() && js.contains("preparation")) number(js["preparation"], "packing_fraction", o.packing_fraction);
+    if (js.is_object() && js.contains("warnings") && js["warnings"].is_array())
+        for (const nlohmann::json& w : js["warnings"]) {
+            if (!w.is_string()) break;  // anything but a string ends the list, as before
+            o.warnings.push_back(w.get<std::string>());
+        }
     return o;
 }
 
@@ -586,7 +541,7 @@ std::vector<StudyCase> expand_study(const Study& s) {
                     break;
                 }
         try {
-            c.config = load_config(s.base, c.overrides, {0.06e6, 0.45, 0});
+            c.config = load_config(s.base, c.overrides, damper_command_defaults());
         } catch (const std::exception& e) {
             throw ConfigError("study '" + s.path + "', case " + c.name + ": " + e.what());
         }
@@ -714,7 +669,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
 
     int jobs = opt.jobs;
     if (jobs <= 0) {
-        // The free cores, not all of them: a busy core slows every case's threads (cli/threads.h).
+        // The free cores, not all of them: a busy core slows every case's threads (scene/threads.h).
         const int cores = cli::default_threads();
         const int per_case = cases.empty() ? 1 : std::max(1, cases[0].config.simulation.threads);
         jobs = opt.ranks > 1 ? 1 : std::max(1, cores / per_case);

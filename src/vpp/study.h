@@ -10,7 +10,7 @@
 //     "process.underpressure" = [0.02e6, 0.08e6]
 //     seeds = 3                            # optional: an ensemble, simulation.seed = 1..3
 // Cases whose grid values differ only in keys that do not act before the end of the preparation
-// (kShareableKeys: grain and cap friction, process.*, output.*, analysis.*, threads) share one
+// (vpp/settings.h, shares_preparation: grain and cap friction, process.*, output.*, analysis.*, threads) share one
 // preparation: the first case of each group prepares, the others branch from its prepared.ckpt. Cases run on a pool of threads (one damper per thread, simulation.threads = 1
 // unless the study sets it), and under MPI round-robin over the ranks.
 #pragma once
@@ -39,8 +39,7 @@ struct Study {
 };
 
 // Keys whose values may differ between cases sharing one preparation (the damper's --from
-// accepts them); a key "process.*" means every process key.
-extern const std::vector<std::string> kShareableKeys;
+// accepts them): the settings table's shares_preparation (vpp/settings.h).
 bool is_shareable_key(const std::string& key);
 
 // Reads and checks a study file (ConfigError naming the key on bad input); extra_sets are

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "cli/progress.h"
+#include "scene/progress.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
 

@@ -370,8 +370,8 @@ TEST(DamperPreparation, WithoutRefillTheCapEndsAboveTheGrainsAndSaysSo) {
     fs::remove_all(d);
 }
 
-// What a study lets differ between the cases of one preparation (kShareableKeys in
-// src/vpp/study.cpp) must not act before prepared.ckpt is written: the sample is then the
+// What a study lets differ between the cases of one preparation (shares_preparation in the
+// settings table, src/vpp/settings.cpp) must not act before prepared.ckpt is written: the sample is then the
 // same, byte for byte. A key that acts in the fill (grain stiffness) gives another sample.
 TEST(DamperPreparation, SharedKeysLeaveThePreparedSampleBitwiseUnchanged) {
     const fs::path d = scratch_path("damper_share", "");

@@ -20,7 +20,7 @@
 #include <thread>
 #include <vector>
 
-#include "cli/config.h"
+#include "scene/config.h"
 #include "cli_helpers.h"
 #include "dem/io/csv.h"
 #include "vpp/calibrate.h"

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/config.h"
+#include "scene/config.h"
 #include "vpp/analysis.h"
 #include "vpp/config.h"
 #include "vpp/settle.h"

@@ -1,4 +1,4 @@
-// Initial overlaps of a scene (cli/initial_overlaps.h): the binned search against a brute-force
+// Initial overlaps of a scene (scene/initial_overlaps.h): the binned search against a brute-force
 // one, the World's interaction rules (masks, fixed, prescribed, one-sided walls), and its cost
 // on 100000 spheres.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <chrono>
 #include <random>
 
-#include "cli/initial_overlaps.h"
+#include "scene/initial_overlaps.h"
 #include "dem/detect/geometry.h"
 #include "dem/walls/facet_sets.h"
 

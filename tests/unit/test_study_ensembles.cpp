@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/config.h"
+#include "scene/config.h"
 #include "vpp/study.h"
 
 using namespace vpp;

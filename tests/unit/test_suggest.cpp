@@ -1,4 +1,4 @@
-// "Did you mean ...?" for mistyped commands (cli/suggest.h) and the command line's answer.
+// "Did you mean ...?" for mistyped commands (scene/suggest.h) and the command line's answer.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-#include "cli/suggest.h"
+#include "scene/suggest.h"
 
 namespace {
 const std::vector<std::string> kCommands = {"scene", "bench", "tension", "envelope", "damper",

@@ -1,9 +1,9 @@
-// The default thread count (cli/threads.h): free cores from two /proc/stat snapshots.
+// The default thread count (scene/threads.h): free cores from two /proc/stat snapshots.
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "cli/threads.h"
+#include "scene/threads.h"
 
 namespace {
 

@@ -1,6 +1,7 @@
 #include "dem/io/csv.h"
 
 #include <charconv>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +14,23 @@ void append_number(std::string& out, double v) {
     char tmp[32];
     auto res = std::to_chars(tmp, tmp + sizeof tmp, v);
     out.append(tmp, res.ptr);
+}
+
+std::string csv_number(double v) {
+    std::string s;
+    if (std::isfinite(v)) append_number(s, v);
+    return s;
+}
+
+std::string csv_text(const std::string& s) {
+    if (s.find_first_of(",\"\n\r") == std::string::npos) return s;
+    std::string out = "\"";
+    for (char c : s) {
+        if (c == '"') out += "\"\"";
+        else if (c == '\n' || c == '\r') out += ' ';
+        else out += c;
+    }
+    return out + "\"";
 }
 
 void CsvWriter::open(const std::string& path, std::string_view header) {

@@ -35,6 +35,13 @@ private:
 // Appends the shortest decimal form of v that reads back to the same double.
 void append_number(std::string& out, double v);
 
+// Cells of CSV text built by hand (rows that mix words and numbers: a study's summary.csv):
+// a number in shortest round-trip form, empty when not finite (a missing value, not "nan");
+// a word as it is, quoted ("" for a quote) when it holds a comma, a quote or a line break,
+// line breaks becoming spaces so that one row stays one line.
+std::string csv_number(double v);
+std::string csv_text(const std::string& s);
+
 // Reads rows of numbers from a CSV file (comma separated; an optional first line that is not
 // numeric is taken as a header; blank lines and lines starting with '#' are skipped). Every row
 // must have at least `min_columns` values. Throws std::runtime_error naming path and line.

@@ -33,6 +33,15 @@ public:
         for (char c : s) {
             if (c == '"' || c == '\\') out += '\\';
             if (c == '\n') { out += "\\n"; continue; }
+            // Other control characters (a tab in a message) must be escaped too, or a JSON
+            // reader refuses the file.
+            if (static_cast<unsigned char>(c) < 0x20) {
+                static const char hex[] = "0123456789abcdef";
+                out += "\\u00";
+                out += hex[(c >> 4) & 0xf];
+                out += hex[c & 0xf];
+                continue;
+            }
             out += c;
         }
         return out + "\"";

@@ -1,4 +1,4 @@
-#include "cli/threads.h"
+#include "scene/threads.h"
 
 #include <sched.h>
 

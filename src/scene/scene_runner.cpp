@@ -1,4 +1,4 @@
-#include "cli/scene_runner.h"
+#include "scene/scene_runner.h"
 
 #include <algorithm>
 #include <chrono>
@@ -9,9 +9,9 @@
 #include <optional>
 #include <sstream>
 
-#include "cli/config.h"
-#include "cli/initial_overlaps.h"
-#include "cli/progress.h"
+#include "scene/config.h"
+#include "scene/initial_overlaps.h"
+#include "scene/progress.h"
 #include "dem/io/csv.h"
 #include "dem/io/vtk.h"
 #include "dem/walls/facet_sets.h"
@@ -91,7 +91,7 @@ std::string number(double v) {
     return buf;
 }
 
-// Refuses spheres that start inside each other or a wall (cli/initial_overlaps.h).
+// Refuses spheres that start inside each other or a wall (scene/initial_overlaps.h).
 void check_initial_overlaps(const Scene& sc, double tolerance) {
     const OverlapReport ss = sphere_overlaps(sc.world, tolerance), sw = wall_overlaps(sc.world, tolerance);
     if (ss.count == 0 && sw.count == 0) return;

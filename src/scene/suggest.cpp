@@ -1,4 +1,4 @@
-#include "cli/suggest.h"
+#include "scene/suggest.h"
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include "cli/bench_scenes.h"
+#include "scene/bench_scenes.h"
 
 #include <algorithm>
 #include <chrono>

@@ -34,7 +34,7 @@ std::string sphere_name(const Scene& sc, uint32_t id);
 
 // Builds a scene; relative file paths are resolved against `base_dir`. Refuses (ConfigError)
 // spheres that start overlapping each other or a wall by more than simulation.max_initial_overlap
-// times the smaller radius (cli/initial_overlaps.h), naming both bodies.
+// times the smaller radius (scene/initial_overlaps.h), naming both bodies.
 Scene build_scene(const toml::table& root, const std::string& base_dir);
 
 struct RunOptions {

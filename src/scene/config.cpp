@@ -1,4 +1,4 @@
-#include "cli/config.h"
+#include "scene/config.h"
 
 #include <cmath>
 #include <sstream>

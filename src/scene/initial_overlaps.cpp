@@ -1,4 +1,4 @@
-#include "cli/initial_overlaps.h"
+#include "scene/initial_overlaps.h"
 
 #include <algorithm>
 #include <cmath>

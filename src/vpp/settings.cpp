@@ -1,0 +1,403 @@
+#include "vpp/settings.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <stdexcept>
+
+#include "scene/config.h"
+#include "scene/threads.h"
+
+namespace vpp {
+
+namespace {
+
+using T = SettingType;
+using A = Acts;
+using C = Check;
+
+// The key within its section ("process.velocity" -> "velocity").
+std::string short_key(const Setting& s) {
+    const std::string k = s.key;
+    return k.substr(k.find('.') + 1);
+}
+
+#define FIELD(f)                                                    \
+    .get = [](const Config& c) { return double(c.f); },             \
+    .set = [](Config& c, double v) { c.f = decltype(c.f)(v); }
+#define FLAG(f)                                                     \
+    .get = [](const Config& c) { return c.f ? 1.0 : 0.0; },         \
+    .set = [](Config& c, double v) { c.f = v != 0.0; }
+
+// Rows in the order the reader reads them; sections must stay together (one [table] each).
+// Sharing a preparation (shares_preparation): only what does not act before the end of the
+// preparation (prepared.ckpt) may differ between the cases of one preparation; everything else
+// would give a case a sample it did not ask for.
+// - grains.friction, damper.cap_friction: the fill and the cap's compression are frictionless
+//   (the grain, cap and funnel materials have friction 0 until apply_config_to_prepared() in
+//   damper.cpp gives them the config's);
+// - process.*: the vacuum and the cycles come after prepared.ckpt;
+// - simulation.threads (results do not depend on it), output.* (files only), analysis.*
+//   (post-processing).
+// Not shared, because they act while the grains fall and the cap compresses them: grain and foil
+// stiffnesses (grains.young, grains.stiffness_ratio, foil.*: contact stiffness, time step,
+// bonds), simulation.local_damping, dt, dt_safety, skin, and the geometry. Test
+// Study.SharedKeysLeaveThePreparedSampleBitwiseUnchanged.
+// A function's static, not a global: other files' globals (damper.cpp's key lists) are built
+// from it during static initialization, in an order between files that C++ leaves open.
+const std::vector<Setting>& table() {
+    static const std::vector<Setting> rows = {
+        // [grains]
+        {.key = "grains.radius", .type = T::Real, .unit = "m", .def = 2.965e-3, .check = C::Positive,
+         .acts = A::Geometry, .geometry = 1, .summary = 1, .doc = "r_k, radius of every grain", FIELD(grains.radius)},
+        {.key = "grains.density", .type = T::Real, .unit = "kg/m^3", .def = 2689.639, .check = C::Positive,
+         .acts = A::Geometry, .geometry = 3, .summary = 2, .doc = "density of the grains", FIELD(grains.density)},
+        {.key = "grains.young", .type = T::Real, .unit = "Pa", .def = 2.3e9, .check = C::Positive,
+         .acts = A::ContactPhysics, .run = 2, .summary = 3, .doc = "E_k, Young's modulus of the grains (contact stiffness)",
+         FIELD(grains.young)},
+        {.key = "grains.friction", .type = T::Real, .unit = "-", .def = 0.6, .check = C::NonNegative,
+         .acts = A::ContactPhysics, .shares_preparation = true, .run = 1, .summary = 4,
+         .doc = "mu_k, grain-grain Coulomb friction (the preparation is frictionless)", FIELD(grains.friction)},
+        {.key = "grains.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::NonNegative,
+         .acts = A::ContactPhysics, .run = 3, .summary = 5, .doc = "ks/kn of grain contacts", FIELD(grains.stiffness_ratio)},
+        {.key = "grains.volume_fraction", .type = T::Real, .unit = "-", .def = 0.54, .check = C::Range, .lo = 0.0,
+         .hi = 0.74, .lo_open = true, .hi_open = true,
+         .allowed = "must be in (0, 0.74) (0.74 is the densest sphere packing)", .acts = A::Geometry, .geometry = 2,
+         .summary = 6,
+         .doc = "phi: the pour's N = round(phi pi r_p^2 H_p / (4/3 pi r_k^3)) grains; with damper.refill more follow "
+                "(docs/damper.md)",
+         FIELD(grains.volume_fraction)},
+        // [foil]
+        {.key = "foil.young", .type = T::Real, .unit = "Pa", .def = 122.18e6, .check = C::Positive,
+         .acts = A::ContactPhysics, .run = 4, .summary = 7, .doc = "E_f of the real foil (bond and foil contact stiffness)",
+         FIELD(foil.young)},
+        {.key = "foil.thickness", .type = T::Real, .unit = "m", .def = 0.15e-3, .check = C::Positive,
+         .acts = A::ContactPhysics, .run = 5, .summary = 8, .doc = "t_f of the real foil (bond stiffness)",
+         FIELD(foil.thickness)},
+        {.key = "foil.particle_radius", .type = T::Real, .unit = "m", .def = Setting::kUnset,
+         .default_text = "grains.radius/3", .check = C::Positive, .acts = A::Geometry, .geometry = 4, .summary = 9,
+         .doc = "r_f, radius of the foil particles",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+             const std::string k = short_key(r);
+             c.foil.particle_radius = s.positive(k, s.number(k, c.grains.radius / 3.0));
+         },
+         FIELD(foil.particle_radius)},
+        {.key = "foil.density", .type = T::Real, .unit = "kg/m^3", .def = 151.77, .check = C::Positive,
+         .acts = A::Geometry, .geometry = 5, .summary = 10, .doc = "density of the foil particles", FIELD(foil.density)},
+        {.key = "foil.friction", .type = T::Real, .unit = "-", .def = 0.0, .check = C::NonNegative,
+         .acts = A::ContactPhysics, .run = 6, .summary = 11, .doc = "friction of foil contacts", FIELD(foil.friction)},
+        {.key = "foil.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::NonNegative,
+         .acts = A::ContactPhysics, .run = 7, .doc = "ks/kn of bonds and foil contacts", FIELD(foil.stiffness_ratio)},
+        // [damper]; radius and height are also checked against the foil (vpp/config.cpp).
+        {.key = "damper.radius", .type = T::Real, .unit = "m", .def = 0.0255, .check = C::Positive,
+         .allowed = "must be at least 4 foil particle radii", .acts = A::Geometry, .geometry = 6, .summary = 12,
+         .doc = "r_p (the foil takes the even column count closest to it); at least 4 foil particle radii",
+         FIELD(damper.radius)},
+        {.key = "damper.height", .type = T::Real, .unit = "m", .def = 0.100, .check = C::Positive,
+         .allowed = "must be at least 4 foil particle radii", .acts = A::Geometry, .geometry = 7, .summary = 13,
+         .doc = "H_p (the foil takes the odd row count closest to it); at least 4 foil particle radii",
+         FIELD(damper.height)},
+        {.key = "damper.cap_friction", .type = T::Real, .unit = "-", .def = Setting::kUnset,
+         .default_text = "grains.friction", .check = C::Custom, .allowed = "must be >= 0", .acts = A::ContactPhysics,
+         .shares_preparation = true, .run = 8, .doc = "grain-cap friction",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+             const std::string k = short_key(r);
+             c.damper.cap_friction = s.number(k, -1.0);  // < 0: the grains' friction
+             if (s.has(k) && !(c.damper.cap_friction >= 0.0)) s.fail(k, r.allowed);
+         },
+         FIELD(damper.cap_friction)},
+        {.key = "damper.refill", .type = T::Boolean, .unit = "", .def = 1.0, .acts = A::Geometry, .geometry = 9,
+         .summary = 23,
+         .doc = "re-fill after the pour until the grains stand above H_p, so that the cap compresses them to H_p; "
+                "false: the pour's N only, the cap may end above the grains (warned)",
+         FLAG(damper.refill), .legacy = 0.0},  // samples of an older vppdem were poured once
+        // [process]
+        {.key = "process.underpressure", .type = T::Real, .unit = "Pa", .def = 0.06e6, .def_foil = 0.01e6,
+         .check = C::Range, .lo = 0.0, .hi = kAtmosphericPressure,
+         .allowed = "must be a pressure difference in [0, 101325] Pa (0.101325 MPa, a perfect vacuum): atmospheric "
+                    "minus the pressure inside the foil",
+         .acts = A::Process, .shares_preparation = true, .run = 9, .summary = 14,
+         .doc = "dp = atmospheric minus inside pressure (a perfect vacuum at most)",
+         // A negative dp would blow the foil up, and NaN or inf would run to the end with NaN forces;
+         // an integer is taken too, and a non-number gets the range's message.
+         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults& d) {
+             const std::string k = short_key(r);
+             c.process.underpressure = d.underpressure;
+             if (const toml::node* n = s.node(k)) {
+                 const auto v = n->value<double>();
+                 if (!v || !(*v >= r.lo && *v <= r.hi)) s.fail(k, r.allowed);
+                 c.process.underpressure = *v;
+             }
+         },
+         FIELD(process.underpressure)},
+        {.key = "process.ramp_time", .type = T::Real, .unit = "s", .def = 0.02, .check = C::Positive, .acts = A::Process,
+         .shares_preparation = true, .run = 10, .doc = "dp rises linearly from 0 over this time", FIELD(process.ramp_time)},
+        {.key = "process.hold_time", .type = T::Real, .unit = "s", .def = 0.08, .check = C::NonNegative,
+         .acts = A::Process, .shares_preparation = true, .doc = "envelope: time held at full dp after the ramp",
+         FIELD(process.hold_time)},
+        {.key = "process.amplitude", .type = T::Real, .unit = "m", .def = 0.010, .check = C::Positive, .acts = A::Process,
+         .shares_preparation = true, .run = 11, .summary = 15, .doc = "dz, the cap's displacement amplitude",
+         FIELD(process.amplitude)},
+        {.key = "process.velocity", .type = T::Real, .unit = "m/s", .def = 3.33e-4, .check = C::Positive,
+         .acts = A::Process, .shares_preparation = true, .run = 12, .summary = 16, .doc = "v_z, the cap's speed",
+         FIELD(process.velocity)},
+        {.key = "process.start_offset", .type = T::Real, .unit = "m", .def = 0.0, .acts = A::Process,
+         .shares_preparation = true, .run = 13,
+         .doc = "the cap (and top ring) first move down by this (up if negative), then cycling starts there",
+         FIELD(process.start_offset)},
+        {.key = "process.direction", .type = T::Choice, .unit = "", .def = Setting::kUnset,
+         .default_text = "\"compression\"", .check = C::Custom, .allowed = "must be \"compression\" or \"extension\"",
+         .acts = A::Process, .shares_preparation = true, .run = 14,
+         .doc = "\"compression\": down first; \"extension\": up first",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+             const std::string k = short_key(r);
+             const std::string dir = s.string(k, "compression");
+             if (dir != "compression" && dir != "extension") s.fail(k, r.allowed);
+             c.process.compression_first = dir == "compression";
+         },
+         .get = [](const Config& c) { return c.process.compression_first ? 0.0 : 1.0; },
+         .set = [](Config& c, double v) { c.process.compression_first = v == 0.0; }},
+        {.key = "process.cycles", .type = T::Integer, .unit = "", .def = 4, .check = C::AtLeast, .lo = 1,
+         .allowed = "must be an integer >= 1", .acts = A::Process, .shares_preparation = true, .run = 15, .summary = 17,
+         .doc = "loading cycles", FIELD(process.cycles)},
+        {.key = "process.samples_per_cycle", .type = T::Integer, .unit = "", .def = 500, .check = C::AtLeast, .lo = 4,
+         .allowed = "must be an integer >= 4", .acts = A::Process, .shares_preparation = true, .run = 16, .summary = 18,
+         .doc = "rows of forces.csv per cycle", FIELD(process.samples_per_cycle)},
+        {.key = "process.sample_window", .type = T::Real, .unit = "s", .def = 2e-4, .check = C::Positive,
+         .acts = A::Process, .shares_preparation = true, .run = 17, .summary = 19,
+         .doc = "each force is averaged over this window before its sample time", FIELD(process.sample_window)},
+        // [tension]: the tension command's strip.
+        {.key = "tension.sites_along", .type = T::Integer, .unit = "", .def = 37, .check = C::AtLeast, .lo = 3,
+         .allowed = "must be an integer >= 3", .acts = A::Geometry,
+         .doc = "tension: sites in the pulling direction (paper: 37)", FIELD(tension.sites_along)},
+        {.key = "tension.sites_across", .type = T::Integer, .unit = "", .def = 12, .check = C::AtLeast, .lo = 1,
+         .allowed = "must be an integer >= 1", .acts = A::Geometry, .doc = "tension: sites across (paper: 12)",
+         FIELD(tension.sites_across)},
+        {.key = "tension.strain", .type = T::Real, .unit = "-", .def = 0.02, .check = C::Range, .lo = 0.0, .hi = 0.5,
+         .lo_open = true, .hi_open = true, .allowed = "must be in (0, 0.5)", .acts = A::Process,
+         .doc = "tension: final engineering strain", FIELD(tension.strain)},
+        {.key = "tension.speed", .type = T::Real, .unit = "m/s", .def = 0.05, .check = C::Positive, .acts = A::Process,
+         .doc = "tension: pulling speed (quasi-static: well below the bond wave speed, about 500 m/s)",
+         FIELD(tension.speed)},
+        // [simulation]
+        {.key = "simulation.dt", .type = T::RealOrAuto, .unit = "s", .def = Setting::kUnset, .default_text = "\"auto\"",
+         .check = C::Custom, .allowed = "must be a time step in seconds (> 0) or \"auto\"", .acts = A::Simulation,
+         .run = 19, .doc = "a fixed time step, or \"auto\": simulation.dt_safety times the critical step",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+             const std::string k = short_key(r);
+             if (const toml::node* n = s.node(k)) {
+                 if (auto str = n->as_string()) {
+                     if (str->get() != "auto") s.fail(k, r.allowed);
+                 } else if (auto v = n->value<double>()) {
+                     c.simulation.dt_auto = false;
+                     c.simulation.dt = s.positive(k, *v);
+                 } else {
+                     s.fail(k, r.allowed);
+                 }
+             }
+         },
+         .get = [](const Config& c) { return c.simulation.dt_auto ? 0.0 : c.simulation.dt; },
+         .set = [](Config& c, double v) {
+             c.simulation.dt_auto = v == 0.0;
+             c.simulation.dt = v;
+         }},
+        {.key = "simulation.dt_safety", .type = T::Real, .unit = "-", .def = 0.45, .def_foil = 0.3, .check = C::Range,
+         .lo = 0.0, .hi = 1.0, .lo_open = true, .allowed = "must be in (0, 1]", .acts = A::Simulation, .run = 20,
+         .doc = "dt = safety * min sqrt(m/k) when simulation.dt is \"auto\"",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults& d) {
+             const std::string k = short_key(r);
+             c.simulation.dt_safety = s.number(k, d.dt_safety);
+             if (!(c.simulation.dt_safety > r.lo && c.simulation.dt_safety <= r.hi)) s.fail(k, r.allowed);
+         },
+         FIELD(simulation.dt_safety)},
+        {.key = "simulation.local_damping", .type = T::Real, .unit = "-", .def = 0.2, .check = C::Range, .lo = 0.0,
+         .hi = 1.0, .hi_open = true, .allowed = "must be in [0, 1)", .acts = A::Simulation, .run = 18, .summary = 20,
+         .doc = "Yade-style non-viscous damping", FIELD(simulation.local_damping)},
+        {.key = "simulation.threads", .type = T::Integer, .unit = "", .def = 0, .def_foil = 1, .check = C::Custom,
+         .allowed = "must be an integer 1..1024, or 0 for the default (the free cores)", .acts = A::Simulation,
+         .shares_preparation = true, .summary = 21,
+         .doc = "threads of a run; 0: the free cores (src/scene/threads.h). Results do not depend on it",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults& d) {
+             const std::string k = short_key(r);
+             const int64_t th = s.integer(k, d.threads);
+             if (th < 0 || th > 1024) s.fail(k, r.allowed);
+             // 0: the free cores (scene/threads.h), measured only when asked for.
+             c.simulation.threads = th == 0 ? cli::default_threads() : int(th);
+         },
+         FIELD(simulation.threads)},
+        {.key = "simulation.seed", .type = T::Integer, .unit = "", .def = 1, .check = C::AtLeast, .lo = 0,
+         .allowed = "must be an integer >= 0", .acts = A::Geometry, .geometry = 8, .summary = 22,
+         .doc = "grain placement (the lattice's jitter)",
+         // Its own reader: a seed is an unsigned 64-bit integer, more than a double holds exactly.
+         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+             const std::string k = short_key(r);
+             const int64_t seed = s.integer(k, int64_t(c.simulation.seed));
+             if (seed < 0) s.fail(k, r.allowed);
+             c.simulation.seed = uint64_t(seed);
+         },
+         FIELD(simulation.seed)},
+        {.key = "simulation.skin", .type = T::Real, .unit = "m", .def = 0.0, .check = C::NonNegative,
+         .acts = A::Simulation, .run = 21, .doc = "neighbour list skin; 0: half the smallest radius",
+         FIELD(simulation.skin)},
+        // [output]
+        {.key = "output.interval", .type = T::Real, .unit = "s", .def = 0.0, .check = C::NonNegative, .acts = A::Output,
+         .shares_preparation = true, .doc = "tension, envelope: rows of the time series; 0: the command's default",
+         FIELD(output.interval)},
+        {.key = "output.vtk_interval", .type = T::Real, .unit = "s", .def = 0.0, .check = C::NonNegative,
+         .acts = A::Output, .shares_preparation = true,
+         .doc = "VTK frames during cycling (frames at each stage end are always written); 0: the command's default",
+         FIELD(output.vtk_interval)},
+        {.key = "output.energy", .type = T::Boolean, .unit = "", .def = 1.0, .acts = A::Output,
+         .shares_preparation = true, .run = 22,
+         .doc = "energy ledger during cycling: energy.csv and the dissipation split in cycles.csv; about 25% slower",
+         FLAG(output.energy)},
+        // [analysis]: post-processing of the recorded loops; never needs a new run.
+        {.key = "analysis.settle_tolerance", .type = T::Real, .unit = "-", .def = 0.03, .check = C::Range, .lo = 0.0,
+         .hi = 1.0, .lo_open = true, .hi_open = true,
+         .allowed = "must be a fraction in (0, 1), e.g. 0.03 for 3% (the relative change of W from one cycle to the next "
+                    "below which W counts as settled)",
+         .acts = A::Analysis, .shares_preparation = true, .summary = 24,
+         .doc = "W has settled when it changed by at most this fraction from the previous cycle, in this cycle and the "
+                "one before",
+         FIELD(analysis.settle_tolerance)},
+    };
+    return rows;
+}
+#undef FIELD
+#undef FLAG
+
+std::vector<Setting> ordered_by(int Setting::*position) {
+    std::vector<Setting> out;
+    for (const Setting& s : table())
+        if (s.*position > 0) out.push_back(s);
+    std::sort(out.begin(), out.end(), [&](const Setting& a, const Setting& b) { return a.*position < b.*position; });
+    return out;
+}
+
+std::string section_of(const std::string& key) { return key.substr(0, key.find('.')); }
+
+std::string number_text(double v) {
+    char buf[32];
+    const auto r = std::to_chars(buf, buf + sizeof buf, v);
+    return std::string(buf, r.ptr);
+}
+
+}  // namespace
+
+const std::vector<Setting>& settings() { return table(); }
+
+const Setting* find_setting(std::string_view key) {
+    for (const Setting& s : table())
+        if (key == s.key) return &s;
+    return nullptr;
+}
+
+std::vector<Setting> geometry_settings() { return ordered_by(&Setting::geometry); }
+std::vector<Setting> run_settings() { return ordered_by(&Setting::run); }
+std::vector<Setting> summary_inputs() { return ordered_by(&Setting::summary); }
+
+bool may_share_preparation(const std::string& key) {
+    if (const Setting* s = find_setting(key)) return s->shares_preparation;
+    const std::string section = section_of(key);
+    if (section.size() == key.size()) return false;  // not a dotted key
+    bool any = false;
+    for (const Setting& s : table()) {
+        if (section_of(s.key) != section) continue;
+        if (!s.shares_preparation) return false;
+        any = true;
+    }
+    return any;
+}
+
+namespace {
+CommandDefaults defaults_from_table(bool foil) {
+    auto value = [&](const char* key) {
+        const Setting& s = *find_setting(key);
+        return foil && !std::isnan(s.def_foil) ? s.def_foil : s.def;
+    };
+    CommandDefaults d;
+    d.underpressure = value("process.underpressure");
+    d.dt_safety = value("simulation.dt_safety");
+    d.threads = int(value("simulation.threads"));
+    return d;
+}
+}  // namespace
+
+CommandDefaults damper_command_defaults() { return defaults_from_table(false); }
+CommandDefaults foil_command_defaults() { return defaults_from_table(true); }
+
+const char* acts_name(Acts a) {
+    switch (a) {
+    case Acts::Geometry: return "geometry";
+    case Acts::ContactPhysics: return "contact physics";
+    case Acts::Process: return "process";
+    case Acts::Output: return "output";
+    case Acts::Analysis: return "analysis";
+    case Acts::Simulation: return "simulation";
+    }
+    return "?";
+}
+
+std::string config_reference_markdown() {
+    auto type_name = [](SettingType t) {
+        switch (t) {
+        case SettingType::Real: return "number";
+        case SettingType::Integer: return "integer";
+        case SettingType::Boolean: return "true/false";
+        case SettingType::Choice: return "string";
+        case SettingType::RealOrAuto: return "number or \"auto\"";
+        }
+        return "?";
+    };
+    auto cell = [](std::string s) {  // a Markdown table cell: no bare |
+        std::string out;
+        for (char ch : s) {
+            if (ch == '|') out += '\\';
+            out += ch;
+        }
+        return out;
+    };
+    std::string md =
+        "# Config reference\n\n"
+        "<!-- Generated from the settings table (src/vpp/settings.cpp) by `vppdem config-reference`; do not edit:\n"
+        "     build/vppdem config-reference > docs/config.md -->\n\n"
+        "Every key of the config of the VPP commands (damper, sweep, calibrate, tension, envelope), in a file\n"
+        "or as `--set section.key=value`. Unknown keys and values outside the allowed range are refused with a\n"
+        "message that names the key, the value and what is allowed; every number must be finite.\n\n"
+        "- **default**: the damper's, the sweep's and calibrate's; tension and envelope differ where noted.\n"
+        "- **acts on**: geometry (the prepared sample), contact physics, process (loading), simulation,\n"
+        "  output (files only) or analysis (post-processing, never a new run).\n"
+        "- **shares a preparation**: cases of a study that differ only in such keys share one prepared\n"
+        "  sample (docs/studies.md); they do not act before prepared.ckpt.\n"
+        "- **recorded**: geometry: stored with the prepared sample, a run from it must match the keys it gives;\n"
+        "  run: a resumed run keeps the value it started with; summary: written to summary.json \"inputs\".\n\n"
+        "| key | type | default | unit | allowed | acts on | shares a preparation | recorded | description |\n"
+        "|---|---|---|---|---|---|---|---|---|\n";
+    for (const Setting& s : table()) {
+        std::string def;
+        if (s.type == SettingType::Boolean) def = s.def != 0.0 ? "true" : "false";
+        else if (std::isnan(s.def)) def = s.default_text;
+        else def = number_text(s.def);
+        if (!std::isnan(s.def_foil)) def += " (tension, envelope: " + number_text(s.def_foil) + ")";
+        std::string allowed;
+        switch (s.check) {
+        case Check::None: allowed = s.type == SettingType::Boolean ? "true or false" : "any"; break;
+        case Check::Positive: allowed = "> 0"; break;
+        case Check::NonNegative: allowed = ">= 0"; break;
+        default: allowed = s.allowed; break;
+        }
+        auto strip = [](std::string a) { return a.starts_with("must be ") ? a.substr(8) : a; };
+        allowed = strip(allowed);
+        if (s.check == Check::Positive && *s.allowed) allowed += "; " + strip(s.allowed);
+        std::string recorded;
+        if (s.geometry) recorded += "geometry";
+        if (s.run) recorded += std::string(recorded.empty() ? "" : ", ") + "run";
+        if (s.summary) recorded += std::string(recorded.empty() ? "" : ", ") + "summary";
+        md += "| `" + std::string(s.key) + "` | " + type_name(s.type) + " | " + cell(def) + " | " + cell(s.unit) +
+              " | " + cell(allowed) + " | " + acts_name(s.acts) + " | " + (s.shares_preparation ? "yes" : "no") +
+              " | " + recorded + " | " + cell(s.doc) + " |\n";
+    }
+    return md;
+}
+
+}  // namespace vpp

@@ -1,0 +1,85 @@
+// The damper's settings table: every config key of the VPP commands (damper, sweep, calibrate,
+// tension, envelope) described once, with its type, default, unit, allowed range, what it acts
+// on and whether cases of a study may share a preparation across it. The config reader
+// (vpp/config.cpp), the range messages, the study's sharing rule (vpp/study.cpp), what a damper
+// run records in its checkpoints and summary.json (vpp/damper.cpp) and docs/config.md
+// (`vppdem config-reference`) all come from it, so a key cannot be documented one way and read
+// another.
+#pragma once
+
+#include <limits>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "vpp/config.h"
+
+namespace cfg {
+class Section;
+}
+
+namespace vpp {
+
+enum class SettingType { Real, Integer, Boolean, Choice, RealOrAuto };
+
+// What a key changes; a key acting on the geometry or contact physics changes the prepared sample.
+enum class Acts { Geometry, ContactPhysics, Process, Output, Analysis, Simulation };
+
+// How the value is checked (the message is Setting::allowed, except Positive and NonNegative,
+// whose messages are the config reader's own "must be > 0 and finite", "must be >= 0 and finite").
+enum class Check { None, Positive, NonNegative, Range, AtLeast, Custom };
+
+struct Setting {
+    static constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
+
+    const char* key;        // dotted key as written in the file and in --set
+    SettingType type;
+    const char* unit;       // SI unit; "-" a ratio, "" a count, flag or word
+    double def;             // damper, sweep and calibrate default (NaN: see default_text)
+    double def_foil = kUnset;  // tension and envelope default (NaN: the same as def)
+    const char* default_text = "";  // the default as the reference shows it when def is NaN or a word
+    Check check = Check::None;
+    double lo = 0.0, hi = 0.0;  // Range: the bounds; AtLeast: lo
+    bool lo_open = false, hi_open = false;  // Range: whether a bound itself is refused
+    const char* allowed = "";  // what is allowed, as the error message says it ("must be ...")
+    Acts acts;
+    // Cases of a study that differ only in keys with this flag share one preparation: the key
+    // does not act before prepared.ckpt (vpp/study.cpp).
+    bool shares_preparation = false;
+    int geometry = 0;  // position among the sample's geometry in the checkpoints (0: not there)
+    int run = 0;       // position among the settings a started run keeps when resumed (0: not there)
+    int summary = 0;   // position among summary.json "inputs" (0: not there)
+    const char* doc;
+    // Reads the key from its section into the config; nullptr: the generic reader of the type
+    // and check (vpp/config.cpp).
+    void (*read)(cfg::Section&, const Setting&, Config&, const CommandDefaults&) = nullptr;
+    double (*get)(const Config&);   // the value as a number (flags 0/1, "auto" dt 0, ...)
+    void (*set)(Config&, double);
+    // The value a checkpoint of an older vppdem, which did not store this key, was made with
+    // (NaN: every checkpoint stores it).
+    double legacy = kUnset;
+};
+
+// The table, in the order the config reader reads the keys (section by section).
+const std::vector<Setting>& settings();
+const Setting* find_setting(std::string_view key);
+
+// Keys recorded in a checkpoint or summary.json, in the order they are written.
+std::vector<Setting> geometry_settings();
+std::vector<Setting> run_settings();
+std::vector<Setting> summary_inputs();
+
+// Whether cases that differ in this key may share a preparation. A key not in the table is
+// treated like its section when every key of the section may share (process, output, analysis).
+bool may_share_preparation(const std::string& key);
+
+// The defaults that differ between commands, from the table.
+CommandDefaults damper_command_defaults();  // damper, sweep, calibrate
+CommandDefaults foil_command_defaults();    // tension, envelope
+
+const char* acts_name(Acts a);
+
+// docs/config.md: the table as Markdown (`vppdem config-reference`).
+std::string config_reference_markdown();
+
+}  // namespace vpp

@@ -1,0 +1,71 @@
+# Checks that every layer of src/ includes only itself and the layers below it:
+#   dem    (generic DEM core)             may include dem/
+#   scene  (configs, generic scenes)      may include dem/, scene/
+#   vpp    (the damper)                   may include dem/, scene/, vpp/
+# cli/ (the command) and a Python module on top may include anything below them. A lower layer
+# that included a higher one would tie the core to one application (or a cycle of libraries).
+# Usage: cmake -DROOT=<folder that holds src/> -P check_layers.cmake
+# Fails naming each offending file:line; quoted includes must name their layer folder.
+if(NOT DEFINED ROOT)
+  message(FATAL_ERROR "check_layers: give -DROOT=<folder that holds src/>")
+endif()
+if(NOT IS_DIRECTORY "${ROOT}/src/dem")
+  message(FATAL_ERROR "check_layers: '${ROOT}/src/dem' is not a folder")
+endif()
+
+set(known dem scene vpp cli python)
+set(allowed_dem dem)
+set(allowed_scene dem scene)
+set(allowed_vpp dem scene vpp)
+
+set(bad "")
+set(checked 0)
+foreach(layer dem scene vpp)
+  file(GLOB_RECURSE files LIST_DIRECTORIES false "${ROOT}/src/${layer}/*")
+  list(SORT files)
+  foreach(f IN LISTS files)
+    if(NOT f MATCHES "\\.(h|hh|hpp|c|cc|cpp|cxx|inl)$")
+      continue()
+    endif()
+    math(EXPR checked "${checked} + 1")
+    file(READ "${f}" text)
+    # One list element per line: characters CMake lists treat specially are masked first.
+    string(REPLACE ";" "<semicolon>" text "${text}")
+    string(REPLACE "[" "<open>" text "${text}")
+    string(REPLACE "]" "<close>" text "${text}")
+    string(REPLACE "\\" "<backslash>" text "${text}")
+    string(REPLACE "\n" ";" lines "${text}")
+    file(RELATIVE_PATH rel "${ROOT}" "${f}")
+    set(n 0)
+    foreach(line IN LISTS lines)
+      math(EXPR n "${n} + 1")
+      if(NOT line MATCHES "^[ \t]*#[ \t]*include[ \t]*([<\"])([^>\"]*)[>\"]")
+        continue()
+      endif()
+      set(quote "${CMAKE_MATCH_1}")
+      set(path "${CMAKE_MATCH_2}")
+      string(REGEX REPLACE "/.*" "" top "${path}")
+      if(NOT path MATCHES "/")
+        set(top "")
+      endif()
+      list(FIND known "${top}" k)
+      if(k EQUAL -1)
+        if(quote STREQUAL "\"")
+          list(APPEND bad "${rel}:${n}: #include \"${path}\": a project include names its layer folder (allowed here: ${allowed_${layer}})")
+        endif()
+        continue()  # a system or third-party header
+      endif()
+      list(FIND allowed_${layer} "${top}" a)
+      if(a EQUAL -1)
+        list(APPEND bad "${rel}:${n}: layer ${layer} includes ${path} of the higher layer ${top} (allowed here: ${allowed_${layer}})")
+      endif()
+    endforeach()
+  endforeach()
+endforeach()
+
+if(bad)
+  list(LENGTH bad nbad)
+  string(REPLACE ";" "\n  " report "${bad}")
+  message(FATAL_ERROR "check_layers: ${nbad} include(s) against the layers (dem <- scene <- vpp <- cli, python):\n  ${report}")
+endif()
+message(STATUS "check_layers: ${checked} files of src/dem, src/scene, src/vpp include only their own and lower layers")

@@ -1,0 +1,52 @@
+# Shows that check_layers.cmake can fail: a tree whose lower layers include higher ones must be
+# refused with each offending file:line, and the same tree without them must pass.
+# Usage: cmake -DCHECKER=<check_layers.cmake> -DWORK=<scratch folder> -P check_layers_selftest.cmake
+foreach(v CHECKER WORK)
+  if(NOT DEFINED ${v})
+    message(FATAL_ERROR "check_layers_selftest: give -D${v}=...")
+  endif()
+endforeach()
+
+file(REMOVE_RECURSE "${WORK}")
+file(WRITE "${WORK}/src/dem/core/good.h" "#pragma once\n#include <vector>\n#include \"dem/core/vec3.h\"\n")
+file(WRITE "${WORK}/src/scene/good.cpp" "#include \"scene/good.h\"\n#include \"dem/core/good.h\"\n#include <toml++/toml.h>\n")
+file(WRITE "${WORK}/src/vpp/good.cpp" "#include \"vpp/good.h\"\n#include \"scene/good.h\"\n#include \"dem/core/good.h\"\n")
+file(WRITE "${WORK}/src/cli/main.cpp" "#include \"vpp/good.h\"\n")
+
+function(run_checker expect_ok label)
+  execute_process(COMMAND "${CMAKE_COMMAND}" "-DROOT=${WORK}" -P "${CHECKER}"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  set(all "${out}${err}")
+  if(expect_ok AND NOT rc EQUAL 0)
+    message(FATAL_ERROR "check_layers_selftest (${label}): a clean tree was refused:\n${all}")
+  endif()
+  if(NOT expect_ok AND rc EQUAL 0)
+    message(FATAL_ERROR "check_layers_selftest (${label}): a tree with bad includes passed:\n${all}")
+  endif()
+  set(checker_output "${all}" PARENT_SCOPE)
+endfunction()
+
+run_checker(TRUE "clean tree")
+
+# Each bad include at a known line; the checker must name every one.
+file(WRITE "${WORK}/src/dem/core/bad.h" "#pragma once\n// a core header that knows the damper\n#include \"vpp/config.h\"\n")
+file(WRITE "${WORK}/src/dem/io/bad2.cpp" "#include \"dem/io/csv.h\"\n  #  include <scene/config.h>\n")
+file(WRITE "${WORK}/src/scene/bad.cpp" "#include \"scene/good.h\"\n#include \"vpp/damper.h\"\n")
+file(WRITE "${WORK}/src/vpp/bad.cpp" "#include \"vpp/good.h\"\n\n\n#include \"cli/main.h\"\n")
+file(WRITE "${WORK}/src/vpp/bad_relative.cpp" "#include \"damper.h\"\n")
+run_checker(FALSE "bad tree")
+foreach(expected
+    "src/dem/core/bad.h:3:" "src/dem/io/bad2.cpp:2:" "src/scene/bad.cpp:2:" "src/vpp/bad.cpp:4:"
+    "src/vpp/bad_relative.cpp:1:")
+  string(FIND "${checker_output}" "${expected}" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "check_layers_selftest: the refusal does not name ${expected}:\n${checker_output}")
+  endif()
+endforeach()
+string(FIND "${checker_output}" "good" at)
+if(NOT at EQUAL -1)
+  message(FATAL_ERROR "check_layers_selftest: the refusal names a good file:\n${checker_output}")
+endif()
+
+file(REMOVE_RECURSE "${WORK}")
+message(STATUS "check_layers_selftest: bad includes refused with file:line, a clean tree passes")

@@ -1,0 +1,157 @@
+// The settings table (vpp/settings.h): its defaults are the ones the reader applies, its ranges
+// are the ones the reader enforces with messages naming key, value and what is allowed, and its
+// sharing rule is the study's rule of before the table.
+#include <cmath>
+#include <set>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "scene/config.h"
+#include "vpp/config.h"
+#include "vpp/settings.h"
+
+using namespace vpp;
+
+namespace {
+
+std::string literal(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    std::string s = buf;
+    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // stays a float
+    return s;
+}
+
+std::string message_of(const std::vector<std::string>& sets) {
+    try {
+        load_config("", sets, damper_command_defaults());
+    } catch (const cfg::ConfigError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(Settings, KeysAreUniqueAndSectionsStayTogether) {
+    std::set<std::string> keys, closed;
+    std::string section;
+    for (const Setting& s : settings()) {
+        EXPECT_TRUE(keys.insert(s.key).second) << s.key;
+        const std::string sec = std::string(s.key).substr(0, std::string(s.key).find('.'));
+        if (sec != section) {
+            EXPECT_FALSE(closed.count(sec)) << s.key << ": its section appears twice";
+            closed.insert(section);
+            section = sec;
+        }
+        EXPECT_NE(std::string(s.doc), "") << s.key;
+        EXPECT_EQ(find_setting(s.key), &s);
+    }
+    EXPECT_EQ(find_setting("grains.colour"), nullptr);
+}
+
+TEST(Settings, DefaultsAreTheReadersDefaults) {
+    const Config damper = load_config("", {}, damper_command_defaults());
+    const Config foil = load_config("", {}, foil_command_defaults());
+    for (const Setting& s : settings()) {
+        if (std::string(s.key) == "simulation.threads") continue;  // 0: the free cores, measured
+        if (std::isnan(s.def)) continue;
+        EXPECT_EQ(s.get(damper), s.def) << s.key;
+        EXPECT_EQ(s.get(foil), std::isnan(s.def_foil) ? s.def : s.def_foil) << s.key;
+    }
+    // The ones given as text.
+    EXPECT_EQ(damper.foil.particle_radius, damper.grains.radius / 3.0);
+    EXPECT_LT(damper.damper.cap_friction, 0.0);  // the grains' friction
+    EXPECT_TRUE(damper.process.compression_first);
+    EXPECT_TRUE(damper.simulation.dt_auto);
+    EXPECT_EQ(load_config("", {}, foil_command_defaults()).simulation.threads, 1);
+    // The defaults the commands had before the table.
+    EXPECT_EQ(damper_command_defaults().underpressure, 0.06e6);
+    EXPECT_EQ(damper_command_defaults().dt_safety, 0.45);
+    EXPECT_EQ(damper_command_defaults().threads, 0);
+    EXPECT_EQ(foil_command_defaults().underpressure, 0.01e6);
+    EXPECT_EQ(foil_command_defaults().dt_safety, 0.3);
+    EXPECT_EQ(foil_command_defaults().threads, 1);
+}
+
+TEST(Settings, EveryKeyIsReadAndNoOther) {
+    for (const Setting& s : settings()) {
+        std::string v;
+        if (s.type == SettingType::Boolean) v = "false";
+        else if (s.type == SettingType::Choice) v = "\"extension\"";
+        else if (s.type == SettingType::RealOrAuto) v = "1e-6";
+        else if (s.type == SettingType::Integer) v = "5";
+        else v = literal(std::isnan(s.def) || s.def == 0.0 ? 0.001 : s.def);
+        EXPECT_EQ(message_of({std::string(s.key) + "=" + v}), "") << s.key << "=" << v;
+    }
+    EXPECT_NE(message_of({"grains.colour=1.0"}).find("unknown config key 'grains.colour'"), std::string::npos);
+}
+
+TEST(Settings, RangesAreEnforcedWithTheTablesMessage) {
+    for (const Setting& s : settings()) {
+        std::vector<std::string> bad;
+        if (s.check == Check::Positive) bad = {"0.0", "-1.0"};
+        else if (s.check == Check::NonNegative) bad = {"-1.0"};
+        else if (s.check == Check::Range) bad = {literal(s.lo - 1.0), literal(s.hi + 1.0)};
+        else if (s.check == Check::AtLeast) bad = {std::to_string(int64_t(s.lo) - 1)};
+        for (const std::string& v : bad) {
+            const std::string m = message_of({std::string(s.key) + "=" + v});
+            EXPECT_NE(m.find(s.key), std::string::npos) << s.key << "=" << v << ": " << m;
+            const std::string allowed = s.check == Check::Positive      ? "must be > 0 and finite"
+                                        : s.check == Check::NonNegative ? "must be >= 0 and finite"
+                                                                        : s.allowed;
+            EXPECT_NE(m.find(allowed), std::string::npos) << s.key << "=" << v << ": " << m;
+        }
+        if (s.check == Check::Range) {  // a bound itself: refused when open, accepted when closed
+            for (const auto& [bound, open] : {std::pair{s.lo, s.lo_open}, std::pair{s.hi, s.hi_open}}) {
+                const std::string m = message_of({std::string(s.key) + "=" + literal(bound)});
+                EXPECT_EQ(m.empty(), !open) << s.key << "=" << bound << ": " << m;
+            }
+        }
+    }
+}
+
+// The rule before the table: {"grains.friction", "damper.cap_friction", "process.*",
+// "simulation.threads", "output.*", "analysis.*"}.
+TEST(Settings, SharingAPreparationKeepsTheStudysRule) {
+    auto old_rule = [](const std::string& key) {
+        return key == "grains.friction" || key == "damper.cap_friction" || key.starts_with("process.") ||
+               key == "simulation.threads" || key.starts_with("output.") || key.starts_with("analysis.");
+    };
+    for (const Setting& s : settings()) EXPECT_EQ(may_share_preparation(s.key), old_rule(s.key)) << s.key;
+    for (const char* k : {"process.future", "output.future", "analysis.future", "grains.future", "foil.future",
+                          "simulation.future", "tension.future", "nosuchsection.key", "process"})
+        EXPECT_EQ(may_share_preparation(k), old_rule(k)) << k;
+}
+
+TEST(Settings, RecordedKeysAreNumberedWithoutGaps) {
+    for (auto list : {geometry_settings(), run_settings(), summary_inputs()}) {
+        EXPECT_FALSE(list.empty());
+    }
+    EXPECT_EQ(geometry_settings().size(), 9u);
+    EXPECT_EQ(run_settings().size(), 22u);
+    EXPECT_EQ(summary_inputs().size(), 24u);
+    auto positions = [](int Setting::*p) {
+        std::set<int> s;
+        for (const Setting& r : settings())
+            if (r.*p) {
+                EXPECT_TRUE(s.insert(r.*p).second) << r.key;
+            }
+        return s;
+    };
+    for (int Setting::*p : {&Setting::geometry, &Setting::run, &Setting::summary}) {
+        const std::set<int> s = positions(p);
+        EXPECT_EQ(*s.begin(), 1);
+        EXPECT_EQ(*s.rbegin(), int(s.size()));
+    }
+    // What a checkpoint stores keeps its first key (older checkpoints are read by name, any order).
+    EXPECT_STREQ(geometry_settings().front().key, "grains.radius");
+    EXPECT_STREQ(run_settings().front().key, "grains.friction");
+    EXPECT_STREQ(summary_inputs().back().key, "analysis.settle_tolerance");
+}
+
+TEST(Settings, TheReferenceListsEveryKey) {
+    const std::string md = config_reference_markdown();
+    for (const Setting& s : settings()) EXPECT_NE(md.find("| `" + std::string(s.key) + "` |"), std::string::npos) << s.key;
+}
