@@ -35,7 +35,7 @@ using cfg::ConfigError;
 // the cases of one preparation; everything else would give a case a sample it did not ask for.
 // - grains.friction, damper.cap_friction: the fill and the cap's compression are frictionless
 //   (the grain, cap and funnel materials have friction 0 until apply_config_to_prepared() in
-//   damper.cpp gives them the config's);
+//   damper_world.cpp gives them the config's);
 // - process.*: the vacuum and the cycles come after prepared.ckpt;
 // - simulation.threads (results do not depend on it), output.* (files only), analysis.*
 //   (post-processing).
