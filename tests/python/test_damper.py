@@ -140,3 +140,18 @@ def test_progress_callback_and_interrupt():
     assert 3 <= len(calls) <= 4
     assert calls[0][0] == "prepare: fill"
     assert calls[1][1] > calls[0][1] and calls[1][3] > calls[0][3]
+
+
+def test_ctrl_c_stops_a_run_without_a_callback():
+    # SIGINT from outside while the C++ steps without the interpreter lock (as Ctrl-C in a
+    # terminal): the run stops within 256 steps with KeyboardInterrupt.
+    import threading
+    import time
+
+    d = vppdem.Damper(settings=SMALL)
+    threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()
+    t0 = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        d.prepare()  # about 4 s to the end of the preparation
+    assert time.monotonic() - t0 < 2.0
+    assert d.stage in ("fill", "compress")
