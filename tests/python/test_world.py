@@ -123,3 +123,29 @@ def test_errors_are_python_exceptions():
         w.wall_force(3)
     with pytest.raises(RuntimeError, match="missing.stl"):
         w.add_stl("missing.stl")
+
+
+def _pile(threads):
+    # 216 grains dropped into a box of planes; the same scene on any thread count.
+    w = vppdem.World()
+    w.threads = threads
+    w.add_material("m", density=2500.0, young=1e7, friction=0.5, restitution=0.4)
+    for p, n in [([0, 0, 0], [0, 0, 1]), ([-0.02, 0, 0], [1, 0, 0]), ([0.02, 0, 0], [-1, 0, 0]),
+                 ([0, -0.02, 0], [0, 1, 0]), ([0, 0.02, 0], [0, -1, 0])]:
+        w.add_plane(p, n)
+    rng = np.random.default_rng(3)
+    for k in range(216):
+        i, j, l = k % 6, (k // 6) % 6, k // 36
+        w.add_sphere([-0.0125 + 0.005 * i, -0.0125 + 0.005 * j, 0.003 + 0.005 * l] + rng.uniform(-2e-4, 2e-4, 3), 0.002)
+    w.local_damping = 0.2
+    w.dt = 0.2 * w.critical_dt()
+    w.step(5000)  # 0.065 s: the lower layers have landed
+    return w
+
+
+def test_results_do_not_depend_on_the_thread_count():
+    a, b = _pile(1), _pile(2)
+    assert a.contact_count() > 50  # a state with contacts, not free flight
+    np.testing.assert_array_equal(a.positions, b.positions)
+    np.testing.assert_array_equal(a.velocities, b.velocities)
+    np.testing.assert_array_equal(a.forces, b.forces)
