@@ -239,7 +239,10 @@ PYBIND11_MODULE(_core, m) {
                  return w.add_material({name, density, young, stiffness_ratio, friction, restitution});
              },
              py::arg("name") = "", py::arg("density") = 2800.0, py::arg("young") = 4.8e10,
-             py::arg("stiffness_ratio") = 0.5, py::arg("friction") = 0.35, py::arg("restitution") = 1.0)
+             py::arg("stiffness_ratio") = 0.5, py::arg("friction") = 0.35, py::arg("restitution") = 1.0,
+             "Adds a material; returns its index. density [kg/m^3], young: particle modulus [Pa] (kn = E r for "
+             "two equal spheres), stiffness_ratio ks/kn [-], friction: Coulomb coefficient [-], restitution: "
+             "normal coefficient [-] (1: no viscous damping)")
         .def("add_sphere",
              [](dem::World& w, const std::vector<double>& position, double radius, uint32_t material,
                 const std::vector<double>& velocity, const std::vector<double>& angular_velocity, uint32_t mask) {
@@ -255,7 +258,9 @@ PYBIND11_MODULE(_core, m) {
              },
              py::arg("position"), py::arg("radius"), py::arg("material") = 0,
              py::arg("velocity") = std::vector<double>{0, 0, 0}, py::arg("angular_velocity") = std::vector<double>{0, 0, 0},
-             py::arg("mask") = 1)
+             py::arg("mask") = 1,
+             "Adds a sphere; returns its index. position [m], radius [m], velocity [m/s], angular_velocity "
+             "[rad/s]; mask: bodies interact when their masks share a bit")
         .def("add_plane",
              [](dem::World& w, const std::vector<double>& point, const std::vector<double>& normal, uint32_t material,
                 bool one_sided, uint32_t mask) {
@@ -270,7 +275,8 @@ PYBIND11_MODULE(_core, m) {
                  p.mask = mask;
                  return w.add_plane(p);
              },
-             py::arg("point"), py::arg("normal"), py::arg("material") = 0, py::arg("one_sided") = false, py::arg("mask") = 1)
+             py::arg("point"), py::arg("normal"), py::arg("material") = 0, py::arg("one_sided") = false, py::arg("mask") = 1,
+             "Adds an infinite plane through point [m] with normal (normalised); returns its wall index")
         .def("add_facets",
              [](dem::World& w, py::array_t<double, py::array::c_style | py::array::forcecast> v, uint32_t material,
                 bool one_sided, uint32_t mask) {
@@ -289,7 +295,9 @@ PYBIND11_MODULE(_core, m) {
                  }
                  return first;
              },
-             py::arg("vertices"), py::arg("material") = 0, py::arg("one_sided") = false, py::arg("mask") = 1)
+             py::arg("vertices"), py::arg("material") = 0, py::arg("one_sided") = false, py::arg("mask") = 1,
+             "Adds triangles from an (n, 3, 3) array of vertices [m] (normal (v1 - v0) x (v2 - v0)); returns the "
+             "first facet's index (wall index: plane_count + facet index)")
         .def("add_stl",
              [](dem::World& w, const py::object& file, double scale, uint32_t material, bool one_sided, uint32_t mask) {
                  const std::string path = fspath(file);
@@ -305,7 +313,9 @@ PYBIND11_MODULE(_core, m) {
                  return py::make_tuple(first, fs.size());
              },
              py::arg("path"), py::arg("scale") = 1.0, py::arg("material") = 0, py::arg("one_sided") = false,
-             py::arg("mask") = 1)
+             py::arg("mask") = 1,
+             "Adds the triangles of a binary or ASCII STL file, coordinates times scale (1e-3 for millimetres); "
+             "returns (first facet, count)")
         .def("add_bond", &dem::World::add_bond, py::arg("i"), py::arg("j"), py::arg("kn"), py::arg("ks"),
              py::arg("rest_length") = -1.0, "Permanent bond: kn, ks [N/m]; rest_length [m] (< 0: the current distance)")
         .def("set_fixed", &dem::World::set_fixed, py::arg("i"))
@@ -316,7 +326,9 @@ PYBIND11_MODULE(_core, m) {
                  w.planes[k].motion = make_motion(velocity, history, w.time, w.planes[k].motion.displacement(w.time));
                  w.invalidate_candidates();
              },
-             py::arg("plane"), py::arg("velocity") = std::vector<double>{}, py::arg("history") = std::vector<std::vector<double>>{})
+             py::arg("plane"), py::arg("velocity") = std::vector<double>{}, py::arg("history") = std::vector<std::vector<double>>{},
+             "Moves plane k: velocity [m/s] from where it stands now, or history rows (t [s], dx, dy, dz [m]) "
+             "of displacement from its reference position")
         .def("set_facet_motion",
              [](dem::World& w, std::size_t first, std::size_t count, const std::vector<double>& velocity,
                 const std::vector<std::vector<double>>& history) {
@@ -333,14 +345,17 @@ PYBIND11_MODULE(_core, m) {
                  w.set_prescribed(i, w.add_motion(make_motion(velocity, history, w.time, {})));
              },
              py::arg("i"), py::arg("velocity") = std::vector<double>{}, py::arg("history") = std::vector<std::vector<double>>{})
-        .def_property("dt", [](const dem::World& w) { return w.params.dt; }, [](dem::World& w, double v) { w.params.dt = v; })
+        .def_property("dt", [](const dem::World& w) { return w.params.dt; }, [](dem::World& w, double v) { w.params.dt = v; },
+                      "[s] time step (e.g. 0.2 * critical_dt())")
         .def_property("gravity", [](const dem::World& w) { return std::vector<double>{w.params.gravity.x, w.params.gravity.y, w.params.gravity.z}; },
-                      [](dem::World& w, const std::vector<double>& g) { w.params.gravity = to_vec3(g, "gravity"); })
+                      [](dem::World& w, const std::vector<double>& g) { w.params.gravity = to_vec3(g, "gravity"); },
+                      "[m/s^2] (0, 0, -9.81) by default")
         .def_property("local_damping", [](const dem::World& w) { return w.params.local_damping; },
-                      [](dem::World& w, double v) { w.params.local_damping = v; })
+                      [](dem::World& w, double v) { w.params.local_damping = v; }, "[-] Yade's non-viscous damping")
         .def_property("threads", [](const dem::World& w) { return w.params.threads; },
                       [](dem::World& w, int v) { w.params.threads = v; })
-        .def_property("skin", [](const dem::World& w) { return w.params.skin; }, [](dem::World& w, double v) { w.params.skin = v; })
+        .def_property("skin", [](const dem::World& w) { return w.params.skin; }, [](dem::World& w, double v) { w.params.skin = v; },
+                      "[m] Verlet distance; 0: half the smallest radius")
         .def_property("track_energy", [](const dem::World& w) { return w.params.track_energy; },
                       [](dem::World& w, bool v) { w.params.track_energy = v; })
         .def_property_readonly("time", [](const dem::World& w) { return w.time; })
@@ -357,7 +372,9 @@ PYBIND11_MODULE(_core, m) {
                     if (!(s & 255u) || s == n) hook("step", s, n, w.time);
                 }
             },
-            py::arg("n") = 1, py::arg("progress") = py::none())
+            py::arg("n") = 1, py::arg("progress") = py::none(),
+            "Advances n steps without the interpreter lock; progress(stage, done, total, time [s]) every 256 "
+            "steps; Ctrl-C raises KeyboardInterrupt")
         .def("__len__", [](const dem::World& w) { return w.particles.size(); })
         .def_property_readonly("positions", [](const dem::World& w) { return vec3_array(w.particles.pos); })
         .def_property_readonly("velocities", [](const dem::World& w) {
