@@ -4,12 +4,19 @@
 //   vacuum:  grain friction restored, dp ramped up, sample brought to rest
 //   cycle:   upper cap and top foil ring moved together, triangular displacement
 //   record:  forces.csv (grains on the cap, foil on the top ring), cycles.csv, summary.json
+// vpp::Damper runs these stages one call at a time (the Python module drives it); run_damper()
+// runs them all and writes the outputs. The code lives in damper_world.cpp (the damper's
+// world), damper_stages.cpp (the stages) and damper_record.cpp (checkpoint, records, report).
 #pragma once
 
+#include <cstdint>
+#include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
+#include "dem/core/world.h"
 #include "vpp/analysis.h"
 #include "vpp/config.h"
 #include "vpp/settle.h"
@@ -24,6 +31,11 @@ struct DamperOptions {
     bool overwrite = false;  // replace files in a non-empty out_dir (resuming from it needs none)
     double checkpoint_every = 60.0;  // [s] wall clock between run.ckpt writes
     bool profile = false;    // print the time per phase of the cycling (dem/core/profile.h)
+    // Called every 256 steps of each stage with the stage's name, its steps done and expected
+    // (an estimate for the stages that end when the sample is at rest) and the simulated time
+    // [s]. It may throw to stop the run (the Python module does on Ctrl-C); the exception
+    // leaves the stage where it stood. Empty: none (the results do not depend on it).
+    std::function<void(const char* stage, uint64_t done, uint64_t total, double time)> progress;
 };
 
 struct DamperResult {
@@ -45,8 +57,73 @@ struct DamperResult {
 // With opt.from: the checkpoint's geometry replaces the config's (a geometry key the config
 // gives with another value is an error), and a checkpoint of a run that started (run.ckpt past
 // the preparation) also gives its contact, process and simulation settings (kRunKeys in
-// damper.cpp; a key given with another value is an error naming both values).
+// damper_world.cpp; a key given with another value is an error naming both values).
 DamperResult run_damper(const Config& c, const DamperOptions& opt);
+
+// One recorded sample of the cycling: the forces averaged over process.sample_window before it.
+struct DamperSample {
+    double time;          // [s] simulated time of the sample
+    double displacement;  // [m] cap travel from the cycling start position, compression positive
+    double grains;        // [N] grains on the upper cap, compression positive
+    double foil;          // [N] foil on the top ring
+};
+
+namespace damper_detail {
+class DamperRun;
+}
+
+// The damper run as an object: its stages one call at a time. run_damper() is
+//   Damper d(c, opt); d.prepare(); d.vacuum(); d.cycle(); write_damper_outputs(d, opt) ...
+// so a caller that runs the same stages gets the same records bit for bit. With an empty
+// opt.out_dir it writes no file (no checkpoint, no VTK frame) unless asked (save()).
+class Damper {
+public:
+    // Builds the damper's world from the config, or loads opt.from (prepared.ckpt, run.ckpt, or
+    // a save()) as run_damper() does: the checkpoint's geometry and, for a run that started,
+    // its settings replace the config's.
+    Damper(const Config& c, const DamperOptions& opt);
+    ~Damper();
+    Damper(Damper&&) noexcept;
+    Damper& operator=(Damper&&) noexcept;
+
+    // The stages; each runs what comes before it when that has not run yet, and does nothing
+    // when the run is past it.
+    void prepare();       // fill and compress: the prepared sample (prepared.ckpt in out_dir)
+    void vacuum();        // dp ramped up, sample brought to rest
+    // Runs n more cycles (n < 0: all of process.cycles that remain); the cycle's motion is laid
+    // out for process.cycles at the start of cycling, so n may not exceed what remains (throws
+    // std::runtime_error saying so). Returns the cycles done so far.
+    int cycle(int n = -1);
+
+    // Replaces DamperOptions::progress for the stages to come.
+    void set_progress(std::function<void(const char*, uint64_t, uint64_t, double)> hook);
+
+    void save(const std::string& path) const;  // a checkpoint Damper(c, {.from = path}) continues
+    std::string stage() const;                 // "fill", "compress", "prepared", "vacuum", "cycle", "done"
+    int cycles_done() const;
+    int cycles_total() const;                  // process.cycles
+    const std::vector<DamperSample>& samples() const;
+    // The energy ledger at each sample (rows of energy.csv, columns energy_columns(); [s] then
+    // [J]); empty with output.energy = false.
+    std::vector<std::vector<double>> energy() const;
+    static std::vector<std::string> energy_columns();
+    // The records analysed: cycles (W, dissipation split), settling, the preparation's report,
+    // and the warnings of summary.json (not quasi-static, no cycle settled).
+    DamperResult result() const;
+    void write_records(const std::string& dir) const;  // forces.csv and energy.csv into dir
+    const dem::World& world() const;
+    const Config& config() const;  // the settings in use (a checkpoint's replace the given ones)
+
+private:
+    std::unique_ptr<damper_detail::DamperRun> run_;
+};
+
+// Writes forces.csv, energy.csv, cycles.csv and summary.json of the damper into opt.out_dir
+// (the one the damper was made with) and returns its result().
+DamperResult write_damper_outputs(const Damper& d, const DamperOptions& opt);
+
+// summary.json's text for this result (of write_damper_outputs); `from` is opt.from.
+std::string damper_summary_json(const DamperResult& r, const std::string& from);
 
 // Number of grains for the volume fraction: round(phi * pi r_p^2 H_p / (4/3 pi r_k^3)).
 std::size_t grain_count(const Config& c);

@@ -1,0 +1,452 @@
+// The Python module's compiled core (vppdem._core): the damper's stages (vpp::Damper), the
+// generic DEM World, the sweep and the calibration, over the same C++ as the command line.
+// vppdem/__init__.py wraps it (settings as dicts, progress bars, summary as a dict).
+//
+// The module sits on top of vpp and dem, beside the command line; nothing below includes it.
+// Stepping releases the interpreter lock; a progress hook takes it back every 256 steps to call
+// the Python callback and to look for Ctrl-C (PyErr_CheckSignals), which raises
+// KeyboardInterrupt out of the run.
+#include <pybind11/functional.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "scene/config.h"
+#include "dem/core/world.h"
+#include "dem/io/checkpoint.h"
+#include "dem/walls/facet_sets.h"
+#include "vpp/calibrate.h"
+#include "vpp/config.h"
+#include "vpp/damper.h"
+#include "vpp/study.h"
+
+namespace py = pybind11;
+
+namespace {
+
+using Hook = std::function<void(const char*, uint64_t, uint64_t, double)>;
+
+// A progress hook for the C++ stages: runs with the interpreter lock released around it, takes
+// it back, stops the run on a pending signal (KeyboardInterrupt on Ctrl-C) and calls `callback`
+// (stage, done, total, time [s]) when it is not None.
+Hook python_hook(py::object callback) {
+    return [callback](const char* stage, uint64_t done, uint64_t total, double time) {
+        py::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+        if (!callback.is_none()) callback(stage, done, total, time);
+    };
+}
+
+// n x 3 array of Vec3 [units of the source].
+py::array_t<double> vec3_array(const std::vector<dem::Vec3>& v) {
+    py::array_t<double> a({py::ssize_t(v.size()), py::ssize_t(3)});
+    auto m = a.mutable_unchecked<2>();
+    for (std::size_t i = 0; i < v.size(); ++i) {
+        m(py::ssize_t(i), 0) = v[i].x;
+        m(py::ssize_t(i), 1) = v[i].y;
+        m(py::ssize_t(i), 2) = v[i].z;
+    }
+    return a;
+}
+
+// A str or os.PathLike as a path.
+std::string fspath(const py::object& p) { return py::str(py::module_::import("os").attr("fspath")(p)); }
+
+py::array_t<double> double_array(const std::vector<double>& v) {
+    py::array_t<double> a(py::ssize_t(v.size()));
+    std::copy(v.begin(), v.end(), a.mutable_data());
+    return a;
+}
+
+dem::Vec3 to_vec3(const std::vector<double>& v, const char* what) {
+    if (v.size() != 3) throw std::invalid_argument(std::string(what) + ": expected 3 components, got " + std::to_string(v.size()));
+    return {v[0], v[1], v[2]};
+}
+
+// A wall's or particle's motion: a constant velocity [m/s] from now on, or a displacement history
+// of rows (t [s], dx, dy, dz [m]) from the reference position. The core's constant velocity
+// counts from t = 0 (displacement = v t), which would make a wall set moving mid-run jump; from
+// Python a velocity starts where the wall stands now (`now` [s], displaced by `d_now` [m]).
+dem::Motion make_motion(const std::vector<double>& velocity, const std::vector<std::vector<double>>& history,
+                        double now, dem::Vec3 d_now) {
+    if (!velocity.empty() && !history.empty()) throw std::invalid_argument("motion: give velocity or history, not both");
+    dem::Motion m;
+    if (!velocity.empty()) {
+        const dem::Vec3 v = to_vec3(velocity, "velocity");
+        if (now == 0.0 && d_now == dem::Vec3{}) {
+            m.velocity = v;
+        } else {
+            constexpr double kHorizon = 1e3;  // [s] of simulated time the motion runs for
+            m.history = {{now, d_now}, {now + kHorizon, d_now + v * kHorizon}};
+        }
+    }
+    for (const auto& row : history) {
+        if (row.size() != 4) throw std::invalid_argument("history: each row is (t, dx, dy, dz)");
+        if (!m.history.empty() && !(row[0] > m.history.back().time))
+            throw std::invalid_argument("history: times must increase");
+        m.history.push_back({row[0], {row[1], row[2], row[3]}});
+    }
+    return m;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+    m.doc() = "vppdem's compiled core; use the vppdem package";
+
+    // C++ errors with the command line's messages: bad config keys and values (cfg::ConfigError)
+    // as vppdem.ConfigError (a ValueError), the others as RuntimeError (pybind11's default for
+    // std::runtime_error; std::invalid_argument gives ValueError).
+    static py::exception<cfg::ConfigError> config_error(m, "ConfigError", PyExc_ValueError);
+    py::register_exception_translator([](std::exception_ptr p) {
+        try {
+            if (p) std::rethrow_exception(p);
+        } catch (const cfg::ConfigError& e) {
+            config_error(e.what());
+        }
+    });
+
+    // --- configuration ------------------------------------------------------------------------
+    py::class_<vpp::Config>(m, "Config", "The damper's settings (vpp/config.h); made by load_config")
+        .def("given", [](const vpp::Config& c) { return std::vector<std::string>(c.given.begin(), c.given.end()); });
+    m.def(
+        "load_config",
+        [](const std::string& path, const std::vector<std::string>& sets) {
+            // The damper command's defaults: dp 0.06 MPa, dt safety 0.45, threads 0 (free cores).
+            return vpp::load_config(path, sets, {0.06e6, 0.45, 0});
+        },
+        py::arg("path") = "", py::arg("sets") = std::vector<std::string>{},
+        "Reads a damper config (empty path: defaults) with key=value overrides, as `vppdem damper --set`");
+
+    // --- the damper -----------------------------------------------------------------------------
+    py::class_<vpp::Damper>(m, "Damper")
+        .def(py::init([](const vpp::Config& c, const std::string& out, const std::string& from, bool overwrite,
+                         bool quiet) {
+                 vpp::DamperOptions o;
+                 o.out_dir = out;
+                 o.from = from;
+                 o.overwrite = overwrite;
+                 o.quiet = quiet;
+                 o.plot = false;
+                 py::gil_scoped_release release;  // pours the grains (or loads the checkpoint); no step
+                 return std::make_unique<vpp::Damper>(c, o);
+             }),
+             py::arg("config"), py::arg("out") = "", py::arg("from_checkpoint") = "", py::arg("overwrite") = false,
+             py::arg("quiet") = true)
+        .def("prepare", [](vpp::Damper& d, py::object progress) {
+                 d.set_progress(python_hook(progress));  // replaced with the lock held: it holds a Python object
+                 py::gil_scoped_release release;
+                 d.prepare();
+             }, py::arg("progress") = py::none())
+        .def("vacuum", [](vpp::Damper& d, py::object progress) {
+                 d.set_progress(python_hook(progress));
+                 py::gil_scoped_release release;
+                 d.vacuum();
+             }, py::arg("progress") = py::none())
+        .def("cycle", [](vpp::Damper& d, int n, py::object progress) {
+                 d.set_progress(python_hook(progress));
+                 py::gil_scoped_release release;
+                 return d.cycle(n);
+             }, py::arg("n") = -1, py::arg("progress") = py::none())
+        .def("save", &vpp::Damper::save, py::arg("path"), py::call_guard<py::gil_scoped_release>())
+        .def("stage", &vpp::Damper::stage)
+        .def("cycles_done", &vpp::Damper::cycles_done)
+        .def("cycles_total", &vpp::Damper::cycles_total)
+        .def("samples",
+             [](const vpp::Damper& d) {
+                 // (n, 4): time [s], displacement [m], grains [N], foil [N]
+                 const auto& s = d.samples();
+                 py::array_t<double> a({py::ssize_t(s.size()), py::ssize_t(4)});
+                 auto v = a.mutable_unchecked<2>();
+                 for (std::size_t k = 0; k < s.size(); ++k) {
+                     v(py::ssize_t(k), 0) = s[k].time;
+                     v(py::ssize_t(k), 1) = s[k].displacement;
+                     v(py::ssize_t(k), 2) = s[k].grains;
+                     v(py::ssize_t(k), 3) = s[k].foil;
+                 }
+                 return a;
+             })
+        .def("energy",
+             [](const vpp::Damper& d) {
+                 const auto rows = d.energy();
+                 const std::size_t nc = vpp::Damper::energy_columns().size();
+                 py::array_t<double> a({py::ssize_t(rows.size()), py::ssize_t(nc)});
+                 auto v = a.mutable_unchecked<2>();
+                 for (std::size_t k = 0; k < rows.size(); ++k)
+                     for (std::size_t j = 0; j < nc; ++j) v(py::ssize_t(k), py::ssize_t(j)) = rows[k][j];
+                 return a;
+             })
+        .def_static("energy_columns", &vpp::Damper::energy_columns)
+        .def("cycles",
+             [](const vpp::Damper& d) {
+                 // Per cycle: the columns of cycles.csv and the ledger's split (NaN without it).
+                 const vpp::DamperResult r = d.result();
+                 py::dict out;
+                 const double nan = std::numeric_limits<double>::quiet_NaN();
+                 std::vector<double> cyc, W, E, peak, mn, bw, fr, dmp, visc, res, settled;
+                 for (const auto& c : r.cycles) {
+                     cyc.push_back(c.cycle);
+                     W.push_back(c.W);
+                     E.push_back(c.dissipated_energy);
+                     peak.push_back(c.peak_force);
+                     mn.push_back(c.min_force);
+                     bw.push_back(c.has_energy ? c.boundary_work : nan);
+                     fr.push_back(c.has_energy ? c.friction_dissipation : nan);
+                     dmp.push_back(c.has_energy ? c.damping_dissipation : nan);
+                     visc.push_back(c.has_energy ? c.viscous_dissipation : nan);
+                     res.push_back(c.has_energy ? c.energy_residual : nan);
+                     settled.push_back(c.settled ? 1.0 : 0.0);
+                 }
+                 out["cycle"] = double_array(cyc);
+                 out["W"] = double_array(W);
+                 out["dissipated_energy"] = double_array(E);
+                 out["peak_force"] = double_array(peak);
+                 out["min_force"] = double_array(mn);
+                 out["boundary_work"] = double_array(bw);
+                 out["friction_dissipation"] = double_array(fr);
+                 out["damping_dissipation"] = double_array(dmp);
+                 out["viscous_dissipation"] = double_array(visc);
+                 out["energy_residual"] = double_array(res);
+                 out["settled"] = double_array(settled);
+                 return out;
+             })
+        .def("summary_json", [](const vpp::Damper& d, const std::string& from) {
+                 return vpp::damper_summary_json(d.result(), from);
+             }, py::arg("from_checkpoint") = "")
+        .def("write", [](const vpp::Damper& d, const std::string& out, const std::string& from) {
+                 vpp::DamperOptions o;
+                 o.out_dir = out;
+                 o.from = from;
+                 py::gil_scoped_release release;
+                 vpp::write_damper_outputs(d, o);
+             }, py::arg("out"), py::arg("from_checkpoint") = "")
+        .def("config", &vpp::Damper::config, py::return_value_policy::copy)
+        .def("positions", [](const vpp::Damper& d) { return vec3_array(d.world().particles.pos); })
+        .def("radii", [](const vpp::Damper& d) { return double_array(d.world().particles.radius); })
+        .def("time", [](const vpp::Damper& d) { return d.world().time; });
+
+    // --- the generic World -----------------------------------------------------------------------
+    py::class_<dem::World>(m, "World")
+        .def(py::init<>())
+        .def("add_material",
+             [](dem::World& w, const std::string& name, double density, double young, double stiffness_ratio,
+                double friction, double restitution) {
+                 return w.add_material({name, density, young, stiffness_ratio, friction, restitution});
+             },
+             py::arg("name") = "", py::arg("density") = 2800.0, py::arg("young") = 4.8e10,
+             py::arg("stiffness_ratio") = 0.5, py::arg("friction") = 0.35, py::arg("restitution") = 1.0,
+             "Adds a material; returns its index. density [kg/m^3], young: particle modulus [Pa] (kn = E r for "
+             "two equal spheres), stiffness_ratio ks/kn [-], friction: Coulomb coefficient [-], restitution: "
+             "normal coefficient [-] (1: no viscous damping)")
+        .def("add_sphere",
+             [](dem::World& w, const std::vector<double>& position, double radius, uint32_t material,
+                const std::vector<double>& velocity, const std::vector<double>& angular_velocity, uint32_t mask) {
+                 if (material >= w.materials.size()) throw std::invalid_argument("add_sphere: no material " + std::to_string(material) + "; add_material first");
+                 dem::SphereDef d;
+                 d.position = to_vec3(position, "position");
+                 d.radius = radius;
+                 d.material = material;
+                 d.velocity = to_vec3(velocity, "velocity");
+                 d.angular_velocity = to_vec3(angular_velocity, "angular_velocity");
+                 d.mask = mask;
+                 return w.add_sphere(d);
+             },
+             py::arg("position"), py::arg("radius"), py::arg("material") = 0,
+             py::arg("velocity") = std::vector<double>{0, 0, 0}, py::arg("angular_velocity") = std::vector<double>{0, 0, 0},
+             py::arg("mask") = 1,
+             "Adds a sphere; returns its index. position [m], radius [m], velocity [m/s], angular_velocity "
+             "[rad/s]; mask: bodies interact when their masks share a bit")
+        .def("add_plane",
+             [](dem::World& w, const std::vector<double>& point, const std::vector<double>& normal, uint32_t material,
+                bool one_sided, uint32_t mask) {
+                 dem::Plane p;
+                 p.point = to_vec3(point, "point");
+                 p.normal = to_vec3(normal, "normal");
+                 const double n = dem::norm(p.normal);
+                 if (!(n > 0)) throw std::invalid_argument("add_plane: the normal must not be zero");
+                 p.normal = p.normal / n;
+                 p.material = material;
+                 p.one_sided = one_sided;
+                 p.mask = mask;
+                 return w.add_plane(p);
+             },
+             py::arg("point"), py::arg("normal"), py::arg("material") = 0, py::arg("one_sided") = false, py::arg("mask") = 1,
+             "Adds an infinite plane through point [m] with normal (normalised); returns its wall index")
+        .def("add_facets",
+             [](dem::World& w, py::array_t<double, py::array::c_style | py::array::forcecast> v, uint32_t material,
+                bool one_sided, uint32_t mask) {
+                 // (n, 3, 3): n triangles of three vertices [m]; returns the first facet's index
+                 if (v.ndim() != 3 || v.shape(1) != 3 || v.shape(2) != 3)
+                     throw std::invalid_argument("add_facets: expected an array of shape (n, 3, 3)");
+                 auto a = v.unchecked<3>();
+                 const uint32_t first = uint32_t(w.facets.size());
+                 for (py::ssize_t k = 0; k < a.shape(0); ++k) {
+                     dem::Facet f;
+                     for (int j = 0; j < 3; ++j) f.vertices[std::size_t(j)] = {a(k, j, 0), a(k, j, 1), a(k, j, 2)};
+                     f.material = material;
+                     f.one_sided = one_sided;
+                     f.mask = mask;
+                     w.add_facet(f);
+                 }
+                 return first;
+             },
+             py::arg("vertices"), py::arg("material") = 0, py::arg("one_sided") = false, py::arg("mask") = 1,
+             "Adds triangles from an (n, 3, 3) array of vertices [m] (normal (v1 - v0) x (v2 - v0)); returns the "
+             "first facet's index (wall index: plane_count + facet index)")
+        .def("add_stl",
+             [](dem::World& w, const py::object& file, double scale, uint32_t material, bool one_sided, uint32_t mask) {
+                 const std::string path = fspath(file);
+                 // scale: to metres (1e-3 for a file in millimetres); returns (first facet, count)
+                 const uint32_t first = uint32_t(w.facets.size());
+                 std::vector<dem::Facet> fs = dem::read_stl(path, scale);
+                 for (dem::Facet& f : fs) {
+                     f.material = material;
+                     f.one_sided = one_sided;
+                     f.mask = mask;
+                     w.add_facet(f);
+                 }
+                 return py::make_tuple(first, fs.size());
+             },
+             py::arg("path"), py::arg("scale") = 1.0, py::arg("material") = 0, py::arg("one_sided") = false,
+             py::arg("mask") = 1,
+             "Adds the triangles of a binary or ASCII STL file, coordinates times scale (1e-3 for millimetres); "
+             "returns (first facet, count)")
+        .def("add_bond", &dem::World::add_bond, py::arg("i"), py::arg("j"), py::arg("kn"), py::arg("ks"),
+             py::arg("rest_length") = -1.0, "Permanent bond: kn, ks [N/m]; rest_length [m] (< 0: the current distance)")
+        .def("set_fixed", &dem::World::set_fixed, py::arg("i"))
+        .def("set_plane_motion",
+             [](dem::World& w, std::size_t k, const std::vector<double>& velocity,
+                const std::vector<std::vector<double>>& history) {
+                 if (k >= w.planes.size()) throw std::out_of_range("set_plane_motion: no plane " + std::to_string(k));
+                 w.planes[k].motion = make_motion(velocity, history, w.time, w.planes[k].motion.displacement(w.time));
+                 w.invalidate_candidates();
+             },
+             py::arg("plane"), py::arg("velocity") = std::vector<double>{}, py::arg("history") = std::vector<std::vector<double>>{},
+             "Moves plane k: velocity [m/s] from where it stands now, or history rows (t [s], dx, dy, dz [m]) "
+             "of displacement from its reference position")
+        .def("set_facet_motion",
+             [](dem::World& w, std::size_t first, std::size_t count, const std::vector<double>& velocity,
+                const std::vector<std::vector<double>>& history) {
+                 if (first + count > w.facets.size()) throw std::out_of_range("set_facet_motion: facets out of range");
+                 const dem::Motion m = make_motion(velocity, history, w.time, w.facets[first].motion.displacement(w.time));
+                 for (std::size_t k = first; k < first + count; ++k) w.facets[k].motion = m;
+                 w.invalidate_candidates();
+             },
+             py::arg("first"), py::arg("count"), py::arg("velocity") = std::vector<double>{},
+             py::arg("history") = std::vector<std::vector<double>>{})
+        .def("set_particle_motion",
+             [](dem::World& w, uint32_t i, const std::vector<double>& velocity, const std::vector<std::vector<double>>& history) {
+                 // from its current position (World::set_prescribed)
+                 w.set_prescribed(i, w.add_motion(make_motion(velocity, history, w.time, {})));
+             },
+             py::arg("i"), py::arg("velocity") = std::vector<double>{}, py::arg("history") = std::vector<std::vector<double>>{})
+        .def_property("dt", [](const dem::World& w) { return w.params.dt; }, [](dem::World& w, double v) { w.params.dt = v; },
+                      "[s] time step (e.g. 0.2 * critical_dt())")
+        .def_property("gravity", [](const dem::World& w) { return std::vector<double>{w.params.gravity.x, w.params.gravity.y, w.params.gravity.z}; },
+                      [](dem::World& w, const std::vector<double>& g) { w.params.gravity = to_vec3(g, "gravity"); },
+                      "[m/s^2] (0, 0, -9.81) by default")
+        .def_property("local_damping", [](const dem::World& w) { return w.params.local_damping; },
+                      [](dem::World& w, double v) { w.params.local_damping = v; }, "[-] Yade's non-viscous damping")
+        .def_property("threads", [](const dem::World& w) { return w.params.threads; },
+                      [](dem::World& w, int v) { w.params.threads = v; })
+        .def_property("skin", [](const dem::World& w) { return w.params.skin; }, [](dem::World& w, double v) { w.params.skin = v; },
+                      "[m] Verlet distance; 0: half the smallest radius")
+        .def_property("track_energy", [](const dem::World& w) { return w.params.track_energy; },
+                      [](dem::World& w, bool v) { w.params.track_energy = v; })
+        .def_property_readonly("time", [](const dem::World& w) { return w.time; })
+        .def_property_readonly("steps", [](const dem::World& w) { return w.steps; })
+        .def("critical_dt", &dem::World::critical_dt)
+        .def(
+            "step",
+            [](dem::World& w, uint64_t n, py::object progress) {
+                if (w.particles.size() == 0) throw std::invalid_argument("step: the world has no particles");
+                const Hook hook = python_hook(progress);
+                py::gil_scoped_release release;
+                for (uint64_t s = 1; s <= n; ++s) {
+                    w.step();
+                    if (!(s & 255u) || s == n) hook("step", s, n, w.time);
+                }
+            },
+            py::arg("n") = 1, py::arg("progress") = py::none(),
+            "Advances n steps without the interpreter lock; progress(stage, done, total, time [s]) every 256 "
+            "steps; Ctrl-C raises KeyboardInterrupt")
+        .def("__len__", [](const dem::World& w) { return w.particles.size(); })
+        .def_property_readonly("positions", [](const dem::World& w) { return vec3_array(w.particles.pos); })
+        .def_property_readonly("velocities", [](const dem::World& w) {
+            // v(t) = v(t - dt/2) + dt/2 a(t): at the same time as the positions (after a step)
+            std::vector<dem::Vec3> v(w.particles.size());
+            for (std::size_t i = 0; i < v.size(); ++i) v[i] = w.velocity_at_time(i);
+            return vec3_array(v);
+        })
+        .def_property_readonly("half_step_velocities", [](const dem::World& w) { return vec3_array(w.particles.vel); })
+        .def_property_readonly("angular_velocities", [](const dem::World& w) { return vec3_array(w.particles.angvel); })
+        .def_property_readonly("forces", [](const dem::World& w) { return vec3_array(w.particles.force); })
+        .def_property_readonly("radii", [](const dem::World& w) { return double_array(w.particles.radius); })
+        .def_property_readonly("masses", [](const dem::World& w) { return double_array(w.particles.mass); })
+        .def("wall_force", [](const dem::World& w, std::size_t k) {
+                 if (k >= w.wall_count()) throw std::out_of_range("wall_force: no wall " + std::to_string(k));
+                 const dem::Vec3 f = w.wall_force(k);
+                 return std::vector<double>{f.x, f.y, f.z};
+             }, py::arg("wall"), "[N] particles on wall k (planes first, then facets) at the last step")
+        .def_property_readonly("plane_count", [](const dem::World& w) { return w.planes.size(); })
+        .def_property_readonly("facet_count", [](const dem::World& w) { return w.facets.size(); })
+        .def_property_readonly("bond_count", [](const dem::World& w) { return w.bonds().size(); })
+        .def("contact_count", &dem::World::contact_count)
+        .def("save", [](const dem::World& w, const py::object& path) { dem::save_checkpoint(fspath(path), w, ""); }, py::arg("path"))
+        .def_static("load", [](const py::object& path) {
+                auto w = std::make_unique<dem::World>();
+                dem::load_checkpoint(fspath(path), *w);
+                return w;
+            }, py::arg("path"));
+
+    // --- studies ------------------------------------------------------------------------------------
+    m.def(
+        "sweep",
+        [](const std::string& study, const std::string& out, const std::vector<std::string>& sets, int seeds, int jobs,
+           bool quiet) {
+            const vpp::Study st = vpp::load_study(study, sets, seeds);
+            vpp::SweepOptions so;
+            so.out_dir = out;
+            so.jobs = jobs;
+            so.quiet = quiet;
+            py::gil_scoped_release release;
+            const vpp::SweepResult r = vpp::run_sweep(st, so);
+            return r.failed;
+        },
+        py::arg("study"), py::arg("out"), py::arg("sets") = std::vector<std::string>{}, py::arg("seeds") = 0,
+        py::arg("jobs") = 0, py::arg("quiet") = true);
+    m.def(
+        "calibrate",
+        [](const std::string& study, const std::string& experiment, const std::string& out,
+           const std::vector<std::string>& sets, int seeds, int jobs, bool quiet, double disp_scale, double force_scale,
+           bool compression_negative, const std::string& simulated_force, int points, bool plot,
+           const std::string& time_column, const std::string& displacement_column, const std::string& force_column) {
+            vpp::Study st = vpp::load_study(study, sets, seeds);
+            vpp::CalibrateOptions co;
+            co.sweep.out_dir = out;
+            co.sweep.jobs = jobs;
+            co.sweep.quiet = quiet;
+            co.experiment = experiment;
+            co.format.disp_scale = disp_scale;
+            co.format.force_scale = force_scale;
+            co.format.compression_negative = compression_negative;
+            co.format.time_col = time_column;
+            co.format.disp_col = displacement_column;
+            co.format.force_col = force_column;
+            co.force_column = simulated_force;
+            co.points = points;
+            co.plot = plot;
+            py::gil_scoped_release release;
+            return vpp::run_calibration(st, co);
+        },
+        py::arg("study"), py::arg("experiment"), py::arg("out"), py::arg("sets") = std::vector<std::string>{},
+        py::arg("seeds") = 0, py::arg("jobs") = 0, py::arg("quiet") = true, py::arg("disp_scale") = 1.0,
+        py::arg("force_scale") = 1.0, py::arg("compression_negative") = false,
+        py::arg("simulated_force") = "force_zeroed", py::arg("points") = 50, py::arg("plot") = false,
+        py::arg("time_column") = "time", py::arg("displacement_column") = "displacement", py::arg("force_column") = "force");
+}

@@ -1,0 +1,303 @@
+"""vppdem from Python: the VPP damper's stages, the generic DEM world, sweeps and calibrations.
+
+The same C++ as the ``vppdem`` command runs underneath, so a damper run from here writes the
+same forces.csv as ``vppdem damper`` with the same settings, seed and thread count.
+
+Settings are the damper config's dotted keys (docs/config.md), given three ways, later ones
+winning:
+  * ``config``: a TOML file's path, or a dict (nested tables or dotted keys);
+  * ``settings``: a dict of dotted keys, e.g. ``{"process.underpressure": 0.06e6}``;
+  * keyword arguments, with ``__`` for the dot: ``process__underpressure=0.06e6`` (or
+    ``**{"process.underpressure": 0.06e6}``).
+A bad key or value raises ``vppdem.ConfigError`` (a ValueError) with the command's message.
+
+Stepping releases the interpreter lock; Ctrl-C stops a run with KeyboardInterrupt (checked every
+256 steps). ``progress``: None (quiet), True (a tqdm bar when tqdm is installed, else a line on
+stderr now and then), or a callable ``f(stage, done, total, time)``.
+"""
+
+import json
+import math
+import os
+import sys
+
+import numpy as np
+
+from . import _core
+from ._core import ConfigError, World  # noqa: F401  (part of the package's interface)
+
+__all__ = ["Damper", "World", "ConfigError", "load_config", "sweep", "calibrate"]
+
+
+def _literal(key, v):
+    """A Python value as the TOML literal `--set key=value` takes."""
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    if isinstance(v, (int, np.integer)):
+        return str(int(v))
+    if isinstance(v, (float, np.floating)):
+        v = float(v)
+        if math.isnan(v):
+            return "nan"
+        if math.isinf(v):
+            return "inf" if v > 0 else "-inf"
+        return repr(v)  # shortest text that reads back to the same double
+    if isinstance(v, str):
+        return json.dumps(v)  # a TOML basic string
+    raise ConfigError(f"config key '{key}': cannot use a value of type {type(v).__name__} ({v!r})")
+
+
+def _flatten(d, prefix=""):
+    out = {}
+    for k, v in d.items():
+        key = f"{prefix}.{k}" if prefix else str(k)
+        if isinstance(v, dict):
+            out.update(_flatten(v, key))
+        else:
+            out[key] = v
+    return out
+
+
+def _sets(config, settings, kwargs):
+    """(path of the TOML file or "", the key=value overrides in order)."""
+    path, values = "", {}
+    if config is None:
+        pass
+    elif isinstance(config, (str, os.PathLike)):
+        path = os.fspath(config)
+    elif isinstance(config, dict):
+        values.update(_flatten(config))
+    else:
+        raise TypeError(f"config: a TOML file's path or a dict, not {type(config).__name__}")
+    values.update(_flatten(settings or {}))
+    values.update({k.replace("__", "."): v for k, v in kwargs.items()})
+    return path, [f"{k}={_literal(k, v)}" for k, v in values.items()]
+
+
+def load_config(config=None, settings=None, **kwargs):
+    """The damper's settings (with the `vppdem damper` command's defaults) as the C++ reads them."""
+    path, sets = _sets(config, settings, kwargs)
+    return _core.load_config(path, sets)
+
+
+class _Progress:
+    """The callback handed to the C++ stages (called every 256 steps, with the lock held)."""
+
+    def __init__(self, progress):
+        self.user = progress if callable(progress) else None
+        self.bar = None
+        self.stage = None
+        self.tqdm = None
+        self.last = 0.0
+        if progress is True:
+            try:
+                from tqdm import tqdm
+
+                self.tqdm = tqdm
+            except ImportError:
+                pass
+
+    def __call__(self, stage, done, total, time):
+        if self.user is not None:
+            self.user(stage, done, total, time)
+            return
+        if self.tqdm is not None:
+            if stage != self.stage:
+                self.close()
+                self.bar = self.tqdm(total=total, desc=stage, unit="step")
+                self.stage = stage
+            self.bar.n = min(done, total)
+            self.bar.refresh()
+            return
+        import time as _t
+
+        now = _t.monotonic()
+        if now - self.last > 2.0 or stage != self.stage:
+            self.last, self.stage = now, stage
+            print(f"[{stage}] {100.0 * done / max(total, 1):5.1f}%  t = {time:.6g} s", file=sys.stderr)
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
+
+
+def _hook(progress):
+    return None if progress is None or progress is False else _Progress(progress)
+
+
+def _run(call, progress, *args):
+    hook = _hook(progress)
+    try:
+        return call(*args, hook)
+    finally:
+        if hook is not None:
+            hook.close()
+
+
+class Damper:
+    """The VPP damper run one stage at a time (the `vppdem damper` command's stages).
+
+    ``out``: a folder for the run's files as the command writes them (checkpoints, VTK frames,
+    prepared.ckpt; ``write()`` adds the records); None writes nothing. ``quiet=False`` prints the
+    command's log on stderr.
+    """
+
+    def __init__(self, config=None, settings=None, *, out=None, overwrite=False, quiet=True, _from="", **kwargs):
+        self._config = load_config(config, settings, **kwargs)
+        self._from = os.fspath(_from) if _from else ""
+        self._out = os.fspath(out) if out is not None else ""
+        self._d = _core.Damper(self._config, self._out, self._from, overwrite, quiet)
+
+    @classmethod
+    def load(cls, path, config=None, settings=None, *, out=None, overwrite=False, quiet=True, **kwargs):
+        """Continues from a checkpoint (save(), prepared.ckpt or run.ckpt): its geometry and, for a
+        run that started, its settings replace the given ones (a conflicting value is an error)."""
+        return cls(config, settings, out=out, overwrite=overwrite, quiet=quiet, _from=path, **kwargs)
+
+    # --- stages ---------------------------------------------------------------------------------
+    def prepare(self, progress=None):
+        """Fill the foil and compress the grains to the damper height (the prepared sample)."""
+        _run(self._d.prepare, progress)
+        return self
+
+    def vacuum(self, progress=None):
+        """Ramp the underpressure up and bring the sample to rest (prepares first if needed)."""
+        _run(self._d.vacuum, progress)
+        return self
+
+    def cycle(self, n=None, progress=None):
+        """Run n more cycles (None: all of process.cycles that remain); returns the cycles done."""
+        return _run(self._d.cycle, progress, -1 if n is None else int(n))
+
+    def run(self, progress=None):
+        """All stages: prepare, vacuum, every cycle."""
+        self.prepare(progress)
+        self.vacuum(progress)
+        self.cycle(None, progress)
+        return self
+
+    def save(self, path):
+        """A checkpoint Damper.load(path) continues from (bit for bit)."""
+        self._d.save(os.fspath(path))
+
+    def write(self, out=None):
+        """forces.csv, energy.csv, cycles.csv and summary.json into `out` (default: the run's folder)."""
+        out = os.fspath(out) if out is not None else self._out
+        if not out:
+            raise ValueError("write(): no folder: give out here or to Damper(out=...)")
+        os.makedirs(out, exist_ok=True)
+        self._d.write(out, self._from)
+
+    # --- state and records ------------------------------------------------------------------------
+    @property
+    def stage(self):
+        """'fill', 'compress', 'prepared', 'vacuum', 'cycle' or 'done'."""
+        return self._d.stage()
+
+    @property
+    def cycles_done(self):
+        return self._d.cycles_done()
+
+    @property
+    def time(self):
+        """[s] simulated time."""
+        return self._d.time()
+
+    def _samples(self):
+        return self._d.samples()
+
+    @property
+    def sample_time(self):
+        """[s] simulated time of each sample."""
+        return self._samples()[:, 0]
+
+    @property
+    def displacement(self):
+        """[m] cap travel from the cycling start position per sample, compression positive."""
+        return self._samples()[:, 1]
+
+    @property
+    def force_grains(self):
+        """[N] grains on the upper cap per sample (averaged over process.sample_window)."""
+        return self._samples()[:, 2]
+
+    @property
+    def force_foil(self):
+        """[N] foil on the top ring per sample."""
+        return self._samples()[:, 3]
+
+    @property
+    def force_total(self):
+        """[N] grains + foil per sample (forces.csv force_total)."""
+        s = self._samples()
+        return s[:, 2] + s[:, 3]
+
+    @property
+    def cycle_index(self):
+        """1-based cycle of each sample (forces.csv cycle)."""
+        n = self._samples().shape[0]
+        spc = int(self._config_value("process.samples_per_cycle"))
+        return np.arange(n) // spc + 1
+
+    def _config_value(self, key):
+        return self.summary()["inputs"][key]
+
+    def cycles(self):
+        """Per cycle, as arrays: cycle, W [J/m^2], dissipated_energy [J], peak_force and min_force
+        [N], the ledger's boundary_work, friction/damping/viscous_dissipation and energy_residual
+        [J] (NaN with output.energy = false), settled (1/0)."""
+        return self._d.cycles()
+
+    @property
+    def W(self):
+        """[J/m^2] W of each cycle."""
+        return self.cycles()["W"]
+
+    def energy(self):
+        """The energy ledger at each sample (energy.csv): column name -> array ([s], then [J])."""
+        e = self._d.energy()
+        cols = _core.Damper.energy_columns()
+        if e.shape[0] == 0:
+            return {c: np.zeros(0) for c in cols}
+        return {c: e[:, k] for k, c in enumerate(cols)}
+
+    def summary(self):
+        """summary.json as a dict (what write() would write)."""
+        return json.loads(self._d.summary_json(self._from))
+
+    @property
+    def positions(self):
+        """[m] (n, 3) particle positions: foil first, then grains."""
+        return self._d.positions()
+
+    @property
+    def radii(self):
+        return self._d.radii()
+
+
+def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None):
+    """`vppdem sweep STUDY --out OUT`: runs (or resumes) the study; returns the failed cases'
+    count. sets: ["key=value", ...] or `settings` (a dict) fixed for every case."""
+    extra = list(sets or []) + _sets(None, settings, {})[1]
+    return _core.sweep(os.fspath(study_path), os.fspath(out), extra, int(seeds), int(jobs), bool(quiet))
+
+
+def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None,
+              displacement_unit="m", force_unit="N", compression_negative=False, simulated_force="force_zeroed",
+              points=50, plot=False, time_column="time", displacement_column="displacement", force_column="force"):
+    """`vppdem calibrate STUDY --experiment EXP --out OUT`: returns calibration.json as a dict;
+    raises RuntimeError when the calibration failed (cases failed or none could be compared).
+    The keywords are the command's options (--displacement-unit, --force-column, ...)."""
+    if displacement_unit not in ("m", "mm") or force_unit not in ("N", "kN"):
+        raise ValueError("displacement_unit: 'm' or 'mm'; force_unit: 'N' or 'kN'")
+    extra = list(sets or []) + _sets(None, settings, {})[1]
+    rc = _core.calibrate(os.fspath(study_path), os.fspath(experiment), os.fspath(out), extra, int(seeds),
+                         int(jobs), bool(quiet), 1e-3 if displacement_unit == "mm" else 1.0,
+                         1e3 if force_unit == "kN" else 1.0, bool(compression_negative), simulated_force,
+                         int(points), bool(plot), time_column, displacement_column, force_column)
+    path = os.path.join(os.fspath(out), "calibration.json")
+    if rc != 0 or not os.path.exists(path):
+        raise RuntimeError(f"calibrate: no calibration (exit status {rc}); see {out}")
+    with open(path) as f:
+        return json.load(f)

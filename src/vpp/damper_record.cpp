@@ -1,0 +1,393 @@
+// The damper run's record: the checkpoint's state (RunState), forces.csv, energy.csv, VTK
+// frames, the result and summary.json, the report on the terminal; run_damper().
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <stdexcept>
+
+#include "scene/scene_runner.h"
+#include "dem/io/checkpoint.h"
+#include "dem/io/csv.h"
+#include "dem/io/json.h"
+#include "dem/io/vtk.h"
+#include "vpp/damper_run.h"
+#include "vpp/plot.h"
+
+#include "vpp/settings.h"
+
+namespace vpp {
+
+namespace fs = std::filesystem;
+
+namespace damper_detail {
+
+EnergyRow energy_row(const dem::EnergyLedger& L, double time) {
+    return {{time, L.boundary_work, L.pressure_work, L.gravity_work, L.kinetic, L.elastic_contacts, L.elastic_bonds,
+             L.friction_dissipation(), L.damping_dissipation, L.viscous_dissipation, L.residual()}};
+}
+
+std::string RunState::save() const {
+    std::ostringstream os;
+    os.precision(17);
+    os << "stage " << int(stage) << "\nstage_t0 " << stage_t0 << "\ncap_d0 " << cap_d0 << "\ncycle_t0 "
+       << cycle_t0 << "\nwindow " << window_grains << " " << window_foil << " " << window_n << "\n";
+    for (const auto& [k, v] : geometry) os << "geometry " << k << " " << v << "\n";
+    for (const auto& [k, v] : settings) os << "setting " << k << " " << v << "\n";
+    if (grains > 0) os << "grains " << grains << "\n";
+    for (const auto& [k, v] : report) os << "report " << k << " " << v << "\n";
+    for (const std::string& w : warnings) os << "warning " << w << "\n";  // one line each (warn() strips newlines)
+    for (const Sample& s : samples)
+        os << "sample " << s.time << " " << s.displacement << " " << s.grains << " " << s.foil << "\n";
+    for (const EnergyRow& e : energy) {
+        os << "energy";
+        for (double v : e.v) os << " " << v;
+        os << "\n";
+    }
+    return os.str();
+}
+
+RunState RunState::load(const std::string& text) {
+    RunState r;
+    std::istringstream is(text);
+    std::string key;
+    int stage = 0;
+    while (is >> key) {
+        if (key == "stage") is >> stage;
+        else if (key == "stage_t0") is >> r.stage_t0;
+        else if (key == "cap_d0") is >> r.cap_d0;
+        else if (key == "cycle_t0") is >> r.cycle_t0;
+        else if (key == "window") is >> r.window_grains >> r.window_foil >> r.window_n;
+        else if (key == "geometry") {
+            std::string k;
+            double v;
+            is >> k >> v;
+            r.geometry[k] = v;
+        } else if (key == "setting") {
+            std::string k;
+            double v;
+            is >> k >> v;
+            r.settings[k] = v;
+        } else if (key == "grains") {
+            is >> r.grains;
+        } else if (key == "report") {
+            std::string k;
+            double v;
+            is >> k >> v;
+            r.report[k] = v;
+        } else if (key == "warning") {
+            std::string w;
+            std::getline(is, w);
+            r.warnings.push_back(w.empty() ? w : w.substr(1));  // the space after the key
+        } else if (key == "sample") {
+            Sample s;
+            is >> s.time >> s.displacement >> s.grains >> s.foil;
+            r.samples.push_back(s);
+        } else if (key == "energy") {
+            EnergyRow e;
+            for (double& v : e.v) is >> v;
+            r.energy.push_back(e);
+        } else throw std::runtime_error("damper checkpoint: unknown state entry '" + key + "'");
+    }
+    r.stage = Stage(stage);
+    return r;
+}
+
+namespace {
+
+// Everything a damper run writes into its folder (docs/damper.md, "Outputs"). --overwrite
+// removes all of it before a new run starts, so nothing of the previous run (an energy.csv the
+// new run does not write, a prepared.ckpt of another sample) is left beside the new results.
+// Other files in the folder (notes, a sweep's case.toml) are left alone.
+const char* const kDamperFiles[] = {"forces.csv",   "cycles.csv", "energy.csv",      "summary.json",
+                                    "prepared.ckpt", "run.ckpt",  "loops.png",       "loops_total.png",
+                                    "loops_foil.png", "loops_grains.png", "energy_split.png"};
+
+void remove_previous_outputs(const fs::path& dir, const std::string& spare) {
+    std::error_code ec;
+    auto remove = [&](const fs::path& p) {
+        if (!fs::exists(p)) return;
+        if (!spare.empty() && fs::equivalent(p, spare, ec)) return;  // the checkpoint this run starts from
+        fs::remove(p);
+    };
+    for (const char* f : kDamperFiles) {
+        remove(dir / f);
+        remove(dir / (std::string(f) + ".part"));
+    }
+    if (!fs::is_directory(dir / "vtk")) return;
+    std::vector<fs::path> frames;
+    for (const auto& e : fs::directory_iterator(dir / "vtk")) {
+        const std::string n = e.path().filename().string();
+        if (e.is_regular_file() && n.starts_with("damper_") && (n.ends_with(".vtk") || n.ends_with(".vtk.part")))
+            frames.push_back(e.path());
+    }
+    for (const fs::path& f : frames) fs::remove(f);
+}
+
+}  // namespace
+
+void DamperRun::start_output_dir() {
+    if (!files_) return;
+    cli::prepare_output_dir(o_.out_dir, o_.overwrite);
+    if (o_.overwrite) remove_previous_outputs(out_, o_.from);
+}
+
+void DamperRun::checkpoint(bool force) {
+    if (!files_) return;
+    const auto now = std::chrono::steady_clock::now();
+    if (!force && std::chrono::duration<double>(now - last_ckpt_).count() < o_.checkpoint_every) return;
+    last_ckpt_ = now;
+    dem::save_checkpoint((out_ / "run.ckpt").string(), w_, st_.save());
+    if (st_.stage == Stage::Cycling || st_.stage == Stage::Done) {
+        write_forces(out_);
+        write_energy(out_);
+    }
+}
+
+void DamperRun::save_prepared() {
+    if (!files_) return;
+    dem::save_checkpoint((out_ / "prepared.ckpt").string(), w_, st_.save());
+}
+
+void DamperRun::vtk_frame(const char* tag) {
+    if (!files_) return;
+    fs::create_directories(out_ / "vtk");
+    char name[96];
+    std::snprintf(name, sizeof name, "damper_%04d_%s.vtk", vtk_count_++, tag);
+    dem::write_particles_vtk((out_ / "vtk" / name).string(), w_, true);
+}
+
+void DamperRun::write_energy(const fs::path& dir) const {
+    if (st_.energy.empty()) return;
+    dem::CsvWriter csv((dir / "energy.csv").string(), kEnergyHeader);
+    for (const EnergyRow& e : st_.energy) csv.row(std::vector<double>(e.v, e.v + kEnergyColumns));
+    csv.close();
+}
+
+void DamperRun::write_forces(const fs::path& dir) const {
+    dem::CsvWriter csv((dir / "forces.csv").string(), "time,displacement,force_total,force_grains,force_foil,force_zeroed,cycle");
+    const int S = int(c_.process.samples_per_cycle);
+    const double f0 = st_.samples.empty() ? 0.0 : st_.samples[0].grains + st_.samples[0].foil;
+    for (std::size_t k = 0; k < st_.samples.size(); ++k) {
+        const Sample& s = st_.samples[k];
+        const double total = s.grains + s.foil;
+        csv.row({s.time - st_.cycle_t0, s.displacement, total, s.grains, s.foil, total - f0, double(k / S + 1)});
+    }
+    csv.close();
+}
+
+
+void DamperRun::save(const std::string& path) const {
+    // A prepared sample is saved as prepared.ckpt is: without the settings just applied to it, so
+    // that a run from it takes the settings it is given (a branch, as `--from prepared.ckpt`).
+    if (st_.stage == Stage::Prepared) {
+        RunState s = st_;
+        s.settings.clear();
+        dem::save_checkpoint(path, w_, s.save());
+        return;
+    }
+    dem::save_checkpoint(path, w_, st_.save());
+}
+
+void DamperRun::write_records(const std::string& dir) const {
+    write_forces(dir);
+    write_energy(dir);
+}
+
+DamperResult DamperRun::result() const {
+    DamperResult r;
+    r.grains = g1_ - g0_;
+    r.foil_particles = L_.particles.size();
+    r.bonds = w_.bonds().size();
+    r.foil_columns = L_.cols;
+    r.foil_rows = L_.rows;
+    r.foil_radius = L_.radius;
+    r.height = z_top_;
+    r.dt = w_.params.dt;
+    r.inertial_number = inertial_number(c_, z_top_);
+    LoopSeries ls;
+    const int S = int(c_.process.samples_per_cycle);
+    for (std::size_t k = 0; k < st_.samples.size(); ++k) {
+        ls.time.push_back(st_.samples[k].time);
+        ls.displacement.push_back(st_.samples[k].displacement);
+        ls.force.push_back(st_.samples[k].grains + st_.samples[k].foil);
+        ls.cycle.push_back(int(k / S) + 1);
+    }
+    r.cycles = analyze_cycles(ls, c_.damper.radius);
+    // Energy per cycle: ledger differences between the first samples of consecutive cycles;
+    // the last cycle ends at the last step of cycling (one step before the cycle's end).
+    if (!st_.energy.empty() && st_.energy.size() == st_.samples.size()) {
+        const EnergyRow last = energy_row(w_.energy(), w_.energy().time - st_.cycle_t0);
+        for (CycleResult& cr : r.cycles) {
+            const std::size_t a = std::size_t(cr.cycle - 1) * std::size_t(S), b = a + std::size_t(S);
+            if (a >= st_.energy.size()) continue;
+            const EnergyRow& e0 = st_.energy[a];
+            const EnergyRow& e1 = b < st_.energy.size() ? st_.energy[b] : last;
+            auto d = [&](int k) { return e1.v[k] - e0.v[k]; };
+            cr.has_energy = true;
+            cr.boundary_work = d(1);
+            cr.friction_dissipation = d(7);
+            cr.damping_dissipation = d(8);
+            cr.viscous_dissipation = d(9);
+            cr.energy_residual = d(10);
+        }
+    }
+    r.settling = mark_settled(r.cycles, c_.analysis.settle_tolerance);
+    r.report = st_.report;
+    r.warnings = st_.warnings;
+    r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    r.config = c_;
+    return r;
+}
+
+}  // namespace damper_detail
+
+namespace {
+
+// The warnings of summary.json that look at the whole record: not quasi-static, no cycle settled.
+void add_summary_warnings(DamperResult& r) {
+    const double I = r.inertial_number;
+    const bool quasi_static = I < 1e-3;
+    char msg[320];
+    if (!quasi_static) {
+        std::snprintf(msg, sizeof msg, "not quasi-static: inertial number %.2g >= 1e-3; lower process.velocity", I);
+        r.warnings.push_back(msg);
+    }
+    if (r.settling.count == 0 && !r.cycles.empty()) {
+        std::string changes;
+        for (std::size_t k = 1; k < r.cycles.size(); ++k) {
+            char b[32];
+            std::snprintf(b, sizeof b, "%s%.1f%%", changes.empty() ? "" : ", ",
+                          100.0 * std::abs(r.cycles[k].W - r.cycles[k - 1].W) / std::abs(r.cycles[k - 1].W));
+            changes += b;
+        }
+        std::snprintf(msg, sizeof msg,
+                      "no cycle settled: W must change by at most %g%% from cycle to cycle in two consecutive cycles "
+                      "(changes: %s); run more cycles (process.cycles) or widen analysis.settle_tolerance",
+                      100.0 * r.settling.tolerance, changes.empty() ? "one cycle only" : changes.c_str());
+        r.warnings.push_back(msg);
+    }
+}
+
+}  // namespace
+
+DamperResult Damper::result() const {
+    DamperResult r = run_->result();
+    add_summary_warnings(r);
+    return r;
+}
+
+std::string damper_summary_json(const DamperResult& r, const std::string& from) {
+    const Config& c = r.config;  // what the run used: a resumed run's settings are its checkpoint's
+    const double I = r.inertial_number;
+    const bool quasi_static = I < 1e-3;
+    std::string cycles_json = "[";
+    for (std::size_t k = 0; k < r.cycles.size(); ++k) {
+        const CycleResult& cr = r.cycles[k];
+        dem::JsonObject j;
+        j.num("cycle", cr.cycle).num("dissipated_energy", cr.dissipated_energy).num("W", cr.W)
+            .num("peak_force", cr.peak_force).num("min_force", cr.min_force);
+        if (cr.has_energy)
+            j.num("boundary_work", cr.boundary_work).num("friction_dissipation", cr.friction_dissipation)
+                .num("damping_dissipation", cr.damping_dissipation).num("viscous_dissipation", cr.viscous_dissipation)
+                .num("energy_residual", cr.energy_residual);
+        j.boolean("settled", cr.settled);
+        const std::string t = j.value();
+        cycles_json += (k ? ", " : "") + t;
+    }
+    cycles_json += "]";
+    dem::JsonObject inputs;
+    for (const Setting& k : summary_inputs())
+        k.type == SettingType::Boolean ? (void)inputs.boolean(k.key, k.get(c) != 0.0) : (void)inputs.num(k.key, k.get(c));
+    const std::string in = inputs.value();
+    // The report's entries with this prefix, without it (absent ones are left out: a sample of
+    // an older vppdem did not measure them).
+    auto report_json = [&](const std::string& prefix) {
+        dem::JsonObject o;
+        for (const auto& [k, v] : r.report)
+            if (k.starts_with(prefix) && k != "prepare.funnel_height") o.num(k.substr(prefix.size()), v);
+        return o.value();
+    };
+    std::string warnings_json = "[";
+    for (std::size_t k = 0; k < r.warnings.size(); ++k)
+        warnings_json += (k ? ", " : "") + dem::JsonObject::quote(r.warnings[k]);
+    warnings_json += "]";
+    dem::JsonObject j;
+    j.raw("inputs", in)
+        .num("underpressure", c.process.underpressure)
+        .num("grains", double(r.grains))
+        .num("foil_particles", double(r.foil_particles))
+        .num("foil_bonds", double(r.bonds))
+        .num("foil_columns", r.foil_columns)
+        .num("foil_rows", r.foil_rows)
+        .num("foil_radius", r.foil_radius)
+        .num("height", r.height)
+        .num("particle_modulus", particle_modulus(c.foil))
+        .num("bond_kn", bond_normal_stiffness(c.foil))
+        .num("dt", r.dt)
+        .num("cycle_steps", 2.0 * c.process.amplitude / c.process.velocity / r.dt)
+        .num("inertial_number", I)
+        .boolean("quasi_static", quasi_static)
+        .raw("cycles", cycles_json)
+        .num("settle_tolerance", r.settling.tolerance)
+        .raw("first_settled_cycle", r.settling.first > 0 ? std::to_string(r.settling.first) : "null")
+        .num("settled_cycles", double(r.settling.count))
+        .num("W_settled", r.settling.W_mean)
+        .num("inner_radius", r.foil_radius - c.foil.particle_radius)
+        .raw("preparation", report_json("prepare."))
+        .raw("start_of_cycling", report_json("cycle."))
+        .raw("warnings", warnings_json)
+        .num("run_seconds", r.run_seconds)
+        .str("from", from);
+    return j.text();
+}
+
+DamperResult write_damper_outputs(const Damper& d, const DamperOptions& opt) {
+    d.write_records(opt.out_dir);
+    DamperResult r = d.result();
+    const fs::path out(opt.out_dir);
+    write_cycles_csv((out / "cycles.csv").string(), r.cycles);
+    dem::write_text_atomic((out / "summary.json").string(), damper_summary_json(r, opt.from));
+    return r;
+}
+
+DamperResult run_damper(const Config& config, const DamperOptions& opt) {
+    Damper d(config, opt);
+    d.prepare();
+    d.vacuum();
+    d.cycle();
+    const DamperResult r = write_damper_outputs(d, opt);
+    const Config& c = r.config;
+    const double I = r.inertial_number;
+    const bool quasi_static = I < 1e-3;
+    if (!opt.quiet) {
+        std::fprintf(stderr, "\n=== vppdem damper: %s ===\n", opt.out_dir.c_str());
+        std::fprintf(stderr, "grains %zu, foil %zu particles (%d x %d, radius %.4g mm), height %.4g mm, dt %.3g s\n",
+                     r.grains, r.foil_particles, r.foil_columns, r.foil_rows, 1e3 * r.foil_radius, 1e3 * r.height, r.dt);
+        std::fprintf(stderr, "dp %.4g MPa, amplitude %.3g mm, velocity %.4g m/s, inertial number %.2g%s\n",
+                     c.process.underpressure * 1e-6, c.process.amplitude * 1e3, c.process.velocity, I,
+                     quasi_static ? " (quasi-static)" : "  WARNING: not quasi-static (I >= 1e-3); lower process.velocity");
+        std::fprintf(stderr, "cycle  dissipated [J]   W [J/m^2]   peak [N]   min [N]\n");
+        for (const auto& cr : r.cycles)
+            std::fprintf(stderr, "%5d  %13.5g  %10.5g  %9.4g  %8.4g\n", cr.cycle, cr.dissipated_energy, cr.W,
+                         cr.peak_force, cr.min_force);
+        if (!r.cycles.empty() && r.cycles[0].has_energy) {
+            std::fprintf(stderr, "cycle  boundary work [J]  friction [J]  damping [J]  viscous [J]  residual [%% of work]\n");
+            for (const auto& cr : r.cycles)
+                std::fprintf(stderr, "%5d  %16.5g  %12.5g  %11.5g  %11.5g  %10.3g\n", cr.cycle, cr.boundary_work,
+                             cr.friction_dissipation, cr.damping_dissipation, cr.viscous_dissipation,
+                             cr.boundary_work != 0 ? 100.0 * cr.energy_residual / std::abs(cr.boundary_work) : 0.0);
+        }
+        if (r.settling.count > 0)
+            std::fprintf(stderr, "W settled (changes <= %g%%) from cycle %d: W_settled = %.5g J/m^2 over %zu cycle(s)\n",
+                         100.0 * r.settling.tolerance, r.settling.first, r.settling.W_mean, r.settling.count);
+        for (const std::string& w : r.warnings) std::fprintf(stderr, "WARNING: %s\n", w.c_str());
+        std::fprintf(stderr, "run time %.1f s; outputs: forces.csv energy.csv cycles.csv summary.json prepared.ckpt run.ckpt vtk/%s\n",
+                     r.run_seconds, opt.plot ? " loops*.png" : "");
+    }
+    if (opt.plot) plot_damper_dir(opt.out_dir, opt.quiet);
+    return r;
+}
+
+}  // namespace vpp

@@ -1,0 +1,179 @@
+// The damper run's parts shared by its files; internal to vpp/damper_*.cpp:
+//   damper_world.cpp   the damper's world: foil, grains, caps, funnel; the input's checks; a
+//                      checkpoint's geometry and settings; the settings applied to a sample
+//   damper_stages.cpp  the protocol: fill, compress, vacuum, cycle; vpp::Damper
+//   damper_record.cpp  the record: checkpoint state, forces.csv, energy.csv, summary.json, report
+#pragma once
+
+#include <chrono>
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "scene/progress.h"
+#include "dem/core/world.h"
+#include "vpp/damper.h"
+#include "vpp/foil.h"
+
+namespace vpp::damper_detail {
+
+namespace fs = std::filesystem;
+using dem::Vec3;
+
+// Material indices in the damper world (the foil is built first, so its material is 0).
+constexpr uint32_t kFoilMat = 0, kGrainMat = 1, kCapMat = 2, kFunnelMat = 3;
+constexpr uint32_t kBottomCap = 0, kTopCap = 1;  // plane indices
+
+enum class Stage : int { Fill = 0, Compress = 1, Prepared = 2, Vacuum = 3, Cycling = 4, Done = 5 };
+inline const char* stage_name(Stage s) {
+    static const char* n[] = {"fill", "compress", "prepared", "vacuum", "cycle", "done"};
+    return n[int(s)];
+}
+
+using Sample = DamperSample;
+
+// One row of energy.csv (the ledger at a forces.csv sample; docs/energy.md).
+constexpr int kEnergyColumns = 11;
+constexpr const char* kEnergyHeader =
+    "time,boundary_work,pressure_work,gravity_work,kinetic,elastic_contacts,elastic_bonds,"
+    "friction_dissipation,damping_dissipation,viscous_dissipation,residual";
+struct EnergyRow {
+    double v[kEnergyColumns];
+};
+
+
+EnergyRow energy_row(const dem::EnergyLedger& L, double time);
+
+// Everything besides the World that a resumed run needs; stored as the checkpoint's app blob.
+struct RunState {
+    Stage stage = Stage::Fill;
+    double stage_t0 = 0;        // [s] simulated time the stage began
+    double cap_d0 = 0;          // [m] top-cap z displacement at the start of the stage
+    double cycle_t0 = 0;        // [s] start of cycling
+    double window_grains = 0, window_foil = 0;  // force sums over the current sample window
+    long window_n = 0;
+    std::vector<Sample> samples;
+    std::vector<EnergyRow> energy;  // the ledger at each sample (rows of energy.csv)
+    // Geometry the prepared sample was made with: a --from run must match it.
+    std::map<std::string, double> geometry;
+    // Contact, process and simulation settings the run started with (kRunKeys), recorded when
+    // they are applied to the prepared sample; empty before that (prepared.ckpt). A resumed run
+    // continues with these.
+    std::map<std::string, double> settings;
+    // Grains in the sample (the pour and its re-fills); 0 in a checkpoint of an older vppdem,
+    // whose sample holds grain_count(config) grains.
+    std::size_t grains = 0;
+    // What the preparation and the start of cycling measured (the "preparation" and
+    // "start_of_cycling" objects of summary.json), e.g. "prepare.cap_force".
+    std::map<std::string, double> report;
+    // Every warning of the run so far, the preparation's included: a branch from prepared.ckpt
+    // and a resumed run report them too (summary.json "warnings").
+    std::vector<std::string> warnings;
+
+    std::string save() const;                       // the checkpoint's app blob
+    static RunState load(const std::string& text);  // throws on an unknown entry
+};
+
+// The terminal's progress line and the caller's hook (DamperOptions::progress).
+class StageProgress {
+public:
+    StageProgress(const char* stage, uint64_t total, const DamperOptions& o)
+        : prog_(stage, total, o.quiet), stage_(stage), total_(total), hook_(o.progress) {}
+    void update(uint64_t done, double sim_time) {
+        prog_.update(done, sim_time);
+        // Every 256 steps, as often as the progress line looks at the clock: the hook may take
+        // a lock (the Python interpreter's) and must not slow the steps down.
+        if (hook_ && !(done & 255u)) hook_(stage_, done, total_, sim_time);
+    }
+
+private:
+    cli::Progress prog_;
+    const char* stage_;
+    uint64_t total_;
+    const std::function<void(const char*, uint64_t, uint64_t, double)>& hook_;
+};
+
+class DamperRun {
+public:
+    // Builds the world, or loads o.from (damper_world.cpp).
+    DamperRun(const Config& c, const DamperOptions& o);
+    // The stages (damper_stages.cpp): see vpp::Damper.
+    void prepare();
+    void vacuum();
+    int cycle(int n);
+    int cycles_done() const;
+    // The record (damper_record.cpp).
+    void save(const std::string& path) const;
+    DamperResult result() const;
+    void write_records(const std::string& dir) const;
+    const dem::World& world() const { return w_; }
+    const Config& config() const { return c_; }
+    const DamperOptions& options() const { return o_; }
+    void set_progress(std::function<void(const char*, uint64_t, uint64_t, double)> hook) { o_.progress = std::move(hook); }
+
+private:
+    void setup();
+    void adopt_checkpoint_settings();
+    void check_grains_fit(std::size_t n);
+    void start_output_dir();
+    void build();
+    void apply_config_to_prepared();
+    void stage_fill();
+    void stage_compress();
+    void stage_vacuum();
+    // Cycles until the end of cycle `upto` (of process.cycles; the run is bitwise the same
+    // however the cycles are split into calls).
+    void stage_cycle(int upto);
+    void checkpoint(bool force);
+    void save_prepared();
+    void write_forces(const fs::path& dir) const;
+    void write_energy(const fs::path& dir) const;
+    void vtk_frame(const char* tag);
+    double top_ring_force_z() const;
+    void next_stage(Stage s);
+    // Re-fill (damper.refill): adds grains above the settled ones when their level is below the
+    // damper height; returns false when the level is reached (or re-filling is off or exhausted).
+    bool refill();
+    double fill_level() const;
+    double highest_grain_top() const;
+    double packing_fraction(double inner_radius, double height) const;
+    void record_start_of_cycling(const Sample& first);
+    // Logs a warning and keeps it for summary.json (and the checkpoints, so branches and
+    // resumed runs report it too).
+    void warn(const std::string& what);
+    // Settling checks fall at fixed times after the stage start (every `check` seconds), so a
+    // resumed run takes its decisions at the same steps as an uninterrupted one.
+    double next_check_after(double t, double check) const {
+        return st_.stage_t0 + check * (std::floor((t - st_.stage_t0) / check) + 1.0);
+    }
+    // Energy scale of the rest criteria [J]: every grain lifted by one diameter, N m g 2 r_k.
+    double settle_energy_scale() const {
+        return double(g1_ - g0_) * w_.particles.mass[g0_] * 9.81 * 2.0 * c_.grains.radius;
+    }
+    void log(const char* fmt, ...) const;
+
+    Config c_;
+    DamperOptions o_;
+    fs::path out_;
+    bool files_ = false;        // out_dir given: checkpoints, frames and records are written
+    dem::World w_;
+    FoilLattice L_;
+    RunState st_;
+    uint32_t g0_ = 0, g1_ = 0;  // grain index range
+    double z_top_ = 0;          // [m] top ring / cap height after preparation
+    std::vector<uint32_t> top_ring_;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+    std::chrono::steady_clock::time_point last_ckpt_ = start_;
+    int vtk_count_ = 0;
+    double next_vtk_ = 0.0;
+    std::vector<std::string> pending_warnings_;  // found before the checkpoint's state is loaded
+    std::size_t ckpt_grains_ = 0;               // grains stored in the --from checkpoint (0: unknown)
+
+public:
+    const RunState& state() const { return st_; }
+};
+
+}  // namespace vpp::damper_detail

@@ -1,0 +1,390 @@
+// The protocol stages of the damper run: fill, compress (the preparation), vacuum, cycle; and
+// vpp::Damper, which runs them one call at a time.
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+
+#include "vpp/damper_run.h"
+
+namespace vpp {
+
+namespace damper_detail {
+
+namespace {
+
+double grains_kinetic_energy(const dem::World& w, uint32_t g0, uint32_t g1) {
+    double e = 0;
+    for (uint32_t i = g0; i < g1; ++i) e += 0.5 * w.particles.mass[i] * norm2(w.particles.vel[i]);
+    return e;
+}
+
+// Yade's unbalanced force: mean net force on free particles over mean contact force.
+double unbalanced_force(const dem::World& w) {
+    const auto& p = w.particles;
+    double net = 0;
+    std::size_t nfree = 0;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        if (p.inv_mass[i] == 0.0) continue;
+        const dem::Vec3 fx = p.ext_force.empty() ? dem::Vec3{} : p.ext_force[i];
+        net += norm(p.force[i] + fx + w.params.gravity * p.mass[i]);
+        ++nfree;
+    }
+    double fc = 0;
+    std::size_t nc = 0;
+    w.for_each_touching([&](const dem::TouchingContact& c) {
+        if (c.wall) return;
+        fc += norm(c.force);
+        ++nc;
+    });
+    if (nc == 0 || nfree == 0) return 1.0;
+    return (net / double(nfree)) / (fc / double(nc));
+}
+
+
+}  // namespace
+
+void DamperRun::next_stage(Stage s) {
+    st_.stage = s;
+    st_.stage_t0 = w_.time;
+    st_.cap_d0 = w_.planes[kTopCap].motion.displacement(w_.time).z;
+    checkpoint(true);
+    vtk_frame(stage_name(s));
+}
+
+double DamperRun::top_ring_force_z() const {
+    double f = 0;
+    for (uint32_t i : top_ring_) f += w_.particles.force[i].z;
+    return f;
+}
+
+void DamperRun::stage_fill() {
+    const double max_time = 1.5;  // [s] of falling; a column of 20 cm settles in well under 1 s
+    const double check = 2e-3;    // [s] between settling checks
+    StageProgress prog("prepare: fill", uint64_t(max_time / w_.params.dt), o_);
+    double next_check = next_check_after(w_.time, check);
+    for (;;) {
+        w_.step();
+        prog.update(uint64_t((w_.time - st_.stage_t0) / w_.params.dt), w_.time);
+        checkpoint(false);
+        if (w_.time < next_check) continue;
+        next_check = next_check_after(w_.time, check);
+        const double t = w_.time - st_.stage_t0;
+        const double ke = grains_kinetic_energy(w_, g0_, g1_);
+        // The grains start at rest: a minimum time lets them fall first (a re-fill's grains
+        // start just above the others and fall less far).
+        const bool refilled = st_.report.count("prepare.refills") > 0;
+        bool settled = false;
+        if (t > (refilled ? 0.1 : 0.15) && ke < 1e-4 * settle_energy_scale()) {
+            log("[prepare] grains settled after %.3f s (kinetic energy %.3g J)\n", t, ke);
+            settled = true;
+        } else if (t > max_time) {
+            warn("prepare: grains not fully settled after 1.5 s of filling");
+            settled = true;
+        }
+        if (!settled) continue;
+        if (!refill()) break;
+        // A re-fill starts the stage again: a checkpoint with the new grains, the settling clock.
+        next_stage(Stage::Fill);
+        next_check = next_check_after(w_.time, check);
+    }
+}
+
+void DamperRun::stage_compress() {
+    // Bring the cap just above the highest grain (nothing touches it on the way), then move it
+    // down to the top ring at 0.1 m/s and let the grains rearrange; the re-filled grains stand
+    // above the top ring, so the cap meets them and pushes them down to the damper height.
+    const double top = highest_grain_top(), level = fill_level();
+    const double z_cap0 = w_.planes[kTopCap].point.z;
+    const double z_start = std::max(z_top_, top + 1e-4);
+    const double speed = 0.1, hold = 0.02, window = 0.005;  // [m/s], [s], [s] (cap force averaged over the window)
+    const double t0 = w_.time, t1 = t0 + (z_start - z_top_) / speed;
+    dem::Motion m;
+    m.history = {{t0 - 1e-12, {0, 0, z_start - z_cap0}}, {t1 + 1e-12, {0, 0, z_top_ - z_cap0}}};
+    w_.planes[kTopCap].motion = m;
+    w_.invalidate_candidates();
+    log("[prepare] cap from %.4f m down to %.4f m (grains top %.4f m, level of the top layer %.4f m)\n", z_start,
+        z_top_, top, level);
+    const uint64_t n = uint64_t((t1 + hold - w_.time) / w_.params.dt) + 1;
+    StageProgress prog("prepare: compress", n, o_);
+    double f_max = 0, f_sum = 0;
+    long f_n = 0;
+    for (uint64_t s = 0; s < n; ++s) {
+        w_.step();
+        prog.update(s + 1, w_.time);
+        const double f = w_.wall_force(kTopCap).z;  // [N] grains on the cap, pushing it up
+        f_max = std::max(f_max, f);
+        if (w_.time > t1 + hold - window) {
+            f_sum += f;
+            ++f_n;
+        }
+    }
+    w_.clear_facets();  // the funnel goes
+    const double r_in = L_.radius - c_.foil.particle_radius;
+    const double cap_force = f_n ? f_sum / double(f_n) : 0.0;
+    auto& r = st_.report;
+    r["prepare.grains"] = double(g1_ - g0_);
+    r["prepare.grain_top"] = top;
+    r["prepare.fill_level"] = level;
+    r["prepare.cap_travel"] = std::max(0.0, top - z_top_);
+    r["prepare.cap_force"] = cap_force;
+    r["prepare.cap_force_max"] = f_max;
+    r["prepare.packing_fraction"] = packing_fraction(r_in, z_top_);
+    r["prepare.packing_fraction_nominal"] =
+        packing_fraction(c_.damper.radius, c_.damper.height);
+    log("[prepare] cap travel %.3g mm on the grains, cap force %.4g N at the end (%.4g N at most), packing "
+        "fraction %.4f of the foil's interior\n", 1e3 * r["prepare.cap_travel"], cap_force, f_max,
+        r["prepare.packing_fraction"]);
+    if (!(cap_force > 0)) {
+        char msg[320];
+        std::snprintf(msg, sizeof msg,
+                      "prepare: the cap ends above the grains (no force on it at the damper height %.4g m; their "
+                      "top layer is at %.4g m): the first part of every compression meets no grains%s",
+                      z_top_, level, c_.damper.refill ? "" : "; damper.refill = true fills the foil up to the cap");
+        warn(msg);
+    }
+}
+
+void DamperRun::stage_vacuum() {
+    const double ramp = c_.process.ramp_time, min_hold = 0.02, max_hold = 0.5, check = 2e-3;
+    w_.pressure.nodes = cylinder_pressure_nodes(L_);
+    const double dp = c_.process.underpressure;
+    StageProgress prog("vacuum", uint64_t((ramp + max_hold) / w_.params.dt), o_);
+    double next_check = next_check_after(w_.time, check);
+    const double ke_ref = settle_energy_scale();
+    for (;;) {
+        const double t = w_.time - st_.stage_t0;
+        w_.pressure.dp = dp * std::min(1.0, t / ramp);
+        w_.step();
+        prog.update(uint64_t(t / w_.params.dt), w_.time);
+        checkpoint(false);
+        if (w_.time < next_check) continue;
+        next_check = next_check_after(w_.time, check);
+        if (t < ramp + min_hold) continue;
+        // Forces of the step just taken (computing them again would advance the shear springs).
+        const double ke = grains_kinetic_energy(w_, g0_, g1_);
+        const double ub = unbalanced_force(w_);
+        if (ke < 1e-4 * ke_ref && ub < 0.05) {
+            log("[vacuum] at rest %.3f s after the ramp: kinetic energy %.3g J, unbalanced force %.3g\n",
+                t - ramp, ke, ub);
+            break;
+        }
+        if (t > ramp + max_hold) {
+            char msg[160];
+            std::snprintf(msg, sizeof msg, "vacuum: sample not at rest %.2f s after the ramp (kinetic energy %.3g J, "
+                          "unbalanced force %.3g)", t - ramp, ke, ub);
+            warn(msg);
+            break;
+        }
+    }
+}
+
+// The sample as cycling starts (after the vacuum and the start offset): the cap's height and
+// force, the packing fraction in the foil as the vacuum has drawn it in (its mean radius over the
+// free rows; the end rings stay at the build radius), and the cap's travel on the grains since it
+// first met them in the preparation.
+void DamperRun::record_start_of_cycling(const Sample& first) {
+    double sum = 0;
+    std::size_t cnt = 0;
+    for (int k = 1; k + 1 < L_.rows; ++k)
+        for (uint32_t i : L_.row(k)) {
+            sum += std::hypot(w_.particles.pos[i].x, w_.particles.pos[i].y);
+            ++cnt;
+        }
+    const double r_foil = cnt ? sum / double(cnt) : L_.radius;
+    const double cap_z = w_.plane_point(kTopCap).z;
+    auto& r = st_.report;
+    r["cycle.foil_mean_radius"] = r_foil;
+    r["cycle.cap_height"] = cap_z;
+    r["cycle.cap_force"] = first.grains;
+    r["cycle.packing_fraction"] = packing_fraction(r_foil - c_.foil.particle_radius, cap_z);
+    if (r.count("prepare.grain_top")) r["cycle.cap_travel"] = std::max(0.0, r.at("prepare.grain_top") - cap_z);
+}
+
+void DamperRun::stage_cycle(int upto) {
+    const double A = c_.process.amplitude, v = c_.process.velocity;
+    const double T = 2.0 * A / v;
+    const int S = int(c_.process.samples_per_cycle), ncyc = int(c_.process.cycles);
+    const double win = c_.process.sample_window;
+    if (st_.samples.empty() && st_.window_n == 0 && st_.cycle_t0 == 0.0) {
+        // Start of cycling: cap and top ring follow one history: an optional offset move, then
+        // `cycles` triangles of the amplitude (down first for compression, up for extension).
+        const double d0 = w_.planes[kTopCap].motion.displacement(w_.time).z;
+        const double off = c_.process.start_offset;
+        const double t_off = std::abs(off) / v;
+        const double sign = c_.process.compression_first ? -1.0 : 1.0;  // z direction of the first leg
+        dem::Motion cap, ring;
+        cap.history.push_back({w_.time, {0, 0, d0}});
+        ring.history.push_back({w_.time, {0, 0, 0}});
+        st_.cycle_t0 = w_.time + t_off;
+        for (int k = 0; k <= ncyc; ++k) {
+            if (k > 0 || t_off > 0) {
+                cap.history.push_back({st_.cycle_t0 + k * T, {0, 0, d0 - off}});
+                ring.history.push_back({st_.cycle_t0 + k * T, {0, 0, -off}});
+            }
+            if (k < ncyc) {
+                cap.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, d0 - off + sign * A}});
+                ring.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, -off + sign * A}});
+            }
+        }
+        w_.planes[kTopCap].motion = cap;
+        const uint32_t m = w_.add_motion(ring);
+        for (uint32_t i : top_ring_) w_.set_prescribed(i, m);
+        st_.cap_d0 = d0 - off;  // displacements are recorded from the cycling start position
+        // Energy ledger (energy.csv); restarted at the first sample, the start of cycling.
+        w_.params.track_energy = c_.output.energy;
+        if (c_.output.energy) w_.reset_energy();
+    } else if (!w_.params.track_energy && c_.output.energy) {
+        warn("energy: resumed from a checkpoint without an energy ledger (an older vppdem's); no energy.csv");
+    }
+    const bool energy = w_.params.track_energy;
+    const double t_end = st_.cycle_t0 + upto * T;  // the end of cycle `upto`
+    const uint64_t total = uint64_t(std::ceil((t_end - w_.time) / w_.params.dt));
+    StageProgress prog("cycle", total, o_);
+    uint64_t done = 0;
+    auto sample_time = [&](std::size_t s) { return st_.cycle_t0 + double(s) * T / S; };
+    w_.profile().enable(o_.profile);
+    w_.profile().reset();
+    while (w_.time < t_end - 0.5 * w_.params.dt) {
+        w_.compute_forces();
+        const std::size_t s = st_.samples.size();
+        bool sampled = false;
+        if (s < std::size_t(ncyc) * S) {
+            const double ts = sample_time(s);
+            if (w_.time > ts - win - 0.5 * w_.params.dt) {
+                st_.window_grains += w_.wall_force(kTopCap).z;
+                st_.window_foil += top_ring_force_z();
+                ++st_.window_n;
+            }
+            if (w_.time >= ts - 0.5 * w_.params.dt) {
+                Sample smp;
+                smp.time = w_.time;
+                smp.displacement = st_.cap_d0 - w_.planes[kTopCap].motion.displacement(w_.time).z;
+                smp.grains = st_.window_grains / double(st_.window_n);
+                smp.foil = st_.window_foil / double(st_.window_n);
+                st_.samples.push_back(smp);
+                st_.window_grains = st_.window_foil = 0;
+                st_.window_n = 0;
+                sampled = true;
+                // The ledger counts from the first sample: works and dissipations are 0 there.
+                if (energy && s == 0) w_.reset_energy();
+                if (s == 0) record_start_of_cycling(smp);
+            }
+        }
+        w_.profile().lap(dem::Phase::kOutput);
+        w_.integrate();
+        // The ledger at this sample's time is complete once the step is integrated.
+        if (energy && sampled) st_.energy.push_back(energy_row(w_.energy(), w_.energy().time - st_.cycle_t0));
+        prog.update(++done, w_.time);
+        checkpoint(false);
+        if (c_.output.vtk_interval > 0 && w_.time >= next_vtk_) {
+            vtk_frame("cycle");
+            next_vtk_ = w_.time + c_.output.vtk_interval;
+        }
+        w_.profile().lap(dem::Phase::kOutput);
+    }
+    if (o_.profile && done > 0) {
+        const dem::PhaseProfile& pr = w_.profile();
+        std::fprintf(stderr, "[cycle] time per phase over %llu steps (%d threads):\n", (unsigned long long)done, w_.params.threads);
+        for (int k = 0; k < int(dem::Phase::kCount); ++k) {
+            const auto ph = dem::Phase(k);
+            std::fprintf(stderr, "  %-18s %10.3f s %9.2f us/step %6.1f%%\n", dem::phase_name(ph), pr.seconds(ph),
+                1e6 * pr.seconds(ph) / double(done), 100.0 * pr.seconds(ph) / std::max(pr.total(), 1e-300));
+        }
+        std::fprintf(stderr, "  %-18s %10.3f s %9.2f us/step\n", "total", pr.total(), 1e6 * pr.total() / double(done));
+    }
+    w_.profile().enable(false);
+}
+
+
+void DamperRun::prepare() {
+    if (st_.stage == Stage::Fill) {
+        stage_fill();
+        next_stage(Stage::Compress);
+    }
+    if (st_.stage == Stage::Compress) {
+        stage_compress();
+        next_stage(Stage::Prepared);
+        save_prepared();
+        apply_config_to_prepared();
+    }
+}
+
+void DamperRun::vacuum() {
+    prepare();
+    if (st_.stage == Stage::Prepared) next_stage(Stage::Vacuum);
+    if (st_.stage == Stage::Vacuum) {
+        stage_vacuum();
+        next_stage(Stage::Cycling);
+    }
+}
+
+int DamperRun::cycles_done() const {
+    const int ncyc = int(c_.process.cycles);
+    if (st_.stage == Stage::Done) return ncyc;
+    if (st_.stage < Stage::Cycling || (st_.samples.empty() && st_.window_n == 0 && st_.cycle_t0 == 0.0)) return 0;
+    // The test that ends stage_cycle(k), so a run stopped there counts k (and one stopped within
+    // a cycle, in a checkpoint, the cycles before it).
+    const double T = 2.0 * c_.process.amplitude / c_.process.velocity;
+    for (int k = ncyc; k > 0; --k)
+        if (!(w_.time < st_.cycle_t0 + k * T - 0.5 * w_.params.dt)) return k;
+    return 0;
+}
+
+int DamperRun::cycle(int n) {
+    vacuum();
+    const int ncyc = int(c_.process.cycles);
+    const int done = cycles_done();
+    if (n == 0) return done;
+    const int upto = n < 0 ? ncyc : done + n;
+    if (upto > ncyc)
+        throw std::runtime_error("cycle(" + std::to_string(n) + "): " + std::to_string(ncyc - done) + " of process.cycles = " +
+                                 std::to_string(ncyc) + " cycle(s) remain; the cycling's motion is laid out for "
+                                 "process.cycles when it starts: set process.cycles to the cycles wanted");
+    if (st_.stage == Stage::Done) return done;
+    stage_cycle(upto);
+    if (upto == ncyc) next_stage(Stage::Done);
+    return upto;
+}
+
+}  // namespace damper_detail
+
+Damper::Damper(const Config& c, const DamperOptions& opt) : run_(std::make_unique<damper_detail::DamperRun>(c, opt)) {}
+Damper::~Damper() = default;
+Damper::Damper(Damper&&) noexcept = default;
+Damper& Damper::operator=(Damper&&) noexcept = default;
+
+void Damper::prepare() { run_->prepare(); }
+void Damper::vacuum() { run_->vacuum(); }
+int Damper::cycle(int n) { return run_->cycle(n); }
+void Damper::save(const std::string& path) const { run_->save(path); }
+void Damper::set_progress(std::function<void(const char*, uint64_t, uint64_t, double)> hook) {
+    run_->set_progress(std::move(hook));
+}
+std::string Damper::stage() const { return damper_detail::stage_name(run_->state().stage); }
+int Damper::cycles_done() const { return run_->cycles_done(); }
+int Damper::cycles_total() const { return int(run_->config().process.cycles); }
+const std::vector<DamperSample>& Damper::samples() const { return run_->state().samples; }
+std::vector<std::vector<double>> Damper::energy() const {
+    std::vector<std::vector<double>> rows;
+    for (const damper_detail::EnergyRow& e : run_->state().energy)
+        rows.emplace_back(e.v, e.v + damper_detail::kEnergyColumns);
+    return rows;
+}
+std::vector<std::string> Damper::energy_columns() {
+    std::vector<std::string> cols;
+    std::string h = damper_detail::kEnergyHeader;
+    for (std::size_t a = 0; a <= h.size();) {
+        const std::size_t b = std::min(h.find(',', a), h.size());
+        cols.push_back(h.substr(a, b - a));
+        a = b + 1;
+    }
+    return cols;
+}
+void Damper::write_records(const std::string& dir) const { run_->write_records(dir); }
+const dem::World& Damper::world() const { return run_->world(); }
+const Config& Damper::config() const { return run_->config(); }
+
+}  // namespace vpp

@@ -1,0 +1,435 @@
+// The damper's world: foil cylinder, grains in the foil and a funnel above it, caps; the checks
+// of the input; a checkpoint's geometry and settings; the settings applied to a prepared sample.
+#include <algorithm>
+#include <cmath>
+#include <cstdarg>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+
+#include "scene/scene_runner.h"
+#include "dem/io/checkpoint.h"
+#include "dem/io/csv.h"
+#include "dem/walls/facet_sets.h"
+#include "vpp/damper_run.h"
+#include "vpp/settings.h"
+
+namespace vpp {
+
+namespace damper_detail {
+
+namespace {
+
+// A config value stored in the checkpoint's app state: a row of the settings table, with how to
+// read it from and write it into a Config (vpp/settings.h).
+using StoredKey = Setting;
+
+// Geometry of the prepared sample. A run from a checkpoint must match the keys it gives and
+// takes the checkpoint's values of the others.
+const std::vector<StoredKey> kGeometryKeys = geometry_settings();
+
+// What a run applies to its prepared sample (apply_config_to_prepared) and records from then
+// on: a resumed run continues with these, so its record is one run's, not a splice of two.
+// Not here: simulation.threads (results do not depend on it), output.vtk_interval (frames only).
+const std::vector<StoredKey> kRunKeys = run_settings();
+
+std::map<std::string, double> values_of(const Config& c, const auto& keys) {
+    std::map<std::string, double> m;
+    for (const StoredKey& k : keys) m[k.key] = k.get(c);
+    return m;
+}
+
+bool same_value(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(1.0, std::abs(b)); }
+
+// A stored value as the config file writes it, for messages.
+std::string show(const std::string& key, double v) {
+    if (key == "process.direction") return v == 0.0 ? "\"compression\"" : "\"extension\"";
+    if (key == "output.energy" || key == "damper.refill") return v != 0.0 ? "true" : "false";
+    if (key == "simulation.dt" && v == 0.0) return "\"auto\"";
+    if (key == "damper.cap_friction" && v < 0.0) return "(unset: the grains' friction)";
+    std::string out;
+    dem::append_number(out, v);
+    return out;
+}
+
+
+// Grain positions: a jittered cubic lattice inside the foil and the funnel above it, filled
+// from the bottom up, so the grains never overlap each other, the foil or the funnel.
+// A re-fill (refill = true) places its grains the same way above z_floor (the top of the grains
+// already in) in the funnel that is there, as many of n as fit, with its own random stream.
+std::vector<Vec3> generate_grains(const Config& c, const FoilLattice& L, std::size_t n, double z_top,
+                                  double funnel_top_radius, double& funnel_height, double z_floor = 0.0,
+                                  uint64_t stream = 0, bool refill = false) {
+    const double rk = c.grains.radius, rf = c.foil.particle_radius;
+    const double gap = 0.05 * rk;                // [m] clearance to every wall
+    const double s = 2.0 * rk * 1.04;            // [m] lattice spacing
+    const double r_in = L.radius - rf;           // [m] inner surface of the foil
+    std::mt19937_64 rng(c.simulation.seed + stream * 0x9E3779B97F4A7C15ull);
+    std::uniform_real_distribution<double> jit(-0.015 * rk, 0.015 * rk);
+    // Funnel: cone from r_in at z_top to funnel_top_radius; grow it until the sites suffice.
+    if (!refill) funnel_height = 2.0 * r_in;
+    for (int attempt = 0; attempt < (refill ? 1 : 40); ++attempt, funnel_height *= refill ? 1.0 : 1.25) {
+        std::vector<Vec3> sites;
+        const double slope = (funnel_top_radius - r_in) / funnel_height;
+        const double half_angle = std::atan(slope);
+        const int nxy = int(funnel_top_radius / s) + 1;
+        for (int kz = 0;; ++kz) {
+            const double z = z_floor + rk + gap + kz * s;
+            if (z > z_top + funnel_height - rk - gap) break;
+            // Largest centre radius at this height: inside the foil or inside the cone (the
+            // wall distance of a cone point is its radial distance times cos(half angle)).
+            double rmax;
+            if (z + rk <= z_top) rmax = r_in - rk - gap;
+            else rmax = r_in + slope * std::max(0.0, z - rk - z_top) - (rk + gap) / std::cos(half_angle);
+            // Within one grain radius above z_top the funnel bottom edge and the top ring meet.
+            if (z + rk > z_top && z - rk < z_top) rmax = std::min(rmax, r_in - rk - gap);
+            const double off = (kz % 2) ? 0.5 * s : 0.0;  // stagger layers
+            for (int ix = -nxy; ix <= nxy; ++ix)
+                for (int iy = -nxy; iy <= nxy; ++iy) {
+                    const double x = ix * s + off, y = iy * s + off;
+                    if (std::hypot(x, y) <= rmax) sites.push_back({x, y, z});
+                }
+            if (sites.size() >= n + n / 20) break;
+        }
+        if (sites.size() < n && !refill) continue;
+        std::vector<Vec3> out(sites.begin(), sites.begin() + long(std::min(n, sites.size())));
+        for (Vec3& p : out) p += Vec3{jit(rng), jit(rng), jit(rng)};
+        return out;
+    }
+    throw std::runtime_error("could not place the grains in the foil and funnel");
+}
+
+}  // namespace
+
+DamperRun::DamperRun(const Config& c, const DamperOptions& o) : c_(c), o_(o), out_(o.out_dir) {
+    files_ = !o_.out_dir.empty();
+    setup();
+}
+
+// The world as the first stage to run finds it: built and filled with grains, or loaded.
+void DamperRun::setup() {
+    // From a checkpoint: its geometry (and, for a run that started, its settings) first, since
+    // the foil is built from the config.
+    if (!o_.from.empty()) adopt_checkpoint_settings();
+    build();
+    const std::size_t n_foil = L_.particles.size();
+    // The pour's grains; a checkpoint holds those and its re-fills' (an older one: the pour's).
+    const std::size_t n = ckpt_grains_ > 0 ? ckpt_grains_ : grain_count(c_);
+    g0_ = uint32_t(n_foil);
+    g1_ = uint32_t(n_foil + n);
+    if (o_.from.empty()) check_grains_fit(n);  // a checkpoint's sample was checked when it was prepared
+
+    if (o_.from.empty()) {
+        // Materials in fixed order: grain (frictionless while filling), cap, funnel.
+        dem::Material g{"grain", c_.grains.density, c_.grains.young, c_.grains.stiffness_ratio, 0.0, 1.0};
+        w_.add_material(g);
+        dem::Material cap{"cap", c_.grains.density, c_.grains.young, c_.grains.stiffness_ratio, 0.0, 1.0};
+        w_.add_material(cap);
+        dem::Material fun{"funnel", c_.grains.density, c_.grains.young, c_.grains.stiffness_ratio, 0.0, 1.0};
+        w_.add_material(fun);
+        for (int k : {0, L_.rows - 1})
+            for (uint32_t i : L_.row(k)) w_.set_fixed(i);
+        double funnel_h = 0;
+        const double funnel_top_r = 1.6 * L_.radius;
+        const auto pos = generate_grains(c_, L_, n, z_top_, funnel_top_r, funnel_h);
+        double zmax = 0;
+        for (const Vec3& p : pos) {
+            dem::SphereDef d;
+            d.position = p;
+            d.radius = c_.grains.radius;
+            d.material = kGrainMat;
+            d.mask = kGrainMask;
+            w_.add_sphere(d);
+            zmax = std::max(zmax, p.z);
+        }
+        dem::Plane bottom;
+        bottom.point = {0, 0, 0};
+        bottom.normal = {0, 0, 1};
+        bottom.material = kCapMat;
+        bottom.mask = kMaskCap;
+        w_.add_plane(bottom);
+        dem::Plane top = bottom;
+        top.point = {0, 0, std::max(zmax + c_.grains.radius + 1e-3, z_top_)};
+        top.normal = {0, 0, -1};
+        w_.add_plane(top);
+        for (dem::Facet f : dem::make_funnel_facets({0, 0, z_top_}, L_.radius, funnel_top_r, funnel_h, 72, true)) {
+            f.material = kFunnelMat;
+            f.mask = kMaskCap;
+            w_.add_facet(f);
+        }
+        st_.geometry = values_of(c_, kGeometryKeys);
+        st_.grains = n;
+        st_.report["prepare.grains_poured"] = double(n);
+        st_.report["prepare.funnel_height"] = funnel_h;
+        w_.params.dt = resolve_dt(c_.simulation, w_);
+        start_output_dir();  // only now: bad input writes nothing
+        log("damper: %zu grains (r_k = %.4g m), foil %d x %d = %zu particles (radius %.5g m), height %.5g m, "
+            "dt = %.4g s, %d thread(s)\n", n, c_.grains.radius, L_.cols, L_.rows, n_foil, L_.radius, z_top_,
+            w_.params.dt, c_.simulation.threads);
+        next_stage(Stage::Fill);
+    } else {
+        const std::string blob = dem::load_checkpoint(o_.from, w_);
+        st_ = RunState::load(blob);
+        if (w_.particles.size() != n_foil + n)
+            throw std::runtime_error("checkpoint '" + o_.from + "' does not hold this damper's particles");
+        st_.grains = n;
+        st_.warnings.insert(st_.warnings.end(), pending_warnings_.begin(), pending_warnings_.end());
+        // Resuming continues the run whose run.ckpt lives in --out; anything else (a branch from
+        // a prepared sample, even into its own folder) starts a new run there.
+        std::error_code ec;
+        const bool resuming = fs::exists(out_ / "run.ckpt") && fs::equivalent(o_.from, out_ / "run.ckpt", ec);
+        if (!resuming) start_output_dir();
+        log("damper: starting from %s at stage '%s', t = %.4g s, %d thread(s)\n", o_.from.c_str(),
+            stage_name(st_.stage), w_.time, c_.simulation.threads);
+        // A prepared sample takes the config's contact and process settings; a resumed run keeps
+        // its own (adopt_checkpoint_settings), but for the thread count (set below for every path).
+        if (st_.stage == Stage::Prepared) {
+            apply_config_to_prepared();
+            w_.params.dt = resolve_dt(c_.simulation, w_);
+        }
+    }
+    w_.params.threads = c_.simulation.threads;
+}
+
+void DamperRun::log(const char* fmt, ...) const {
+    if (o_.quiet) return;
+    va_list ap;
+    va_start(ap, fmt);
+    std::vfprintf(stderr, fmt, ap);
+    va_end(ap);
+}
+
+void DamperRun::adopt_checkpoint_settings() {
+    dem::World scratch;  // only the app state is needed here; run() loads the World itself
+    const RunState ck = RunState::load(dem::load_checkpoint(o_.from, scratch));
+    // Geometry: a key the config gives must match the sample's; the others take its values.
+    std::string diffs;
+    std::map<std::string, double> geometry = ck.geometry;
+    for (const StoredKey& k : kGeometryKeys)
+        if (!geometry.count(k.key) && std::isfinite(k.legacy)) geometry[k.key] = k.legacy;
+    for (const StoredKey& k : kGeometryKeys) {
+        const auto it = geometry.find(k.key);
+        const double value = k.get(c_);
+        if (it != geometry.end() && !c_.given.count(k.key)) {
+            k.set(c_, it->second);
+        } else if (it == geometry.end() || !same_value(it->second, value)) {
+            diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + " = " +
+                     (it == geometry.end() ? std::string("?") : show(k.key, it->second)) +
+                     " (the config asks for " + show(k.key, value) + ")";
+        }
+    }
+    ckpt_grains_ = ck.grains;
+    if (!diffs.empty())
+        throw std::runtime_error("checkpoint '" + o_.from + "' was prepared with another geometry: " + diffs +
+                                 "; prepare a new sample (run without --from)");
+    if (ck.settings.empty()) {
+        // A prepared sample (or a run stopped before its settings were applied) takes the
+        // config's settings. Only a checkpoint of an older vppdem can be past that point
+        // without them: it is run with the config's settings, as that vppdem did.
+        if (ck.stage > Stage::Prepared) {
+            pending_warnings_.push_back("resume: the checkpoint (an older vppdem's) stores no run settings; the "
+                                        "config's are used");
+            log("damper: warning: checkpoint '%s' (an older vppdem's) stores no process settings: the config's are "
+                "used; give the ones the run started with\n", o_.from.c_str());
+        }
+        return;
+    }
+    // A run that started: it continues with its own settings, whatever the command line says;
+    // a key given with another value is refused rather than spliced into the record.
+    std::string conflicts;
+    for (const StoredKey& k : kRunKeys) {
+        const auto it = ck.settings.find(k.key);
+        if (it == ck.settings.end()) continue;
+        if (c_.given.count(k.key) && !same_value(k.get(c_), it->second))
+            conflicts += (conflicts.empty() ? "" : ", ") + std::string(k.key) + " = " + show(k.key, it->second) +
+                         " in the checkpoint, " + show(k.key, k.get(c_)) + " given";
+        else
+            k.set(c_, it->second);
+    }
+    if (!conflicts.empty())
+        throw std::runtime_error("checkpoint '" + o_.from + "' continues a run with other settings: " + conflicts +
+                                 "; a resumed run keeps the settings it started with: leave these keys out (or give "
+                                 "the checkpoint's values), or start a new run from the sample's prepared.ckpt");
+}
+
+void DamperRun::check_grains_fit(std::size_t n) {
+    const double rk = c_.grains.radius;
+    const double r_in = L_.radius - c_.foil.particle_radius;  // [m] inner surface of the foil
+    if (rk > r_in / 3.0)
+        throw std::runtime_error("config key 'grains.radius' = " + show("", rk) +
+                                 ": too large for the damper; at most a third of the foil's inner radius (" +
+                                 show("", r_in / 3.0) + " m)");
+    // Fewest grains: one layer across the foil. A VPP damper is a packing that the vacuum
+    // jams; grains that do not even cover the bottom once lie loose on the lower cap, the
+    // cap never loads them and the "loop" is the foil's alone (0 grains gave a negative W).
+    // A hexagonal layer of circles of radius r_k covers pi / (2 sqrt 3) = 0.907 of the area.
+    const double v_grain = 4.0 / 3.0 * std::numbers::pi * rk * rk * rk;
+    const std::size_t n_layer = std::size_t(std::max(1.0, std::floor(0.9069 * (r_in / rk) * (r_in / rk))));
+    if (n < n_layer) {
+        const double phi_min = double(n_layer) * v_grain /
+                               (std::numbers::pi * c_.damper.radius * c_.damper.radius * c_.damper.height);
+        throw std::runtime_error("config key 'grains.volume_fraction' = " + show("", c_.grains.volume_fraction) +
+                                 ": gives " + std::to_string(n) + " grain(s) in this damper; at least " +
+                                 std::to_string(n_layer) + " are needed (one layer across the foil's inner radius " +
+                                 show("", r_in) + " m), i.e. grains.volume_fraction >= " + show("", phi_min));
+    }
+    // Densest: the grains must fit into the foil once the cap is down. Poured grains settle at
+    // random close packing (0.64) at most; more needs the foil to bulge out, which it does (it
+    // is elastic), by a hoop strain of sqrt(phi_in / 0.64) - 1: unusual, warned. Above the
+    // densest packing of spheres (0.74, a perfect crystal) the grains cannot be put into the
+    // unstretched foil at all: refused.
+    const double v_in = std::numbers::pi * r_in * r_in * z_top_;
+    const double phi_in = double(n) * v_grain / v_in;
+    if (phi_in > 0.74)
+        throw std::runtime_error("config key 'grains.volume_fraction' = " + show("", c_.grains.volume_fraction) +
+                                 ": " + std::to_string(n) + " grains fill " + show("", std::round(1000 * phi_in) / 10) +
+                                 "% of the foil's interior (radius " + show("", r_in) + " m, height " +
+                                 show("", z_top_) + " m); at most 74% (the densest sphere packing) can be prepared");
+    if (phi_in > 0.64) {
+        char msg[256];
+        std::snprintf(msg, sizeof msg,
+                      "prepare: %zu grains fill %.1f%% of the foil's interior, above random close packing (64%%): the "
+                      "foil bulges by about %.1f%% (hoop strain) when the cap compresses them",
+                      n, 100.0 * phi_in, 100.0 * (std::sqrt(phi_in / 0.64) - 1.0));
+        warn(msg);
+    }
+}
+
+void DamperRun::build() {
+    // Foil first: its particles are 0 .. n_f - 1 and its material index 0.
+    w_.params.gravity = {0, 0, -9.81};
+    w_.params.local_damping = c_.simulation.local_damping;
+    w_.params.threads = c_.simulation.threads;
+    w_.params.skin = c_.simulation.skin;
+    L_ = build_cylinder(w_, c_.foil, c_.damper.radius, c_.damper.height);
+    z_top_ = (L_.rows - 1) * L_.spacing;
+    top_ring_ = L_.row(L_.rows - 1);
+}
+
+void DamperRun::warn(const std::string& what) {
+    std::string w = what;
+    for (char& ch : w)
+        if (ch == '\n' || ch == '\r') ch = ' ';
+    st_.warnings.push_back(w);
+    log("damper: warning: %s\n", w.c_str());
+}
+
+double DamperRun::highest_grain_top() const {
+    double top = 0;
+    for (uint32_t i = g0_; i < g1_; ++i) top = std::max(top, w_.particles.pos[i].z + w_.particles.radius[i]);
+    return top;
+}
+
+// Level of the grains' top surface [m]: the mean top (z + r) of the highest layer, i.e. of the
+// n_layer highest grains, n_layer the grains of one hexagonal layer across the foil (0.907
+// (r_in / r_k)^2). The single highest grain would say little: one grain resting on the others
+// stands a radius above the surface, and a cap that meets only it ends above the packing.
+double DamperRun::fill_level() const {
+    const double r_in = L_.radius - c_.foil.particle_radius, rk = c_.grains.radius;
+    std::vector<double> tops;
+    for (uint32_t i = g0_; i < g1_; ++i) tops.push_back(w_.particles.pos[i].z + w_.particles.radius[i]);
+    const std::size_t layer = std::clamp<std::size_t>(std::size_t(0.9069 * (r_in / rk) * (r_in / rk)), 1, tops.size());
+    std::partial_sort(tops.begin(), tops.begin() + long(layer), tops.end(), std::greater<double>());
+    double sum = 0;
+    for (std::size_t k = 0; k < layer; ++k) sum += tops[k];
+    return sum / double(layer);
+}
+
+// Grain volume over the cylinder of this inner radius and height: the packing fraction of
+// summary.json ("preparation", "start_of_cycling").
+double DamperRun::packing_fraction(double inner_radius, double height) const {
+    double v = 0;
+    for (uint32_t i = g0_; i < g1_; ++i) v += 4.0 / 3.0 * std::numbers::pi * std::pow(w_.particles.radius[i], 3);
+    return v / (std::numbers::pi * inner_radius * inner_radius * height);
+}
+
+bool DamperRun::refill() {
+    if (!c_.damper.refill) return false;
+    // The level the grains must reach before the cap comes down: the damper height plus a
+    // quarter of a grain radius, so that the cap meets the top layer, not a few grains that
+    // stand out of it (kRefillMargin, measured: docs/damper.md "Preparation").
+    constexpr double kRefillMargin = 0.25;  // [grain radii]
+    constexpr int kMaxRefills = 8;
+    const double rk = c_.grains.radius, r_in = L_.radius - c_.foil.particle_radius;
+    const double target = z_top_ + kRefillMargin * rk, level = fill_level();
+    if (level >= target) return false;
+    const int done = st_.report.count("prepare.refills") ? int(st_.report.at("prepare.refills")) : 0;
+    char msg[256];
+    if (done >= kMaxRefills) {
+        std::snprintf(msg, sizeof msg,
+                      "prepare: after %d re-fills the grains reach %.4g m, below the damper height %.4g m: the cap "
+                      "compresses less than the top layer", done, level, z_top_);
+        warn(msg);
+        return false;
+    }
+    // As many grains as fill the gap at the packing fraction of the bed below (the grains
+    // settle to about the same packing), one more so that every re-fill adds at least one.
+    const double v_k = 4.0 / 3.0 * std::numbers::pi * rk * rk * rk;
+    const double area = std::numbers::pi * r_in * r_in;
+    const double phi_bed = double(g1_ - g0_) * v_k / (area * level);
+    const std::size_t add = std::size_t(std::ceil(phi_bed * area * (target - level) / v_k)) + 1;
+    double funnel_h = st_.report.at("prepare.funnel_height");
+    const auto pos = generate_grains(c_, L_, add, z_top_, 1.6 * L_.radius, funnel_h, highest_grain_top(),
+                                     uint64_t(done + 1), true);
+    if (pos.empty()) {
+        warn("prepare: no room in the funnel for a re-fill; the grains stay below the damper height");
+        return false;
+    }
+    for (const Vec3& p : pos) {
+        dem::SphereDef d;
+        d.position = p;
+        d.radius = rk;
+        d.material = kGrainMat;
+        d.mask = kGrainMask;
+        w_.add_sphere(d);
+    }
+    g1_ += uint32_t(pos.size());
+    st_.grains = g1_ - g0_;
+    st_.report["prepare.refills"] = done + 1;
+    w_.invalidate_candidates();
+    log("[prepare] grains level %.4f m, below %.4f m: re-fill %d adds %zu grains (%u in all)\n", level, target,
+        done + 1, pos.size(), g1_ - g0_);
+    return true;
+}
+
+void DamperRun::apply_config_to_prepared() {
+    // What may change between a preparation and a run from it: contact properties, foil
+    // stiffness, process and simulation settings (geometry is checked by the caller).
+    dem::Material& g = w_.materials[kGrainMat];
+    g.young = c_.grains.young;
+    g.stiffness_ratio = c_.grains.stiffness_ratio;
+    g.friction = c_.grains.friction;
+    w_.materials[kCapMat].friction = c_.damper.cap_friction < 0 ? c_.grains.friction : c_.damper.cap_friction;
+    w_.materials[kCapMat].young = c_.grains.young;
+    dem::Material& f = w_.materials[kFoilMat];
+    f.young = particle_modulus(c_.foil);
+    f.stiffness_ratio = c_.foil.stiffness_ratio;
+    f.friction = c_.foil.friction;
+    const double kn = bond_normal_stiffness(c_.foil);
+    for (std::size_t b = 0; b < w_.bonds().size(); ++b) w_.set_bond_stiffness(uint32_t(b), kn, c_.foil.stiffness_ratio * kn);
+    w_.invalidate_contact_physics();
+    w_.params.local_damping = c_.simulation.local_damping;
+    w_.params.threads = c_.simulation.threads;
+    w_.params.skin = c_.simulation.skin;
+    st_.settings = values_of(c_, kRunKeys);  // from now on the run is bound to these
+}
+
+
+}  // namespace damper_detail
+
+std::size_t grain_count(const Config& c) {
+    const double rk = c.grains.radius;
+    return std::size_t(std::llround(c.grains.volume_fraction * std::numbers::pi * c.damper.radius * c.damper.radius *
+                                    c.damper.height / (4.0 / 3.0 * std::numbers::pi * rk * rk * rk)));
+}
+
+double inertial_number(const Config& c, double height) {
+    const double gamma_dot = c.process.velocity / height;
+    const double p = std::max(std::abs(c.process.underpressure), 1.0);
+    return gamma_dot * 2.0 * c.grains.radius * std::sqrt(c.grains.density / p);
+}
+
+
+}  // namespace vpp

@@ -1,0 +1,42 @@
+# Shared settings of the Python tests: the small, quick damper of the C++ tests
+# (tests/physics/cli_helpers.h: 56 grains, 494 foil particles, 2 mm cycles at 0.1 m/s).
+import os
+
+import pytest
+
+import vppdem
+
+SMALL = {
+    "damper.radius": 0.012,           # [m]
+    "damper.height": 0.03,            # [m]
+    "grains.volume_fraction": 0.45,   # [-]
+    "process.velocity": 0.1,          # [m/s]
+    "process.amplitude": 0.002,       # [m]
+    "process.cycles": 2,
+    "process.samples_per_cycle": 80,
+    "simulation.threads": 1,
+}
+
+# The same as the command's --set arguments.
+SMALL_SETS = " ".join(f"--set {k}={v}" for k, v in SMALL.items())
+
+BINARY = os.environ.get("VPPDEM_BINARY", "")
+SOURCE_DIR = os.environ.get("VPPDEM_SOURCE_DIR", os.path.dirname(os.path.dirname(os.path.dirname(__file__))))
+
+
+@pytest.fixture(scope="session")
+def vacuumed(tmp_path_factory):
+    """The small damper after the vacuum, saved (tests load it rather than preparing again)."""
+    d = vppdem.Damper(settings=SMALL)
+    d.vacuum()
+    path = tmp_path_factory.mktemp("vacuumed") / "vacuumed.ckpt"
+    d.save(path)
+    return path
+
+
+@pytest.fixture(scope="session")
+def finished(vacuumed):
+    """The small damper cycled to the end (both cycles in one call)."""
+    d = vppdem.Damper.load(vacuumed, settings=SMALL)
+    d.cycle()
+    return d

@@ -1,0 +1,157 @@
+# vppdem.Damper: stages, records as numpy arrays, checkpoints, errors with the command's messages,
+# progress and Ctrl-C.
+import os
+import signal
+import subprocess
+
+import numpy as np
+import pytest
+
+import vppdem
+from conftest import BINARY, SMALL
+
+
+def test_stages_in_order():
+    d = vppdem.Damper(settings=SMALL)
+    assert d.stage == "fill"
+    d.prepare()
+    assert d.stage == "prepared"
+    assert d.cycles_done == 0
+    assert d.displacement.shape == (0,)
+    d.vacuum()
+    assert d.stage == "cycle"  # ready to cycle
+    # A prepared sample of this damper: grains after the re-fills, foil 494 particles.
+    s = d.summary()
+    assert s["foil_particles"] == 494
+    assert s["grains"] >= 56
+    assert s["preparation"]["packing_fraction"] > 0.3
+
+
+def test_records_and_shapes(finished):
+    d = finished
+    assert d.stage == "done"
+    assert d.cycles_done == 2
+    n = 2 * SMALL["process.samples_per_cycle"]
+    for a in (d.displacement, d.force_total, d.force_grains, d.force_foil, d.sample_time):
+        assert isinstance(a, np.ndarray) and a.shape == (n,)
+    np.testing.assert_array_equal(d.force_total, d.force_grains + d.force_foil)
+    assert np.all(np.diff(d.sample_time) > 0)
+    # A triangle of 2 mm: the cap goes down (compression positive) and back.
+    assert d.displacement.max() == pytest.approx(SMALL["process.amplitude"], rel=0.05)
+    assert abs(d.displacement[0]) < 1e-4
+    c = d.cycles()
+    assert c["W"].shape == (2,) and np.all(np.isfinite(c["W"]))
+    np.testing.assert_array_equal(d.W, c["W"])
+    assert list(c["cycle"]) == [1.0, 2.0]
+    # The ledger's split: dissipations are non-negative, the boundary work feeds them.
+    for k in ("friction_dissipation", "damping_dissipation", "viscous_dissipation"):
+        assert np.all(c[k] >= 0)
+    assert np.all(c["boundary_work"] > 0)
+    e = d.energy()
+    assert list(e) == vppdem._core.Damper.energy_columns()
+    assert all(v.shape == (n,) for v in e.values())
+    s = d.summary()
+    assert [x["W"] for x in s["cycles"]] == list(c["W"])
+    assert s["inputs"]["process.cycles"] == 2
+
+
+def test_cycles_split_into_calls_are_bitwise_the_same(vacuumed, finished):
+    d = vppdem.Damper.load(vacuumed, settings=SMALL)
+    assert d.stage == "cycle" and d.cycles_done == 0
+    assert d.cycle(1) == 1
+    assert d.stage == "cycle"
+    assert d.displacement.shape == (80,)
+    assert d.cycle(1) == 2
+    assert d.stage == "done"
+    np.testing.assert_array_equal(d.force_total, finished.force_total)
+    np.testing.assert_array_equal(d.displacement, finished.displacement)
+    np.testing.assert_array_equal(d.energy()["friction_dissipation"], finished.energy()["friction_dissipation"])
+
+
+def test_save_mid_cycling_and_load(vacuumed, finished, tmp_path):
+    d = vppdem.Damper.load(vacuumed, settings=SMALL)
+    d.cycle(1)
+    d.save(tmp_path / "one.ckpt")
+    e = vppdem.Damper.load(tmp_path / "one.ckpt")  # its settings come from the checkpoint
+    assert e.cycles_done == 1
+    e.cycle()
+    np.testing.assert_array_equal(e.force_total, finished.force_total)
+
+
+def test_cycle_beyond_process_cycles(finished):
+    with pytest.raises(RuntimeError, match=r"0 of process.cycles = 2 cycle\(s\) remain"):
+        finished.cycle(1)
+
+
+def test_write_gives_the_command_files(finished, tmp_path):
+    finished.write(tmp_path)
+    for f in ("forces.csv", "energy.csv", "cycles.csv", "summary.json"):
+        assert (tmp_path / f).exists(), f
+    rows = (tmp_path / "forces.csv").read_text().splitlines()
+    assert rows[0] == "time,displacement,force_total,force_grains,force_foil,force_zeroed,cycle"
+    assert len(rows) == 1 + 160
+
+
+def cli_error(args):
+    r = subprocess.run(f"{BINARY} damper {args}", shell=True, capture_output=True, text=True)
+    assert r.returncode != 0
+    line = [l for l in r.stderr.splitlines() if l.startswith("vppdem: error: ")]
+    assert line, r.stderr
+    return line[0][len("vppdem: error: "):]
+
+
+@pytest.mark.skipif(not BINARY, reason="VPPDEM_BINARY not set")
+@pytest.mark.parametrize("key,value,text", [
+    ("process.underpresure", "0.06e6", "0.06e6"),   # unknown key (a typo)
+    ("process.underpressure", -5.0, "-5.0"),        # value out of range
+    ("process.cycles", "many", "many"),             # wrong type
+])
+def test_config_errors_carry_the_command_message(key, value, text, tmp_path):
+    with pytest.raises(vppdem.ConfigError) as err:
+        vppdem.Damper(settings={key: value})
+    assert isinstance(err.value, ValueError)
+    assert str(err.value) == cli_error(f"--out {tmp_path}/x --set {key}={text}")
+
+
+def test_config_from_file_and_keywords(tmp_path):
+    cfg = tmp_path / "c.toml"
+    cfg.write_text('[process]\nunderpressure = 0.05e6\ncycles = 3\n')
+    d = vppdem.Damper(cfg, settings=SMALL, process__cycles=1)
+    s = d.summary()["inputs"]
+    assert s["process.underpressure"] == 0.05e6   # from the file
+    assert s["process.cycles"] == 1               # the keyword wins over settings and the file
+    d2 = vppdem.Damper({"process": {"underpressure": 0.04e6}}, **{"damper.radius": 0.012, "damper.height": 0.03})
+    assert d2.summary()["inputs"]["process.underpressure"] == 0.04e6
+    with pytest.raises(FileNotFoundError if False else vppdem.ConfigError):
+        vppdem.Damper(tmp_path / "missing.toml")
+
+
+def test_progress_callback_and_interrupt():
+    calls = []
+
+    def progress(stage, done, total, time):
+        calls.append((stage, done, total, time))
+        if len(calls) == 3:
+            os.kill(os.getpid(), signal.SIGINT)  # as Ctrl-C would
+
+    d = vppdem.Damper(settings=SMALL)
+    with pytest.raises(KeyboardInterrupt):
+        d.prepare(progress=progress)
+    assert 3 <= len(calls) <= 4
+    assert calls[0][0] == "prepare: fill"
+    assert calls[1][1] > calls[0][1] and calls[1][3] > calls[0][3]
+
+
+def test_ctrl_c_stops_a_run_without_a_callback():
+    # SIGINT from outside while the C++ steps without the interpreter lock (as Ctrl-C in a
+    # terminal): the run stops within 256 steps with KeyboardInterrupt.
+    import threading
+    import time
+
+    d = vppdem.Damper(settings=SMALL)
+    threading.Timer(0.5, os.kill, (os.getpid(), signal.SIGINT)).start()
+    t0 = time.monotonic()
+    with pytest.raises(KeyboardInterrupt):
+        d.prepare()  # about 4 s to the end of the preparation
+    assert time.monotonic() - t0 < 2.0
+    assert d.stage in ("fill", "compress")
