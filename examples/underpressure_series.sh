@@ -5,7 +5,7 @@
 #   VPPDEM=path/to/vppdem picks the binary (default build/vppdem).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-prep=$1; out=$2; v=${3:-0.05}
+prep=$1; out=$2; v=${3:-0.02}  # [m/s] quasi-static at every dp here (I < 5e-4, docs/studies.md)
 vppdem=${VPPDEM:-build/vppdem}
 for dp in 0.02e6 0.04e6 0.06e6 0.08e6; do
   "$vppdem" damper --from "$prep" --out "$out/dp_$dp" --overwrite --quiet --set process.velocity=$v \

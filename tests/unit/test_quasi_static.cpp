@@ -1,0 +1,55 @@
+// The quasi-static mark of the damper (vpp::kQuasiStaticInertialNumber) against the inertial
+// number's closed form and against the velocity-convergence runs it was calibrated on
+// (docs/studies.md, "Velocity convergence: results"; docs/data/velocity_*.csv).
+#include <cmath>
+#include <gtest/gtest.h>
+
+#include "vpp/config.h"
+#include "vpp/damper.h"
+
+namespace {
+
+vpp::Config paper_damper(double velocity, double underpressure) {
+    vpp::Config c;  // the paper's parameters are the defaults
+    c.process.velocity = velocity;
+    c.process.underpressure = underpressure;
+    return c;
+}
+
+}  // namespace
+
+TEST(QuasiStatic, InertialNumberIsItsClosedForm) {
+    // I = (v / H) 2 r_k sqrt(rho_k / dp): the main job's 0.05 m/s at 0.06 MPa, H = 98.83 mm.
+    const vpp::Config c = paper_damper(0.05, 0.06e6);
+    const double H = 0.0988333;
+    const double expected = (0.05 / H) * 2.0 * c.grains.radius * std::sqrt(c.grains.density / 0.06e6);
+    EXPECT_NEAR(vpp::inertial_number(c, H), expected, 1e-12 * expected);
+    EXPECT_NEAR(vpp::inertial_number(c, H), 6.35e-4, 0.01e-4);  // as summary.json reports it
+}
+
+TEST(QuasiStatic, MarkSeparatesTheMeasuredBiases) {
+    // Paired runs (same prepared samples): W at a velocity against W at the slowest velocity
+    // run, relative, with the inertial number of the faster run. Measured 2026-11-23
+    // (scripts/velocity_convergence.sh): the paper's damper (H 98.8 mm) and the small damper
+    // (H 31.6 mm), cycle 1, mean over 2 and 3 seeds.
+    struct Case {
+        double inertial_number, bias;
+    };
+    const Case measured[] = {
+        {4.40e-4, 0.034}, {1.10e-3, 0.161}, {2.20e-3, 0.347},               // paper's damper, 0.02 MPa
+        {6.35e-4, 0.120}, {1.27e-3, 0.211},                                 // paper's damper, 0.06 MPa
+        {7.94e-5, -0.051}, {1.98e-4, 0.010}, {3.97e-4, 0.041}, {7.94e-4, 0.076},  // small, 0.06 MPa
+        {1.98e-3, 0.137}, {3.97e-3, 0.207},
+        {3.44e-4, 0.033}, {6.87e-4, 0.100}, {1.375e-3, 0.133}, {3.44e-3, 0.231}, {6.87e-3, 0.444},  // small, 0.02 MPa
+    };
+    for (const Case& m : measured) {
+        if (m.inertial_number < vpp::kQuasiStaticInertialNumber)
+            EXPECT_LE(std::abs(m.bias), 0.08) << "I = " << m.inertial_number;
+        if (std::abs(m.bias) > 0.10) EXPECT_GE(m.inertial_number, vpp::kQuasiStaticInertialNumber) << "I = " << m.inertial_number;
+    }
+    // The main job's velocity (scripts/main.sh, 0.02 m/s) is quasi-static by this mark; the
+    // former 0.05 m/s is not.
+    const double H = 0.0988333;
+    EXPECT_LT(vpp::inertial_number(paper_damper(0.02, 0.06e6), H), vpp::kQuasiStaticInertialNumber);
+    EXPECT_GT(vpp::inertial_number(paper_damper(0.05, 0.06e6), H), vpp::kQuasiStaticInertialNumber);
+}
