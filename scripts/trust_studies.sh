@@ -53,20 +53,8 @@ for s in "${studies[@]}"; do  # every name checked before anything runs
 done
 failed=0
 
-# Copies FILE to DEST through a temporary name (a reader never sees half a file).
-publish() {
-  cp "$1" "$2.part" && mv -f "$2.part" "$2"
-}
-
-# Records in docs/data/SOURCES.md that FILE(S) came from COMMAND.
-record() {
-  local files=$1 cmd=$2 src="$DOCS/data/SOURCES.md"
-  [ -f "$src" ] || printf '# Where the files in docs/ come from\n\nWritten by scripts/trust_studies.sh; one line per file set: the files, the command, when, the vppdem commit.\n\n| files | command | date | commit |\n|---|---|---|---|\n' > "$src"
-  local commit
-  commit=$(git rev-parse --short HEAD 2>/dev/null || echo "?")
-  { grep -v -F "| $files |" "$src" || true; printf '| %s | `%s` | %s | %s |\n' "$files" "$cmd" "$(date -u +%Y-%m-%d)" "$commit"; } > "$src.part"
-  mv -f "$src.part" "$src"
-}
+# publish FILE DEST, record FILES COMMAND
+source scripts/publish.sh
 
 # sweep NAME STUDY_FILE FIGURE_PREFIX [--set ...]: runs the study with the knobs, then publishes
 # its summaries and figures.
