@@ -7,6 +7,8 @@
 #               (examples/study_velocity_small.toml; about 40 minutes on one core)
 #   small_paper one cycle at the paper's 3.33e-4 m/s from every small-damper sample (about 10
 #               minutes each)
+#   quick_slow  the paper's damper at 0.005 m/s, 0.06 MPa, 2 cycles, from every sample of 'quick'
+#               (about 25 minutes each on one core)
 # usage: scripts/velocity_convergence.sh [PART ...]   (default: all three, in this order)
 # Knobs: VPPDEM (default build/vppdem), OUT (default out/velocity), SEEDS_QUICK (2), SEEDS_SMALL (3),
 #        JOBS (runs at once; default the free cores), DOCS (default docs).
@@ -30,7 +32,7 @@ done
 [ -z "$JOBS" ] || [[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "velocity_convergence.sh: JOBS = '$JOBS': must be an integer >= 1" >&2; exit 2; }
 jobs_arg=${JOBS:+--jobs $JOBS}
 parts=("$@")
-all=(quick small small_paper)
+all=(quick small small_paper quick_slow)
 [ ${#parts[@]} -gt 0 ] || parts=("${all[@]}")
 for s in "${parts[@]}"; do
   [[ " ${all[*]} " == *" $s "* ]] || { echo "velocity_convergence.sh: unknown part '$s' (parts: ${all[*]})" >&2; exit 2; }
@@ -50,6 +52,14 @@ analyse() {  # NAME SWEEP_DIR [--extra DIRS...]
   publish "$dir/$name.png" "$DOCS/$name.png"
   publish "$dir/summary.csv" "$DOCS/data/${name}_summary.csv"
   record "$name.png, data/$name.csv, data/${name}_summary.csv" "$cmd"
+}
+
+quick_slow_dirs() {
+  local d=()
+  for s in $(seq "$SEEDS_QUICK"); do
+    [ -f "$OUT/quick_v0.005_dp0.06e6_s$s/summary.json" ] && d+=("$OUT/quick_v0.005_dp0.06e6_s$s")
+  done
+  echo "${d[@]}"
 }
 
 small_paper_dirs() {
@@ -92,6 +102,20 @@ for part in "${parts[@]}"; do
       done
       # shellcheck disable=SC2046
       analyse velocity_small "$OUT/small" --extra $(small_paper_dirs)
+      ;;
+    quick_slow)
+      for s in $(seq "$SEEDS_QUICK"); do
+        ckpt=$(ls "$OUT"/quick/*simulation.seed=$s/prepared.ckpt 2>/dev/null | head -1 || true)
+        [ -n "$ckpt" ] || { echo "velocity_convergence.sh: quick_slow needs the quick study's samples: run 'quick' first" >&2; exit 2; }
+        d="$OUT/quick_v0.005_dp0.06e6_s$s"
+        if [ -f "$d/summary.json" ]; then echo "   $d done earlier"; continue; fi
+        if [ -f "$d/run.ckpt" ]; then $VPPDEM damper --from "$d/run.ckpt" --out "$d" --no-plot --quiet; continue; fi
+        echo "== quick_slow seed $s"
+        $VPPDEM damper --from "$ckpt" --out "$d" --no-plot --quiet --set process.velocity=0.005 --set process.cycles=2 \
+          --set process.underpressure=0.06e6 --set output.energy=false --set simulation.threads=1
+      done
+      # shellcheck disable=SC2046
+      analyse velocity_quick "$OUT/quick" --extra $(quick_slow_dirs)
       ;;
   esac
 done
