@@ -13,7 +13,7 @@
 #   OUT       output root (default out/trust)
 #   SEEDS     realisations per case (default 3)
 #   CYCLES    cycles per run (default 5; W can settle from cycle 3 on, docs/damper.md)
-#   VELOCITY  loading velocity [m/s] of every study but the velocity study (default 0.02: W within
+#   VELOCITY  loading velocity [m/s] of every study but the velocity study (default 0.01: W within
 #             the paired interval of slower loading there, docs/studies.md "Velocity convergence: results")
 #   JOBS      runs at once (default: vppdem's choice, the free cores)
 #   DOCS      where figures and data go (default docs)
@@ -31,7 +31,7 @@ VPPDEM=${VPPDEM:-build/vppdem}
 OUT=${OUT:-out/trust}
 SEEDS=${SEEDS:-3}
 CYCLES=${CYCLES:-5}
-VELOCITY=${VELOCITY:-0.02}
+VELOCITY=${VELOCITY:-0.01}
 JOBS=${JOBS:-}
 DOCS=${DOCS:-docs}
 SETS=${SETS:-}
