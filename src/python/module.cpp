@@ -11,8 +11,13 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <atomic>
+#include <chrono>
 #include <cstdint>
+#include <exception>
+#include <mutex>
 #include <stdexcept>
+#include <thread>
 #include <string>
 #include <vector>
 
@@ -40,6 +45,64 @@ Hook python_hook(py::object callback) {
         if (PyErr_CheckSignals() != 0) throw py::error_already_set();
         if (!callback.is_none()) callback(stage, done, total, time);
     };
+}
+
+// Runs a sweep or a calibration (`run`, handed the sweep options' progress hook) without the
+// interpreter lock, stoppable with Ctrl-C. Python sees signals only on the main thread, so the
+// study runs on a thread of its own while this one wakes every 0.1 s [wall clock] to look for
+// them; the study's worker threads take the lock only to call `callback` (done, total, case
+// name) after each finished case. A signal, or an exception of the callback, stops the study
+// (vpp::SweepOptions::progress: finished cases kept, the folder resumable) and is raised here.
+template <class Run>
+auto run_stoppable(const py::object& callback, Run run) {
+    struct Shared {
+        std::atomic<bool> stop{false};
+        std::mutex mu;
+        std::exception_ptr error;  // the first Python exception (a py::error_already_set)
+    } sh;
+    const py::object* cb = &callback;  // no copies of the object without the lock
+    auto hook = [&sh, cb](std::size_t done, std::size_t total, const std::string& name) -> bool {
+        if (sh.stop.load()) return false;
+        if (name.empty() || cb->is_none()) return true;  // a poll between steps: no lock
+        py::gil_scoped_acquire gil;
+        try {
+            (*cb)(done, total, name);
+            return true;
+        } catch (py::error_already_set&) {
+            std::lock_guard<std::mutex> lk(sh.mu);
+            if (!sh.error) sh.error = std::current_exception();
+            sh.stop.store(true);
+            return false;
+        }
+    };
+    using Result = decltype(run(hook));
+    Result result{};
+    std::exception_ptr failure;
+    {
+        py::gil_scoped_release release;
+        std::atomic<bool> finished{false};
+        std::thread t([&] {
+            try {
+                result = run(hook);
+            } catch (...) {
+                failure = std::current_exception();
+            }
+            finished.store(true);
+        });
+        while (!finished.load()) {
+            std::this_thread::sleep_for(std::chrono::milliseconds(100));
+            py::gil_scoped_acquire gil;
+            if (!sh.stop.load() && PyErr_CheckSignals() != 0) {
+                std::lock_guard<std::mutex> lk(sh.mu);
+                if (!sh.error) sh.error = std::make_exception_ptr(py::error_already_set());
+                sh.stop.store(true);
+            }
+        }
+        t.join();
+    }
+    if (sh.error) std::rethrow_exception(sh.error);  // KeyboardInterrupt, or the callback's error
+    if (failure) std::rethrow_exception(failure);
+    return result;
 }
 
 // n x 3 array of Vec3 [units of the source].
@@ -408,24 +471,27 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "sweep",
         [](const std::string& study, const std::string& out, const std::vector<std::string>& sets, int seeds, int jobs,
-           bool quiet) {
+           bool quiet, py::object progress) {
             const vpp::Study st = vpp::load_study(study, sets, seeds);
             vpp::SweepOptions so;
             so.out_dir = out;
             so.jobs = jobs;
             so.quiet = quiet;
-            py::gil_scoped_release release;
-            const vpp::SweepResult r = vpp::run_sweep(st, so);
-            return r.failed;
+            return run_stoppable(progress, [&](auto hook) {
+                vpp::SweepOptions o = so;
+                o.progress = hook;
+                return vpp::run_sweep(st, o).failed;
+            });
         },
         py::arg("study"), py::arg("out"), py::arg("sets") = std::vector<std::string>{}, py::arg("seeds") = 0,
-        py::arg("jobs") = 0, py::arg("quiet") = true);
+        py::arg("jobs") = 0, py::arg("quiet") = true, py::arg("progress") = py::none());
     m.def(
         "calibrate",
         [](const std::string& study, const std::string& experiment, const std::string& out,
            const std::vector<std::string>& sets, int seeds, int jobs, bool quiet, double disp_scale, double force_scale,
            bool compression_negative, const std::string& simulated_force, int points, bool plot,
-           const std::string& time_column, const std::string& displacement_column, const std::string& force_column) {
+           const std::string& time_column, const std::string& displacement_column, const std::string& force_column,
+           py::object progress) {
             vpp::Study st = vpp::load_study(study, sets, seeds);
             vpp::CalibrateOptions co;
             co.sweep.out_dir = out;
@@ -441,12 +507,16 @@ PYBIND11_MODULE(_core, m) {
             co.force_column = simulated_force;
             co.points = points;
             co.plot = plot;
-            py::gil_scoped_release release;
-            return vpp::run_calibration(st, co);
+            return run_stoppable(progress, [&](auto hook) {
+                vpp::CalibrateOptions o = co;
+                o.sweep.progress = hook;
+                return vpp::run_calibration(st, o);
+            });
         },
         py::arg("study"), py::arg("experiment"), py::arg("out"), py::arg("sets") = std::vector<std::string>{},
         py::arg("seeds") = 0, py::arg("jobs") = 0, py::arg("quiet") = true, py::arg("disp_scale") = 1.0,
         py::arg("force_scale") = 1.0, py::arg("compression_negative") = false,
         py::arg("simulated_force") = "force_zeroed", py::arg("points") = 50, py::arg("plot") = false,
-        py::arg("time_column") = "time", py::arg("displacement_column") = "displacement", py::arg("force_column") = "force");
+        py::arg("time_column") = "time", py::arg("displacement_column") = "displacement", py::arg("force_column") = "force",
+        py::arg("progress") = py::none());
 }

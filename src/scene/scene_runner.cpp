@@ -7,12 +7,12 @@
 #include <filesystem>
 #include <map>
 #include <optional>
-#include <sstream>
 
 #include "scene/config.h"
 #include "scene/initial_overlaps.h"
 #include "scene/progress.h"
 #include "dem/io/csv.h"
+#include "dem/io/json.h"
 #include "dem/io/vtk.h"
 #include "dem/walls/facet_sets.h"
 
@@ -435,19 +435,15 @@ void run_scene(Scene& sc, const RunOptions& opt) {
     const double wall_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     progress.finish();
 
-    std::ostringstream js;
-    js.precision(10);
-    js << "{\n  \"dt\": " << dt << ",\n  \"dt_auto\": " << (sc.dt_auto ? "true" : "false")
-       << ",\n  \"critical_dt\": " << w.critical_dt() << ",\n  \"steps\": " << nsteps
-       << ",\n  \"duration\": " << sc.duration << ",\n  \"particles\": " << w.particles.size()
-       << ",\n  \"planes\": " << w.planes.size() << ",\n  \"facets\": " << w.facets.size()
-       << ",\n  \"contacts_end\": " << w.contact_count() << ",\n  \"rebuilds\": " << w.rebuild_count()
-       << ",\n  \"threads\": " << w.params.threads << ",\n  \"wall_s\": " << wall_s
-       << ",\n  \"steps_per_s\": " << double(nsteps) / std::max(wall_s, 1e-9) << ",\n  \"walls\": [";
-    for (std::size_t k = 0; k < sc.wall_names.size(); ++k)
-        js << (k ? ", " : "") << "\"" << sc.wall_names[k] << "\"";
-    js << "]\n}\n";
-    dem::write_text_atomic((out / "summary.json").string(), js.str());
+    dem::JsonObject js;
+    js.num("dt", dt).boolean("dt_auto", sc.dt_auto).num("critical_dt", w.critical_dt()).num("steps", double(nsteps))
+        .num("duration", sc.duration).num("particles", double(w.particles.size()))
+        .num("planes", double(w.planes.size())).num("facets", double(w.facets.size()))
+        .num("contacts_end", double(w.contact_count())).num("rebuilds", double(w.rebuild_count()))
+        .num("threads", w.params.threads).num("wall_s", wall_s)
+        .num("steps_per_s", double(nsteps) / std::max(wall_s, 1e-9))
+        .raw("walls", dem::json_string_array(sc.wall_names));
+    dem::write_text_atomic((out / "summary.json").string(), js.text());
     if (!opt.quiet)
         std::fprintf(stderr, "done: %llu steps in %.2f s (%.0f steps/s); outputs in %s\n",
                      (unsigned long long)nsteps, wall_s, double(nsteps) / std::max(wall_s, 1e-9),

@@ -196,25 +196,19 @@ void write_cycles_csv(const std::string& path, const std::vector<CycleResult>& c
                                                        [](const CycleResult& c) { return c.has_energy; });
     const bool settle = !cycles.empty() && std::all_of(cycles.begin(), cycles.end(),
                                                        [](const CycleResult& c) { return c.has_settled; });
-    std::string out = "cycle,dissipated_energy,W,peak_force,min_force";
-    if (energy) out += ",friction_dissipation,damping_dissipation,viscous_dissipation";
-    if (settle) out += ",settled";
-    out += '\n';
+    std::string header = "cycle,dissipated_energy,W,peak_force,min_force";
+    if (energy) header += ",friction_dissipation,damping_dissipation,viscous_dissipation";
+    if (settle) header += ",settled";
+    // The cycle number and the settled flag are whole doubles: printed without a decimal point.
+    dem::CsvWriter csv(path, header);
+    std::vector<double> row;
     for (const auto& c : cycles) {
-        out += std::to_string(c.cycle);
-        for (double v : {c.dissipated_energy, c.W, c.peak_force, c.min_force}) {
-            out += ',';
-            dem::append_number(out, v);
-        }
-        if (energy)
-            for (double v : {c.friction_dissipation, c.damping_dissipation, c.viscous_dissipation}) {
-                out += ',';
-                dem::append_number(out, v);
-            }
-        if (settle) out += c.settled ? ",1" : ",0";
-        out += '\n';
+        row = {double(c.cycle), c.dissipated_energy, c.W, c.peak_force, c.min_force};
+        if (energy) row.insert(row.end(), {c.friction_dissipation, c.damping_dissipation, c.viscous_dissipation});
+        if (settle) row.push_back(c.settled ? 1.0 : 0.0);
+        csv.row(row);
     }
-    dem::write_text_atomic(path, out);
+    csv.close();
 }
 
 }  // namespace vpp

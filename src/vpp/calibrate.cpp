@@ -75,7 +75,7 @@ std::pair<Branch, Branch> branches(const LoopSeries& s, const std::vector<std::s
 }
 
 std::string json_value(const std::string& label, const std::string& literal) {
-    return literal.starts_with("\"") ? dem::JsonObject::quote(label) : label;
+    return literal.starts_with("\"") ? dem::json_string(label) : label;
 }
 
 }  // namespace
@@ -390,21 +390,16 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
 
     // The processed experiment, for the overlay plot.
     if (ok) {
-        std::string e = "time,displacement,force,cycle\n";
-        for (std::size_t i = 0; i < exp.time.size(); ++i) {
-            dem::append_number(e, exp.time[i]);
-            e += ',';
-            dem::append_number(e, exp.displacement[i]);
-            e += ',';
-            dem::append_number(e, exp.force[i]);
-            e += "," + std::to_string(exp.cycle[i]) + "\n";
-        }
-        dem::write_text_atomic((out / "experiment.csv").string(), e);
+        // The cycle number is a whole double: the writer prints it without a decimal point.
+        dem::CsvWriter e((out / "experiment.csv").string(), "time,displacement,force,cycle");
+        for (std::size_t i = 0; i < exp.time.size(); ++i)
+            e.row({exp.time[i], exp.displacement[i], exp.force[i], double(exp.cycle[i])});
+        e.close();
     }
 
     auto names_json = [&](const std::vector<std::size_t>& runs) {
         std::string t = "[";
-        for (std::size_t k = 0; k < runs.size(); ++k) t += (k ? ", " : "") + dem::JsonObject::quote(cases[runs[k]].name);
+        for (std::size_t k = 0; k < runs.size(); ++k) t += (k ? ", " : "") + dem::json_string(cases[runs[k]].name);
         return t + "]";
     };
     dem::JsonObject j;
@@ -483,7 +478,7 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             dem::JsonObject q;
             std::string names = "[";
             for (std::size_t m = 0; m < preds[i].names.size(); ++m)
-                names += (m ? ", " : "") + dem::JsonObject::quote(preds[i].names[m]);
+                names += (m ? ", " : "") + dem::json_string(preds[i].names[m]);
             q.raw(pred.key, json_value(preds[i].label, preds[i].literal))
                 .str("case", preds[i].names.empty() ? "" : preds[i].names.front())
                 .raw("cases", names + "]")

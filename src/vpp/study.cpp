@@ -717,6 +717,23 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
         return 0;
     };
 
+    // Cancelling (SweepOptions::progress): `stop` makes the workers take no new case and the
+    // running cases throw at their next poll; `hook_error` keeps what the hook threw.
+    std::atomic<bool> stop{false};
+    std::exception_ptr hook_error;
+    std::mutex hook_mu;  // one hook call at a time
+    auto ask_hook = [&](std::size_t done, const std::string& name) {
+        if (!opt.progress || stop.load()) return;
+        std::lock_guard<std::mutex> lk(hook_mu);
+        if (stop.load()) return;
+        try {
+            if (!opt.progress(done, mine.size(), name)) stop.store(true);
+        } catch (...) {
+            if (!hook_error) hook_error = std::current_exception();
+            stop.store(true);
+        }
+    };
+
     auto run_case = [&](std::size_t i, bool self_prepare) -> CaseOutcome {
         const StudyCase& c = cases[i];
         const fs::path dir = out / c.name;
@@ -736,6 +753,11 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             d.plot = false;
             d.overwrite = true;  // the folder holds case.toml, perhaps leftovers of a killed start
             d.checkpoint_every = opt.checkpoint_every;
+            if (opt.progress)
+                d.progress = [&](const char*, uint64_t, uint64_t, double) {
+                    ask_hook(0, "");
+                    if (stop.load()) throw SweepStopped();
+                };
             if (fs::exists(dir / "run.ckpt")) d.from = (dir / "run.ckpt").string();
             else if (c.preparer != i && !self_prepare) d.from = (out / cases[c.preparer].name / "prepared.ckpt").string();
             const DamperResult r = run_damper(c.config, d);
@@ -755,6 +777,10 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             o.grains = int(r.grains);
             if (const auto it = r.report.find("prepare.packing_fraction"); it != r.report.end())
                 o.packing_fraction = it->second;
+        } catch (const SweepStopped&) {
+            // Stopped, not failed: no FAILED marker, the next run of the sweep takes it up.
+            o.ok = false;
+            o.message = "stopped";
         } catch (const std::exception& e) {
             o.ok = false;
             o.message = e.what();
@@ -772,7 +798,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             bool self_prepare = false;
             {
                 std::unique_lock<std::mutex> lk(mu);
-                if (finished == mine.size()) return;
+                if (finished == mine.size() || stop.load()) return;
                 for (std::size_t i : mine) {
                     if (state[i] != 0) continue;
                     std::string why;
@@ -800,18 +826,23 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
                 continue;
             }
             const CaseOutcome o = run_case(pick, self_prepare);
+            std::size_t done = 0;
             {
                 std::lock_guard<std::mutex> lk(mu);
                 res.outcomes[pick] = o;
                 state[pick] = 2;
-                ++finished;
+                done = ++finished;
             }
+            if (stop.load()) return;  // a stopped case is neither reported nor counted as done
             report(pick, o);
+            ask_hook(done, cases[pick].name);
         }
     };
     std::vector<std::thread> pool;
     for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
     for (auto& t : pool) t.join();
+    if (hook_error) std::rethrow_exception(hook_error);
+    if (stop.load()) throw SweepStopped();
 
     // Gather on rank 0 and write the summary.
     std::string text;

@@ -15,7 +15,9 @@
 // unless the study sets it), and under MPI round-robin over the ranks.
 #pragma once
 
+#include <functional>
 #include <limits>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -83,6 +85,21 @@ struct SweepOptions {
     bool quiet = false;
     double checkpoint_every = 60.0;  // [s] passed to each damper run
     int rank = 0, ranks = 1;         // MPI: this process takes the cases i with i % ranks == rank
+    // Progress and cancelling for callers that embed the sweep (the Python module); the command
+    // line passes none, and its outputs do not depend on it. Called from the sweep's worker
+    // threads, one call at a time: after each finished case (done of this process's total cases,
+    // the case's folder name; cases finished in an earlier run count too), and with an empty
+    // name every 256 steps of a running case, where it must be cheap. Returning false, or
+    // throwing, stops the sweep: no case starts, running cases stop at their next poll without
+    // a FAILED marker, and run_sweep throws (SweepStopped, or what the hook threw) without
+    // writing summary.csv. The folder stays resumable: finished cases keep their summary.json,
+    // a stopped case restarts from its last run.ckpt (or from its start).
+    std::function<bool(std::size_t done, std::size_t total, const std::string& name)> progress;
+};
+
+// Thrown by run_sweep (and run_calibration) when SweepOptions::progress asked to stop.
+struct SweepStopped : std::runtime_error {
+    SweepStopped() : std::runtime_error("sweep stopped") {}
 };
 
 struct CaseOutcome {

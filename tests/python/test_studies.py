@@ -1,6 +1,7 @@
 # vppdem.sweep and vppdem.calibrate run the command's C++ (vpp/study.h, vpp/calibrate.h).
 import csv
 import os
+import signal
 
 import pytest
 
@@ -54,3 +55,54 @@ def test_calibrate_against_a_simulated_record(finished, tmp_path):
     assert cal["best"]["grains.friction"] == 0.6
     assert cal["misfit"] == 0  # the sweep's branch from its prepared sample is this very run
     assert (tmp_path / "cal" / "misfit.csv").exists()
+
+
+def test_sweep_progress_sees_every_case(tmp_path):
+    study = tmp_path / "tiny.toml"
+    study.write_text(TINY)
+    seen = []
+    failed = vppdem.sweep(study, tmp_path / "out", jobs=1, progress=lambda d, t, c: seen.append((d, t, c)))
+    assert failed == 0
+    assert [d for d, _, _ in seen] == [1, 2]
+    assert all(t == 2 for _, t, _ in seen)
+    assert len({c for _, _, c in seen}) == 2
+    assert all((tmp_path / "out" / c / "summary.json").exists() for _, _, c in seen)
+
+
+def test_interrupted_sweep_resumes(tmp_path):
+    # KeyboardInterrupt from the callback after the first case (as Ctrl-C would raise it): the
+    # sweep stops, keeps the finished case and writes no summary.csv; the same call resumes it.
+    study = tmp_path / "tiny.toml"
+    study.write_text(TINY)
+    out = tmp_path / "out"
+
+    def interrupt(done, total, case):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        vppdem.sweep(study, out, jobs=1, progress=interrupt)
+    finished = [c for c in os.listdir(out) if (out / c / "summary.json").exists()]
+    assert len(finished) == 1
+    assert not (out / "summary.csv").exists()
+    assert not any((out / c / "FAILED").exists() for c in os.listdir(out) if (out / c).is_dir())
+
+    seen = []
+    assert vppdem.sweep(study, out, jobs=1, progress=lambda d, t, c: seen.append(c)) == 0
+    assert len(seen) == 2  # the earlier case counts as done
+    with open(out / "summary.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert len(rows) == 2 and all(r["status"] == "ok" for r in rows)
+
+
+def test_sigint_stops_a_sweep_that_resumes(tmp_path):
+    # A real SIGINT (Ctrl-C) after the first case, while the second may be running: the sweep
+    # raises KeyboardInterrupt, leaves no FAILED marker, and the same call finishes it.
+    study = tmp_path / "tiny.toml"
+    study.write_text(TINY)
+    out = tmp_path / "out"
+    with pytest.raises(KeyboardInterrupt):
+        vppdem.sweep(study, out, jobs=1, progress=lambda d, t, c: os.kill(os.getpid(), signal.SIGINT))
+    assert not any((out / c / "FAILED").exists() for c in os.listdir(out) if (out / c).is_dir())
+    assert vppdem.sweep(study, out, jobs=1) == 0
+    with open(out / "summary.csv") as f:
+        assert [r["status"] for r in csv.DictReader(f)] == ["ok", "ok"]

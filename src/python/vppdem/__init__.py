@@ -276,26 +276,75 @@ class Damper:
         return self._d.radii()
 
 
-def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None):
+class _CaseProgress:
+    """The callback of a sweep or calibration: (done, total, case) after each finished case,
+    called from the study's threads with the lock held."""
+
+    def __init__(self, progress):
+        self.user = progress if callable(progress) else None
+        self.bar = None
+        if progress is True:
+            try:
+                from tqdm import tqdm
+
+                self.tqdm = tqdm
+            except ImportError:
+                self.tqdm = None
+
+    def __call__(self, done, total, case):
+        if self.user is not None:
+            self.user(done, total, case)
+            return
+        if self.tqdm is not None:
+            if self.bar is None:
+                self.bar = self.tqdm(total=total, desc="cases", unit="case")
+            self.bar.n = min(done, total)
+            self.bar.set_postfix_str(case)
+            return
+        print(f"[{done}/{total}] {case}", file=sys.stderr)
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
+
+
+def _run_study(call, progress, *args):
+    hook = None if progress is None or progress is False else _CaseProgress(progress)
+    try:
+        return call(*args, hook)
+    finally:
+        if hook is not None:
+            hook.close()
+
+
+def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None, progress=None):
     """`vppdem sweep STUDY --out OUT`: runs (or resumes) the study; returns the failed cases'
-    count. sets: ["key=value", ...] or `settings` (a dict) fixed for every case."""
+    count. sets: ["key=value", ...] or `settings` (a dict) fixed for every case.
+    progress: None, True (a tqdm bar over the cases, else a line per case on stderr) or a
+    callable progress(done, total, case) called after each finished case. Ctrl-C, or an
+    exception of the callable, stops the sweep and is raised; finished cases stay, and the
+    same call resumes it."""
     extra = list(sets or []) + _sets(None, settings, {})[1]
-    return _core.sweep(os.fspath(study_path), os.fspath(out), extra, int(seeds), int(jobs), bool(quiet))
+    return _run_study(_core.sweep, progress, os.fspath(study_path), os.fspath(out), extra, int(seeds), int(jobs),
+                      bool(quiet))
 
 
 def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None,
               displacement_unit="m", force_unit="N", compression_negative=False, simulated_force="force_zeroed",
-              points=50, plot=False, time_column="time", displacement_column="displacement", force_column="force"):
+              points=50, plot=False, time_column="time", displacement_column="displacement", force_column="force",
+              progress=None):
     """`vppdem calibrate STUDY --experiment EXP --out OUT`: returns calibration.json as a dict;
     raises RuntimeError when the calibration failed (cases failed or none could be compared).
-    The keywords are the command's options (--displacement-unit, --force-column, ...)."""
+    The keywords are the command's options (--displacement-unit, --force-column, ...);
+    progress and Ctrl-C as in sweep()."""
     if displacement_unit not in ("m", "mm") or force_unit not in ("N", "kN"):
         raise ValueError("displacement_unit: 'm' or 'mm'; force_unit: 'N' or 'kN'")
     extra = list(sets or []) + _sets(None, settings, {})[1]
-    rc = _core.calibrate(os.fspath(study_path), os.fspath(experiment), os.fspath(out), extra, int(seeds),
-                         int(jobs), bool(quiet), 1e-3 if displacement_unit == "mm" else 1.0,
-                         1e3 if force_unit == "kN" else 1.0, bool(compression_negative), simulated_force,
-                         int(points), bool(plot), time_column, displacement_column, force_column)
+    rc = _run_study(_core.calibrate, progress, os.fspath(study_path), os.fspath(experiment), os.fspath(out), extra,
+                    int(seeds), int(jobs), bool(quiet), 1e-3 if displacement_unit == "mm" else 1.0,
+                    1e3 if force_unit == "kN" else 1.0, bool(compression_negative), simulated_force,
+                    int(points), bool(plot), time_column, displacement_column, force_column)
     path = os.path.join(os.fspath(out), "calibration.json")
     if rc != 0 or not os.path.exists(path):
         raise RuntimeError(f"calibrate: no calibration (exit status {rc}); see {out}")
