@@ -54,6 +54,17 @@ analyse() {  # NAME SWEEP_DIR [--extra DIRS...]
   record "$name.png, data/$name.csv, data/${name}_summary.csv" "$cmd"
 }
 
+# run_branch DIR CKPT [--set ...]: one damper run branched from CKPT into DIR; resumes a killed
+# run from DIR/run.ckpt and skips a finished one.
+run_branch() {
+  local d=$1 ckpt=$2
+  shift 2
+  if [ -f "$d/summary.json" ]; then echo "   $d done earlier"; return; fi
+  if [ -f "$d/run.ckpt" ]; then $VPPDEM damper --from "$d/run.ckpt" --out "$d" --no-plot --quiet; return; fi
+  echo "== $d"
+  $VPPDEM damper --from "$ckpt" --out "$d" --no-plot --quiet "$@"
+}
+
 quick_slow_dirs() {
   local d=()
   for s in $(seq "$SEEDS_QUICK"); do
@@ -91,11 +102,7 @@ for part in "${parts[@]}"; do
         for s in $(seq "$SEEDS_SMALL"); do
           ckpt=$(ls "$OUT"/small/*simulation.seed=$s/prepared.ckpt 2>/dev/null | head -1 || true)
           [ -n "$ckpt" ] || { echo "velocity_convergence.sh: small_paper needs the small study's samples: run 'small' first" >&2; exit 2; }
-          d="$OUT/small_paper_dp${dp}_s$s"
-          if [ -f "$d/summary.json" ]; then echo "   $d done earlier"; continue; fi
-          if [ -f "$d/run.ckpt" ]; then $VPPDEM damper --from "$d/run.ckpt" --out "$d" --no-plot --quiet; continue; fi
-          echo "== small_paper dp $dp seed $s"
-          $VPPDEM damper --from "$ckpt" --out "$d" --no-plot --quiet --set process.velocity=3.33e-4 --set process.cycles=1 \
+          run_branch "$OUT/small_paper_dp${dp}_s$s" "$ckpt" --set process.velocity=3.33e-4 --set process.cycles=1 \
             --set process.underpressure=$dp --set process.amplitude=0.002 --set process.samples_per_cycle=200 \
             --set output.energy=true --set simulation.threads=1
         done
@@ -107,11 +114,7 @@ for part in "${parts[@]}"; do
       for s in $(seq "$SEEDS_QUICK"); do
         ckpt=$(ls "$OUT"/quick/*simulation.seed=$s/prepared.ckpt 2>/dev/null | head -1 || true)
         [ -n "$ckpt" ] || { echo "velocity_convergence.sh: quick_slow needs the quick study's samples: run 'quick' first" >&2; exit 2; }
-        d="$OUT/quick_v0.005_dp0.06e6_s$s"
-        if [ -f "$d/summary.json" ]; then echo "   $d done earlier"; continue; fi
-        if [ -f "$d/run.ckpt" ]; then $VPPDEM damper --from "$d/run.ckpt" --out "$d" --no-plot --quiet; continue; fi
-        echo "== quick_slow seed $s"
-        $VPPDEM damper --from "$ckpt" --out "$d" --no-plot --quiet --set process.velocity=0.005 --set process.cycles=2 \
+        run_branch "$OUT/quick_v0.005_dp0.06e6_s$s" "$ckpt" --set process.velocity=0.005 --set process.cycles=2 \
           --set process.underpressure=0.06e6 --set output.energy=false --set simulation.threads=1
       done
       # shellcheck disable=SC2046
