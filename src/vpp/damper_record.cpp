@@ -311,10 +311,6 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
             if (k.starts_with(prefix) && k != "prepare.funnel_height") o.num(k.substr(prefix.size()), v);
         return o.value();
     };
-    std::string warnings_json = "[";
-    for (std::size_t k = 0; k < r.warnings.size(); ++k)
-        warnings_json += (k ? ", " : "") + dem::JsonObject::quote(r.warnings[k]);
-    warnings_json += "]";
     dem::JsonObject j;
     j.raw("inputs", in)
         .num("underpressure", c.process.underpressure)
@@ -339,7 +335,7 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
         .num("inner_radius", r.foil_radius - c.foil.particle_radius)
         .raw("preparation", report_json("prepare."))
         .raw("start_of_cycling", report_json("cycle."))
-        .raw("warnings", warnings_json)
+        .raw("warnings", dem::json_string_array(r.warnings))
         .num("run_seconds", r.run_seconds)
         .str("from", from);
     return j.text();
@@ -367,9 +363,10 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
         std::fprintf(stderr, "\n=== vppdem damper: %s ===\n", opt.out_dir.c_str());
         std::fprintf(stderr, "grains %zu, foil %zu particles (%d x %d, radius %.4g mm), height %.4g mm, dt %.3g s\n",
                      r.grains, r.foil_particles, r.foil_columns, r.foil_rows, 1e3 * r.foil_radius, 1e3 * r.height, r.dt);
-        std::fprintf(stderr, "dp %.4g MPa, amplitude %.3g mm, velocity %.4g m/s, inertial number %.2g%s\n",
-                     c.process.underpressure * 1e-6, c.process.amplitude * 1e3, c.process.velocity, I,
-                     quasi_static ? " (quasi-static)" : "  WARNING: not quasi-static (I >= 5e-4); lower process.velocity");
+        std::fprintf(stderr, "dp %.4g MPa, amplitude %.3g mm, velocity %.4g m/s, inertial number %.2g",
+                     c.process.underpressure * 1e-6, c.process.amplitude * 1e3, c.process.velocity, I);
+        if (quasi_static) std::fprintf(stderr, " (quasi-static)\n");
+        else std::fprintf(stderr, "  WARNING: not quasi-static (I >= %.2g); lower process.velocity\n", kQuasiStaticInertialNumber);
         std::fprintf(stderr, "cycle  dissipated [J]   W [J/m^2]   peak [N]   min [N]\n");
         for (const auto& cr : r.cycles)
             std::fprintf(stderr, "%5d  %13.5g  %10.5g  %9.4g  %8.4g\n", cr.cycle, cr.dissipated_energy, cr.W,

@@ -33,7 +33,6 @@ public:
     // The object as a file's contents.
     std::string text() const { return value() + "\n"; }
 
-    static std::string quote(const std::string& s) { return json_string(s); }
 
 private:
     std::string body_;
