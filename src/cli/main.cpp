@@ -42,7 +42,7 @@ int main(int argc, char** argv) {
 
     // vppdem bench SCENE ...
     auto* bench = app.add_subcommand("bench", "Time a shared benchmark scene (../shared/bench/README.md)");
-    cli::BenchOptions bo;
+    scene::BenchOptions bo;
     bench->add_option("scene", bo.scene, "grains-in-cylinder | foil-plus-grains")
         ->required()
         ->check(CLI::IsMember({"grains-in-cylinder", "foil-plus-grains"}));
@@ -51,7 +51,7 @@ int main(int argc, char** argv) {
         ->check(CLI::ExistingDirectory);
     bench->add_option("--warmup", bo.warmup, "untimed steps first")->check(CLI::NonNegativeNumber);
     bench->add_option("--steps", bo.steps, "timed steps")->check(CLI::PositiveNumber);
-    auto* bench_threads = bench->add_option("--threads", bo.threads, std::string("threads of the step (") + cli::kDefaultThreadsHelp + ")")
+    auto* bench_threads = bench->add_option("--threads", bo.threads, std::string("threads of the step (") + scene::kDefaultThreadsHelp + ")")
         ->check(CLI::PositiveNumber);
     bench->add_option("--underpressure", bo.underpressure, "[Pa] follower pressure on the foil");
     bench->add_flag("--profile", bo.profile, "Print the time per phase (neighbour search, contacts, ...)");
@@ -178,7 +178,7 @@ int main(int argc, char** argv) {
         for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) names.push_back(sub->get_name());
         const std::string word = argv[1];
         if (std::find(names.begin(), names.end(), word) == names.end()) {
-            const std::string near = cli::nearest(word, names);
+            const std::string near = scene::nearest(word, names);
             std::string all;
             for (const std::string& n : names) all += (all.empty() ? "" : ", ") + n;
             std::fprintf(stderr, "vppdem: error: unknown command '%s'%s (commands: %s; vppdem --help)\n", word.c_str(),
@@ -195,18 +195,18 @@ int main(int argc, char** argv) {
         } else if (*scene) {
             const auto root = cfg::load(scene_file, sets);
             const std::string base = std::filesystem::path(scene_file).parent_path().string();
-            cli::Scene sc = cli::build_scene(root, base.empty() ? "." : base);
-            cli::run_scene(sc, {out_dir, overwrite, quiet});
+            scene::Scene sc = scene::build_scene(root, base.empty() ? "." : base);
+            scene::run_scene(sc, {out_dir, overwrite, quiet});
         } else if (*bench) {
-            if (bench_threads->count() == 0) bo.threads = cli::default_threads();
-            cli::run_bench(bo);
+            if (bench_threads->count() == 0) bo.threads = scene::default_threads();
+            scene::run_bench(bo);
         } else if (*tension.app) {
             const vpp::Config c = vpp::load_config(tension.config, tension.sets, vpp::foil_command_defaults());
-            cli::prepare_output_dir(tension.out, tension.overwrite);
+            scene::prepare_output_dir(tension.out, tension.overwrite);
             vpp::run_tension(c, tension.out, tension.quiet);
         } else if (*envelope.app) {
             const vpp::Config c = vpp::load_config(envelope.config, envelope.sets, vpp::foil_command_defaults());
-            cli::prepare_output_dir(envelope.out, envelope.overwrite);
+            scene::prepare_output_dir(envelope.out, envelope.overwrite);
             vpp::run_envelope(c, envelope.out, envelope.quiet);
         } else if (*damper.app) {
             const vpp::Config c = vpp::load_config(damper.config, damper.sets, vpp::damper_command_defaults());

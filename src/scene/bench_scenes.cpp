@@ -16,7 +16,7 @@
 #include "dem/io/csv.h"
 #include "dem/walls/facet_sets.h"
 
-namespace cli {
+namespace scene {
 
 namespace {
 
@@ -250,4 +250,4 @@ void run_bench(const BenchOptions& opt) {
     }
 }
 
-}  // namespace cli
+}  // namespace scene

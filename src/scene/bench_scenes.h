@@ -3,7 +3,7 @@
 
 #include <string>
 
-namespace cli {
+namespace scene {
 
 struct BenchOptions {
     std::string scene;        // "grains-in-cylinder" or "foil-plus-grains"
@@ -23,4 +23,4 @@ struct BenchOptions {
 // `profile`, a table of the time per phase comes first and the JSON line gains "profile".
 void run_bench(const BenchOptions& opt);
 
-}  // namespace cli
+}  // namespace scene

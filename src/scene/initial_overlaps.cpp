@@ -5,7 +5,7 @@
 
 #include "dem/detect/geometry.h"
 
-namespace cli {
+namespace scene {
 
 using dem::Vec3;
 
@@ -181,4 +181,4 @@ OverlapReport wall_overlaps(const dem::World& w, double tolerance) {
     return rep;
 }
 
-}  // namespace cli
+}  // namespace scene

@@ -19,7 +19,7 @@
 
 #include "dem/core/world.h"
 
-namespace cli {
+namespace scene {
 
 struct Overlap {
     uint32_t a = 0;           // sphere index (the smaller one of a pair)
@@ -44,4 +44,4 @@ OverlapReport sphere_overlaps(const dem::World& w, double tolerance);
 // Sphere-wall pairs beyond tolerance times the sphere's radius, walls at t = 0.
 OverlapReport wall_overlaps(const dem::World& w, double tolerance);
 
-}  // namespace cli
+}  // namespace scene

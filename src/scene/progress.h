@@ -8,7 +8,7 @@
 
 #include <unistd.h>
 
-namespace cli {
+namespace scene {
 
 class Progress {
 public:
@@ -48,4 +48,4 @@ private:
     double every_;  // [s] between lines
 };
 
-}  // namespace cli
+}  // namespace scene

@@ -11,12 +11,13 @@
 #include "scene/config.h"
 #include "scene/initial_overlaps.h"
 #include "scene/progress.h"
+#include "scene/scene_settings.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
 #include "dem/io/vtk.h"
 #include "dem/walls/facet_sets.h"
 
-namespace cli {
+namespace scene {
 
 namespace fs = std::filesystem;
 using cfg::ConfigError;
@@ -25,7 +26,7 @@ using dem::Vec3;
 
 namespace {
 
-uint32_t material_index(Section& s, const std::map<std::string, uint32_t>& by_name) {
+uint32_t material_index(SceneSection& s, const std::map<std::string, uint32_t>& by_name) {
     const std::string m = s.string("material");
     auto it = by_name.find(m);
     if (it == by_name.end()) {
@@ -36,16 +37,12 @@ uint32_t material_index(Section& s, const std::map<std::string, uint32_t>& by_na
     return it->second;
 }
 
-uint32_t read_mask(Section& s) {
-    const int64_t m = s.integer("mask", 1);
-    if (m <= 0 || m > int64_t(0xffffffffu)) s.fail("mask", "must be a positive 32-bit bit mask");
-    return uint32_t(m);
-}
+uint32_t read_mask(SceneSection& s) { return uint32_t(s.integer("mask")); }
 
 // velocity = [..] or displacement = [[t, dx, dy, dz], ...] (piecewise linear, t increasing).
-dem::Motion read_motion(Section& s) {
+dem::Motion read_motion(SceneSection& s) {
     dem::Motion m;
-    m.velocity = s.vec3("velocity", {});
+    m.velocity = s.vec3("velocity");
     if (const toml::node* n = s.node("displacement")) {
         if (s.has("velocity")) s.fail("displacement", "give either velocity or displacement, not both");
         const toml::array* a = n->as_array();
@@ -66,6 +63,13 @@ dem::Motion read_motion(Section& s) {
         }
     }
     return m;
+}
+
+// The entries of an array of tables, each read through the table's rows for `key[]`.
+std::vector<SceneSection> entries(Section& top, const std::string& key) {
+    std::vector<SceneSection> out;
+    for (Section& s : top.array_of_tables(key)) out.emplace_back(std::move(s), key + "[]");
+    return out;
 }
 
 fs::path resolve(const std::string& base, const std::string& p) {
@@ -125,74 +129,70 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     dem::World& w = sc.world;
     Section top(&root, "");
 
-    Section sim = top.table("simulation");
-    const toml::node* dtn = sim.node("dt");
-    if (!dtn) {
-        w.params.dt = 1e-7;
-    } else if (auto s = dtn->as_string()) {
-        if (s->get() != "auto") sim.fail("dt", "must be a time step in seconds (> 0) or \"auto\"");
-        sc.dt_auto = true;
-    } else if (auto v = dtn->value<double>()) {
-        w.params.dt = sim.positive("dt", *v);
+    // Every key through the scene's settings table (scene/scene_settings.cpp): its default, its check.
+    SceneSection sim(top.table("simulation"), "simulation");
+    if (const toml::node* dtn = sim.node("dt")) {
+        const char* allowed = sim.row("dt").limits.allowed;
+        if (auto str = dtn->as_string()) {
+            if (str->get() != "auto") sim.fail("dt", allowed);
+            sc.dt_auto = true;
+        } else if (auto v = dtn->value<double>()) {
+            w.params.dt = sim.positive("dt", *v);
+        } else {
+            sim.fail("dt", allowed);
+        }
     } else {
-        sim.fail("dt", "must be a time step in seconds (> 0) or \"auto\"");
+        w.params.dt = sim.row("dt").def;
     }
-    sc.dt_safety = sim.number("dt_safety", 0.3);
-    if (!(sc.dt_safety > 0.0 && sc.dt_safety <= 1.0)) sim.fail("dt_safety", "must be in (0, 1]");
-    sc.duration = sim.positive("duration", sim.number("duration", 1e-3));
-    w.params.gravity = sim.vec3("gravity", {0, 0, -9.81});
-    w.params.local_damping = sim.number("local_damping", 0.0);
-    if (!(w.params.local_damping >= 0.0 && w.params.local_damping < 1.0))
-        sim.fail("local_damping", "must be in [0, 1)");
-    const int64_t threads = sim.integer("threads", 1);
-    if (threads < 1 || threads > 1024) sim.fail("threads", "must be an integer >= 1");
-    w.params.threads = int(threads);
-    sc.output_interval = sim.positive("output_interval", sim.number("output_interval", 1e-6));
-    w.params.skin = sim.non_negative("skin", sim.number("skin", 0.0));
+    sc.dt_safety = sim.real("dt_safety");
+    sc.duration = sim.real("duration");
+    w.params.gravity = sim.vec3("gravity");
+    w.params.local_damping = sim.real("local_damping");
+    w.params.threads = int(sim.integer("threads"));
+    sc.output_interval = sim.real("output_interval");
+    w.params.skin = sim.real("skin");
     // [-] of the smaller radius; a packing written to a few digits touches by a little.
-    const double max_overlap = sim.non_negative("max_initial_overlap", sim.number("max_initial_overlap", 0.01));
+    const double max_overlap = sim.real("max_initial_overlap");
     sim.finish();
 
-    Section out = top.table("output");
-    sc.vtk_interval = out.number("vtk_interval", 0.0);
-    if (sc.vtk_interval < 0.0) out.fail("vtk_interval", "must be >= 0 (0 = no VTK output)");
+    SceneSection out(top.table("output"), "output");
+    sc.vtk_interval = out.real("vtk_interval");
     // energy.csv: the World keeps its energy ledger (docs/energy.md).
-    w.params.track_energy = out.boolean("energy", false);
+    w.params.track_energy = out.flag("energy");
     out.finish();
 
     std::map<std::string, uint32_t> by_name;
-    for (Section m : top.array_of_tables("materials")) {
+    for (SceneSection m : entries(top, "materials")) {
         dem::Material mat;
         mat.name = m.string("name");
         if (by_name.count(mat.name)) m.fail("name", "duplicate material name");
-        mat.density = m.positive("density", m.number("density", mat.density));
-        mat.young = m.positive("young", m.number("young", mat.young));
-        mat.stiffness_ratio = m.non_negative("stiffness_ratio", m.number("stiffness_ratio", mat.stiffness_ratio));
-        mat.friction = m.non_negative("friction", m.number("friction", mat.friction));
-        mat.restitution = m.number("restitution", mat.restitution);
-        if (!(mat.restitution > 0.0 && mat.restitution <= 1.0)) m.fail("restitution", "must be in (0, 1]");
+        mat.density = m.real("density");
+        mat.young = m.real("young");
+        mat.stiffness_ratio = m.real("stiffness_ratio");
+        mat.friction = m.real("friction");
+        mat.restitution = m.real("restitution");
         m.finish();
         by_name[mat.name] = w.add_material(mat);
     }
 
-    for (Section s : top.array_of_tables("spheres")) {
+    for (SceneSection s : entries(top, "spheres")) {
         dem::SphereDef d;
         d.material = material_index(s, by_name);
-        d.radius = s.positive("radius", s.number("radius"));
+        d.radius = s.real("radius");
         d.position = s.vec3("position");
-        d.velocity = s.vec3("velocity", {});
-        d.angular_velocity = s.vec3("angular_velocity", {});
+        d.velocity = s.vec3("velocity");
+        d.angular_velocity = s.vec3("angular_velocity");
         d.mask = read_mask(s);
-        if (s.boolean("fixed", false)) d.flags |= dem::kFixed;
+        if (s.flag("fixed")) d.flags |= dem::kFixed;
         // Prescribed motion: `prescribed = true` keeps `velocity` constant whatever the forces;
         // a `displacement` history [[t, dx, dy, dz], ...] moves the sphere along it instead.
-        const bool prescribed = s.boolean("prescribed", false) || s.has("displacement");
+        const bool prescribed = s.flag("prescribed") || s.has("displacement");
         std::optional<dem::Motion> motion;
         if (prescribed) {
             if (d.flags & dem::kFixed) s.fail("prescribed", "a sphere cannot be both fixed and prescribed");
             motion = read_motion(s);
         }
-        const bool track = s.boolean("track", false);
+        const bool track = s.flag("track");
         s.finish();
         const uint32_t id = w.add_sphere(d);
         if (motion) w.set_prescribed(id, w.add_motion(*motion));
@@ -200,14 +200,14 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
         sc.sphere_origin.push_back({-1, uint32_t(sc.sphere_origin.size())});
     }
     int32_t file_index = 0;
-    for (Section s : top.array_of_tables("sphere_files")) {
+    for (SceneSection s : entries(top, "sphere_files")) {
         const fs::path path = resolve(base_dir, s.string("path"));
         dem::SphereDef d;
         d.material = material_index(s, by_name);
-        d.velocity = s.vec3("velocity", {});
+        d.velocity = s.vec3("velocity");
         d.mask = read_mask(s);
-        if (s.boolean("fixed", false)) d.flags |= dem::kFixed;
-        const bool track = s.boolean("track", false);
+        if (s.flag("fixed")) d.flags |= dem::kFixed;
+        const bool track = s.flag("track");
         s.finish();
         std::vector<std::vector<double>> rows;
         try {
@@ -233,13 +233,13 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
         ++file_index;
     }
 
-    for (Section s : top.array_of_tables("planes")) {
+    for (SceneSection s : entries(top, "planes")) {
         dem::Plane p;
         p.material = material_index(s, by_name);
         p.point = s.vec3("point");
         p.normal = s.vec3("normal");
-        if (dem::norm(p.normal) == 0.0) s.fail("normal", "must not be the zero vector");
-        p.one_sided = s.boolean("one_sided", false);
+        if (dem::norm(p.normal) == 0.0) s.fail("normal", s.row("normal").limits.allowed);
+        p.one_sided = s.flag("one_sided");
         p.mask = read_mask(s);
         p.motion = read_motion(s);
         s.finish();
@@ -247,11 +247,11 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
         sc.wall_names.push_back(s.path());
     }
     const uint32_t nplanes = uint32_t(w.planes.size());
-    for (Section s : top.array_of_tables("facets")) {
+    for (SceneSection s : entries(top, "facets")) {
         dem::Facet f;
         f.material = material_index(s, by_name);
         const toml::node* n = s.node("vertices");
-        const toml::array* a = n ? n->as_array() : nullptr;
+        const toml::array* a = n->as_array();
         if (!a || a->size() != 3) s.fail("vertices", "must be 3 points [[x,y,z],[x,y,z],[x,y,z]]");
         for (int v = 0; v < 3; ++v) {
             const toml::array* r = a->get(v)->as_array();
@@ -265,32 +265,35 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
         }
         if (dem::norm(dem::cross(f.vertices[1] - f.vertices[0], f.vertices[2] - f.vertices[0])) == 0.0)
             s.fail("vertices", "the triangle has zero area");
-        f.one_sided = s.boolean("one_sided", false);
+        f.one_sided = s.flag("one_sided");
         f.mask = read_mask(s);
         f.motion = read_motion(s);
         s.finish();
         sc.wall_members.push_back({nplanes + w.add_facet(f)});
         sc.wall_names.push_back(s.path());
     }
-    for (Section s : top.array_of_tables("facet_sets")) {
+    for (SceneSection s : entries(top, "facet_sets")) {
         const std::string type = s.string("type");
         std::vector<dem::Facet> fs;
         try {
+            // Arguments in the order of the calls' parameters (function arguments have no
+            // order of evaluation, and a message should name the first bad key).
             if (type == "cylinder") {
-                fs = dem::make_cylinder_facets(s.vec3("base", {}), s.positive("radius", s.number("radius")),
-                                               s.positive("height", s.number("height")),
-                                               int(s.integer("segments", 72)), s.boolean("inward", true));
+                const Vec3 base = s.vec3("base");
+                const double radius = s.real("radius"), height = s.real("height");
+                const int segments = int(s.integer("segments"));
+                fs = dem::make_cylinder_facets(base, radius, height, segments, s.flag("inward"));
             } else if (type == "funnel") {
-                fs = dem::make_funnel_facets(s.vec3("base", {}),
-                                             s.positive("bottom_radius", s.number("bottom_radius")),
-                                             s.positive("top_radius", s.number("top_radius")),
-                                             s.positive("height", s.number("height")),
-                                             int(s.integer("segments", 72)), s.boolean("inward", true));
+                const Vec3 base = s.vec3("base");
+                const double bottom = s.real("bottom_radius"), top_r = s.real("top_radius");
+                const double height = s.real("height");
+                const int segments = int(s.integer("segments"));
+                fs = dem::make_funnel_facets(base, bottom, top_r, height, segments, s.flag("inward"));
             } else if (type == "stl") {
-                fs = dem::read_stl(resolve(base_dir, s.string("path")).string(),
-                                   s.positive("scale", s.number("scale", 1.0)));
+                const std::string path = resolve(base_dir, s.string("path")).string();
+                fs = dem::read_stl(path, s.real("scale"));
             } else {
-                s.fail("type", "must be \"cylinder\", \"funnel\" or \"stl\"");
+                s.fail("type", s.row("type").limits.allowed);
             }
         } catch (const std::invalid_argument& e) {
             s.fail("type", e.what());
@@ -299,7 +302,7 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
             s.fail("path", e.what());
         }
         const uint32_t material = material_index(s, by_name);
-        const bool one_sided = s.boolean("one_sided", false);
+        const bool one_sided = s.flag("one_sided");
         const uint32_t mask = read_mask(s);
         const dem::Motion motion = read_motion(s);
         s.finish();
@@ -450,4 +453,4 @@ void run_scene(Scene& sc, const RunOptions& opt) {
                      opt.out_dir.c_str());
 }
 
-}  // namespace cli
+}  // namespace scene

@@ -8,7 +8,7 @@
 
 #include "dem/core/world.h"
 
-namespace cli {
+namespace scene {
 
 // A scene read from TOML: the World plus what the runner needs around it.
 struct Scene {
@@ -49,4 +49,4 @@ void run_scene(Scene& scene, const RunOptions& opt);
 // Refuses an existing non-empty directory unless overwrite; creates it.
 void prepare_output_dir(const std::string& dir, bool overwrite);
 
-}  // namespace cli
+}  // namespace scene

@@ -2,7 +2,7 @@
 
 #include <algorithm>
 
-namespace cli {
+namespace scene {
 
 int edit_distance(const std::string& a, const std::string& b) {
     // Optimal string alignment distance (Damerau-Levenshtein without repeated edits of a
@@ -35,4 +35,4 @@ std::string nearest(const std::string& word, const std::vector<std::string>& can
     return best_d <= allowed ? best : std::string();
 }
 
-}  // namespace cli
+}  // namespace scene

@@ -4,7 +4,7 @@
 #include <string>
 #include <vector>
 
-namespace cli {
+namespace scene {
 
 // Edit distance (insertions, deletions, substitutions and swaps of two neighbours, each 1)
 // between a and b.
@@ -15,4 +15,4 @@ int edit_distance(const std::string& a, const std::string& b);
 // Ties go to the first candidate in the list.
 std::string nearest(const std::string& word, const std::vector<std::string>& candidates);
 
-}  // namespace cli
+}  // namespace scene

@@ -12,7 +12,7 @@
 #include <sstream>
 #include <thread>
 
-namespace cli {
+namespace scene {
 
 namespace {
 
@@ -105,4 +105,4 @@ int default_threads() {
     return threads;
 }
 
-}  // namespace cli
+}  // namespace scene

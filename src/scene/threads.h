@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-namespace cli {
+namespace scene {
 
 // CPUs this process may run on (sched_getaffinity), in increasing order; {0..n-1} from
 // std::thread::hardware_concurrency() when the mask cannot be read.
@@ -43,4 +43,4 @@ inline constexpr const char* kDefaultThreadsHelp =
     "default: the free cores, i.e. the cores this process may use minus those busy with other "
     "work (measured over 150 ms at start), at least 1";
 
-}  // namespace cli
+}  // namespace scene

@@ -27,26 +27,12 @@ std::string section_of(const std::string& key) { return key.substr(0, key.find('
 void read_generic(Section& s, const Setting& row, Config& c) {
     const std::string key = std::string(row.key).substr(std::string(row.key).find('.') + 1);
     switch (row.type) {
-    case SettingType::Real: {
-        double v = s.number(key, row.def);
-        if (row.check == Check::Positive) v = s.positive(key, v);
-        else if (row.check == Check::NonNegative) v = s.non_negative(key, v);
-        else if (row.check == Check::Range) {
-            const bool above = row.lo_open ? v > row.lo : v >= row.lo;
-            const bool below = row.hi_open ? v < row.hi : v <= row.hi;
-            if (!(above && below)) s.fail(key, row.allowed);
-        } else if (row.check != Check::None) {
-            throw std::logic_error(std::string("settings: ") + row.key + " needs a reader of its own");
-        }
-        row.set(c, v);
+    case SettingType::Real:
+        row.set(c, cfg::check_real(s, key, s.number(key, row.def), row.limits()));
         return;
-    }
-    case SettingType::Integer: {
-        const int64_t v = s.integer(key, int64_t(row.def));
-        if (row.check == Check::AtLeast && v < int64_t(row.lo)) s.fail(key, row.allowed);
-        row.set(c, double(v));
+    case SettingType::Integer:
+        row.set(c, double(cfg::check_integer(s, key, s.integer(key, int64_t(row.def)), row.limits())));
         return;
-    }
     case SettingType::Boolean:
         row.set(c, s.boolean(key, row.def != 0.0) ? 1.0 : 0.0);
         return;

@@ -129,7 +129,7 @@ void remove_previous_outputs(const fs::path& dir, const std::string& spare) {
 
 void DamperRun::start_output_dir() {
     if (!files_) return;
-    cli::prepare_output_dir(o_.out_dir, o_.overwrite);
+    scene::prepare_output_dir(o_.out_dir, o_.overwrite);
     if (o_.overwrite) remove_previous_outputs(out_, o_.from);
 }
 

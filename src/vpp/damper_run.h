@@ -90,7 +90,7 @@ public:
     }
 
 private:
-    cli::Progress prog_;
+    scene::Progress prog_;
     const char* stage_;
     uint64_t total_;
     const std::function<void(const char*, uint64_t, uint64_t, double)>& hook_;

@@ -77,7 +77,7 @@ EnvelopeResult run_envelope(const Config& c, const std::string& out_dir, bool qu
     r.min_gap = min_nonbonded_gap(L, w);
     uint64_t next_out = 0, next_vtk = 0, frame = 0;
     const double eps = 0.5 * r.dt;
-    cli::Progress progress("envelope", r.steps, quiet);
+    scene::Progress progress("envelope", r.steps, quiet);
     for (uint64_t s = 0; s <= r.steps; ++s) {
         w.pressure.dp = dp * std::min(1.0, w.time / ramp);
         w.compute_forces();

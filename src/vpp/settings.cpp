@@ -1,11 +1,11 @@
 #include "vpp/settings.h"
 
 #include <algorithm>
-#include <charconv>
 #include <cmath>
 #include <stdexcept>
 
 #include "scene/config.h"
+#include "scene/scene_settings.h"
 #include "scene/threads.h"
 
 namespace vpp {
@@ -222,7 +222,7 @@ const std::vector<Setting>& table() {
              const int64_t th = s.integer(k, d.threads);
              if (th < 0 || th > 1024) s.fail(k, r.allowed);
              // 0: the free cores (scene/threads.h), measured only when asked for.
-             c.simulation.threads = th == 0 ? cli::default_threads() : int(th);
+             c.simulation.threads = th == 0 ? scene::default_threads() : int(th);
          },
          FIELD(simulation.threads)},
         {.key = "simulation.seed", .type = T::Integer, .unit = "", .def = 1, .check = C::AtLeast, .lo = 0,
@@ -276,11 +276,6 @@ std::vector<Setting> ordered_by(int Setting::*position) {
 
 std::string section_of(const std::string& key) { return key.substr(0, key.find('.')); }
 
-std::string number_text(double v) {
-    char buf[32];
-    const auto r = std::to_chars(buf, buf + sizeof buf, v);
-    return std::string(buf, r.ptr);
-}
 
 }  // namespace
 
@@ -339,28 +334,13 @@ const char* acts_name(Acts a) {
 }
 
 std::string config_reference_markdown() {
-    auto type_name = [](SettingType t) {
-        switch (t) {
-        case SettingType::Real: return "number";
-        case SettingType::Integer: return "integer";
-        case SettingType::Boolean: return "true/false";
-        case SettingType::Choice: return "string";
-        case SettingType::RealOrAuto: return "number or \"auto\"";
-        }
-        return "?";
-    };
-    auto cell = [](std::string s) {  // a Markdown table cell: no bare |
-        std::string out;
-        for (char ch : s) {
-            if (ch == '|') out += '\\';
-            out += ch;
-        }
-        return out;
-    };
     std::string md =
         "# Config reference\n\n"
-        "<!-- Generated from the settings table (src/vpp/settings.cpp) by `vppdem config-reference`; do not edit:\n"
-        "     build/vppdem config-reference > docs/config.md -->\n\n"
+        "<!-- Generated from the settings tables (src/vpp/settings.cpp, src/scene/scene_settings.cpp) by\n"
+        "     `vppdem config-reference`; do not edit: build/vppdem config-reference > docs/config.md -->\n\n"
+        "- [VPP commands](#vpp-commands): damper, sweep, calibrate, tension, envelope\n"
+        "- [`vppdem scene`](#vppdem-scene): generic DEM scenes (docs/scene.md)\n\n"
+        "## VPP commands\n\n"
         "Every key of the config of the VPP commands (damper, sweep, calibrate, tension, envelope), in a file\n"
         "or as `--set section.key=value`. Unknown keys and values outside the allowed range are refused with a\n"
         "message that names the key, the value and what is allowed; every number must be finite.\n\n"
@@ -377,26 +357,19 @@ std::string config_reference_markdown() {
         std::string def;
         if (s.type == SettingType::Boolean) def = s.def != 0.0 ? "true" : "false";
         else if (std::isnan(s.def)) def = s.default_text;
-        else def = number_text(s.def);
-        if (!std::isnan(s.def_foil)) def += " (tension, envelope: " + number_text(s.def_foil) + ")";
-        std::string allowed;
-        switch (s.check) {
-        case Check::None: allowed = s.type == SettingType::Boolean ? "true or false" : "any"; break;
-        case Check::Positive: allowed = "> 0"; break;
-        case Check::NonNegative: allowed = ">= 0"; break;
-        default: allowed = s.allowed; break;
-        }
-        auto strip = [](std::string a) { return a.starts_with("must be ") ? a.substr(8) : a; };
-        allowed = strip(allowed);
-        if (s.check == Check::Positive && *s.allowed) allowed += "; " + strip(s.allowed);
+        else def = cfg::number_text(s.def);
+        if (!std::isnan(s.def_foil)) def += " (tension, envelope: " + cfg::number_text(s.def_foil) + ")";
         std::string recorded;
         if (s.geometry) recorded += "geometry";
         if (s.run) recorded += std::string(recorded.empty() ? "" : ", ") + "run";
         if (s.summary) recorded += std::string(recorded.empty() ? "" : ", ") + "summary";
-        md += "| `" + std::string(s.key) + "` | " + type_name(s.type) + " | " + cell(def) + " | " + cell(s.unit) +
-              " | " + cell(allowed) + " | " + acts_name(s.acts) + " | " + (s.shares_preparation ? "yes" : "no") +
-              " | " + recorded + " | " + cell(s.doc) + " |\n";
+        md += "| `" + std::string(s.key) + "` | " + cfg::type_name(s.type) + " | " + cfg::markdown_cell(def) + " | " +
+              cfg::markdown_cell(s.unit) + " | " + cfg::markdown_cell(cfg::allowed_text(s.type, s.limits())) + " | " +
+              acts_name(s.acts) + " | " + (s.shares_preparation ? "yes" : "no") + " | " + recorded + " | " +
+              cfg::markdown_cell(s.doc) + " |\n";
     }
+    // The generic scene runner's keys, from its own table (scene/scene_settings.cpp).
+    md += "\n" + scene::scene_reference_markdown();
     return md;
 }
 

@@ -12,6 +12,7 @@
 #include <string_view>
 #include <vector>
 
+#include "scene/setting.h"
 #include "vpp/config.h"
 
 namespace cfg {
@@ -20,14 +21,13 @@ class Section;
 
 namespace vpp {
 
-enum class SettingType { Real, Integer, Boolean, Choice, RealOrAuto };
+// The types and checks both settings tables share (scene/setting.h); the damper's keys use Real,
+// Integer, Boolean, Choice and RealOrAuto.
+using cfg::Check;
+using cfg::SettingType;
 
 // What a key changes; a key acting on the geometry or contact physics changes the prepared sample.
 enum class Acts { Geometry, ContactPhysics, Process, Output, Analysis, Simulation };
-
-// How the value is checked (the message is Setting::allowed, except Positive and NonNegative,
-// whose messages are the config reader's own "must be > 0 and finite", "must be >= 0 and finite").
-enum class Check { None, Positive, NonNegative, Range, AtLeast, Custom };
 
 struct Setting {
     static constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
@@ -58,6 +58,8 @@ struct Setting {
     // The value a checkpoint of an older vppdem, which did not store this key, was made with
     // (NaN: every checkpoint stores it).
     double legacy = kUnset;
+
+    cfg::Limits limits() const { return {check, lo, hi, lo_open, hi_open, allowed}; }
 };
 
 // The table, in the order the config reader reads the keys (section by section).

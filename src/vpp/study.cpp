@@ -670,7 +670,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     int jobs = opt.jobs;
     if (jobs <= 0) {
         // The free cores, not all of them: a busy core slows every case's threads (scene/threads.h).
-        const int cores = cli::default_threads();
+        const int cores = scene::default_threads();
         const int per_case = cases.empty() ? 1 : std::max(1, cases[0].config.simulation.threads);
         jobs = opt.ranks > 1 ? 1 : std::max(1, cores / per_case);
     }

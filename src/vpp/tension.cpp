@@ -49,7 +49,7 @@ TensionResult run_tension(const Config& c, const std::string& out_dir, bool quie
     // Least-squares slope over the last 80% of the pull (the first part carries the start-up
     // transient of a suddenly moved grip).
     double sx = 0, sy = 0, sxx = 0, sxy = 0, n = 0;
-    cli::Progress progress("tension", pull_steps, quiet);
+    scene::Progress progress("tension", pull_steps, quiet);
     auto grip_force = [&] {
         double f = 0;  // force the strip exerts on the grip is along -x; tension positive
         for (uint32_t i : grip) f -= w.particles.force[i].x;

@@ -34,8 +34,8 @@ dem::World random_spheres(std::size_t n, uint32_t seed) {
     return w;
 }
 
-cli::OverlapReport brute_force(const dem::World& w, double tol) {
-    cli::OverlapReport rep;
+scene::OverlapReport brute_force(const dem::World& w, double tol) {
+    scene::OverlapReport rep;
     const auto& p = w.particles;
     for (uint32_t i = 0; i < p.size(); ++i)
         for (uint32_t j = i + 1; j < p.size(); ++j) {
@@ -55,7 +55,7 @@ TEST(InitialOverlaps, BinnedSearchFindsWhatBruteForceFinds) {
     for (uint32_t seed : {1u, 2u, 3u}) {
         const dem::World w = random_spheres(1500, seed);
         for (double tol : {0.0, 0.01, 0.5}) {
-            const auto a = cli::sphere_overlaps(w, tol), b = brute_force(w, tol);
+            const auto a = scene::sphere_overlaps(w, tol), b = brute_force(w, tol);
             ASSERT_GT(b.count, 0u);
             EXPECT_EQ(a.count, b.count) << "seed " << seed << " tol " << tol;
             EXPECT_EQ(a.worst.a, b.worst.a);
@@ -82,7 +82,7 @@ TEST(InitialOverlaps, BinnedFacetSearchFindsWhatBruteForceFinds) {
                 ++count;
         }
     ASSERT_GT(count, 100u);
-    EXPECT_EQ(cli::wall_overlaps(w, 0.01).count, count);
+    EXPECT_EQ(scene::wall_overlaps(w, 0.01).count, count);
 }
 
 TEST(InitialOverlaps, FollowsTheWorldsInteractionRules) {
@@ -104,12 +104,12 @@ TEST(InitialOverlaps, FollowsTheWorldsInteractionRules) {
     add({2.005, 0, 1}, 0.01, 1, dem::kFixed);  // both fixed: no contact
     add({3, 0, 1}, 0.01);
     add({3.01995, 0, 1}, 0.01);              // 0.5%: within the default tolerance
-    auto r = cli::sphere_overlaps(w, 0.01);
+    auto r = scene::sphere_overlaps(w, 0.01);
     EXPECT_EQ(r.count, 1u);
     EXPECT_EQ(r.worst.a, 0u);
     EXPECT_EQ(r.worst.b, 1u);
     EXPECT_NEAR(r.worst.fraction, 2.0, 1e-12);  // overlap 2 r of the radius r
-    EXPECT_EQ(cli::sphere_overlaps(w, 0.004).count, 2u);
+    EXPECT_EQ(scene::sphere_overlaps(w, 0.004).count, 2u);
 
     // Walls: a floor z = 0 (two-sided), a one-sided wall x = 10 facing -x, a one-sided facet.
     dem::World v;
@@ -140,7 +140,7 @@ TEST(InitialOverlaps, FollowsTheWorldsInteractionRules) {
     f.vertices = {Vec3{4, -1, 1}, Vec3{6, -1, 1}, Vec3{5, 1, 1}};
     f.one_sided = true;
     v.add_facet(f);
-    const auto wr = cli::wall_overlaps(v, 0.01);
+    const auto wr = scene::wall_overlaps(v, 0.01);
     EXPECT_EQ(wr.count, 4u);  // spheres 0, 1 on the floor, 3 on the side, 5 on the facet
     EXPECT_EQ(wr.worst.a, 3u);
     EXPECT_EQ(wr.worst.b, 1u);
@@ -163,7 +163,7 @@ TEST(InitialOverlaps, HundredThousandSpheresTakeWellUnderASecond) {
                 w.add_sphere(d);
             }
     const auto t0 = std::chrono::steady_clock::now();
-    const auto rep = cli::sphere_overlaps(w, 0.01);
+    const auto rep = scene::sphere_overlaps(w, 0.01);
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     std::printf("100000 spheres: %.3f s\n", s);
     EXPECT_EQ(rep.count, 1u);

@@ -29,19 +29,19 @@ CmdResult run_vppdem(const std::string& args) {
 }  // namespace
 
 TEST(Suggest, EditDistanceCountsSwapsAsOneEdit) {
-    EXPECT_EQ(cli::edit_distance("damper", "damper"), 0);
-    EXPECT_EQ(cli::edit_distance("dampr", "damper"), 1);
-    EXPECT_EQ(cli::edit_distance("dapmer", "damper"), 1);  // swapped neighbours
-    EXPECT_EQ(cli::edit_distance("", "plot"), 4);
-    EXPECT_EQ(cli::edit_distance("kitten", "sitting"), 3);
+    EXPECT_EQ(scene::edit_distance("damper", "damper"), 0);
+    EXPECT_EQ(scene::edit_distance("dampr", "damper"), 1);
+    EXPECT_EQ(scene::edit_distance("dapmer", "damper"), 1);  // swapped neighbours
+    EXPECT_EQ(scene::edit_distance("", "plot"), 4);
+    EXPECT_EQ(scene::edit_distance("kitten", "sitting"), 3);
 }
 
 TEST(Suggest, NearestCommandOrNothing) {
-    EXPECT_EQ(cli::nearest("dampr", kCommands), "damper");
-    EXPECT_EQ(cli::nearest("swep", kCommands), "sweep");
-    EXPECT_EQ(cli::nearest("analyse", kCommands), "analyze");
-    EXPECT_EQ(cli::nearest("calbrate", kCommands), "calibrate");
-    EXPECT_EQ(cli::nearest("frobnicate", kCommands), "");  // not a typo of any command
+    EXPECT_EQ(scene::nearest("dampr", kCommands), "damper");
+    EXPECT_EQ(scene::nearest("swep", kCommands), "sweep");
+    EXPECT_EQ(scene::nearest("analyse", kCommands), "analyze");
+    EXPECT_EQ(scene::nearest("calbrate", kCommands), "calibrate");
+    EXPECT_EQ(scene::nearest("frobnicate", kCommands), "");  // not a typo of any command
 }
 
 TEST(Suggest, UnknownCommandIsNamedWithTheNearestOne) {

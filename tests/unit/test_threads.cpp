@@ -25,20 +25,20 @@ const std::string kAfter =
 }  // namespace
 
 TEST(Threads, OneBusyCoreOfTwoLeavesOneFree) {
-    const double f = cli::free_cores(kBefore, kAfter, {0, 1});
+    const double f = scene::free_cores(kBefore, kAfter, {0, 1});
     EXPECT_NEAR(f, 0.0 + 14.0 / 15.0, 1e-12);  // cpu0: 0 idle of 15; cpu1: 14 idle of 15
-    EXPECT_EQ(cli::threads_for(f, 2), 1);
+    EXPECT_EQ(scene::threads_for(f, 2), 1);
     // Only the CPUs of the affinity mask count.
-    EXPECT_NEAR(cli::free_cores(kBefore, kAfter, {1}), 14.0 / 15.0, 1e-12);
-    EXPECT_NEAR(cli::free_cores(kBefore, kAfter, {0}), 0.0, 1e-12);
-    EXPECT_EQ(cli::threads_for(cli::free_cores(kBefore, kAfter, {0}), 1), 1);  // never 0
+    EXPECT_NEAR(scene::free_cores(kBefore, kAfter, {1}), 14.0 / 15.0, 1e-12);
+    EXPECT_NEAR(scene::free_cores(kBefore, kAfter, {0}), 0.0, 1e-12);
+    EXPECT_EQ(scene::threads_for(scene::free_cores(kBefore, kAfter, {0}), 1), 1);  // never 0
 }
 
 TEST(Threads, IdleMachineGivesAllUsableCores) {
     const std::string a = "cpu0 100 0 100 1000 10 0 0 0\ncpu1 100 0 100 1000 0 0 0 0\n";
     const std::string b = "cpu0 100 0 100 1015 15 0 0 0\ncpu1 101 0 100 1019 0 0 0 0\n";  // iowait counts as idle
-    EXPECT_NEAR(cli::free_cores(a, b, {0, 1}), 1.0 + 19.0 / 20.0, 1e-12);
-    EXPECT_EQ(cli::threads_for(cli::free_cores(a, b, {0, 1}), 2), 2);
+    EXPECT_NEAR(scene::free_cores(a, b, {0, 1}), 1.0 + 19.0 / 20.0, 1e-12);
+    EXPECT_EQ(scene::threads_for(scene::free_cores(a, b, {0, 1}), 2), 2);
 }
 
 TEST(Threads, HalfBusyCoresRoundToTheNearestCount) {
@@ -48,10 +48,10 @@ TEST(Threads, HalfBusyCoresRoundToTheNearestCount) {
         a += "cpu" + std::to_string(c) + " 0 0 0 0 0 0 0 0 0 0\n";
         b += "cpu" + std::to_string(c) + " 4 0 0 6 0 0 0 0 0 0\n";
     }
-    EXPECT_NEAR(cli::free_cores(a, b, {0, 1, 2, 3}), 2.4, 1e-12);
-    EXPECT_EQ(cli::threads_for(2.4, 4), 2);
-    EXPECT_EQ(cli::threads_for(2.6, 4), 3);
-    EXPECT_EQ(cli::threads_for(7.0, 4), 4);  // never more than usable
+    EXPECT_NEAR(scene::free_cores(a, b, {0, 1, 2, 3}), 2.4, 1e-12);
+    EXPECT_EQ(scene::threads_for(2.4, 4), 2);
+    EXPECT_EQ(scene::threads_for(2.6, 4), 3);
+    EXPECT_EQ(scene::threads_for(7.0, 4), 4);  // never more than usable
 }
 
 TEST(Threads, UnknownCpusAndEmptyIntervalsCountAsFree) {
@@ -59,13 +59,13 @@ TEST(Threads, UnknownCpusAndEmptyIntervalsCountAsFree) {
     // in the interval is taken as free: nothing is known against it.
     const std::string a = "cpu0 0 0 0 0 0 0 0 0\ncpu1 5 0 0 5 0 0 0 0\n";
     const std::string b = "cpu0 0 0 0 0 0 0 0 10\ncpu1 5 0 0 5 0 0 0 0\n";
-    EXPECT_NEAR(cli::free_cores(a, b, {0, 1, 7}), 0.0 + 1.0 + 1.0, 1e-12);
-    EXPECT_NEAR(cli::free_cores("", "", {0, 1}), 2.0, 1e-12);
+    EXPECT_NEAR(scene::free_cores(a, b, {0, 1, 7}), 0.0 + 1.0 + 1.0, 1e-12);
+    EXPECT_NEAR(scene::free_cores("", "", {0, 1}), 2.0, 1e-12);
 }
 
 TEST(Threads, DefaultIsBetweenOneAndTheUsableCores) {
-    const int n = cli::default_threads();
+    const int n = scene::default_threads();
     EXPECT_GE(n, 1);
-    EXPECT_LE(n, int(cli::allowed_cpus().size()));
-    EXPECT_EQ(cli::default_threads(), n);  // measured once per process
+    EXPECT_LE(n, int(scene::allowed_cpus().size()));
+    EXPECT_EQ(scene::default_threads(), n);  // measured once per process
 }
