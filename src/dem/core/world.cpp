@@ -655,8 +655,12 @@ void World::compute_forces() {
     // Holes left by opened contacts are dropped at each rebuild; where contacts come and go
     // much faster than rebuilds happen (a collapsing column), also once they are a quarter of
     // the slots, so the kernels do not sweep mostly empty stores.
-    if (needs_rebuild()) rebuild_candidates();
-    else if (physics_dirty_ || holes_ > (fric_.size() + smooth_.size() + walls_.size()) / 4 + 256) compact_contacts(physics_dirty_);
+    if (needs_rebuild()) {
+        rebuild_candidates();
+        // The work moves with the particles (grains settle, contacts gather at the bottom): the
+        // slabs are balanced again on the new candidates and contacts.
+        owners_for_ = 0;
+    } else if (physics_dirty_ || holes_ > (fric_.size() + smooth_.size() + walls_.size()) / 4 + 256) compact_contacts(physics_dirty_);
     physics_dirty_ = false;
     profile_.lap(Phase::kNeighbour);
 
