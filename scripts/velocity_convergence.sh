@@ -7,9 +7,9 @@
 #               (examples/study_velocity_small.toml; about 40 minutes on one core)
 #   small_paper one cycle at the paper's 3.33e-4 m/s from every small-damper sample (about 10
 #               minutes each)
-#   quick_slow  the paper's damper at 0.005 m/s, 0.06 MPa, 2 cycles, from every sample of 'quick'
-#               (about 25 minutes each on one core)
-# usage: scripts/velocity_convergence.sh [PART ...]   (default: all three, in this order)
+#   quick_slow  the paper's damper at 0.005 m/s, 0.02 and 0.06 MPa, 2 cycles, from every sample of
+#               'quick' (about 25 minutes each on one core)
+# usage: scripts/velocity_convergence.sh [PART ...]   (default: all four, in this order)
 # Knobs: VPPDEM (default build/vppdem), OUT (default out/velocity), SEEDS_QUICK (2), SEEDS_SMALL (3),
 #        JOBS (runs at once; default the free cores), DOCS (default docs).
 # Resumable: the same command continues where it stopped. In the background:
@@ -67,8 +67,10 @@ run_branch() {
 
 quick_slow_dirs() {
   local d=()
-  for s in $(seq "$SEEDS_QUICK"); do
-    [ -f "$OUT/quick_v0.005_dp0.06e6_s$s/summary.json" ] && d+=("$OUT/quick_v0.005_dp0.06e6_s$s")
+  for dp in 0.02e6 0.06e6; do
+    for s in $(seq "$SEEDS_QUICK"); do
+      [ -f "$OUT/quick_v0.005_dp${dp}_s$s/summary.json" ] && d+=("$OUT/quick_v0.005_dp${dp}_s$s")
+    done
   done
   echo "${d[@]}"
 }
@@ -111,11 +113,13 @@ for part in "${parts[@]}"; do
       analyse velocity_small "$OUT/small" --extra $(small_paper_dirs)
       ;;
     quick_slow)
-      for s in $(seq "$SEEDS_QUICK"); do
-        ckpt=$(ls "$OUT"/quick/*simulation.seed=$s/prepared.ckpt 2>/dev/null | head -1 || true)
-        [ -n "$ckpt" ] || { echo "velocity_convergence.sh: quick_slow needs the quick study's samples: run 'quick' first" >&2; exit 2; }
-        run_branch "$OUT/quick_v0.005_dp0.06e6_s$s" "$ckpt" --set process.velocity=0.005 --set process.cycles=2 \
-          --set process.underpressure=0.06e6 --set output.energy=false --set simulation.threads=1
+      for dp in 0.02e6 0.06e6; do
+        for s in $(seq "$SEEDS_QUICK"); do
+          ckpt=$(ls "$OUT"/quick/*simulation.seed=$s/prepared.ckpt 2>/dev/null | head -1 || true)
+          [ -n "$ckpt" ] || { echo "velocity_convergence.sh: quick_slow needs the quick study's samples: run 'quick' first" >&2; exit 2; }
+          run_branch "$OUT/quick_v0.005_dp${dp}_s$s" "$ckpt" --set process.velocity=0.005 --set process.cycles=2 \
+            --set process.underpressure=$dp --set output.energy=false --set simulation.threads=1
+        done
       done
       # shellcheck disable=SC2046
       analyse velocity_quick "$OUT/quick" --extra $(quick_slow_dirs)
