@@ -12,6 +12,7 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <cstdint>
 #include <exception>
@@ -22,12 +23,14 @@
 #include <vector>
 
 #include "scene/config.h"
+#include "scene/scene_settings.h"
 #include "dem/core/world.h"
 #include "dem/io/checkpoint.h"
 #include "dem/walls/facet_sets.h"
 #include "vpp/calibrate.h"
 #include "vpp/config.h"
 #include "vpp/damper.h"
+#include "vpp/settings.h"
 #include "vpp/study.h"
 
 namespace py = pybind11;
@@ -180,11 +183,52 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "load_config",
         [](const std::string& path, const std::vector<std::string>& sets) {
-            // The damper command's defaults: dp 0.06 MPa, dt safety 0.45, threads 0 (free cores).
-            return vpp::load_config(path, sets, {0.06e6, 0.45, 0});
+            return vpp::load_config(path, sets, vpp::damper_command_defaults());
         },
         py::arg("path") = "", py::arg("sets") = std::vector<std::string>{},
         "Reads a damper config (empty path: defaults) with key=value overrides, as `vppdem damper --set`");
+
+    // The settings tables (docs/config.md) as lists of dicts, for a notebook's reference.
+    m.def("damper_settings", [] {
+        py::list rows;
+        for (const vpp::Setting& s : vpp::settings()) {
+            py::dict r;
+            r["key"] = s.key;
+            r["type"] = cfg::type_name(s.type);
+            r["unit"] = s.unit;
+            if (std::isnan(s.def)) r["default"] = s.default_text;
+            else if (s.type == vpp::SettingType::Boolean) r["default"] = py::bool_(s.def != 0.0);
+            else if (s.type == vpp::SettingType::Integer) r["default"] = py::int_(int64_t(s.def));
+            else r["default"] = s.def;
+            if (!std::isnan(s.def_foil)) r["default_tension_envelope"] = s.def_foil;
+            r["allowed"] = cfg::allowed_text(s.type, s.limits());
+            r["acts_on"] = vpp::acts_name(s.acts);
+            r["shares_preparation"] = s.shares_preparation;
+            r["doc"] = s.doc;
+            rows.append(r);
+        }
+        return rows;
+    });
+    m.def("scene_settings", [] {
+        py::list rows;
+        for (const scene::SceneSetting& s : scene::scene_settings()) {
+            py::dict r;
+            r["key"] = s.key;
+            r["type"] = cfg::type_name(s.type);
+            r["unit"] = s.unit;
+            if (s.required) r["default"] = py::none();
+            else if (*s.default_text) r["default"] = s.default_text;
+            else if (s.type == cfg::SettingType::Boolean) r["default"] = py::bool_(s.def != 0.0);
+            else if (s.type == cfg::SettingType::Integer) r["default"] = py::int_(int64_t(s.def));
+            else if (s.type == cfg::SettingType::Vec3) r["default"] = py::make_tuple(s.def3.x, s.def3.y, s.def3.z);
+            else r["default"] = s.def;
+            r["required"] = s.required;
+            r["allowed"] = cfg::allowed_text(s.type, s.limits);
+            r["doc"] = s.doc;
+            rows.append(r);
+        }
+        return rows;
+    });
 
     // --- the damper -----------------------------------------------------------------------------
     py::class_<vpp::Damper>(m, "Damper")

@@ -155,3 +155,27 @@ def test_ctrl_c_stops_a_run_without_a_callback():
         d.prepare()  # about 4 s to the end of the preparation
     assert time.monotonic() - t0 < 2.0
     assert d.stage in ("fill", "compress")
+
+
+def test_settings_tables_are_what_the_readers_apply():
+    # vppdem.settings(): the damper's table; its defaults are what a Damper without settings runs
+    # with (summary()["inputs"]), key by key.
+    rows = {r["key"]: r for r in vppdem.settings()}
+    inputs = vppdem.Damper().summary()["inputs"]
+    compared = 0
+    for key, value in inputs.items():
+        r = rows[key]  # every recorded input is a row of the table
+        if key == "simulation.threads" or isinstance(r["default"], str):
+            continue  # 0 means the free cores; a word default ("grains.radius/3") is derived
+        assert value == r["default"], key
+        compared += 1
+    assert compared >= 20
+    assert rows["process.underpressure"]["unit"] == "Pa"
+    assert rows["grains.friction"]["shares_preparation"] is True
+    # The scene runner's table: required keys have no default.
+    scene = {r["key"]: r for r in vppdem.settings("scene")}
+    assert scene["simulation.duration"]["default"] == 1e-3
+    assert scene["spheres[].radius"]["required"] and scene["spheres[].radius"]["default"] is None
+    assert scene["simulation.gravity"]["default"] == (0.0, 0.0, -9.81)
+    with pytest.raises(ValueError):
+        vppdem.settings("tension")

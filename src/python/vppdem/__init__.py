@@ -26,7 +26,19 @@ import numpy as np
 from . import _core
 from ._core import ConfigError, World  # noqa: F401  (part of the package's interface)
 
-__all__ = ["Damper", "World", "ConfigError", "load_config", "sweep", "calibrate"]
+__all__ = ["Damper", "World", "ConfigError", "load_config", "settings", "sweep", "calibrate"]
+
+
+def settings(command="damper"):
+    """The settings table of ``command`` as a list of dicts (key, type, unit, default, allowed,
+    doc, ...): "damper" (the keys of Damper, sweep and calibrate; docs/config.md, "VPP commands")
+    or "scene" (the keys of a ``vppdem scene`` file; a key of an array of tables reads
+    ``spheres[].radius``, default None when required). The same tables the readers use."""
+    if command == "damper":
+        return _core.damper_settings()
+    if command == "scene":
+        return _core.scene_settings()
+    raise ValueError(f"settings: command = {command!r}: must be \"damper\" or \"scene\"")
 
 
 def _literal(key, v):
