@@ -160,6 +160,25 @@ dem::Motion make_motion(const std::vector<double>& velocity, const std::vector<s
     return m;
 }
 
+// A settings table's row as a dict: what both tables have (the rest is added by the caller).
+py::dict setting_dict(const std::string& key, cfg::SettingType type, const char* unit, const std::string& allowed,
+                      const std::string& doc) {
+    py::dict r;
+    r["key"] = key;
+    r["type"] = cfg::type_name(type);
+    r["unit"] = unit;
+    r["allowed"] = allowed;
+    r["doc"] = doc;
+    return r;
+}
+
+// A numeric default as the Python value of its type.
+py::object default_value(cfg::SettingType type, double v) {
+    if (type == cfg::SettingType::Boolean) return py::bool_(v != 0.0);
+    if (type == cfg::SettingType::Integer) return py::int_(int64_t(v));
+    return py::float_(v);
+}
+
 }  // namespace
 
 PYBIND11_MODULE(_core, m) {
@@ -192,19 +211,11 @@ PYBIND11_MODULE(_core, m) {
     m.def("damper_settings", [] {
         py::list rows;
         for (const vpp::Setting& s : vpp::settings()) {
-            py::dict r;
-            r["key"] = s.key;
-            r["type"] = cfg::type_name(s.type);
-            r["unit"] = s.unit;
-            if (std::isnan(s.def)) r["default"] = s.default_text;
-            else if (s.type == vpp::SettingType::Boolean) r["default"] = py::bool_(s.def != 0.0);
-            else if (s.type == vpp::SettingType::Integer) r["default"] = py::int_(int64_t(s.def));
-            else r["default"] = s.def;
+            py::dict r = setting_dict(s.key, s.type, s.unit, cfg::allowed_text(s.type, s.limits()), s.doc);
+            r["default"] = std::isnan(s.def) ? py::object(py::str(s.default_text)) : default_value(s.type, s.def);
             if (!std::isnan(s.def_foil)) r["default_tension_envelope"] = s.def_foil;
-            r["allowed"] = cfg::allowed_text(s.type, s.limits());
             r["acts_on"] = vpp::acts_name(s.acts);
             r["shares_preparation"] = s.shares_preparation;
-            r["doc"] = s.doc;
             rows.append(r);
         }
         return rows;
@@ -212,19 +223,12 @@ PYBIND11_MODULE(_core, m) {
     m.def("scene_settings", [] {
         py::list rows;
         for (const scene::SceneSetting& s : scene::scene_settings()) {
-            py::dict r;
-            r["key"] = s.key;
-            r["type"] = cfg::type_name(s.type);
-            r["unit"] = s.unit;
+            py::dict r = setting_dict(s.key, s.type, s.unit, cfg::allowed_text(s.type, s.limits), s.doc);
             if (s.required) r["default"] = py::none();
             else if (*s.default_text) r["default"] = s.default_text;
-            else if (s.type == cfg::SettingType::Boolean) r["default"] = py::bool_(s.def != 0.0);
-            else if (s.type == cfg::SettingType::Integer) r["default"] = py::int_(int64_t(s.def));
             else if (s.type == cfg::SettingType::Vec3) r["default"] = py::make_tuple(s.def3.x, s.def3.y, s.def3.z);
-            else r["default"] = s.def;
+            else r["default"] = default_value(s.type, s.def);
             r["required"] = s.required;
-            r["allowed"] = cfg::allowed_text(s.type, s.limits);
-            r["doc"] = s.doc;
             rows.append(r);
         }
         return rows;
