@@ -9,8 +9,12 @@
 #               minutes each)
 #   quick_slow  the paper's damper at 0.005 m/s, 0.02 and 0.06 MPa, 2 cycles, from every sample of
 #               'quick' (about 25 minutes each on one core)
-# usage: scripts/velocity_convergence.sh [PART ...]   (default: all four, in this order)
+#   quick_paper one cycle of the paper's damper at the paper's 3.33e-4 m/s, 0.06 MPa, from the
+#               first SEEDS_PAPER samples of 'quick' (3.26e7 steps: about 72 minutes on 2 threads;
+#               a checkpoint every minute, so a stopped run resumes)
+# usage: scripts/velocity_convergence.sh [PART ...]   (default: all five, in this order)
 # Knobs: VPPDEM (default build/vppdem), OUT (default out/velocity), SEEDS_QUICK (2), SEEDS_SMALL (3),
+#        SEEDS_PAPER (1),
 #        JOBS (runs at once; default the free cores), DOCS (default docs).
 # Resumable: the same command continues where it stopped. In the background:
 #   nohup nice -n 19 bash scripts/velocity_convergence.sh > velocity.log 2>&1 &
@@ -21,18 +25,19 @@ VPPDEM=${VPPDEM:-build/vppdem}
 OUT=${OUT:-out/velocity}
 SEEDS_QUICK=${SEEDS_QUICK:-2}
 SEEDS_SMALL=${SEEDS_SMALL:-3}
+SEEDS_PAPER=${SEEDS_PAPER:-1}
 JOBS=${JOBS:-}
 DOCS=${DOCS:-docs}
 PY=/usr/bin/python3  # Debian's, with matplotlib and numpy
 
 [ -x "$VPPDEM" ] || { echo "velocity_convergence.sh: no vppdem binary at $VPPDEM (build it: bash scripts/build.sh)" >&2; exit 2; }
-for v in SEEDS_QUICK SEEDS_SMALL; do
+for v in SEEDS_QUICK SEEDS_SMALL SEEDS_PAPER; do
   [[ ${!v} =~ ^[1-9][0-9]*$ ]] || { echo "velocity_convergence.sh: $v = '${!v}': must be an integer >= 1" >&2; exit 2; }
 done
 [ -z "$JOBS" ] || [[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "velocity_convergence.sh: JOBS = '$JOBS': must be an integer >= 1" >&2; exit 2; }
 jobs_arg=${JOBS:+--jobs $JOBS}
 parts=("$@")
-all=(quick small small_paper quick_slow)
+all=(quick small small_paper quick_slow quick_paper)
 [ ${#parts[@]} -gt 0 ] || parts=("${all[@]}")
 for s in "${parts[@]}"; do
   [[ " ${all[*]} " == *" $s "* ]] || { echo "velocity_convergence.sh: unknown part '$s' (parts: ${all[*]})" >&2; exit 2; }
@@ -71,6 +76,9 @@ quick_slow_dirs() {
     for s in $(seq "$SEEDS_QUICK"); do
       [ -f "$OUT/quick_v0.005_dp${dp}_s$s/summary.json" ] && d+=("$OUT/quick_v0.005_dp${dp}_s$s")
     done
+  done
+  for s in $(seq "$SEEDS_PAPER"); do
+    [ -f "$OUT/quick_paper_dp0.06e6_s$s/summary.json" ] && d+=("$OUT/quick_paper_dp0.06e6_s$s")
   done
   echo "${d[@]}"
 }
@@ -120,6 +128,16 @@ for part in "${parts[@]}"; do
           run_branch "$OUT/quick_v0.005_dp${dp}_s$s" "$ckpt" --set process.velocity=0.005 --set process.cycles=2 \
             --set process.underpressure=$dp --set output.energy=false --set simulation.threads=1
         done
+      done
+      # shellcheck disable=SC2046
+      analyse velocity_quick "$OUT/quick" --extra $(quick_slow_dirs)
+      ;;
+    quick_paper)
+      for s in $(seq "$SEEDS_PAPER"); do
+        ckpt=$(ls "$OUT"/quick/*simulation.seed=$s/prepared.ckpt 2>/dev/null | head -1 || true)
+        [ -n "$ckpt" ] || { echo "velocity_convergence.sh: quick_paper needs the quick study's samples: run 'quick' first" >&2; exit 2; }
+        run_branch "$OUT/quick_paper_dp0.06e6_s$s" "$ckpt" --set process.velocity=3.33e-4 --set process.cycles=1 \
+          --set process.underpressure=0.06e6 --set output.energy=false --set simulation.threads=2
       done
       # shellcheck disable=SC2046
       analyse velocity_quick "$OUT/quick" --extra $(quick_slow_dirs)
