@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# How many cycles the main job's damper needs before W is stationary: the main job's settings
+# (the paper's damper, 0.06 MPa, 0.02 m/s) for 8 cycles instead of 4, W per cycle published as
+# docs/data/settle_cycles.csv (docs/damper.md, "Stationary loops"). About 11 minutes on 2 threads;
+# a stopped run resumes from its checkpoint when the command is given again.
+# Knobs: VPPDEM (default build/vppdem), OUT (default out/settle), DOCS (default docs),
+#        CYCLES (default 8).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+VPPDEM=${VPPDEM:-build/vppdem}
+OUT=${OUT:-out/settle}
+DOCS=${DOCS:-docs}
+CYCLES=${CYCLES:-8}
+[ -x "$VPPDEM" ] || { echo "settle_cycles.sh: no vppdem binary at $VPPDEM (build it: bash scripts/build.sh)" >&2; exit 2; }
+[[ $CYCLES =~ ^[1-9][0-9]*$ ]] || { echo "settle_cycles.sh: CYCLES = '$CYCLES': must be an integer >= 1" >&2; exit 2; }
+source scripts/publish.sh
+
+cmd="$VPPDEM damper --out $OUT --no-plot --quiet --set process.velocity=0.02 --set process.cycles=$CYCLES"
+if [ -f "$OUT/summary.json" ]; then
+  echo "settle_cycles.sh: $OUT is finished; publishing it"
+elif [ -f "$OUT/run.ckpt" ]; then
+  $VPPDEM damper --from "$OUT/run.ckpt" --out "$OUT" --no-plot --quiet
+else
+  $cmd
+fi
+mkdir -p "$DOCS/data"
+publish "$OUT/cycles.csv" "$DOCS/data/settle_cycles.csv"
+record "data/settle_cycles.csv" "$cmd"
