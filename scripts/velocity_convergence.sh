@@ -130,7 +130,7 @@ for part in "${parts[@]}"; do
         done
       done
       # shellcheck disable=SC2046
-      analyse velocity_quick "$OUT/quick" --extra $(quick_slow_dirs)
+      analyse velocity_quick "$OUT/quick" --reference 0.005 --extra $(quick_slow_dirs)
       ;;
     quick_paper)
       for s in $(seq "$SEEDS_PAPER"); do
@@ -140,7 +140,7 @@ for part in "${parts[@]}"; do
           --set process.underpressure=0.06e6 --set output.energy=false --set simulation.threads=2
       done
       # shellcheck disable=SC2046
-      analyse velocity_quick "$OUT/quick" --extra $(quick_slow_dirs)
+      analyse velocity_quick "$OUT/quick" --reference 0.005 --extra $(quick_slow_dirs)
       ;;
   esac
 done

@@ -146,8 +146,18 @@ def main():
             for s in seeds:
                 pts = [(v, table[(dp, k, v, "W")][s]) for v in vs if s in table[(dp, k, v, "W")]]
                 ax.plot([p[0] for p in pts], [p[1] for p in pts], lw=0.6, alpha=0.5, color=f"C{k - 1}")
-            means = [sum(table[(dp, k, v, "W")].values()) / len(table[(dp, k, v, "W")]) for v in vs]
-            ax.plot(vs, means, "o-", lw=2, color=f"C{k - 1}", label=f"cycle {k}")
+            # The mean line joins the velocities every seed ran; a velocity fewer seeds ran (one
+            # run at the paper's velocity) is an open marker, so a mean of other seeds is not read
+            # as a trend.
+            full = max(len(table[(dp, k, v, "W")]) for v in vs)
+            on = [v for v in vs if len(table[(dp, k, v, "W")]) == full]
+            means = [sum(table[(dp, k, v, "W")].values()) / len(table[(dp, k, v, "W")]) for v in on]
+            ax.plot(on, means, "o-", lw=2, color=f"C{k - 1}", label=f"cycle {k}")
+            for v in vs:
+                if v not in on:
+                    runs_v = table[(dp, k, v, "W")]
+                    ax.plot([v], [sum(runs_v.values()) / len(runs_v)], "o", mfc="none", ms=9, color=f"C{k - 1}",
+                            label=f"cycle {k}, {len(runs_v)} of {full} seeds")
         ax.set_xscale("log")
         ax.set_xlabel("loading velocity v_z [m/s]")
         ax.set_ylabel("W [J/m^2]")
