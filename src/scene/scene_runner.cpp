@@ -131,6 +131,7 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
 
     // Every key through the scene's settings table (scene/scene_settings.cpp): its default, its check.
     SceneSection sim(top.table("simulation"), "simulation");
+    sim.record_into(&sc.inputs);
     if (const toml::node* dtn = sim.node("dt")) {
         const char* allowed = sim.row("dt").limits.allowed;
         if (auto str = dtn->as_string()) {
@@ -144,6 +145,7 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     } else {
         w.params.dt = sim.row("dt").def;
     }
+    sim.record("dt", sc.dt_auto ? "\"auto\"" : dem::json_double(w.params.dt));
     sc.dt_safety = sim.real("dt_safety");
     sc.duration = sim.real("duration");
     w.params.gravity = sim.vec3("gravity");
@@ -156,6 +158,7 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     sim.finish();
 
     SceneSection out(top.table("output"), "output");
+    out.record_into(&sc.inputs);
     sc.vtk_interval = out.real("vtk_interval");
     // energy.csv: the World keeps its energy ledger (docs/energy.md).
     w.params.track_energy = out.flag("energy");
@@ -446,6 +449,9 @@ void run_scene(Scene& sc, const RunOptions& opt) {
         .num("threads", w.params.threads).num("wall_s", wall_s)
         .num("steps_per_s", double(nsteps) / std::max(wall_s, 1e-9))
         .raw("walls", dem::json_string_array(sc.wall_names));
+    dem::JsonObject inputs;
+    for (const auto& [key, value] : sc.inputs) inputs.raw(key, value);
+    js.raw("inputs", inputs.value());
     dem::write_text_atomic((out / "summary.json").string(), js.text());
     if (!opt.quiet)
         std::fprintf(stderr, "done: %llu steps in %.2f s (%.0f steps/s); outputs in %s\n",

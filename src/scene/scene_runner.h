@@ -27,6 +27,9 @@ struct Scene {
     // row r (0-based) of [[sphere_files]] entry f.
     std::vector<std::pair<int32_t, uint32_t>> sphere_origin;
     std::vector<std::string> sphere_file_paths;  // per [[sphere_files]] entry
+    // [simulation] and [output] as the run used them, defaults included (dotted key, JSON value):
+    // summary.json "inputs", in the settings table's order.
+    std::vector<std::pair<std::string, std::string>> inputs;
 };
 
 // "spheres[3]" or "sphere_files[0] row 17 of 'grains.csv'" for sphere `id`.

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "dem/core/material.h"
+#include "dem/io/json.h"
 
 namespace scene {
 
@@ -193,26 +194,37 @@ const SceneSetting& SceneSection::row(const std::string& key) const {
 
 double SceneSection::real(const std::string& key) {
     const SceneSetting& r = row(key);
-    const double v = r.required ? s_.number(key) : s_.number(key, r.def);
-    return cfg::check_real(s_, key, v, r.limits);
+    const double v = cfg::check_real(s_, key, r.required ? s_.number(key) : s_.number(key, r.def), r.limits);
+    record(key, dem::json_double(v));
+    return v;
 }
 
 int64_t SceneSection::integer(const std::string& key) {
     const SceneSetting& r = row(key);
     if (r.required && !s_.has(key)) s_.fail(key, "is required (an integer)");
-    return cfg::check_integer(s_, key, s_.integer(key, int64_t(r.def)), r.limits);
+    const int64_t v = cfg::check_integer(s_, key, s_.integer(key, int64_t(r.def)), r.limits);
+    record(key, std::to_string(v));
+    return v;
 }
 
-bool SceneSection::flag(const std::string& key) { return s_.boolean(key, row(key).def != 0.0); }
+bool SceneSection::flag(const std::string& key) {
+    const bool v = s_.boolean(key, row(key).def != 0.0);
+    record(key, v ? "true" : "false");
+    return v;
+}
 
 dem::Vec3 SceneSection::vec3(const std::string& key) {
     const SceneSetting& r = row(key);
-    return r.required ? s_.vec3(key) : s_.vec3(key, r.def3);
+    const dem::Vec3 v = r.required ? s_.vec3(key) : s_.vec3(key, r.def3);
+    record(key, "[" + dem::json_double(v.x) + ", " + dem::json_double(v.y) + ", " + dem::json_double(v.z) + "]");
+    return v;
 }
 
 std::string SceneSection::string(const std::string& key) {
     const SceneSetting& r = row(key);
-    return r.required ? s_.string(key) : s_.string(key, r.default_text);
+    const std::string v = r.required ? s_.string(key) : s_.string(key, r.default_text);
+    record(key, dem::json_string(v));
+    return v;
 }
 
 const toml::node* SceneSection::node(const std::string& key) {

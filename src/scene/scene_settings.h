@@ -8,6 +8,7 @@
 
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dem/core/vec3.h"
@@ -58,6 +59,12 @@ public:
     const toml::node* node(const std::string& key);
 
     const SceneSetting& row(const std::string& key) const;
+    // Keeps every value read from here on, as (dotted key, JSON value), in `out` (summary.json's
+    // "inputs": what the run used, defaults included).
+    void record_into(std::vector<std::pair<std::string, std::string>>* out) { record_ = out; }
+    void record(const std::string& key, const std::string& json) {
+        if (record_) record_->emplace_back(group_ + "." + key, json);
+    }
     bool has(const std::string& key) const { return s_.has(key); }
     double positive(const std::string& key, double v) const { return s_.positive(key, v); }
     [[noreturn]] void fail(const std::string& key, const std::string& what) const { s_.fail(key, what); }
@@ -68,6 +75,7 @@ public:
 private:
     cfg::Section s_;
     std::string group_;
+    std::vector<std::pair<std::string, std::string>>* record_ = nullptr;
 };
 
 // The scene part of docs/config.md.

@@ -324,3 +324,25 @@ TEST(SceneSettings, TheReferencePrintsEveryRowUnderItsGroup) {
         at = row;
     }
 }
+
+TEST(SceneSettings, SummaryInputsAreEverySimulationAndOutputKeyAsUsed) {
+    // summary.json "inputs" (Scene::inputs): each [simulation] and [output] row of the table, in
+    // its order, with the value the run used: the table's default where the file is silent.
+    const scene::Scene sc = build(std::string("[simulation]\ndt = \"auto\"\nduration = 0.5\n") + kMinimal);
+    std::vector<std::string> expected;
+    for (const SceneSetting& s : scene::scene_settings())
+        if (s.group() == "simulation" || s.group() == "output") expected.push_back(s.key);
+    std::vector<std::string> keys;
+    std::map<std::string, std::string> value;
+    for (const auto& [k, v] : sc.inputs) {
+        keys.push_back(k);
+        value[k] = v;
+    }
+    EXPECT_EQ(keys, expected);
+    EXPECT_EQ(value["simulation.dt"], "\"auto\"");
+    EXPECT_EQ(value["simulation.duration"], "0.5");
+    EXPECT_EQ(value["simulation.output_interval"], "1e-06");  // the default, shortest round-trip text
+    EXPECT_EQ(value["simulation.threads"], "1");
+    EXPECT_EQ(value["simulation.gravity"], "[0, 0, -9.81]");
+    EXPECT_EQ(value["output.energy"], "false");
+}
