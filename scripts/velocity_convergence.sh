@@ -70,28 +70,24 @@ run_branch() {
   $VPPDEM damper --from "$ckpt" --out "$d" --no-plot --quiet "$@"
 }
 
-quick_slow_dirs() {
-  local d=()
-  for dp in 0.02e6 0.06e6; do
-    for s in $(seq "$SEEDS_QUICK"); do
-      [ -f "$OUT/quick_v0.005_dp${dp}_s$s/summary.json" ] && d+=("$OUT/quick_v0.005_dp${dp}_s$s")
+# finished_branches PREFIX SEEDS DP...: the finished runs $OUT/PREFIX_dpDP_sS, DP by DP, seed by seed.
+finished_branches() {
+  local prefix=$1 seeds=$2 dp s
+  shift 2
+  for dp in "$@"; do
+    for s in $(seq "$seeds"); do
+      [ -f "$OUT/${prefix}_dp${dp}_s$s/summary.json" ] && echo "$OUT/${prefix}_dp${dp}_s$s"
     done
   done
-  for s in $(seq "$SEEDS_PAPER"); do
-    [ -f "$OUT/quick_paper_dp0.06e6_s$s/summary.json" ] && d+=("$OUT/quick_paper_dp0.06e6_s$s")
-  done
-  echo "${d[@]}"
+  return 0
 }
 
-small_paper_dirs() {
-  local d=()
-  for dp in 0.02e6 0.06e6; do
-    for s in $(seq "$SEEDS_SMALL"); do
-      [ -f "$OUT/small_paper_dp${dp}_s$s/summary.json" ] && d+=("$OUT/small_paper_dp${dp}_s$s")
-    done
-  done
-  echo "${d[@]}"
+quick_slow_dirs() {
+  finished_branches quick_v0.005 "$SEEDS_QUICK" 0.02e6 0.06e6
+  finished_branches quick_paper "$SEEDS_PAPER" 0.06e6
 }
+
+small_paper_dirs() { finished_branches small_paper "$SEEDS_SMALL" 0.02e6 0.06e6; }
 
 for part in "${parts[@]}"; do
   case $part in
