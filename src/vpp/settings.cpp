@@ -276,7 +276,6 @@ std::vector<Setting> ordered_by(int Setting::*position) {
 
 std::string section_of(const std::string& key) { return key.substr(0, key.find('.')); }
 
-
 }  // namespace
 
 const std::vector<Setting>& settings() { return table(); }
