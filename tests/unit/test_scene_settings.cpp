@@ -14,6 +14,7 @@
 #include <unistd.h>
 
 #include "scene/config.h"
+#include "toml_literal.h"
 #include "scene/scene_runner.h"
 #include "scene/scene_settings.h"
 
@@ -164,15 +165,6 @@ std::string message_of(const std::string& text) {
     return "";
 }
 
-// The value as a TOML literal that stays a float.
-std::string literal(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    std::string s = buf;
-    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";
-    return s;
-}
-
 }  // namespace
 
 TEST(SceneSettings, EveryKeyOfTheTableIsReadAndNoOther) {
@@ -276,7 +268,7 @@ TEST(SceneSettings, RangesAreEnforcedWithTheTablesWords) {
         default: continue;  // dt: a reader of its own, tested in SceneCli.ErrorsNameTheKeyAndWriteNothing
         }
         auto scene_with = [&](double v) {
-            const std::string value = s.type == cfg::SettingType::Integer ? std::to_string(int64_t(v)) : literal(v);
+            const std::string value = s.type == cfg::SettingType::Integer ? std::to_string(int64_t(v)) : toml_float_literal(v);
             if (g == "materials[]")
                 return "[[materials]]\nname = \"a\"\n" + s.name() + " = " + value + "\n" +
                        "[[spheres]]\nmaterial = \"a\"\nradius = 0.01\nposition = [0.0, 0.0, 0.0]\n";

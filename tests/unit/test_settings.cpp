@@ -8,20 +8,13 @@
 #include <gtest/gtest.h>
 
 #include "scene/config.h"
+#include "toml_literal.h"
 #include "vpp/config.h"
 #include "vpp/settings.h"
 
 using namespace vpp;
 
 namespace {
-
-std::string literal(double v) {
-    char buf[64];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    std::string s = buf;
-    if (s.find_first_of(".eEn") == std::string::npos) s += ".0";  // stays a float
-    return s;
-}
 
 std::string message_of(const std::vector<std::string>& sets) {
     try {
@@ -82,7 +75,7 @@ TEST(Settings, EveryKeyIsReadAndNoOther) {
         else if (s.type == SettingType::Choice) v = "\"extension\"";
         else if (s.type == SettingType::RealOrAuto) v = "1e-6";
         else if (s.type == SettingType::Integer) v = "5";
-        else v = literal(std::isnan(s.def) || s.def == 0.0 ? 0.001 : s.def);
+        else v = toml_float_literal(std::isnan(s.def) || s.def == 0.0 ? 0.001 : s.def);
         EXPECT_EQ(message_of({std::string(s.key) + "=" + v}), "") << s.key << "=" << v;
     }
     EXPECT_NE(message_of({"grains.colour=1.0"}).find("unknown config key 'grains.colour'"), std::string::npos);
@@ -93,7 +86,7 @@ TEST(Settings, RangesAreEnforcedWithTheTablesMessage) {
         std::vector<std::string> bad;
         if (s.check == Check::Positive) bad = {"0.0", "-1.0"};
         else if (s.check == Check::NonNegative) bad = {"-1.0"};
-        else if (s.check == Check::Range) bad = {literal(s.lo - 1.0), literal(s.hi + 1.0)};
+        else if (s.check == Check::Range) bad = {toml_float_literal(s.lo - 1.0), toml_float_literal(s.hi + 1.0)};
         else if (s.check == Check::AtLeast) bad = {std::to_string(int64_t(s.lo) - 1)};
         for (const std::string& v : bad) {
             const std::string m = message_of({std::string(s.key) + "=" + v});
@@ -105,7 +98,7 @@ TEST(Settings, RangesAreEnforcedWithTheTablesMessage) {
         }
         if (s.check == Check::Range) {  // a bound itself: refused when open, accepted when closed
             for (const auto& [bound, open] : {std::pair{s.lo, s.lo_open}, std::pair{s.hi, s.hi_open}}) {
-                const std::string m = message_of({std::string(s.key) + "=" + literal(bound)});
+                const std::string m = message_of({std::string(s.key) + "=" + toml_float_literal(bound)});
                 EXPECT_EQ(m.empty(), !open) << s.key << "=" << bound << ": " << m;
             }
         }
