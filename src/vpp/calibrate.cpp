@@ -398,9 +398,9 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
     }
 
     auto names_json = [&](const std::vector<std::size_t>& runs) {
-        std::string t = "[";
-        for (std::size_t k = 0; k < runs.size(); ++k) t += (k ? ", " : "") + dem::json_string(cases[runs[k]].name);
-        return t + "]";
+        std::vector<std::string> names;
+        for (std::size_t k : runs) names.push_back(cases[k].name);
+        return dem::json_string_array(names);
     };
     dem::JsonObject j;
     if (best != SIZE_MAX) {
@@ -476,12 +476,9 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
         std::string pj = "[";
         for (std::size_t i = 0; i < preds.size(); ++i) {
             dem::JsonObject q;
-            std::string names = "[";
-            for (std::size_t m = 0; m < preds[i].names.size(); ++m)
-                names += (m ? ", " : "") + dem::json_string(preds[i].names[m]);
             q.raw(pred.key, json_value(preds[i].label, preds[i].literal))
                 .str("case", preds[i].names.empty() ? "" : preds[i].names.front())
-                .raw("cases", names + "]")
+                .raw("cases", dem::json_string_array(preds[i].names))
                 .num("W", preds[i].W.mean)
                 .num("W_ci95", preds[i].W.half)
                 .num("misfit", preds[i].misfit.mean)
