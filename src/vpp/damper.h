@@ -139,8 +139,8 @@ double inertial_number(const Config& c, double height);
 // higher wherever the difference was resolved (local damping of the grains' and the foil's
 // motion grows with the loading rate). Later cycles drift more: no difference below the mark
 // was resolved with 2-3 seeds, but the paper's damper at 0.06 MPa lost 11-12% of W in cycle 2
-// from 0.02 to 0.01 m/s in both seeds (and nothing from 0.01 to 0.005 m/s). The former mark, 1e-3, let runs with W 12-16% too high
-// in the first cycle pass as quasi-static.
+// from 0.02 to 0.01 m/s in both seeds (and nothing from 0.01 to 0.005 m/s). The former mark,
+// 1e-3, let runs with W 12-16% too high in the first cycle pass as quasi-static.
 inline constexpr double kQuasiStaticInertialNumber = 5e-4;
 
 }  // namespace vpp
