@@ -92,15 +92,14 @@ def load_config(config=None, settings=None, **kwargs):
     return _core.load_config(path, sets)
 
 
-class _Progress:
-    """The callback handed to the C++ stages (called every 256 steps, with the lock held)."""
+class _Bar:
+    """What both progress callbacks share: the user's callable, or a tqdm bar when tqdm is
+    installed and progress is True (else lines on stderr)."""
 
     def __init__(self, progress):
         self.user = progress if callable(progress) else None
         self.bar = None
-        self.stage = None
         self.tqdm = None
-        self.last = 0.0
         if progress is True:
             try:
                 from tqdm import tqdm
@@ -108,6 +107,20 @@ class _Progress:
                 self.tqdm = tqdm
             except ImportError:
                 pass
+
+    def close(self):
+        if self.bar is not None:
+            self.bar.close()
+            self.bar = None
+
+
+class _Progress(_Bar):
+    """The callback handed to the C++ stages (called every 256 steps, with the lock held)."""
+
+    def __init__(self, progress):
+        super().__init__(progress)
+        self.stage = None
+        self.last = 0.0
 
     def __call__(self, stage, done, total, time):
         if self.user is not None:
@@ -128,18 +141,28 @@ class _Progress:
             self.last, self.stage = now, stage
             print(f"[{stage}] {100.0 * done / max(total, 1):5.1f}%  t = {time:.6g} s", file=sys.stderr)
 
-    def close(self):
-        if self.bar is not None:
-            self.bar.close()
-            self.bar = None
+
+class _CaseProgress(_Bar):
+    """The callback of a sweep or calibration: (done, total, case) after each finished case,
+    called from the study's threads with the lock held."""
+
+    def __call__(self, done, total, case):
+        if self.user is not None:
+            self.user(done, total, case)
+            return
+        if self.tqdm is not None:
+            if self.bar is None:
+                self.bar = self.tqdm(total=total, desc="cases", unit="case")
+            self.bar.n = min(done, total)
+            self.bar.set_postfix_str(case)
+            return
+        print(f"[{done}/{total}] {case}", file=sys.stderr)
 
 
-def _hook(progress):
-    return None if progress is None or progress is False else _Progress(progress)
-
-
-def _run(call, progress, *args):
-    hook = _hook(progress)
+def _run(call, progress, *args, callback=_Progress):
+    """call(*args, hook): hook a `callback` made from progress (None when progress is None or
+    False), closed (its bar) however the call ends."""
+    hook = None if progress is None or progress is False else callback(progress)
     try:
         return call(*args, hook)
     finally:
@@ -288,48 +311,6 @@ class Damper:
         return self._d.radii()
 
 
-class _CaseProgress:
-    """The callback of a sweep or calibration: (done, total, case) after each finished case,
-    called from the study's threads with the lock held."""
-
-    def __init__(self, progress):
-        self.user = progress if callable(progress) else None
-        self.bar = None
-        if progress is True:
-            try:
-                from tqdm import tqdm
-
-                self.tqdm = tqdm
-            except ImportError:
-                self.tqdm = None
-
-    def __call__(self, done, total, case):
-        if self.user is not None:
-            self.user(done, total, case)
-            return
-        if self.tqdm is not None:
-            if self.bar is None:
-                self.bar = self.tqdm(total=total, desc="cases", unit="case")
-            self.bar.n = min(done, total)
-            self.bar.set_postfix_str(case)
-            return
-        print(f"[{done}/{total}] {case}", file=sys.stderr)
-
-    def close(self):
-        if self.bar is not None:
-            self.bar.close()
-            self.bar = None
-
-
-def _run_study(call, progress, *args):
-    hook = None if progress is None or progress is False else _CaseProgress(progress)
-    try:
-        return call(*args, hook)
-    finally:
-        if hook is not None:
-            hook.close()
-
-
 def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None, progress=None):
     """`vppdem sweep STUDY --out OUT`: runs (or resumes) the study; returns the failed cases'
     count. sets: ["key=value", ...] or `settings` (a dict) fixed for every case.
@@ -338,8 +319,8 @@ def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None
     exception of the callable, stops the sweep and is raised; finished cases stay, and the
     same call resumes it."""
     extra = list(sets or []) + _sets(None, settings, {})[1]
-    return _run_study(_core.sweep, progress, os.fspath(study_path), os.fspath(out), extra, int(seeds), int(jobs),
-                      bool(quiet))
+    return _run(_core.sweep, progress, os.fspath(study_path), os.fspath(out), extra, int(seeds), int(jobs),
+                bool(quiet), callback=_CaseProgress)
 
 
 def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None,
@@ -353,10 +334,10 @@ def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=Tru
     if displacement_unit not in ("m", "mm") or force_unit not in ("N", "kN"):
         raise ValueError("displacement_unit: 'm' or 'mm'; force_unit: 'N' or 'kN'")
     extra = list(sets or []) + _sets(None, settings, {})[1]
-    rc = _run_study(_core.calibrate, progress, os.fspath(study_path), os.fspath(experiment), os.fspath(out), extra,
-                    int(seeds), int(jobs), bool(quiet), 1e-3 if displacement_unit == "mm" else 1.0,
-                    1e3 if force_unit == "kN" else 1.0, bool(compression_negative), simulated_force,
-                    int(points), bool(plot), time_column, displacement_column, force_column)
+    rc = _run(_core.calibrate, progress, os.fspath(study_path), os.fspath(experiment), os.fspath(out), extra,
+              int(seeds), int(jobs), bool(quiet), 1e-3 if displacement_unit == "mm" else 1.0,
+              1e3 if force_unit == "kN" else 1.0, bool(compression_negative), simulated_force,
+              int(points), bool(plot), time_column, displacement_column, force_column, callback=_CaseProgress)
     path = os.path.join(os.fspath(out), "calibration.json")
     if rc != 0 or not os.path.exists(path):
         raise RuntimeError(f"calibrate: no calibration (exit status {rc}); see {out}")
