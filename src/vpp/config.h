@@ -74,7 +74,7 @@ struct OutputDef {
 
 // Post-processing of the recorded loops; acts on no simulation, so it never needs a new run.
 struct AnalysisDef {
-    double settle_tolerance = 0.03;  // [-] W has settled when it changes by at most this fraction (vpp/settle.h)
+    double settle_tolerance = 0.03;  // [-] relative scatter of one cycle's W when stationary (vpp/settle.h)
 };
 
 struct Config {

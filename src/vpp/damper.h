@@ -108,7 +108,7 @@ public:
     std::vector<std::vector<double>> energy() const;
     static std::vector<std::string> energy_columns();
     // The records analysed: cycles (W, dissipation split), settling, the preparation's report,
-    // and the warnings of summary.json (not quasi-static, no cycle settled).
+    // and the warnings of summary.json (not quasi-static, W not stationary).
     DamperResult result() const;
     void write_records(const std::string& dir) const;  // forces.csv and energy.csv into dir
     const dem::World& world() const;

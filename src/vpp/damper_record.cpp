@@ -245,11 +245,11 @@ DamperResult DamperRun::result() const {
 
 namespace {
 
-// The warnings of summary.json that look at the whole record: not quasi-static, no cycle settled.
+// The warnings of summary.json that look at the whole record: not quasi-static, W not stationary.
 void add_summary_warnings(DamperResult& r) {
     const double I = r.inertial_number;
     const bool quasi_static = I < kQuasiStaticInertialNumber;
-    char msg[320];
+    char msg[640];
     if (!quasi_static) {
         std::snprintf(msg, sizeof msg, "not quasi-static: inertial number %.2g >= %.2g: W is likely biased high "
                       "(8-45%% measured above it; docs/studies.md \"Velocity convergence\"); lower process.velocity", I,
@@ -257,17 +257,20 @@ void add_summary_warnings(DamperResult& r) {
         r.warnings.push_back(msg);
     }
     if (r.settling.count == 0 && !r.cycles.empty()) {
-        std::string changes;
-        for (std::size_t k = 1; k < r.cycles.size(); ++k) {
+        std::string w;
+        for (const CycleResult& c : r.cycles) {
             char b[32];
-            std::snprintf(b, sizeof b, "%s%.1f%%", changes.empty() ? "" : ", ",
-                          100.0 * std::abs(r.cycles[k].W - r.cycles[k - 1].W) / std::abs(r.cycles[k - 1].W));
-            changes += b;
+            std::snprintf(b, sizeof b, "%s%.4g", w.empty() ? "" : ", ", c.W);
+            w += b;
         }
+        char tail[96] = "no complete cycle";
+        if (r.settling.tail_first > 0)
+            std::snprintf(tail, sizeof tail, "cycles %d-%d", r.settling.tail_first, r.settling.tail_last);
         std::snprintf(msg, sizeof msg,
-                      "no cycle settled: W must change by at most %g%% from cycle to cycle in two consecutive cycles "
-                      "(changes: %s); run more cycles (process.cycles) or widen analysis.settle_tolerance",
-                      100.0 * r.settling.tolerance, changes.empty() ? "one cycle only" : changes.c_str());
+                      "W not stationary: fewer than %zu final cycles without a trend or jump beyond the per-cycle "
+                      "scatter of %g%% (W per cycle: %s J/m^2; stationary tail: %s); run more cycles "
+                      "(process.cycles) or, if this damper scatters more, raise analysis.settle_tolerance",
+                      kSettleMinCycles, 100.0 * r.settling.tolerance, w.c_str(), tail);
         r.warnings.push_back(msg);
     }
 }
@@ -332,6 +335,8 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
         .raw("first_settled_cycle", r.settling.first > 0 ? std::to_string(r.settling.first) : "null")
         .num("settled_cycles", double(r.settling.count))
         .num("W_settled", r.settling.W_mean)
+        .num("settle_slope", r.settling.slope)
+        .num("settle_slope_limit", r.settling.slope_limit)
         .num("inner_radius", r.foil_radius - c.foil.particle_radius)
         .raw("preparation", report_json("prepare."))
         .raw("start_of_cycling", report_json("cycle."))
@@ -379,8 +384,11 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
                              cr.boundary_work != 0 ? 100.0 * cr.energy_residual / std::abs(cr.boundary_work) : 0.0);
         }
         if (r.settling.count > 0)
-            std::fprintf(stderr, "W settled (changes <= %g%%) from cycle %d: W_settled = %.5g J/m^2 over %zu cycle(s)\n",
-                         100.0 * r.settling.tolerance, r.settling.first, r.settling.W_mean, r.settling.count);
+            std::fprintf(stderr,
+                         "W stationary over cycles %d-%d (slope %.3g J/m^2 per cycle, within +-%.3g for a scatter of "
+                         "%g%%): W_settled = %.5g J/m^2\n",
+                         r.settling.first, r.settling.first + int(r.settling.count) - 1, r.settling.slope,
+                         r.settling.slope_limit, 100.0 * r.settling.tolerance, r.settling.W_mean);
         for (const std::string& w : r.warnings) std::fprintf(stderr, "WARNING: %s\n", w.c_str());
         std::fprintf(stderr, "run time %.1f s; outputs: forces.csv energy.csv cycles.csv summary.json prepared.ckpt run.ckpt vtk/%s\n",
                      r.run_seconds, opt.plot ? " loops*.png" : "");
