@@ -146,7 +146,14 @@ int main(int argc, char** argv) {
     StudyCommand sweep, calib;
     add_study("sweep", "Run a parameter study: every combination of a grid of config values (docs/studies.md)", sweep);
     bool list_only = false;
-    sweep.app->add_flag("--list", list_only, "Check the study and list its cases and preparations; run nothing");
+    auto* list_flag =
+        sweep.app->add_flag("--list", list_only, "Check the study and list its cases and preparations; run nothing");
+    bool report_only = false;
+    sweep.app
+        ->add_flag("--report-only", report_only,
+                   "Run nothing: write summary.csv, summary_cases.csv (and summary_paired.csv) from the cases finished "
+                   "in --out, the others marked 'not run' (docs/studies.md, \"Resuming\")")
+        ->excludes(list_flag);
     add_study("calibrate", "Grid search of a study against a measured force-displacement loop (docs/studies.md)", calib);
     vpp::CalibrateOptions co;
     std::string c_dunit = "m", c_funit = "N";
@@ -238,9 +245,12 @@ int main(int argc, char** argv) {
                 const auto cases = vpp::expand_study(st);
                 if (rank == 0) std::printf("%s", vpp::list_cases(cases).c_str());
             } else if (*sweep.app) {
+                so.report_only = report_only;
                 const vpp::SweepResult r = vpp::run_sweep(st, so);
-                if (rank == 0 && !sc.no_plot) vpp::plot_sweep_dir(sc.out, sc.quiet);
-                rc = r.failed ? 1 : 0;
+                if (rank == 0 && !sc.no_plot && !report_only) vpp::plot_sweep_dir(sc.out, sc.quiet);
+                // A report is a success whatever the cases' state: unfinished and unreadable
+                // cases are in its tables.
+                rc = r.failed && !report_only ? 1 : 0;
             } else {
                 co.sweep = so;
                 co.format.disp_scale = c_dunit == "mm" ? 1e-3 : 1.0;

@@ -134,6 +134,15 @@ std::string case_record(const Study& s, const StudyCase& c) {
     return os.str();
 }
 
+// A case folder written for other settings (its case.toml differs from `record`): refused rather
+// than mixing results of two studies.
+void check_case_folder(const fs::path& dir, const std::string& record) {
+    if (fs::exists(dir / "case.toml") && read_text(dir / "case.toml") != record)
+        throw std::runtime_error("folder '" + dir.string() +
+                                 "' holds a case run with other settings (see its case.toml); the study "
+                                 "changed: use another --out, or remove the folder");
+}
+
 // Shares of the dissipation in a cycle: friction / total, damping / total (NaN without energy).
 void dissipation_shares(double friction, double damping, double viscous, CaseOutcome& o) {
     const double total = friction + damping + viscous;
@@ -569,7 +578,7 @@ std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases, con
         const CaseOutcome& o = outcomes[i];
         if (o.ok) out += num(o.W) + "," + num(o.dissipated_energy) + "," + num(o.peak_force) + ",";
         else out += ",,,";
-        out += num(o.run_seconds) + "," + csv_field(o.ok ? "ok" : "failed: " + o.message) + "," +
+        out += num(o.run_seconds) + "," + csv_field(o.ok ? "ok" : o.not_run ? "not run" : "failed: " + o.message) + "," +
                csv_field(cases[i].name) + ",";
         if (o.ok)
             out += num(o.W_settled) + "," + std::to_string(o.settled_cycles) + "," +
@@ -587,6 +596,22 @@ std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases, con
     }
     return out;
 }
+
+namespace {
+
+// A quantity of kEnsembleQuantities or kPairedQuantities by its column name.
+double quantity(const CaseOutcome& o, const std::string& q) {
+    if (q == "W") return o.W;
+    if (q == "W_settled") return o.W_settled;
+    if (q == "peak_force") return o.peak_force;
+    if (q == "dissipated_energy") return o.dissipated_energy;
+    if (q == "friction_share") return o.friction_share;
+    if (q == "damping_share") return o.damping_share;
+    if (q == "packing_fraction") return o.packing_fraction;
+    throw std::logic_error("no study quantity '" + q + "'");
+}
+
+}  // namespace
 
 std::vector<std::vector<std::size_t>> ensemble_groups(const Study& s, const std::vector<StudyCase>& cases) {
     const int seed = seed_axis(s);
@@ -610,15 +635,6 @@ std::string cases_csv(const Study& s, const std::vector<StudyCase>& cases, const
     out += "seeds,ok";
     for (const std::string& q : kEnsembleQuantities) out += "," + q + "_n," + q + "_mean," + q + "_sd," + q + "_ci95";
     out += ",cases\n";
-    auto value = [](const CaseOutcome& o, const std::string& q) {
-        if (q == "W") return o.W;
-        if (q == "W_settled") return o.W_settled;
-        if (q == "peak_force") return o.peak_force;
-        if (q == "dissipated_energy") return o.dissipated_energy;
-        if (q == "friction_share") return o.friction_share;
-        if (q == "damping_share") return o.damping_share;
-        return o.packing_fraction;
-    };
     for (const auto& g : ensemble_groups(s, cases)) {
         const StudyCase& first = cases[g.front()];
         for (std::size_t k = 0; k < first.labels.size(); ++k)
@@ -629,7 +645,7 @@ std::string cases_csv(const Study& s, const std::vector<StudyCase>& cases, const
         for (const std::string& q : kEnsembleQuantities) {
             std::vector<double> x;
             for (std::size_t i : g)
-                if (outcomes[i].ok) x.push_back(value(outcomes[i], q));
+                if (outcomes[i].ok) x.push_back(quantity(outcomes[i], q));
             const Interval iv = mean_interval(x);
             for (const std::string& field : {std::to_string(iv.n), num(iv.mean), num(iv.sd), num(iv.half)}) {
                 out += ',';
@@ -646,9 +662,114 @@ std::string cases_csv(const Study& s, const std::vector<StudyCase>& cases, const
     return out;
 }
 
+std::string paired_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes) {
+    const int seed = seed_axis(s);
+    if (seed < 0 || s.grid[std::size_t(seed)].labels.size() < 2) return "";
+    // The case at grid position (i_0, i_1, ...) is sum_k i_k stride_k: expand_study's order, the
+    // first axis slowest. Pairs are found by this arithmetic, not by matching labels.
+    const std::size_t axes = s.grid.size(), sk = std::size_t(seed), seeds = s.grid[sk].labels.size();
+    std::vector<std::size_t> stride(axes, 1);
+    for (std::size_t k = axes - 1; k > 0; --k) stride[k - 1] = stride[k] * s.grid[k].labels.size();
+    if (cases.size() != stride[0] * s.grid[0].labels.size() || outcomes.size() != cases.size())
+        throw std::logic_error("paired_csv: the cases are not the study's full grid");
+    auto position = [&](std::size_t i, std::size_t k) { return i / stride[k] % s.grid[k].labels.size(); };
+
+    std::string out = "key,value,reference,group,quantity,n,diff_mean,diff_sd,diff_ci95,ref_mean,rel_diff\n";
+    for (std::size_t a = 0; a < axes; ++a) {
+        const GridAxis& axis = s.grid[a];
+        if (a == sk || axis.labels.size() < 2) continue;
+        // One group per combination of the other axes: its run at A's reference and the first seed.
+        for (std::size_t base = 0; base < cases.size(); ++base) {
+            if (position(base, a) != 0 || position(base, sk) != 0) continue;
+            std::string group;
+            for (std::size_t k = 0; k < axes; ++k) {
+                if (k == a || k == sk) continue;
+                if (!group.empty()) group += ';';
+                group += s.grid[k].key + "=" + cases[base].labels[k];
+            }
+            for (std::size_t v = 1; v < axis.labels.size(); ++v)
+                for (const std::string& q : kPairedQuantities) {
+                    std::vector<double> diff, ref;
+                    for (std::size_t j = 0; j < seeds; ++j) {
+                        const std::size_t r = base + j * stride[sk], c = r + v * stride[a];
+                        if (!outcomes[r].ok || !outcomes[c].ok) continue;
+                        const double qr = quantity(outcomes[r], q), qc = quantity(outcomes[c], q);
+                        if (!std::isfinite(qr) || !std::isfinite(qc)) continue;
+                        diff.push_back(qc - qr);
+                        ref.push_back(qr);
+                    }
+                    const Interval d = mean_interval(diff);
+                    const double ref_mean = mean_interval(ref).mean;
+                    out += csv_field(axis.key) + "," + csv_field(axis.labels[v]) + "," + csv_field(axis.labels[0]) + "," +
+                           csv_field(group) + "," + q + "," + std::to_string(d.n) + "," + num(d.mean) + "," +
+                           num(d.sd) + "," + num(d.half) + "," + num(ref_mean) + "," + num(d.mean / ref_mean) + "\n";
+                }
+        }
+    }
+    return out;
+}
+
+namespace {
+
+// The tables of a sweep, each written atomically into `out`: summary.csv, summary_cases.csv and,
+// with seeds, summary_paired.csv. Returns the names written, for the closing message.
+std::string write_tables(const fs::path& out, const Study& s, const std::vector<StudyCase>& cases,
+                         const std::vector<CaseOutcome>& outcomes) {
+    dem::write_text_atomic((out / "summary.csv").string(), summary_csv(s, cases, outcomes));
+    dem::write_text_atomic((out / "summary_cases.csv").string(), cases_csv(s, cases, outcomes));
+    std::string names = (out / "summary.csv").string() + ", summary_cases.csv";
+    if (const std::string paired = paired_csv(s, cases, outcomes); !paired.empty()) {
+        dem::write_text_atomic((out / "summary_paired.csv").string(), paired);
+        names += ", summary_paired.csv";
+    }
+    return names;
+}
+
+// --report-only: the tables from the records already in DIR. Only reads: no case folder, FAILED
+// marker or case.toml is written, so a sweep running into DIR at the same time is not disturbed
+// (a case it finishes meanwhile is either read whole or not at all: summary.json is written
+// last and atomically).
+SweepResult report_sweep(const Study& s, const SweepOptions& opt, SweepResult res) {
+    const fs::path out(opt.out_dir);
+    if (!fs::is_directory(out))
+        throw ConfigError("--out '" + opt.out_dir + "': " + (fs::exists(out) ? "not a directory" : "no such folder") +
+                          " (--report-only reads the cases a sweep finished there and runs nothing)");
+    res.outcomes.assign(res.cases.size(), CaseOutcome{});
+    if (opt.rank != 0) return res;
+    std::size_t finished = 0;
+    for (std::size_t i = 0; i < res.cases.size(); ++i) {
+        const StudyCase& c = res.cases[i];
+        const fs::path dir = out / c.name;
+        CaseOutcome& o = res.outcomes[i];
+        if (!fs::exists(dir / "summary.json")) {
+            o.not_run = true;
+            o.run_seconds = CaseOutcome::kNaN;  // an empty cell: it has not run, rather than ran 0 s
+            continue;
+        }
+        try {
+            check_case_folder(dir, case_record(s, c));
+            o = read_finished(dir, c.config);
+            ++finished;
+        } catch (const std::exception& e) {
+            o.message = e.what();
+            ++res.failed;
+            if (!opt.quiet) std::fprintf(stderr, "sweep: %s: unreadable: %s\n", c.name.c_str(), e.what());
+        }
+    }
+    const std::string names = write_tables(out, s, res.cases, res.outcomes);
+    if (!opt.quiet)
+        std::fprintf(stderr, "sweep --report-only: %zu of %zu cases finished%s; ran nothing; wrote %s\n", finished,
+                     res.cases.size(), res.failed ? (", " + std::to_string(res.failed) + " unreadable").c_str() : "",
+                     names.c_str());
+    return res;
+}
+
+}  // namespace
+
 SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     SweepResult res;
     res.cases = expand_study(s);  // every case's config is checked before anything runs
+    if (opt.report_only) return report_sweep(s, opt, std::move(res));
     const auto& cases = res.cases;
     const fs::path out(opt.out_dir);
     if (fs::exists(out) && !fs::is_directory(out))
@@ -741,10 +862,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
         try {
             fs::create_directories(dir);
             const std::string rec = case_record(s, c);
-            if (fs::exists(dir / "case.toml") && read_text(dir / "case.toml") != rec)
-                throw std::runtime_error("folder '" + dir.string() +
-                                         "' holds a case run with other settings (see its case.toml); the study "
-                                         "changed: use another --out, or remove the folder");
+            check_case_folder(dir, rec);
             if (fs::exists(dir / "summary.json")) return read_finished(dir, c.config);
             dem::write_text_atomic((dir / "case.toml").string(), rec);
             DamperOptions d;
@@ -851,11 +969,9 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     if (opt.rank == 0) {
         deserialize(all, res.outcomes);
         for (const CaseOutcome& o : res.outcomes) res.failed += o.ok ? 0 : 1;
-        dem::write_text_atomic((out / "summary.csv").string(), summary_csv(s, cases, res.outcomes));
-        dem::write_text_atomic((out / "summary_cases.csv").string(), cases_csv(s, cases, res.outcomes));
+        const std::string names = write_tables(out, s, cases, res.outcomes);
         if (!opt.quiet)
-            std::fprintf(stderr, "sweep: %zu cases, %d failed; wrote %s and summary_cases.csv\n", cases.size(),
-                         res.failed, (out / "summary.csv").string().c_str());
+            std::fprintf(stderr, "sweep: %zu cases, %d failed; wrote %s\n", cases.size(), res.failed, names.c_str());
     }
     res.failed = broadcast_int(res.failed);
     return res;

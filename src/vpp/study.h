@@ -95,6 +95,13 @@ struct SweepOptions {
     // writing summary.csv. The folder stays resumable: finished cases keep their summary.json,
     // a stopped case restarts from its last run.ckpt (or from its start).
     std::function<bool(std::size_t done, std::size_t total, const std::string& name)> progress;
+    // Report only (`--report-only`): run, prepare and plot nothing, touch no case folder; read
+    // the cases finished in out_dir (which must exist: ConfigError naming it otherwise) as a
+    // resumed sweep does, and write its tables, the other cases marked "not run". A study that
+    // runs over many sessions gets its interim tables, and a newer build re-analyses old records
+    // (read_finished recomputes the stationary loops) without running them again. Rank 0 alone
+    // reads and writes, with no MPI call: the other ranks return at once.
+    bool report_only = false;
 };
 
 // Thrown by run_sweep (and run_calibration) when SweepOptions::progress asked to stop.
@@ -106,6 +113,7 @@ struct CaseOutcome {
     static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
     bool ok = false;
     bool skipped = false;        // finished in an earlier run of the sweep
+    bool not_run = false;        // report only: no finished record in its folder (status "not run")
     std::string message;         // failure message
     double W = 0, dissipated_energy = 0, peak_force = 0;  // last cycle
     double run_seconds = 0;
@@ -126,15 +134,19 @@ struct CaseOutcome {
 struct SweepResult {
     std::vector<StudyCase> cases;
     std::vector<CaseOutcome> outcomes;  // complete on rank 0 only (gathered)
-    int failed = 0;
+    int failed = 0;                     // failed cases; report only: records that could not be read
 };
 
-// Runs (or resumes) the sweep into opt.out_dir: one folder per case, DIR/summary.csv (rank 0).
+// Runs (or resumes) the sweep into opt.out_dir: one folder per case, DIR/summary.csv,
+// summary_cases.csv and, with seeds, summary_paired.csv (rank 0). With opt.report_only, only
+// the tables, from the cases already finished there.
 SweepResult run_sweep(const Study& s, const SweepOptions& opt);
 
 // The summary.csv text, one row per run: the swept keys, then W, dissipated_energy, peak_force,
 // run_seconds, status, case (the contract), then W_settled, settled_cycles, first_settled_cycle,
 // friction_share, damping_share, grains, packing_fraction, warnings (docs/studies.md, "Outputs").
+// status: "ok", "failed: <message>" or (report only) "not run"; the numbers of a run that did
+// not finish are empty.
 std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases,
                         const std::vector<CaseOutcome>& outcomes);
 
@@ -149,6 +161,23 @@ inline const std::vector<std::string> kEnsembleQuantities = {"W", "W_settled", "
 // half width, the interval is mean +- ci95), then `cases` (the runs' folders, ';'-separated).
 // A study without seeds has one run per row (n = 1: sd and ci95 empty).
 std::string cases_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes);
+
+// Quantities of summary_paired.csv, in its order.
+inline const std::vector<std::string> kPairedQuantities = {"W_settled", "W", "peak_force", "dissipated_energy",
+                                                           "friction_share", "damping_share"};
+
+// The summary_paired.csv text; empty unless the study has a seed axis of 2 values or more.
+// Paired differences seed by seed: for each grid axis A but the seed with 2 values or more, each
+// combination of the other axes but the seed (grid order), each value v of A but the reference
+// (A's first value) and each Q of kPairedQuantities, d_s = Q(v, s) - Q(reference, s) over the
+// seeds s whose two runs finished with a finite Q. Columns
+// `key,value,reference,group,quantity,n,diff_mean,diff_sd,diff_ci95,ref_mean,rel_diff`: group is
+// the other axes as `k1=v1;k2=v2` (empty without any), n the seeds paired, then the mean, sample
+// sd and 95% half width of d (vpp/stats.h; sd and ci95 empty for n < 2, every number for n = 0),
+// the mean of Q at the reference over the same seeds, and diff_mean / ref_mean. The seeds of
+// one case branch from that seed's sample where A shares the preparation, so the sample's own
+// scatter cancels in d (docs/studies.md, "Ensembles").
+std::string paired_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes);
 
 // Rows of the ensemble table: the indices of the runs of each case (grid order), the seed axis
 // left out.

@@ -1,6 +1,8 @@
 // Studies through the vppdem binary on the small quick damper (56 grains, 494 foil particles):
 // a sweep shares its preparation and writes summary.csv, resumes after being killed, a
 // calibration recovers the friction of a synthetic experiment, bad study files fail clearly.
+// --report-only rewrites a sweep's tables from its records, and tabulates hand-made records with
+// their paired differences (summary_paired.csv) without simulating.
 // Also the pure parts: range strings, the loop misfit.
 #include <gtest/gtest.h>
 
@@ -24,6 +26,7 @@
 #include "cli_helpers.h"
 #include "dem/io/csv.h"
 #include "vpp/calibrate.h"
+#include "vpp/stats.h"
 #include "vpp/study.h"
 
 namespace fs = std::filesystem;
@@ -55,10 +58,42 @@ std::vector<std::string> lines_of(const fs::path& p) {
     return out;
 }
 
+// The cells of a CSV line as dem::csv_text writes them: a cell with a comma or a quote is quoted,
+// its quotes doubled (a run's warnings hold both).
 std::vector<std::string> cells(const std::string& line) {
+    std::vector<std::string> out(1);
+    bool quoted = false;
+    for (std::size_t k = 0; k < line.size(); ++k) {
+        const char c = line[k];
+        if (quoted && c == '"' && k + 1 < line.size() && line[k + 1] == '"') out.back() += line[++k];
+        else if (c == '"') quoted = !quoted;
+        else if (c == ',' && !quoted) out.emplace_back();
+        else out.back() += c;
+    }
+    return out;
+}
+
+// A CSV file as rows of cells by column name.
+std::vector<std::map<std::string, std::string>> table_of(const fs::path& p) {
+    const auto rows = lines_of(p);
+    std::vector<std::map<std::string, std::string>> out;
+    if (rows.empty()) return out;
+    const auto head = cells(rows[0]);
+    for (std::size_t r = 1; r < rows.size(); ++r) {
+        const auto c = cells(rows[r]);
+        EXPECT_EQ(c.size(), head.size()) << p << ": " << rows[r];
+        std::map<std::string, std::string> row;
+        for (std::size_t k = 0; k < head.size() && k < c.size(); ++k) row[head[k]] = c[k];
+        out.push_back(row);
+    }
+    return out;
+}
+
+// The folders and files directly in `dir`, by name.
+std::vector<std::string> entries(const fs::path& dir) {
     std::vector<std::string> out;
-    std::stringstream ss(line);
-    for (std::string c; std::getline(ss, c, ',');) out.push_back(c);
+    for (const auto& e : fs::directory_iterator(dir)) out.push_back(e.path().filename().string());
+    std::sort(out.begin(), out.end());
     return out;
 }
 
@@ -183,6 +218,8 @@ TEST_F(Study, SweepSharesOnePreparationAndWritesTheSummary) {
     write_file(study, kTwoFrictions);
     const Outcome r = run("sweep " + study.string() + " --out " + out.string() + " --jobs 2 --no-plot");
     ASSERT_EQ(r.status, 0) << r.output;
+    const std::string summary = slurp(out / "summary.csv"), summary_cases = slurp(out / "summary_cases.csv");
+    EXPECT_FALSE(fs::exists(out / "summary_paired.csv"));  // no seeds, nothing to pair
     const auto rows = lines_of(out / "summary.csv");
     ASSERT_EQ(rows.size(), 3u) << slurp(out / "summary.csv");
     // The contract columns first, then the ones added later (docs/studies.md, "Outputs").
@@ -226,6 +263,198 @@ TEST_F(Study, SweepSharesOnePreparationAndWritesTheSummary) {
     EXPECT_NE(again.output.find("grains.friction=0.6: done earlier"), std::string::npos) << again.output;
     EXPECT_EQ(slurp(c1 / "forces.csv"), before);
     EXPECT_EQ(lines_of(out / "summary.csv").size(), 3u);
+    // --report-only reads the finished cases back into the very tables the sweep wrote (run
+    // time included: summary.json keeps it to the last bit), and touches no case.
+    fs::remove(out / "summary.csv");
+    fs::remove(out / "summary_cases.csv");
+    const auto stamp = fs::last_write_time(c2 / "summary.json");
+    const Outcome report = run("sweep " + study.string() + " --out " + out.string() + " --report-only");
+    ASSERT_EQ(report.status, 0) << report.output;
+    EXPECT_NE(report.output.find("2 of 2 cases finished"), std::string::npos) << report.output;
+    EXPECT_EQ(slurp(out / "summary.csv"), summary);
+    EXPECT_EQ(slurp(out / "summary_cases.csv"), summary_cases);
+    EXPECT_EQ(fs::last_write_time(c2 / "summary.json"), stamp);
+    EXPECT_FALSE(fs::exists(out / "sweep_W.png"));  // no plot
+}
+
+namespace {
+
+// Per-case numbers of the fabricated sweep below: friction index f, underpressure index p,
+// seed s (1..3). The seed moves W and the peak force by a few per cent, differently at each
+// friction and underpressure, so the paired differences scatter.
+double fake_W(int f, int p, int s) { return 100.0 + 40.0 * f + 25.0 * p + 3.0 * s * s * (1 + f) - 2.0 * s * p; }
+double fake_peak(int f, int p, int s) { return 200.0 + 10.0 * f + 7.0 * p + 5.0 * s + f * s + 1.5 * s * s * p; }
+
+// A finished case folder as the damper leaves it, by hand: cycles.csv (4 cycles of W within 0.4%
+// of `W`, which the stationarity test settles; the dissipation split when `energy`) and
+// summary.json. No case.toml: a folder without one is accepted, as by a resumed sweep.
+void fabricate_case(const fs::path& dir, double W, double peak, bool energy, double friction_dissipation) {
+    std::ostringstream cyc;
+    cyc.precision(17);
+    cyc << "cycle,dissipated_energy,W,peak_force,min_force"
+        << (energy ? ",friction_dissipation,damping_dissipation,viscous_dissipation" : "") << "\n";
+    const double wiggle[4] = {1.004, 0.997, 1.001, 1.0};
+    for (int k = 0; k < 4; ++k) {
+        const double w = W * wiggle[k];
+        cyc << k + 1 << "," << w * 4.5e-4 << "," << w << "," << peak * wiggle[k] << ",-3";  // [J], [J/m^2], [N]
+        if (energy) cyc << "," << friction_dissipation << ",0.3,0";
+        cyc << "\n";
+    }
+    write_file(dir / "cycles.csv", cyc.str());
+    write_file(dir / "summary.json", "{\"grains\": 60, \"preparation\": {\"packing_fraction\": 0.61}, "
+                                     "\"warnings\": [\"a hand-made record\"], \"run_seconds\": 12.5}\n");
+}
+
+}  // namespace
+
+// --report-only on a sweep folder whose records were written by hand (nothing simulated): the
+// finished cases are read, the others marked "not run", no folder or marker is made, and
+// summary_paired.csv holds the seed-by-seed differences of summary.csv's own numbers.
+TEST_F(Study, ReportOnlyTabulatesTheFinishedCasesAndPairsTheSeeds) {
+    const fs::path study = scratch("report.toml"), out = scratch("report");
+    write_file(study, "seeds = 3\n" + kSmallSet +
+                          "[grid]\n\"grains.friction\" = [0.3, 0.6]\n\"process.underpressure\" = [0.02e6, 0.06e6]\n");
+    const char* friction[2] = {"0.3", "0.6"};
+    const char* dp[2] = {"20000", "60000"};
+    auto name = [&](int f, int p, int s) {
+        return std::string("grains.friction=") + friction[f] + "_process.underpressure=" + dp[p] +
+               "_simulation.seed=" + std::to_string(s);
+    };
+    // Not finished: friction 0.3, 0.06 MPa, seed 2 (failed earlier: FAILED, no summary.json) and
+    // friction 0.6, 0.06 MPa, seed 3 (never started: no folder). The energy ledger only at 0.02
+    // MPa: at 0.06 MPa the shares are empty.
+    for (int f = 0; f < 2; ++f)
+        for (int p = 0; p < 2; ++p)
+            for (int s = 1; s <= 3; ++s) {
+                if ((f == 0 && p == 1 && s == 2) || (f == 1 && p == 1 && s == 3)) continue;
+                fabricate_case(out / name(f, p, s), fake_W(f, p, s), fake_peak(f, p, s), p == 0, 0.5 + 0.1 * f + 0.03 * s);
+            }
+    write_file(out / name(0, 1, 2) / "FAILED", "an earlier failure\n");
+    const auto before = entries(out);
+    const std::string failed_dir = slurp(out / name(0, 1, 2) / "FAILED");
+
+    // A folder that does not exist: refused, naming it, and not created.
+    const Outcome missing = run("sweep " + study.string() + " --out " + (out / "nowhere").string() + " --report-only");
+    EXPECT_NE(missing.status, 0) << missing.output;
+    EXPECT_NE(missing.output.find((out / "nowhere").string() + "': no such folder"), std::string::npos) << missing.output;
+    EXPECT_FALSE(fs::exists(out / "nowhere"));
+
+    const Outcome r = run("sweep " + study.string() + " --out " + out.string() + " --report-only");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("10 of 12 cases finished"), std::string::npos) << r.output;
+    // Only the three tables are new; the failed case keeps its marker and gets no case.toml.
+    std::vector<std::string> expected = before;
+    for (const char* f : {"summary.csv", "summary_cases.csv", "summary_paired.csv"}) expected.push_back(f);
+    std::sort(expected.begin(), expected.end());
+    EXPECT_EQ(entries(out), expected);
+    EXPECT_EQ(slurp(out / name(0, 1, 2) / "FAILED"), failed_dir);
+    EXPECT_FALSE(fs::exists(out / name(0, 1, 2) / "case.toml"));
+
+    // summary.csv: 12 rows in grid order; the unfinished ones "not run" with empty numbers.
+    const auto sum = table_of(out / "summary.csv");
+    ASSERT_EQ(sum.size(), 12u);
+    std::map<std::string, std::map<std::string, std::string>> by_case;
+    for (const auto& row : sum) by_case[row.at("case")] = row;
+    for (const std::string& n : {name(0, 1, 2), name(1, 1, 3)}) {
+        const auto& row = by_case.at(n);
+        EXPECT_EQ(row.at("status"), "not run") << n;
+        for (const char* col : {"W", "dissipated_energy", "peak_force", "run_seconds", "W_settled", "settled_cycles",
+                                "friction_share", "grains", "packing_fraction", "warnings"})
+            EXPECT_EQ(row.at(col), "") << n << " " << col;
+    }
+    const auto& ok = by_case.at(name(1, 0, 2));
+    EXPECT_EQ(ok.at("status"), "ok");
+    EXPECT_EQ(std::stod(ok.at("W")), fake_W(1, 0, 2));
+    EXPECT_EQ(ok.at("settled_cycles"), "4");
+    EXPECT_EQ(ok.at("run_seconds"), "12.5");
+    EXPECT_EQ(ok.at("warnings"), "a hand-made record");
+    EXPECT_NEAR(std::stod(ok.at("friction_share")), 0.66 / 0.96, 1e-12);  // 0.5 + 0.1 + 0.03 * 2 of 0.66 + 0.3 + 0
+    EXPECT_EQ(by_case.at(name(1, 1, 2)).at("friction_share"), "");  // no ledger at 0.06 MPa
+    // summary_cases.csv: the statistics over the finished runs only.
+    const auto cases = table_of(out / "summary_cases.csv");
+    ASSERT_EQ(cases.size(), 4u);
+    EXPECT_EQ(cases[3].at("seeds"), "3");
+    EXPECT_EQ(cases[3].at("ok"), "2");
+    EXPECT_EQ(std::stod(cases[3].at("W_mean")), 0.5 * (fake_W(1, 1, 1) + fake_W(1, 1, 2)));
+
+    // summary_paired.csv against summary.csv by hand.
+    const auto paired = table_of(out / "summary_paired.csv");
+    EXPECT_EQ(lines_of(out / "summary_paired.csv")[0],
+              "key,value,reference,group,quantity,n,diff_mean,diff_sd,diff_ci95,ref_mean,rel_diff");
+    // friction: 2 groups (one per underpressure), underpressure: 2 (one per friction); 6 quantities.
+    ASSERT_EQ(paired.size(), 24u);
+    auto value = [&](int f, int p, int s, const std::string& q) {
+        const auto& row = by_case.at(name(f, p, s));
+        return row.at("status") == "ok" && !row.at(q).empty() ? std::stod(row.at(q)) : NAN;
+    };
+    auto find = [&](const std::string& key, const std::string& group, const std::string& q) {
+        for (const auto& row : paired)
+            if (row.at("key") == key && row.at("group") == group && row.at("quantity") == q) return row;
+        ADD_FAILURE() << "no row " << key << " " << group << " " << q;
+        return std::map<std::string, std::string>{};
+    };
+    std::size_t rows_checked = 0;
+    for (int axis = 0; axis < 2; ++axis)
+        for (int other = 0; other < 2; ++other)
+            for (const std::string& q : vpp::kPairedQuantities) {
+                const std::string key = axis == 0 ? "grains.friction" : "process.underpressure";
+                const std::string group = axis == 0 ? std::string("process.underpressure=") + dp[other]
+                                                    : std::string("grains.friction=") + friction[other];
+                const auto row = find(key, group, q);
+                if (row.empty()) continue;
+                EXPECT_EQ(row.at("value"), axis == 0 ? "0.6" : "60000");
+                EXPECT_EQ(row.at("reference"), axis == 0 ? "0.3" : "20000");
+                std::vector<double> d, ref;
+                for (int s = 1; s <= 3; ++s) {
+                    const double x = axis == 0 ? value(1, other, s, q) : value(other, 1, s, q);
+                    const double y = axis == 0 ? value(0, other, s, q) : value(other, 0, s, q);
+                    if (std::isnan(x) || std::isnan(y)) continue;
+                    d.push_back(x - y);
+                    ref.push_back(y);
+                }
+                const vpp::Interval iv = vpp::mean_interval(d);
+                SCOPED_TRACE(key + " " + group + " " + q);
+                ASSERT_EQ(row.at("n"), std::to_string(d.size()));
+                auto expect = [&](const char* col, double v) {
+                    if (std::isnan(v)) EXPECT_EQ(row.at(col), "") << col;
+                    else EXPECT_NEAR(std::stod(row.at(col)), v, 1e-12 * (1 + std::abs(v))) << col;
+                };
+                expect("diff_mean", iv.mean);
+                expect("diff_sd", iv.sd);
+                expect("diff_ci95", iv.half);
+                const double ref_mean = ref.empty() ? NAN : vpp::mean_interval(ref).mean;
+                expect("ref_mean", ref_mean);
+                expect("rel_diff", iv.mean / ref_mean);
+                ++rows_checked;
+            }
+    EXPECT_EQ(rows_checked, 24u);
+    // Independently of vpp::mean_interval. All three seeds (friction at 0.02 MPa): t_{0.975,2} =
+    // 0.95 / sqrt(2 * 0.975 * 0.025) = 4.303, ci = t sd / sqrt(3).
+    {
+        double d[3], m = 0, ss = 0;
+        for (int s = 1; s <= 3; ++s) m += (d[s - 1] = fake_W(1, 0, s) - fake_W(0, 0, s)) / 3.0;
+        for (double x : d) ss += (x - m) * (x - m);
+        const auto row = find("grains.friction", "process.underpressure=20000", "W");
+        EXPECT_EQ(row.at("n"), "3");
+        EXPECT_NEAR(std::stod(row.at("diff_mean")), m, 1e-9);
+        EXPECT_NEAR(std::stod(row.at("diff_ci95")), 0.95 / std::sqrt(2 * 0.975 * 0.025) * std::sqrt(ss / 2) / std::sqrt(3.0),
+                    1e-9);
+    }
+    // Two seeds (underpressure at friction 0.3: seed 2 did not run at 0.06 MPa): t_{0.975,1} =
+    // tan(0.475 pi) = 12.706, ci = t |d1 - d3| / 2; the reference mean over seeds 1 and 3 only.
+    {
+        const double d1 = fake_peak(0, 1, 1) - fake_peak(0, 0, 1), d3 = fake_peak(0, 1, 3) - fake_peak(0, 0, 3);
+        const auto row = find("process.underpressure", "grains.friction=0.3", "peak_force");
+        EXPECT_EQ(row.at("n"), "2");
+        EXPECT_NEAR(std::stod(row.at("diff_ci95")), std::tan(0.475 * M_PI) * std::abs(d1 - d3) / 2.0, 1e-9);
+        EXPECT_NEAR(std::stod(row.at("ref_mean")), 0.5 * (fake_peak(0, 0, 1) + fake_peak(0, 0, 3)), 1e-9);
+    }
+    // One seed paired (friction at 0.06 MPa: seed 1 only): sd and ci95 empty; no ledger there: n = 0.
+    EXPECT_EQ(find("grains.friction", "process.underpressure=60000", "W").at("n"), "1");
+    EXPECT_EQ(find("grains.friction", "process.underpressure=60000", "W").at("diff_ci95"), "");
+    const auto none = find("grains.friction", "process.underpressure=60000", "friction_share");
+    EXPECT_EQ(none.at("n"), "0");
+    for (const char* col : {"diff_mean", "diff_sd", "diff_ci95", "ref_mean", "rel_diff"}) EXPECT_EQ(none.at(col), "") << col;
 }
 
 TEST_F(Study, SweepResumesAfterBeingKilled) {
@@ -354,6 +583,7 @@ TEST_F(Study, CalibrationRecoversTheFrictionOfAnExperimentFromAnotherPacking) {
     EXPECT_TRUE(fs::exists(out / "calibration.png"));
     EXPECT_TRUE(fs::exists(out / "summary.csv"));
     EXPECT_TRUE(fs::exists(out / "summary_cases.csv"));
+    EXPECT_EQ(data_rows(out / "summary_paired.csv"), 3u * vpp::kPairedQuantities.size());  // 0.3, 0.6, 0.9 against 0
 
     // A failed calibration into the same folder keeps the good results and reports into
     // *_failed files: (1) an experiment no case can be compared with (a dead force channel, all
