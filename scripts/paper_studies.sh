@@ -1,0 +1,124 @@
+#!/usr/bin/env bash
+# Runs the paper's studies (issue 20: studies/paper/*.toml, 0.01 m/s, 3 seeds, 5 cycles) with one
+# pinned vppdem binary and keeps every finished run's small records in the repository
+# (docs/data/paper/<study>/<case>/: case.toml, summary.json, cycles.csv; and each study's
+# summary.csv / summary_cases.csv), so that a new machine loses at most the runs in flight.
+#
+# usage: scripts/paper_studies.sh [--publish-only] [STUDY ...]
+#   STUDY: underpressure radius_underpressure friction damping young preparation foil_resolution
+#          timestep (default: all, in this order). underpressure is the radius study's 25.5 mm
+#          rows alone (run into the radius study's folder, so that they finish first). timestep
+#          branches the friction study's prepared samples (seeds 1 and 2, identical bit for bit
+#          to the radius study's 25.5 mm samples) with
+#          simulation.dt_safety = 0.25 for 2 cycles at 0.06 MPa.
+#   --publish-only: copy what has finished into docs/data/paper and stop (while runs go on).
+# Knobs (environment variables):
+#   VPPDEM  the binary (default pinned/vppdem: build once, copy it there, write its commit into
+#           pinned/COMMIT; every run of the studies uses it, docs/data/SOURCES.md names the commit)
+#   OUT     run folders (default out/paper; checkpoints and full records, not in the repository)
+#   JOBS    runs at once (default: vppdem's choice, the free cores)
+#   DATA    where the records go (default docs/data/paper)
+# Resumable: before each study its published records are put back into OUT (the sweep takes a
+# case with summary.json as done, and a branch whose sample is gone prepares it again: the same
+# bits), killed runs continue from their run.ckpt. In the background:
+#   nohup nice -n 19 bash scripts/paper_studies.sh > paper.log 2>&1 &
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+VPPDEM=${VPPDEM:-pinned/vppdem}
+OUT=${OUT:-out/paper}
+JOBS=${JOBS:-}
+DATA=${DATA:-docs/data/paper}
+publish_only=0
+if [ "${1:-}" = "--publish-only" ]; then publish_only=1; shift; fi
+all=(underpressure radius_underpressure friction damping young preparation foil_resolution timestep)
+studies=("$@")
+[ ${#studies[@]} -gt 0 ] || studies=("${all[@]}")
+for s in "${studies[@]}"; do
+  [[ " ${all[*]} " == *" $s "* ]] || { echo "paper_studies.sh: unknown study '$s' (studies: ${all[*]})" >&2; exit 2; }
+done
+[ $publish_only -eq 1 ] || [ -x "$VPPDEM" ] || {
+  echo "paper_studies.sh: no vppdem binary at $VPPDEM (build, then: mkdir -p pinned && cp build/vppdem pinned/ && git rev-parse HEAD > pinned/COMMIT)" >&2
+  exit 2
+}
+[ -z "$JOBS" ] || [[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "paper_studies.sh: JOBS = '$JOBS': must be an integer >= 1" >&2; exit 2; }
+jobs_arg=${JOBS:+--jobs $JOBS}
+pinned_commit=$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)
+
+# publish FILE DEST (atomic copy)
+source scripts/publish.sh
+
+# restore STUDY: the published records back into the run folders (only where the folder has no
+# summary.json of its own).
+restore() {
+  local s=$1 d
+  [ -d "$DATA/$s" ] || return 0
+  for d in "$DATA/$s"/*/; do
+    [ -f "$d/summary.json" ] || continue
+    local c
+    c=$(basename "$d")
+    [ -f "$OUT/$s/$c/summary.json" ] && continue
+    mkdir -p "$OUT/$s/$c"
+    for f in case.toml cycles.csv summary.json; do [ -f "$d/$f" ] && publish "$d/$f" "$OUT/$s/$c/$f"; done
+  done
+}
+
+# save STUDY: every finished run's records and the study's tables into $DATA/STUDY.
+save() {
+  local s=$1 d n=0
+  [ -d "$OUT/$s" ] || return 0
+  mkdir -p "$DATA/$s"
+  for d in "$OUT/$s"/*/; do
+    [ -f "$d/summary.json" ] || continue
+    local c
+    c=$(basename "$d")
+    mkdir -p "$DATA/$s/$c"
+    for f in case.toml cycles.csv summary.json; do
+      [ -f "$d/$f" ] && ! cmp -s "$d/$f" "$DATA/$s/$c/$f" && publish "$d/$f" "$DATA/$s/$c/$f"
+    done
+    n=$((n + 1))
+  done
+  for f in summary.csv summary_cases.csv; do [ -f "$OUT/$s/$f" ] && publish "$OUT/$s/$f" "$DATA/$s/$f"; done
+  [ -f "$OUT/$s/COMMAND" ] && publish "$OUT/$s/COMMAND" "$DATA/$s/COMMAND"
+  echo "paper_studies.sh: $s: $n finished runs in $DATA/$s"
+}
+
+# The folder a study runs into (underpressure: a part of the radius study).
+folder() { if [ "$1" = underpressure ]; then echo radius_underpressure; else echo "$1"; fi; }
+
+failed=0
+for study in "${studies[@]}"; do
+  s=$(folder "$study")
+  if [ $publish_only -eq 1 ]; then save "$s"; continue; fi
+  restore "$s"
+  mkdir -p "$OUT/$s"
+  if [ "$s" = timestep ]; then
+    # Paired by construction: the same prepared sample, only the time step's safety factor differs.
+    for seed in 1 2; do
+      ckpt="$OUT/friction/grains.friction=0_simulation.seed=$seed/prepared.ckpt"
+      d="$OUT/timestep/simulation.dt-safety=0.25_simulation.seed=$seed"
+      cmd="$VPPDEM damper --from $ckpt --out $d --overwrite --set simulation.dt_safety=0.25 --set process.underpressure=0.06e6 --set process.velocity=0.01 --set process.cycles=2 --set output.energy=false --set simulation.threads=1 --no-plot --quiet"
+      echo "== timestep, seed $seed: $cmd"
+      if [ -f "$d/summary.json" ]; then echo "   done earlier"; continue; fi
+      if [ -f "$d/run.ckpt" ]; then
+        $VPPDEM damper --from "$d/run.ckpt" --out "$d" --no-plot --quiet || failed=1
+      elif [ -f "$ckpt" ]; then
+        mkdir -p "$d"
+        printf 'command = "%s"\n' "$cmd" > "$d/case.toml"
+        $cmd || failed=1
+      else
+        echo "paper_studies.sh: timestep needs $ckpt: run the friction study first" >&2
+        failed=1
+      fi
+    done
+    printf '%s (pinned build %s)\n' "$VPPDEM damper --from <friction study's seed sample> --set simulation.dt_safety=0.25 ... (scripts/paper_studies.sh timestep)" "$pinned_commit" > "$OUT/$s/COMMAND"
+  else
+    cmd="$VPPDEM sweep studies/paper/$study.toml --out $OUT/$s $jobs_arg --no-plot"
+    echo "== $study: $cmd"
+    # The radius study's COMMAND names the whole study (its 25.5 mm rows are the same cases).
+    [ "$study" = underpressure ] || printf '%s (pinned build %s)\n' "$cmd" "$pinned_commit" > "$OUT/$s/COMMAND"
+    $cmd || failed=1
+  fi
+  save "$s"
+done
+exit $failed
