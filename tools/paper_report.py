@@ -190,6 +190,13 @@ class Study:
         self.runs = read_csv(os.path.join(d, "summary.csv"))
         self.cases = read_csv(os.path.join(d, "summary_cases.csv"))
         self.paired = read_csv(os.path.join(d, "summary_paired.csv"))
+        # The W a claim is decided on: W_settled (the mean over each run's stationary cycles)
+        # when every finished run of the study is stationary, else the last cycle's W for all
+        # of them (one quantity per study, so that its cases compare like with like).
+        ok = [c for c in self.cases if int(float(c.get("ok") or 0)) > 0]
+        stationary = all(int(float(c.get("W_settled_n") or 0)) == int(float(c["ok"])) for c in ok)
+        self.q = "W_settled" if ok and stationary else "W"
+        self.qlabel = "W_settled" if self.q == "W_settled" else "W (last cycle; not every run stationary, C2)"
         self.command = ""
         if os.path.isfile(os.path.join(d, "COMMAND")):
             with open(os.path.join(d, "COMMAND")) as f:
@@ -204,7 +211,8 @@ class Study:
                 return c
         return None
 
-    def pair(self, key, value, quantity="W_settled", group=""):
+    def pair(self, key, value, quantity=None, group=""):
+        quantity = quantity or self.q
         for p in self.paired:
             if p["key"] == key and same(p["value"], value) and p["quantity"] == quantity and \
                     (group is None or p["group"] == group):
@@ -212,7 +220,7 @@ class Study:
         return None
 
 
-def ci_text(c, q="W_settled", unit="", digits=0, scale=1.0):
+def ci_text(c, q="W", unit="", digits=0, scale=1.0):
     """'mean +- ci (n)' of a summary_cases row."""
     if c is None:
         return "pending"
@@ -337,18 +345,18 @@ def write(data, out_md, figdir, command):
     # ---- C1: underpressure at 25.5 mm
     dps = [20000, 40000, 60000, 80000]
     c1_cases = [ru.case(**{"damper.radius": 0.0255, "process.underpressure": dp}) for dp in dps]
-    c1_vals = "; ".join(f"{dp / 1e6:g} MPa: {ci_text(c, unit='')}" for dp, c in zip(dps, c1_cases))
+    c1_vals = "; ".join(f"{dp / 1e6:g} MPa: {ci_text(c, ru.q)}" for dp, c in zip(dps, c1_cases))
     c1_diffs, c1_flags = [], []
     for dp in dps[1:]:
         t, ok = diff_text(ru.pair("process.underpressure", dp, group="damper.radius=0.0255"))
         c1_diffs.append(f"{dp / 1e6:g}: {t}")
         c1_flags.append(None if ok is None else ok and fnum(ru.pair("process.underpressure", dp,
                                                                     group="damper.radius=0.0255")["diff_mean"]) > 0)
-    means = [fnum(c.get("W_settled_mean")) if c else None for c in c1_cases]
+    means = [fnum(c.get(f"{ru.q}_mean")) if c else None for c in c1_cases]
     mono = None if any(v is None for v in means) else all(b > a for a, b in zip(means, means[1:]))
     steps = "" if mono is None else ", steps " + ", ".join(
         f"{100 * (b / a - 1):+.0f}%" for a, b in zip(means, means[1:]))
-    c1 = (f"W_settled [J/m2], 25.5 mm, mean +- 95% CI over 3 seeds: {c1_vals}{steps}; paired difference from "
+    c1 = (f"{ru.qlabel} [J/m2], 25.5 mm, mean +- 95% CI over 3 seeds: {c1_vals}{steps}; paired difference from "
           f"0.02 MPa (same samples): {'; '.join(c1_diffs)}")
     c1v = verdict(c1_flags + [mono], "reproduced (every dp above 0.02 MPa higher, paired; means increase)",
                   "partly (not every step resolved or increasing)")
@@ -366,6 +374,14 @@ def write(data, out_md, figdir, command):
                stat >= 0.7 * runs else "partly: many runs still drift after 5 cycles")
     else:
         c2, c2v = "pending", "open (runs pending)"
+    by_dp = []
+    for dp in dps:
+        rr = [r for r in ru.runs if r.get("status") == "ok" and same(r.get("process.underpressure"), dp)]
+        if rr:
+            st = sum(1 for r in rr if int(float(r.get("settled_cycles") or 0)) >= 3)
+            by_dp.append(f"{dp / 1e6:g} MPa {st} of {len(rr)}")
+    if by_dp:
+        c2 += "; stationary by dp (radius study): " + ", ".join(by_dp)
 
     # ---- C4: preparation
     c4_parts, c4_flags = [], []
@@ -373,21 +389,21 @@ def write(data, out_md, figdir, command):
         a = pr.case(**{"damper.refill": "true", "process.underpressure": dp})
         b = pr.case(**{"damper.refill": "false", "process.underpressure": dp})
         t, ok = diff_text(pr.pair("damper.refill", "false", group=f"process.underpressure={dp}"))
-        c4_parts.append(f"{dp / 1e6:g} MPa: re-fill {ci_text(a)}, pour alone {ci_text(b)}, difference {t}; packing "
+        c4_parts.append(f"{dp / 1e6:g} MPa: re-fill {ci_text(a, pr.q)}, pour alone {ci_text(b, pr.q)}, difference {t}; packing "
                         f"fraction after preparation {ci_text(a, 'packing_fraction', digits=3)} against "
                         f"{ci_text(b, 'packing_fraction', digits=3)}")
         c4_flags.append(ok)
     c4 = ("the paper's 54% pour leaves the cap above the grains (a frictionless pour settles to 0.59-0.61 of the "
-          "foil); vppdem re-fills until the cap rests on them (default). W_settled [J/m2]: " + "; ".join(c4_parts))
+          "foil); vppdem re-fills until the cap rests on them (default). " + pr.qlabel + " [J/m2]: " + "; ".join(c4_parts))
     c4v = ("a choice, measured: " + ("the preparation changes W beyond the seed scatter" if all(
         f is True for f in c4_flags) else "open (runs pending)" if any(f is None for f in c4_flags) else
         "the preparation's effect is within the seed scatter at some dp"))
 
     # ---- C9, C20, C21: Young's modulus
     ys = [23e6, 230e6, 2.3e9, 23e9]
-    y_vals = "; ".join(f"{y / 1e6:g} MPa: {ci_text(yg.case(**{'grains.young': y}))}" for y in ys)
+    y_vals = "; ".join(f"{y / 1e6:g} MPa: {ci_text(yg.case(**{'grains.young': y}), yg.q)}" for y in ys)
     y_d = {y: diff_text(yg.pair("grains.young", y)) for y in (23e6, 230e6, 23e9)}
-    c9 = f"W_settled [J/m2] at 0.06 MPa: {y_vals}; against 2.3 GPa: " + "; ".join(
+    c9 = f"{yg.qlabel} [J/m2] at 0.06 MPa: {y_vals}; against 2.3 GPa: " + "; ".join(
         f"{y / 1e6:g} MPa {y_d[y][0]}" for y in (23e6, 230e6, 23e9))
     hi = y_d[23e9][1]
     c9v = "open (runs pending)" if hi is None else ("reproduced above 230 MPa (23 GPa within the scatter of 2.3 GPa)"
@@ -398,31 +414,31 @@ def write(data, out_md, figdir, command):
 
     # ---- C16-C19: friction
     mus = [0.0, 0.1, 0.2, 0.4, 0.6, 0.8, 1.0]
-    f_vals = "; ".join(f"{mu:g}: {ci_text(fr.case(**{'grains.friction': mu}))}" for mu in mus)
+    f_vals = "; ".join(f"{mu:g}: {ci_text(fr.case(**{'grains.friction': mu}), fr.q)}" for mu in mus)
     f_d = {mu: diff_text(fr.pair("grains.friction", mu)) for mu in mus[1:]}
-    c16 = f"W_settled [J/m2] at 0.06 MPa by friction: {f_vals}; against mu 0 (same samples): " + "; ".join(
+    c16 = f"{fr.qlabel} [J/m2] at 0.06 MPa by friction: {f_vals}; against mu 0 (same samples): " + "; ".join(
         f"{mu:g} {f_d[mu][0]}" for mu in mus[1:])
     c16v = "open (runs pending)" if f_d[0.6][1] is None else ("reproduced" if f_d[0.6][1] else "not reproduced")
     t18, ok18 = diff_text(f06.pair("grains.friction", 1.0))
     t18e, _ = diff_text(f06.pair("grains.friction", 1.0, "dissipated_energy"), digits=3)
-    c18 = f"mu 0.6 -> 1.0, paired: W_settled {t18} J/m2, dissipated energy (cycle 5) {t18e} J"
+    c18 = f"mu 0.6 -> 1.0, paired: {f06.qlabel} {t18} J/m2, dissipated energy (cycle 5) {t18e} J"
     rel18 = fnum(f06.pair("grains.friction", 1.0)["rel_diff"]) if f06.pair("grains.friction", 1.0) else None
     c18v = "open (runs pending)" if ok18 is None else (
         "reproduced (within the scatter)" if not ok18 else
         ("reproduced (a few per cent, resolved)" if abs(rel18) < 0.1 else "not reproduced (more than a few %)"))
-    m_lo = [fnum(fr.case(**{"grains.friction": mu}).get("W_settled_mean")) if fr.case(**{"grains.friction": mu})
+    m_lo = [fnum(fr.case(**{"grains.friction": mu}).get(f"{fr.q}_mean")) if fr.case(**{"grains.friction": mu})
             else None for mu in mus]
     if all(v is not None for v in m_lo):
-        c17 = ("W_settled relative to mu 1.0: " + ", ".join(f"{mu:g}: {v / m_lo[-1]:.2f}" for mu, v in zip(mus, m_lo)))
+        c17 = (f"{fr.qlabel} relative to mu 1.0: " + ", ".join(f"{mu:g}: {v / m_lo[-1]:.2f}" for mu, v in zip(mus, m_lo)))
         inc1 = (m_lo[4] - m_lo[1]) / max(1e-9, 0.5)
         inc2 = (m_lo[6] - m_lo[4]) / 0.4
         c17v = "reproduced (saturating)" if inc2 < 0.5 * inc1 else "not reproduced (no saturation)"
     else:
         c17, c17v = "pending", "open (runs pending)"
     z = fr.case(**{"grains.friction": 0.0})
-    c19 = (f"mu 0: W_settled {ci_text(z)} J/m2, friction share {ci_text(z, 'friction_share', digits=2)}, local-damping "
+    c19 = (f"mu 0: {fr.qlabel} {ci_text(z, fr.q)} J/m2, friction share {ci_text(z, 'friction_share', digits=2)}, local-damping "
            f"share {ci_text(z, 'damping_share', digits=2)} (cycle 5, energy ledger)")
-    c19v = "open (runs pending)" if z is None or not fnum(z.get("W_settled_mean")) else (
+    c19v = "open (runs pending)" if z is None or not fnum(z.get(f"{fr.q}_mean")) else (
         "reproduced, but in vppdem that dissipation is the numerical local damping, set by its coefficient")
 
     # ---- C30: shares
@@ -446,14 +462,14 @@ def write(data, out_md, figdir, command):
             pe = ru.pair("damper.radius", r, "dissipated_energy", group=f"process.underpressure={dp}")
             te, oke = diff_text(pe, digits=2)
             c26f.append(None if oke is None else (oke and (fnum(pe["diff_mean"]) > 0) == (r > 0.0255)))
-            pw = ru.pair("damper.radius", r, "W_settled", group=f"process.underpressure={dp}")
+            pw = ru.pair("damper.radius", r, group=f"process.underpressure={dp}")
             tw, okw = diff_text(pw)
             c28p.append(f"{dp / 1e6:g} MPa, {r * 1e3:g} mm: {tw}")
             c28f.append(None if okw is None else (okw and (fnum(pw["diff_mean"]) < 0) == (r > 0.0255)))
     c26 = "loop energy (cycle 5) for r_p 20.5 / 25.5 / 30.5 mm: " + "; ".join(c26p) + " (different samples per radius)"
     c26v = verdict(c26f, "reproduced at every dp (resolved against the seed scatter)",
                    "partly (not every step resolved)")
-    c28 = "W_settled [J/m2] against 25.5 mm, per-seed differences: " + "; ".join(c28p)
+    c28 = f"{ru.qlabel} [J/m2] against 25.5 mm, per-seed differences: " + "; ".join(c28p)
     c28v = verdict(c28f, "reproduced at every dp", "partly (not every step resolved or in the paper's direction)")
 
     # ---- numerical convergence
@@ -462,24 +478,24 @@ def write(data, out_md, figdir, command):
     tfo, okfo = diff_text(fo.pair("foil.particle_radius", 7.4125e-4, "W"))
 
     # ---- figures
-    if any(fnum(c.get("W_settled_mean")) is not None for c in ru.cases):
-        ser = [(f"r_p {r * 1e3:g} mm", *series_of(ru, "process.underpressure", "W_settled", {"damper.radius": r},
+    if any(fnum(c.get(f"{ru.q}_mean")) is not None for c in ru.cases):
+        ser = [(f"r_p {r * 1e3:g} mm", *series_of(ru, "process.underpressure", ru.q, {"damper.radius": r},
                                                   1e-6)) for r in rad]
         ser = [s for s in ser if s[1]]
         figure(os.path.join(figdir, "paper_underpressure_radius.png"),
-               [("W_settled against underpressure (mean, 95% CI; dots: runs)", "dp [MPa]", "W_settled [J/m$^2$]",
+               [(f"{ru.q} against underpressure (mean, 95% CI; dots: runs)", "dp [MPa]", f"{ru.q} [J/m$^2$]",
                  ser, False)], caption)
-        figs.append(("paper_underpressure_radius.png", "C1, C28: W_settled against dp, one line per damper radius"))
+        figs.append(("paper_underpressure_radius.png", f"C1, C28: {ru.qlabel} against dp, one line per damper radius"))
     panels = []
-    if any(fnum(c.get("W_settled_mean")) is not None for c in fr.cases):
-        panels.append(("W_settled against friction, 0.06 MPa", "grain friction mu", "W_settled [J/m$^2$]",
-                       [("lambda 0.2", *series_of(fr, "grains.friction", "W_settled"))], False))
-    if any(fnum(c.get("W_settled_mean")) is not None for c in yg.cases):
-        panels.append(("W_settled against grain modulus, 0.06 MPa", "E_k [Pa]", "W_settled [J/m$^2$]",
-                       [("", *series_of(yg, "grains.young", "W_settled"))], True))
+    if any(fnum(c.get(f"{fr.q}_mean")) is not None for c in fr.cases):
+        panels.append((f"{fr.q} against friction, 0.06 MPa", "grain friction mu", f"{fr.q} [J/m$^2$]",
+                       [("lambda 0.2", *series_of(fr, "grains.friction", fr.q))], False))
+    if any(fnum(c.get(f"{yg.q}_mean")) is not None for c in yg.cases):
+        panels.append((f"{yg.q} against grain modulus, 0.06 MPa", "E_k [Pa]", f"{yg.q} [J/m$^2$]",
+                       [("", *series_of(yg, "grains.young", yg.q))], True))
     if panels:
         figure(os.path.join(figdir, "paper_friction_young.png"), panels, caption)
-        figs.append(("paper_friction_young.png", "C16-C20: W_settled against friction and grain modulus"))
+        figs.append(("paper_friction_young.png", "C16-C20: W against friction and grain modulus"))
 
     def pending(study):
         d, n = study.done()
@@ -560,7 +576,9 @@ def write(data, out_md, figdir, command):
         "  10 mm, 3 seeds per case (2 for the numerical checks), one pinned build for every run"
         + (f" ({', '.join(commits)}; `docs/data/SOURCES.md`)" if commits else "") + ": `bash scripts/paper_studies.sh`.",
         "- W is **W_settled**, the mean W over each run's stationary cycles (docs/damper.md, \"Stationary loops\": no",
-        "  trend or jump beyond a 3% scatter at 95%), re-analysed by the current build (`vppdem sweep --report-only`).",
+        "  trend or jump beyond a 3% scatter at 95%), re-analysed by the current build (`vppdem sweep --report-only`),",
+        "  where every run of a study is stationary after its 5 cycles; otherwise the study's claims use the last",
+        "  cycle's W of every run (said so in the claim), and C2 counts the runs that are not stationary.",
         "- Numbers are `mean +- half width of the 95% Student-t interval` over the seeds. Differences are per seed;",
         "  where the cases of a seed branch from one prepared sample (underpressure, friction, time step) they are",
         "  **paired** and free of the packing's scatter; where the varied key changes the preparation (radius,",
