@@ -368,7 +368,7 @@ def write(data, out_md, figdir, command):
         c2 = (f"{stat} of {runs} finished 5-cycle runs are stationary by the criterion of docs/damper.md (no trend "
               f"or jump beyond a 3% scatter at 95%), from cycle {min(firsts) if firsts else '-'}-"
               f"{max(firsts) if firsts else '-'} (mean {fm:.1f}); the measured scatter of W within the "
-              f"stationary tails is {100 * scatter:.1f}% (pooled relative sd)" if scatter else
+              f"stationary tails is {100 * scatter:.1f}% (pooled relative sd)" if scatter is not None else
               f"{stat} of {runs} finished runs stationary")
         c2v = ("reproduced: a short compaction phase, then stationary loops with a few % of scatter" if
                stat >= 0.7 * runs else "partly: many runs still drift after 5 cycles")

@@ -1,5 +1,5 @@
 // The Python tools and the regeneration script of the studies (tools/paired_velocity.py,
-// tools/synthetic_experiment.py, scripts/trust_studies.sh), run as the lead runs them, against
+// tools/synthetic_experiment.py, scripts/trust_studies.sh, scripts/paper_report.sh), run as the lead runs them, against
 // hand-computed answers or on the tests' small damper.
 #include <gtest/gtest.h>
 
@@ -159,5 +159,53 @@ TEST(Tools, TrustStudiesScriptRunsAStudyAndPublishesIt) {
     const Outcome unknown = shell(env + script + " frictoin");
     EXPECT_NE(unknown.status, 0);
     EXPECT_NE(unknown.output.find("unknown study 'frictoin'"), std::string::npos) << unknown.output;
+    fs::remove_all(d);
+}
+
+// scripts/paper_report.sh on hand-made records of the underpressure study (25.5 mm, four dp x 3
+// seeds, 5 flat cycles each: every run stationary): W(dp, s) = 500 + 10 s + k (dp - 0.02 MPa)
+// + e(dp, s), with e = 0 at 0.02 MPa and 0, 6, 12 over the seeds above it. The paired difference
+// of 0.06 MPa from 0.02 MPa is then 1000 + {0, 6, 12}: mean 1006, sd 6, 95% half width
+// t_{0.975,2} 6 / sqrt(3) = 4.3027 * 3.4641 = 14.9 J/m^2 (the seeds' +-10 J/m^2 offsets cancel).
+// Every dp is higher than 0.02 MPa beyond its interval: C1 is reproduced. The page, its figure
+// and the published tables are written; the study without runs stays open.
+TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
+    const fs::path d = scratch_path("tools", "paper_report");
+    fs::remove_all(d);
+    const fs::path data = d / "data";
+    for (int dp : {20000, 40000, 60000, 80000})
+        for (int s = 1; s <= 3; ++s) {
+            const fs::path c = data / "radius_underpressure" /
+                               ("damper.radius=0.0255_process.underpressure=" + std::to_string(dp) +
+                                "_simulation.seed=" + std::to_string(s));
+            fs::create_directories(c);
+            const double W = 500 + 10 * s + 0.025 * (dp - 20000) + (dp > 20000 ? 6 * (s - 1) : 0);
+            std::string csv = "cycle,dissipated_energy,W,peak_force,min_force\n";
+            for (int k = 1; k <= 5; ++k)
+                csv += std::to_string(k) + ",1," + std::to_string(W) + ",100,0\n";
+            std::ofstream(c / "cycles.csv") << csv;
+            std::ofstream(c / "summary.json") << "{\"run_seconds\": 1, \"grains\": 1090}\n";
+        }
+    const std::string env = "VPPDEM=" + kBinary + " DATA=" + data.string() + " DOCS=" + d.string() + " ";
+    const Outcome r = shell(env + "bash " + (kSource / "scripts/paper_report.sh").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const std::string page = slurp(d / "paper_comparison.md");
+    EXPECT_NE(page.find("0.06: +1006 +- 15 (+193%)"), std::string::npos) << page;
+    EXPECT_NE(page.find("0.02 MPa: 520 +- 25"), std::string::npos) << page;  // 510, 520, 530: t 10 / sqrt(3) = 24.8
+    EXPECT_NE(page.find("| reproduced (every dp above 0.02 MPa higher"), std::string::npos) << page;
+    EXPECT_NE(page.find("12 of 12 finished 5-cycle runs are stationary"), std::string::npos) << page;
+    EXPECT_NE(page.find("| C16 |"), std::string::npos);
+    EXPECT_NE(page.find("open (runs pending)"), std::string::npos);  // friction: no runs
+    EXPECT_TRUE(fs::exists(d / "paper_underpressure_radius.png"));
+    const auto paired = rows_of(data / "report" / "radius_underpressure" / "summary_paired.csv");
+    bool found = false;
+    for (const auto& p : paired)
+        if (p.at("key") == "process.underpressure" && p.at("value") == "60000" && p.at("quantity") == "W_settled" &&
+            p.at("group") == "damper.radius=0.0255") {
+            found = true;
+            EXPECT_NEAR(std::stod(p.at("diff_mean")), 1006.0, 1e-9);
+            EXPECT_NEAR(std::stod(p.at("diff_ci95")), 4.302652729911275 * 6.0 / std::sqrt(3.0), 1e-6);
+        }
+    EXPECT_TRUE(found);
     fs::remove_all(d);
 }
