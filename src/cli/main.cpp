@@ -209,11 +209,12 @@ int main(int argc, char** argv) {
             scene::run_bench(bo);
         } else if (*tension.app) {
             const vpp::Config c = vpp::load_config(tension.config, tension.sets, vpp::foil_command_defaults());
-            scene::prepare_output_dir(tension.out, tension.overwrite);
+            // Held until the command ends: one run at a time writes into a folder.
+            const dem::FolderLock lock = scene::prepare_output_dir(tension.out, tension.overwrite);
             vpp::run_tension(c, tension.out, tension.quiet);
         } else if (*envelope.app) {
             const vpp::Config c = vpp::load_config(envelope.config, envelope.sets, vpp::foil_command_defaults());
-            scene::prepare_output_dir(envelope.out, envelope.overwrite);
+            const dem::FolderLock lock = scene::prepare_output_dir(envelope.out, envelope.overwrite);
             vpp::run_envelope(c, envelope.out, envelope.quiet);
         } else if (*damper.app) {
             const vpp::Config c = vpp::load_config(damper.config, damper.sets, vpp::damper_command_defaults());
@@ -246,7 +247,7 @@ int main(int argc, char** argv) {
                 if (rank == 0) std::printf("%s", vpp::list_cases(cases).c_str());
             } else if (*sweep.app) {
                 so.report_only = report_only;
-                const vpp::SweepResult r = vpp::run_sweep(st, so);
+                const vpp::SweepResult r = vpp::run_sweep(st, so);  // holds --out's lock for the plots too
                 if (rank == 0 && !sc.no_plot && !report_only) vpp::plot_sweep_dir(sc.out, sc.quiet);
                 // A report is a success whatever the cases' state: unfinished and unreadable
                 // cases are in its tables.

@@ -332,19 +332,26 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     return sc;
 }
 
-void prepare_output_dir(const std::string& dir, bool overwrite) {
-    fs::path p(dir);
-    if (fs::exists(p)) {
-        if (!fs::is_directory(p)) throw ConfigError("--out '" + dir + "' exists and is not a directory");
-        if (!fs::is_empty(p) && !overwrite)
-            throw ConfigError("--out '" + dir + "' exists and is not empty; pass --overwrite to replace its files");
-    }
-    fs::create_directories(p);
+dem::FolderLock lock_output_dir(const std::string& dir) {
+    if (fs::exists(dir) && !fs::is_directory(dir)) throw ConfigError("--out '" + dir + "' exists and is not a directory");
+    fs::create_directories(dir);
+    dem::FolderLock lock(dir);
+    if (!lock.warning().empty()) std::fprintf(stderr, "WARNING: %s\n", lock.warning().c_str());
+    return lock;
+}
+
+dem::FolderLock prepare_output_dir(const std::string& dir, bool overwrite) {
+    dem::FolderLock lock = lock_output_dir(dir);
+    if (!overwrite)
+        for (const auto& e : fs::directory_iterator(dir))
+            if (e.path().filename() != dem::FolderLock::kFileName)
+                throw ConfigError("--out '" + dir + "' exists and is not empty; pass --overwrite to replace its files");
+    return lock;
 }
 
 void run_scene(Scene& sc, const RunOptions& opt) {
     dem::World& w = sc.world;
-    prepare_output_dir(opt.out_dir, opt.overwrite);
+    const dem::FolderLock lock = prepare_output_dir(opt.out_dir, opt.overwrite);
     const fs::path out(opt.out_dir);
     if (opt.overwrite && fs::is_directory(out / "vtk")) {  // no stale frames of an earlier run
         std::vector<fs::path> stale;

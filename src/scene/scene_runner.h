@@ -7,6 +7,7 @@
 #include <toml++/toml.h>
 
 #include "dem/core/world.h"
+#include "dem/io/folder_lock.h"
 
 namespace scene {
 
@@ -49,7 +50,14 @@ struct RunOptions {
 // Runs the scene and writes tracked.csv, walls.csv, summary.json and VTK frames.
 void run_scene(Scene& scene, const RunOptions& opt);
 
-// Refuses an existing non-empty directory unless overwrite; creates it.
-void prepare_output_dir(const std::string& dir, bool overwrite);
+// Creates the output directory if missing and takes its lock (dem/io/folder_lock.h) for the
+// caller to hold while it writes there: dem::FolderLocked (naming the holder) when another run
+// writes into it. On a file system without locks: a warning on stderr, and no lock.
+dem::FolderLock lock_output_dir(const std::string& dir);
+
+// lock_output_dir(), then refuses a non-empty directory unless overwrite (the lock file alone,
+// perhaps left by a killed run, does not count). The lock comes first: a second run into a
+// folder in use is refused as such, before anything in it is looked at or removed.
+dem::FolderLock prepare_output_dir(const std::string& dir, bool overwrite);
 
 }  // namespace scene

@@ -221,6 +221,8 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
         throw cfg::ConfigError("--predict-experiment needs --predict key=v1,v2,...");
     }
 
+    // r holds the folder's lock (SweepResult::lock) to the end: the calibration's tables and
+    // plots are written under it too.
     const SweepResult r = run_sweep(s, opt.sweep);
     const auto& cases = r.cases;
     const int seed = seed_axis(s);

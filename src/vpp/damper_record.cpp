@@ -127,9 +127,16 @@ void remove_previous_outputs(const fs::path& dir, const std::string& spare) {
 
 }  // namespace
 
-void DamperRun::start_output_dir() {
+void DamperRun::start_output_dir(bool resuming) {
     if (!files_) return;
-    scene::prepare_output_dir(o_.out_dir, o_.overwrite);
+    // The folder's lock first, for the life of the run (docs/damper.md, "One run per folder"):
+    // a second run into a folder in use is refused before --overwrite removes the first one's
+    // files.
+    if (resuming) {
+        lock_ = scene::lock_output_dir(o_.out_dir);
+        return;
+    }
+    lock_ = scene::prepare_output_dir(o_.out_dir, o_.overwrite);
     if (o_.overwrite) remove_previous_outputs(out_, o_.from);
 }
 
@@ -138,7 +145,19 @@ void DamperRun::checkpoint(bool force) {
     const auto now = std::chrono::steady_clock::now();
     if (!force && std::chrono::duration<double>(now - last_ckpt_).count() < o_.checkpoint_every) return;
     last_ckpt_ = now;
-    dem::save_checkpoint((out_ / "run.ckpt").string(), w_, st_.save());
+    if (st_.settings.empty()) {
+        // Before its settings are applied to the sample (while preparing), a run's run.ckpt
+        // carries them all the same: resuming it continues this run. Without them, a run
+        // started with --set process.velocity=0.1, killed while filling and resumed with
+        // `--from DIR/run.ckpt` alone ran at the default velocity (found by
+        // tools/kill_resume.py). prepared.ckpt keeps none (a sample takes the settings it is
+        // given).
+        RunState s = st_;
+        s.settings = run_settings();
+        dem::save_checkpoint((out_ / "run.ckpt").string(), w_, s.save());
+    } else {
+        dem::save_checkpoint((out_ / "run.ckpt").string(), w_, st_.save());
+    }
     if (st_.stage == Stage::Cycling || st_.stage == Stage::Done) {
         write_forces(out_);
         write_energy(out_);
@@ -147,7 +166,10 @@ void DamperRun::checkpoint(bool force) {
 
 void DamperRun::save_prepared() {
     if (!files_) return;
-    dem::save_checkpoint((out_ / "prepared.ckpt").string(), w_, st_.save());
+    // A sample carries no run settings, also when this run resumed a run.ckpt that did.
+    RunState s = st_;
+    s.settings.clear();
+    dem::save_checkpoint((out_ / "prepared.ckpt").string(), w_, s.save());
 }
 
 void DamperRun::vtk_frame(const char* tag) {

@@ -15,6 +15,7 @@
 
 #include "scene/progress.h"
 #include "dem/core/world.h"
+#include "dem/io/folder_lock.h"
 #include "vpp/damper.h"
 #include "vpp/foil.h"
 
@@ -118,7 +119,9 @@ private:
     void setup();
     void adopt_checkpoint_settings();
     void check_grains_fit(std::size_t n);
-    void start_output_dir();
+    // Takes out_dir's lock (held until the run ends) and, for a run that does not resume the
+    // folder's own run.ckpt, clears it as --overwrite asks (or refuses a non-empty one).
+    void start_output_dir(bool resuming);
     void build();
     void apply_config_to_prepared();
     void stage_fill();
@@ -128,6 +131,9 @@ private:
     // however the cycles are split into calls).
     void stage_cycle(int upto);
     void checkpoint(bool force);
+    // The run settings (kRunKeys) of this run's config: what it applies, or has applied, to
+    // its prepared sample.
+    std::map<std::string, double> run_settings() const;
     void save_prepared();
     void write_forces(const fs::path& dir) const;
     void write_energy(const fs::path& dir) const;
@@ -159,6 +165,7 @@ private:
     DamperOptions o_;
     fs::path out_;
     bool files_ = false;        // out_dir given: checkpoints, frames and records are written
+    dem::FolderLock lock_;      // out_dir's, while the run lives (one writer per folder)
     dem::World w_;
     FoilLattice L_;
     RunState st_;

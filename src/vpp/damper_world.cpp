@@ -164,7 +164,7 @@ void DamperRun::setup() {
         st_.report["prepare.grains_poured"] = double(n);
         st_.report["prepare.funnel_height"] = funnel_h;
         w_.params.dt = resolve_dt(c_.simulation, w_);
-        start_output_dir();  // only now: bad input writes nothing
+        start_output_dir(false);  // only now: bad input writes nothing
         log("damper: %zu grains (r_k = %.4g m), foil %d x %d = %zu particles (radius %.5g m), height %.5g m, "
             "dt = %.4g s, %d thread(s)\n", n, c_.grains.radius, L_.cols, L_.rows, n_foil, L_.radius, z_top_,
             w_.params.dt, c_.simulation.threads);
@@ -180,7 +180,7 @@ void DamperRun::setup() {
         // a prepared sample, even into its own folder) starts a new run there.
         std::error_code ec;
         const bool resuming = fs::exists(out_ / "run.ckpt") && fs::equivalent(o_.from, out_ / "run.ckpt", ec);
-        if (!resuming) start_output_dir();
+        start_output_dir(resuming);
         log("damper: starting from %s at stage '%s', t = %.4g s, %d thread(s)\n", o_.from.c_str(),
             stage_name(st_.stage), w_.time, c_.simulation.threads);
         // A prepared sample takes the config's contact and process settings; a resumed run keeps
@@ -415,6 +415,8 @@ void DamperRun::apply_config_to_prepared() {
     w_.params.skin = c_.simulation.skin;
     st_.settings = values_of(c_, kRunKeys);  // from now on the run is bound to these
 }
+
+std::map<std::string, double> DamperRun::run_settings() const { return values_of(c_, kRunKeys); }
 
 
 }  // namespace damper_detail

@@ -22,6 +22,7 @@
 #include <nlohmann/json.hpp>
 
 #include "scene/config.h"
+#include "scene/scene_runner.h"
 #include "scene/threads.h"
 #include "dem/io/csv.h"
 #include "vpp/damper.h"
@@ -774,6 +775,10 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     const fs::path out(opt.out_dir);
     if (fs::exists(out) && !fs::is_directory(out))
         throw ConfigError("--out '" + opt.out_dir + "' exists and is not a directory");
+    // The ranks share the folder, so one lock serves them all: rank 0's. The others wait for it
+    // at the barrier; if rank 0 is refused, its error aborts them there, before they write.
+    if (opt.rank == 0) res.lock = scene::lock_output_dir(opt.out_dir);
+    barrier();
     fs::create_directories(out);
     res.outcomes.assign(cases.size(), CaseOutcome{});
 
@@ -899,6 +904,11 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             // Stopped, not failed: no FAILED marker, the next run of the sweep takes it up.
             o.ok = false;
             o.message = "stopped";
+        } catch (const dem::FolderLocked& e) {
+            // Another process (a damper run started by hand) writes into the case folder: failed,
+            // but no FAILED marker in a folder that is not ours now.
+            o.ok = false;
+            o.message = e.what();
         } catch (const std::exception& e) {
             o.ok = false;
             o.message = e.what();

@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "dem/io/folder_lock.h"
 #include "vpp/config.h"
 
 namespace vpp {
@@ -135,11 +136,19 @@ struct SweepResult {
     std::vector<StudyCase> cases;
     std::vector<CaseOutcome> outcomes;  // complete on rank 0 only (gathered)
     int failed = 0;                     // failed cases; report only: records that could not be read
+    // out_dir's lock (rank 0; none with report_only), held as long as the result lives, so that
+    // what the caller writes there afterwards (the plots, a calibration's tables) is covered too.
+    dem::FolderLock lock;
 };
 
 // Runs (or resumes) the sweep into opt.out_dir: one folder per case, DIR/summary.csv,
 // summary_cases.csv and, with seeds, summary_paired.csv (rank 0). With opt.report_only, only
 // the tables, from the cases already finished there.
+// One sweep at a time writes into a folder: rank 0 takes out_dir's lock (dem/io/folder_lock.h)
+// before any rank writes there, and a folder in use is refused (dem::FolderLocked naming the
+// holder; under MPI the other ranks are aborted). Each case's damper run locks its own case
+// folder. A report only takes no lock: it writes its tables atomically and may run beside the
+// sweep.
 SweepResult run_sweep(const Study& s, const SweepOptions& opt);
 
 // The summary.csv text, one row per run: the swept keys, then W, dissipated_energy, peak_force,

@@ -77,6 +77,38 @@ inline bool kill_when(const std::string& args, const std::function<bool()>& read
     return running && ready();
 }
 
+// Starts `vppdem ARGS` in the background, its stdout and stderr into `log`; returns its pid
+// (the caller waits for it: finish()).
+inline pid_t start(const std::string& args, const fs::path& log) {
+    const std::string cmd = "exec " + kBinary + " " + args + " > '" + log.string() + "' 2>&1";
+    const pid_t pid = fork();
+    if (pid == 0) {
+        execl("/bin/sh", "sh", "-c", cmd.c_str(), (char*)nullptr);
+        _exit(127);
+    }
+    return pid;
+}
+
+// Waits for a start()ed command; its exit status (-1 when it did not exit normally).
+inline int finish(pid_t pid) {
+    int status = 0;
+    if (waitpid(pid, &status, 0) != pid) return -1;
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+// Polls `ready()` every 10 ms while the start()ed `pid` runs; false when it ended first or
+// timeout_s passed.
+inline bool wait_while_running(pid_t pid, const std::function<bool()>& ready, double timeout_s = 300) {
+    const auto t0 = std::chrono::steady_clock::now();
+    while (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < timeout_s) {
+        if (ready()) return true;
+        siginfo_t info{};  // WNOWAIT: an ended command is left for finish() to reap
+        if (waitid(P_PID, id_t(pid), &info, WEXITED | WNOHANG | WNOWAIT) != 0 || info.si_pid != 0) return false;
+        std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+}
+
 // Rows of a CSV file after its header (0 when it is missing).
 inline std::size_t data_rows(const fs::path& p) {
     std::ifstream in(p);

@@ -136,9 +136,31 @@ TEST_F(Damper, RestartFromCheckpointGivesTheSameForces) {
     ASSERT_TRUE(fs::exists(d / "run.ckpt"));
     ASSERT_FALSE(fs::exists(d / "summary.json"));  // interrupted: no final summary
     ASSERT_LT(data_rows(d / "forces.csv"), data_rows(scratch("dp060") / "forces.csv"));
+    // The killed run's folder lock is left behind, stale: the kernel dropped the lock with the
+    // process, and the resumed run takes it over (and removes it when it ends).
+    ASSERT_TRUE(fs::exists(d / ".vppdem.lock"));
     const Outcome resumed = run("damper --out " + d.string() + " --from " + (d / "run.ckpt").string() + " " + kSmall);
     ASSERT_EQ(resumed.status, 0) << resumed.output;
     EXPECT_EQ(slurp(d / "forces.csv"), slurp(scratch("dp060") / "forces.csv"));
+    EXPECT_FALSE(fs::exists(d / ".vppdem.lock"));
+}
+
+// Killed while preparing (a run.ckpt, no prepared.ckpt yet), then resumed with `--from
+// DIR/run.ckpt` alone: the run continues with the settings it was started with (the small
+// damper's process.velocity, amplitude, samples ...), not the defaults, and its forces.csv is
+// the uninterrupted run's. (Before, such a checkpoint stored no settings and the resumed run
+// cycled at the paper's 3.33e-4 m/s: found by tools/kill_resume.py.)
+TEST_F(Damper, ResumeFromAKillDuringThePreparationKeepsTheRunsSettings) {
+    ASSERT_EQ(base_.status, 0) << base_.output;
+    const fs::path d = scratch("killed_preparing");
+    const std::string args = "damper --out " + d.string() + " --checkpoint-every 0.01 " + kSmall;
+    ASSERT_TRUE(kill_when(args, [&] { return fs::exists(d / "run.ckpt") && !fs::exists(d / "prepared.ckpt"); }))
+        << "the run ended before the kill";
+    ASSERT_FALSE(fs::exists(d / "prepared.ckpt"));
+    const Outcome resumed = run("damper --out " + d.string() + " --from " + (d / "run.ckpt").string() + " --no-plot");
+    ASSERT_EQ(resumed.status, 0) << resumed.output;
+    EXPECT_EQ(slurp(d / "forces.csv"), slurp(scratch("dp060") / "forces.csv"));
+    EXPECT_EQ(slurp(d / "prepared.ckpt"), slurp(scratch("dp060") / "prepared.ckpt"));
 }
 
 TEST_F(Damper, ResumeKeepsTheSettingsItStartedWith) {
@@ -216,6 +238,32 @@ TEST_F(Damper, OverwriteRemovesEveryFileOfThePreviousRun) {
                             (scratch("dp060") / "prepared.ckpt").string() + " " + kSmall);
     EXPECT_NE(own.status, 0);
     EXPECT_EQ(slurp(scratch("dp060") / "forces.csv"), prep);
+}
+
+TEST_F(Damper, ASecondRunIntoAFolderInUseIsRefusedAndTheFirstFinishes) {
+    ASSERT_EQ(base_.status, 0) << base_.output;
+    // One writer per folder (docs/damper.md, "Outputs"): a second run into the folder of a run in
+    // progress is refused before it removes or writes anything, --overwrite or not, naming the
+    // folder and the first run's pid; the first finishes with the records of an undisturbed run.
+    const fs::path d = scratch("in_use"), log = scratch("in_use.log");
+    const std::string branch = " --from " + (scratch("dp060") / "prepared.ckpt").string() + " " + kSmall;
+    const pid_t first = start("damper --out " + d.string() + branch + " --checkpoint-every 0.3", log);
+    ASSERT_GT(first, 0);
+    // Once the first has a checkpoint in the folder: a file --overwrite would remove.
+    ASSERT_TRUE(wait_while_running(first, [&] { return fs::exists(d / "run.ckpt"); })) << slurp(log);
+    const std::string holder = "folder '" + d.string() + "' is in use by another run (pid " + std::to_string(first);
+    for (const std::string& second : {"damper --out " + d.string() + branch + " --overwrite",
+                                      "damper --out " + d.string() + " --from " + (d / "run.ckpt").string() + " " + kSmall}) {
+        const Outcome r = run(second);
+        std::printf("second run: exit status %d: %s", WEXITSTATUS(r.status), r.output.c_str());
+        EXPECT_EQ(WEXITSTATUS(r.status), 2) << r.output;
+        EXPECT_NE(r.output.find(holder), std::string::npos) << r.output;
+    }
+    EXPECT_EQ(finish(first), 0) << slurp(log);
+    EXPECT_EQ(slurp(d / "forces.csv"), slurp(scratch("dp060") / "forces.csv"));
+    EXPECT_EQ(slurp(d / "cycles.csv"), slurp(scratch("dp060") / "cycles.csv"));
+    EXPECT_TRUE(fs::exists(d / "summary.json"));
+    EXPECT_FALSE(fs::exists(d / ".vppdem.lock"));  // released with the run
 }
 
 TEST_F(Damper, AnalyzeWritesANewFileWithTheRunsRadius) {

@@ -486,6 +486,7 @@ TEST_F(Study, SweepResumesAfterBeingKilled) {
     ASSERT_TRUE(branch_started) << "the sweep did not reach its second case";
     ASSERT_FALSE(fs::exists(c2 / "summary.json")) << "the second case finished before the kill";
     ASSERT_FALSE(fs::exists(out / "summary.csv"));
+    ASSERT_TRUE(fs::exists(out / ".vppdem.lock"));  // stale: the resumed sweep takes it over
     const auto stamp = fs::last_write_time(c1 / "summary.json");
     const std::string first_forces = slurp(c1 / "forces.csv");
 
@@ -503,6 +504,31 @@ TEST_F(Study, SweepResumesAfterBeingKilled) {
     for (int k = 1; k <= 2; ++k) EXPECT_EQ(cells(rows[std::size_t(k)])[5], "ok") << rows[std::size_t(k)];
     // 2 cycles of 80 samples, as an uninterrupted run.
     EXPECT_EQ(lines_of(c2 / "forces.csv").size(), 161u);
+    for (const fs::path& dir : {out, c1, c2}) EXPECT_FALSE(fs::exists(dir / ".vppdem.lock")) << dir;
+}
+
+TEST_F(Study, ASecondSweepIntoAFolderInUseIsRefused) {
+    // One sweep at a time writes into a study folder (docs/studies.md, "Resuming"): a second one
+    // is refused with the folder and the first's pid; a report may run beside it.
+    const fs::path study = scratch("two_in_use.toml"), out = scratch("in_use"), log = scratch("in_use.log");
+    write_file(study, kTwoFrictions);
+    const std::string args = "sweep " + study.string() + " --out " + out.string() + " --jobs 1 --no-plot";
+    const pid_t first = start(args + " --quiet", log);
+    ASSERT_GT(first, 0);
+    ASSERT_TRUE(wait_while_running(first, [&] { return fs::exists(out / "grains.friction=0.3" / "run.ckpt"); })) << slurp(log);
+    const Outcome second = run(args);
+    std::printf("second sweep: exit status %d: %s", WEXITSTATUS(second.status), second.output.c_str());
+    EXPECT_EQ(WEXITSTATUS(second.status), 2) << second.output;
+    EXPECT_NE(second.output.find("folder '" + out.string() + "' is in use by another run (pid " + std::to_string(first)),
+              std::string::npos)
+        << second.output;
+    const Outcome report = run(args + " --report-only");
+    EXPECT_EQ(report.status, 0) << report.output;
+    EXPECT_EQ(finish(first), 0) << slurp(log);
+    const auto rows = lines_of(out / "summary.csv");
+    ASSERT_EQ(rows.size(), 3u);
+    for (int k = 1; k <= 2; ++k) EXPECT_EQ(cells(rows[std::size_t(k)])[5], "ok") << rows[std::size_t(k)];
+    EXPECT_FALSE(fs::exists(out / ".vppdem.lock"));
 }
 
 // A calibration that could fail: the "experiment" is the small damper at a friction between the

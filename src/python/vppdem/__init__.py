@@ -174,8 +174,10 @@ class Damper:
     """The VPP damper run one stage at a time (the `vppdem damper` command's stages).
 
     ``out``: a folder for the run's files as the command writes them (checkpoints, VTK frames,
-    prepared.ckpt; ``write()`` adds the records); None writes nothing. ``quiet=False`` prints the
-    command's log on stderr.
+    prepared.ckpt; ``write()`` adds the records); None writes nothing. The object holds the
+    folder's lock until it is deleted: another run into it, in another process or in this one,
+    is refused (docs/damper.md, "One run per folder"), so a new Damper for the same folder needs
+    the old one deleted first (``del d``). ``quiet=False`` prints the command's log on stderr.
     """
 
     def __init__(self, config=None, settings=None, *, out=None, overwrite=False, quiet=True, _from="", **kwargs):
