@@ -97,11 +97,14 @@ for study in "${studies[@]}"; do
     for seed in 1 2; do
       ckpt="$OUT/friction/grains.friction=0_simulation.seed=$seed/prepared.ckpt"
       d="$OUT/timestep/simulation.dt-safety=0.25_simulation.seed=$seed"
-      cmd="$VPPDEM damper --from $ckpt --out $d --overwrite --set simulation.dt_safety=0.25 --set process.underpressure=0.06e6 --set process.velocity=0.01 --set process.cycles=2 --set output.energy=false --set simulation.threads=1 --no-plot --quiet"
+      sets="--set simulation.dt_safety=0.25 --set process.underpressure=0.06e6 --set process.velocity=0.01 --set process.cycles=2 --set output.energy=false --set simulation.threads=1"
+      cmd="$VPPDEM damper --from $ckpt --out $d --overwrite $sets --no-plot --quiet"
       echo "== timestep, seed $seed: $cmd"
       if [ -f "$d/summary.json" ]; then echo "   done earlier"; continue; fi
       if [ -f "$d/run.ckpt" ]; then
-        $VPPDEM damper --from "$d/run.ckpt" --out "$d" --no-plot --quiet || failed=1
+        # The same settings again (a run.ckpt of the pinned build written before they were
+        # applied does not carry them).
+        $VPPDEM damper --from "$d/run.ckpt" --out "$d" $sets --no-plot --quiet || failed=1
       elif [ -f "$ckpt" ]; then
         mkdir -p "$d"
         printf 'command = "%s"\n' "$cmd" > "$d/case.toml"
