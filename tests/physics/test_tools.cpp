@@ -209,3 +209,22 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
     EXPECT_TRUE(found);
     fs::remove_all(d);
 }
+
+// tools/kill_resume.py, shortened: the small damper killed (SIGKILL) at least 4 times at random
+// moments and resumed each time ends with the uninterrupted run's records, byte for byte but the
+// wall-clock fields (the full run: 20 kills each for a study and a damper, docs/studies.md).
+TEST(Tools, KillResumeEndsWithTheUninterruptedRecords) {
+    const fs::path d = scratch_path("tools", "kill_resume");
+    fs::remove_all(d);
+    const Outcome r = shell(kPython + (kSource / "tools/kill_resume.py").string() + " --vppdem " + kBinary +
+                            " --out " + d.string() + " --kills 4 --only damper --seed 3");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("every round ended with the records of the uninterrupted run"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("kill   4"), std::string::npos) << r.output;
+    // Bad input is named.
+    const Outcome bad = shell(kPython + (kSource / "tools/kill_resume.py").string() + " --kills 0");
+    EXPECT_NE(bad.status, 0);
+    EXPECT_NE(bad.output.find("--kills = 0"), std::string::npos) << bad.output;
+    fs::remove_all(d);
+}
