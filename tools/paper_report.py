@@ -371,7 +371,11 @@ def write(data, out_md, figdir, command):
               f"stationary tails is {100 * scatter:.1f}% (pooled relative sd)" if scatter is not None else
               f"{stat} of {runs} finished runs stationary")
         c2v = ("reproduced: a short compaction phase, then stationary loops with a few % of scatter" if
-               stat >= 0.7 * runs else "partly: many runs still drift after 5 cycles")
+               stat >= 0.7 * runs else "partly: the loops shrink fast for 2-3 cycles, as in the paper, but many runs "
+               "still drift by a few % per cycle after 5 cycles (longer than the paper's 'short initial phase')")
+        done_all = sum(st.done()[0] for st in (ru, fr)), sum(st.done()[1] for st in (ru, fr))
+        if done_all[0] < done_all[1]:
+            c2v += f" (provisional: {runs} runs so far)"
     else:
         c2, c2v = "pending", "open (runs pending)"
     by_dp = []
@@ -382,6 +386,24 @@ def write(data, out_md, figdir, command):
             by_dp.append(f"{dp / 1e6:g} MPa {st} of {len(rr)}")
     if by_dp:
         c2 += "; stationary by dp (radius study): " + ", ".join(by_dp)
+    # How fast the runs still drift at their end: the change of W from the second-last cycle to
+    # the last, per run of the radius study (25.5 mm), by dp.
+    raw = os.path.dirname(os.path.normpath(data))
+    src = {r["case"]: r["source"] for r in read_csv(os.path.join(data, "radius_underpressure", "sources.csv"))}
+    drift = []
+    for dp in dps:
+        ch = []
+        for r in ru.runs:
+            if r.get("status") != "ok" or not same(r.get("process.underpressure"), dp) or \
+                    not same(r.get("damper.radius"), 0.0255) or r.get("case") not in src:
+                continue
+            w = [fnum(x["W"]) for x in read_csv(os.path.join(raw, src[r["case"]], "cycles.csv"))]
+            if len(w) >= 2 and w[-2]:
+                ch.append(100 * (w[-1] / w[-2] - 1))
+        if ch:
+            drift.append(f"{dp / 1e6:g} MPa {sum(ch) / len(ch):+.1f}% ({min(ch):+.1f} to {max(ch):+.1f}%, {len(ch)} runs)")
+    if drift:
+        c2 += "; change of W from cycle 4 to 5 at 25.5 mm, mean (range): " + ", ".join(drift)
 
     # ---- C4: preparation
     c4_parts, c4_flags = [], []
