@@ -41,22 +41,10 @@ import time
 SMALL = ["--set", "damper.radius=0.012", "--set", "damper.height=0.03", "--set", "grains.volume_fraction=0.45",
          "--set", "process.velocity=0.1", "--set", "process.amplitude=0.002", "--set", "process.samples_per_cycle=40",
          "--set", "simulation.threads=1"]
-STUDY = """description = "kill_resume.py: small damper, 2 frictions x 2 seeds"
-seeds = 2
-
-[set]
-"damper.radius" = 0.012
-"damper.height" = 0.03
-"grains.volume_fraction" = 0.45
-"process.velocity" = 0.1
-"process.amplitude" = 0.002
-"process.cycles" = 2
-"process.samples_per_cycle" = 40
-"simulation.threads" = 1
-
-[grid]
-"grains.friction" = [0.3, 0.6]
-"""
+# The study: the same small damper (its [set] made from SMALL), 2 cycles, 2 frictions x 2 seeds.
+STUDY = ('description = "kill_resume.py: small damper, 2 frictions x 2 seeds"\nseeds = 2\n\n[set]\n' +
+         "".join(f'"{kv.split("=")[0]}" = {kv.split("=")[1]}\n' for kv in SMALL[1::2]) +
+         '"process.cycles" = 2\n\n[grid]\n"grains.friction" = [0.3, 0.6]\n')
 RECORDS = ["forces.csv", "cycles.csv", "energy.csv", "summary.json"]
 TABLES = ["summary.csv", "summary_cases.csv", "summary_paired.csv"]
 
