@@ -40,7 +40,6 @@ void apply_override(toml::table& root, const std::string& assignment) {
     if (eq == std::string::npos || eq == 0)
         throw ConfigError("--set '" + assignment + "': expected key=value, e.g. simulation.dt=1e-6");
     const std::string key = assignment.substr(0, eq), text = assignment.substr(eq + 1);
-    toml::node_view<toml::node> value;
     toml::table parsed;
     try {
         parsed = toml::parse("v = " + text);

@@ -162,7 +162,9 @@ std::vector<SceneSetting> build_table() {
     add(positive_row(fs, "top_radius", "m", "funnel (required): radius at base.z + height"));
     add(positive_row(fs, "height", "m", "cylinder, funnel (required): height up from base"));
     add({.key = fs + ".segments", .type = T::Integer, .unit = "", .def = 72,
-         .limits = {.check = C::AtLeast, .lo = 3, .allowed = "must be an integer >= 3"},
+         // At most 10^5: that polygon is within 5e-10 of its radius from the circle; more only
+         // costs memory (10^9 asked for 2e9 triangles and ran out: fuzz/regressions/scene).
+         .limits = {.check = C::Range, .lo = 3, .hi = 100000, .allowed = "must be an integer 3 ... 100000"},
          .doc = "cylinder, funnel: flat segments around (2 triangles each)"});
     add(flag_row(fs, "inward", true, "cylinder, funnel: triangle normals point to the axis (matters with one_sided)"));
     add({.key = fs + ".path", .type = T::String, .unit = "", .required = true,

@@ -21,6 +21,9 @@ void collect_keys(const toml::table& t, const std::string& prefix, std::set<std:
     }
 }
 
+// 2^53: the largest integer up to which every integer is a double.
+constexpr int64_t kMaxExactInteger = int64_t(1) << 53;
+
 std::string section_of(const std::string& key) { return key.substr(0, key.find('.')); }
 
 // Reads a key whose row needs no reader of its own: the type, the table's default and check.
@@ -30,9 +33,16 @@ void read_generic(Section& s, const Setting& row, Config& c) {
     case SettingType::Real:
         row.set(c, cfg::check_real(s, key, s.number(key, row.def), row.limits()));
         return;
-    case SettingType::Integer:
-        row.set(c, double(cfg::check_integer(s, key, s.integer(key, int64_t(row.def)), row.limits())));
+    case SettingType::Integer: {
+        const int64_t v = cfg::check_integer(s, key, s.integer(key, int64_t(row.def)), row.limits());
+        // The table carries every value as a double (Setting::set, the checkpoints, summary.json):
+        // a larger integer would come back another number, or overflow the conversion back to
+        // int64_t (undefined behaviour; fuzz/regressions/config).
+        if (v > kMaxExactInteger || v < -kMaxExactInteger)
+            s.fail(key, "must be at most 2^53 = 9007199254740992 in magnitude (the settings are kept as doubles)");
+        row.set(c, double(v));
         return;
+    }
     case SettingType::Boolean:
         row.set(c, s.boolean(key, row.def != 0.0) ? 1.0 : 0.0);
         return;

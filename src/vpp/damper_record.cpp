@@ -1,5 +1,6 @@
 // The damper run's record: the checkpoint's state (RunState), forces.csv, energy.csv, VTK
 // frames, the result and summary.json, the report on the terminal; run_damper().
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -48,48 +49,76 @@ std::string RunState::save() const {
     return os.str();
 }
 
-RunState RunState::load(const std::string& text) {
+namespace {
+
+// One number of the state blob. std::from_chars, not operator>>: the blob holds what operator<<
+// wrote, "nan" and "inf" included (the report of a run that went wrong), which >> does not read
+// back; it stopped the reading there, and the rest of the state was silently left out.
+template <class T> T state_number(std::istream& is, const std::string& entry, const std::string& path) {
+    std::string tok;
+    T v{};
+    if (is >> tok) {
+        const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), v);
+        if (r.ec == std::errc() && r.ptr == tok.data() + tok.size()) return v;
+    }
+    throw std::runtime_error("checkpoint '" + path + "': damper state entry '" + entry + "' holds " +
+                             (tok.empty() ? std::string("nothing") : "'" + tok + "'") + " where a number belongs");
+}
+
+}  // namespace
+
+RunState RunState::load(const std::string& text, const std::string& path) {
     RunState r;
     std::istringstream is(text);
     std::string key;
     int stage = 0;
+    auto real = [&](const std::string& entry) { return state_number<double>(is, entry, path); };
+    auto name = [&](const std::string& entry) {
+        std::string k;
+        if (!(is >> k)) throw std::runtime_error("checkpoint '" + path + "': damper state entry '" + entry + "' has no name");
+        return k;
+    };
     while (is >> key) {
-        if (key == "stage") is >> stage;
-        else if (key == "stage_t0") is >> r.stage_t0;
-        else if (key == "cap_d0") is >> r.cap_d0;
-        else if (key == "cycle_t0") is >> r.cycle_t0;
-        else if (key == "window") is >> r.window_grains >> r.window_foil >> r.window_n;
-        else if (key == "geometry") {
-            std::string k;
-            double v;
-            is >> k >> v;
-            r.geometry[k] = v;
+        if (key == "stage") stage = state_number<int>(is, key, path);
+        else if (key == "stage_t0") r.stage_t0 = real(key);
+        else if (key == "cap_d0") r.cap_d0 = real(key);
+        else if (key == "cycle_t0") r.cycle_t0 = real(key);
+        else if (key == "window") {
+            r.window_grains = real(key);
+            r.window_foil = real(key);
+            r.window_n = state_number<long>(is, key, path);
+        } else if (key == "geometry") {
+            const std::string k = name(key);
+            r.geometry[k] = real(key + " " + k);
         } else if (key == "setting") {
-            std::string k;
-            double v;
-            is >> k >> v;
-            r.settings[k] = v;
+            const std::string k = name(key);
+            r.settings[k] = real(key + " " + k);
         } else if (key == "grains") {
-            is >> r.grains;
+            r.grains = state_number<std::size_t>(is, key, path);
         } else if (key == "report") {
-            std::string k;
-            double v;
-            is >> k >> v;
-            r.report[k] = v;
+            const std::string k = name(key);
+            r.report[k] = real(key + " " + k);
         } else if (key == "warning") {
             std::string w;
             std::getline(is, w);
             r.warnings.push_back(w.empty() ? w : w.substr(1));  // the space after the key
         } else if (key == "sample") {
             Sample s;
-            is >> s.time >> s.displacement >> s.grains >> s.foil;
+            s.time = real(key);
+            s.displacement = real(key);
+            s.grains = real(key);
+            s.foil = real(key);
             r.samples.push_back(s);
         } else if (key == "energy") {
             EnergyRow e;
-            for (double& v : e.v) is >> v;
+            for (double& v : e.v) v = real(key);
             r.energy.push_back(e);
-        } else throw std::runtime_error("damper checkpoint: unknown state entry '" + key + "'");
+        } else throw std::runtime_error("checkpoint '" + path + "': unknown damper state entry '" + key + "'");
     }
+    // Stage(stage) outside the enum would index past stage_name()'s table.
+    if (stage < int(Stage::Fill) || stage > int(Stage::Done))
+        throw std::runtime_error("checkpoint '" + path + "': damper state entry 'stage' holds " + std::to_string(stage) +
+                                 ", not a stage (0 fill ... 5 done)");
     r.stage = Stage(stage);
     return r;
 }

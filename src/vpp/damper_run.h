@@ -75,7 +75,9 @@ struct RunState {
     std::vector<std::string> warnings;
 
     std::string save() const;                       // the checkpoint's app blob
-    static RunState load(const std::string& text);  // throws on an unknown entry
+    // Throws std::runtime_error naming the checkpoint's path on an unknown entry, a value that
+    // is not a number, or a stage outside Stage.
+    static RunState load(const std::string& text, const std::string& path);
 };
 
 // The terminal's progress line and the caller's hook (DamperOptions::progress).

@@ -171,7 +171,7 @@ void DamperRun::setup() {
         next_stage(Stage::Fill);
     } else {
         const std::string blob = dem::load_checkpoint(o_.from, w_);
-        st_ = RunState::load(blob);
+        st_ = RunState::load(blob, o_.from);
         if (w_.particles.size() != n_foil + n)
             throw std::runtime_error("checkpoint '" + o_.from + "' does not hold this damper's particles");
         st_.grains = n;
@@ -203,7 +203,7 @@ void DamperRun::log(const char* fmt, ...) const {
 
 void DamperRun::adopt_checkpoint_settings() {
     dem::World scratch;  // only the app state is needed here; run() loads the World itself
-    const RunState ck = RunState::load(dem::load_checkpoint(o_.from, scratch));
+    const RunState ck = RunState::load(dem::load_checkpoint(o_.from, scratch), o_.from);
     // Geometry: a key the config gives must match the sample's; the others take its values.
     std::string diffs;
     std::map<std::string, double> geometry = ck.geometry;

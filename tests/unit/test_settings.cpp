@@ -105,6 +105,18 @@ TEST(Settings, RangesAreEnforcedWithTheTablesMessage) {
     }
 }
 
+// Integers travel through the table as doubles: beyond 2^53 they are refused, not rounded
+// (or, at 2^63, converted back with undefined behaviour: found by fuzz/fuzz_config.cpp).
+TEST(Settings, IntegersBeyondTwoToThe53AreRefused) {
+    for (const Setting& s : settings()) {
+        if (s.type != SettingType::Integer || s.read) continue;  // the generic reader's keys
+        const std::string m = message_of({std::string(s.key) + "=9223372036854775807"});
+        EXPECT_NE(m.find("'" + std::string(s.key) + "' = 9223372036854775807: must be at most 2^53"),
+                  std::string::npos) << m;
+        EXPECT_EQ(message_of({std::string(s.key) + "=9007199254740992"}), "") << s.key;
+    }
+}
+
 // The rule before the table: {"grains.friction", "damper.cap_friction", "process.*",
 // "simulation.threads", "output.*", "analysis.*"}.
 TEST(Settings, SharingAPreparationKeepsTheStudysRule) {

@@ -458,7 +458,11 @@ struct WorldSerializer {
                 c.slot.size() != c.other.size() || c.gap.size() != c.other.size())
                 bad("candidate list of the wrong shape");
             for (std::size_t i = 0; i < n; ++i) {
-                if (c.start[i] > c.start[i + 1]) bad("candidate list of the wrong shape");
+                // Each range within `other` before it is walked: start[n] == other.size() alone
+                // let an earlier start[i + 1] above it send the loop past the end (found by
+                // fuzz/fuzz_checkpoint.cpp).
+                if (c.start[i] > c.start[i + 1] || c.start[i + 1] > c.other.size())
+                    bad("candidate list of the wrong shape");
                 for (uint32_t k = c.start[i]; k < c.start[i + 1]; ++k) {
                     if (c.other[k] >= other_limit || (!walls && c.other[k] <= i)) bad("contact index out of range");
                     if (k > c.start[i] && c.other[k] <= c.other[k - 1]) bad("candidates out of order");

@@ -1,0 +1,63 @@
+// Fuzz target: checkpoints (`vppdem damper --from`, `vppdem bench --state`): the World
+// (dem::load_checkpoint: sections, counts, index checks, the derived tables) and the damper's
+// state blob in it (vpp::damper_detail::RunState::load), up to the first use of the state that a
+// resumed run makes (the stage's name in its log line).
+//
+// The file ends in a checksum of everything before it (dem/io/checkpoint.h): a mutated input
+// would almost never pass it and the fuzzer would not get past the header. So the harness
+// writes the input with the header's payload size and the checksum made to fit, as a file
+// written inconsistently by a faulty program or edited by hand would be; an input shorter than
+// the header is written as it is (the header checks). The checksum check itself is covered by
+// the unit tests (tests/unit/test_checkpoint.cpp).
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+#include "dem/io/checkpoint.h"
+#include "fuzz_input.h"
+#include "vpp/damper_run.h"
+
+namespace {
+
+constexpr std::size_t kHeader = 8 + 4 + 8;  // magic, version, payload size (dem/io/checkpoint.cpp)
+
+uint64_t fnv1a(const char* p, std::size_t n) {
+    uint64_t h = 14695981039346656037ull;
+    for (std::size_t k = 0; k < n; ++k) {
+        h ^= uint8_t(p[k]);
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+}  // namespace
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
+    std::string bytes(fuzz::as_text(data, size));
+    if (bytes.size() >= kHeader + 8) {
+        const uint64_t payload = bytes.size() - kHeader - 8;
+        std::memcpy(bytes.data() + 12, &payload, 8);
+        const uint64_t sum = fnv1a(bytes.data(), bytes.size() - 8);
+        std::memcpy(bytes.data() + bytes.size() - 8, &sum, 8);
+    }
+    const std::string path = fuzz::write_file("state.ckpt", bytes);
+    std::string blob;
+    bool loaded = false;
+    fuzz::expect_only_reader_errors(
+        [&] {
+            dem::World w;
+            blob = dem::load_checkpoint(path, w);
+            loaded = true;
+        },
+        path);
+    if (!loaded) return 0;
+    fuzz::expect_only_reader_errors(
+        [&] {
+            using namespace vpp::damper_detail;
+            const RunState st = RunState::load(blob, path);
+            const std::string stage = stage_name(st.stage);  // the resumed run's log line names it
+        },
+        path);
+    return 0;
+}
