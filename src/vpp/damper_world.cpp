@@ -370,7 +370,14 @@ bool DamperRun::refill() {
     const double area = std::numbers::pi * r_in * r_in;
     const double phi_bed = double(g1_ - g0_) * v_k / (area * level);
     const std::size_t add = std::size_t(std::ceil(phi_bed * area * (target - level) / v_k)) + 1;
-    double funnel_h = st_.report.at("prepare.funnel_height");
+    // Written by the fill; a checkpoint of the fill stage without it (an older vppdem's, or an
+    // edited one) cannot be re-filled: say so rather than fail with a bare map lookup.
+    const auto funnel = st_.report.find("prepare.funnel_height");
+    if (funnel == st_.report.end())
+        throw std::runtime_error("checkpoint '" + o_.from + "' holds a sample in the fill stage without its funnel "
+                                 "height (prepare.funnel_height): it cannot be re-filled; prepare a new sample (run "
+                                 "without --from)");
+    double funnel_h = funnel->second;
     const auto pos = generate_grains(c_, L_, add, z_top_, 1.6 * L_.radius, funnel_h, highest_grain_top(),
                                      uint64_t(done + 1), true);
     if (pos.empty()) {
