@@ -11,36 +11,15 @@
 // the unit tests (tests/unit/test_checkpoint.cpp).
 #include <cstddef>
 #include <cstdint>
-#include <cstring>
 #include <string>
 
 #include "dem/io/checkpoint.h"
 #include "fuzz_input.h"
 #include "vpp/damper_run.h"
 
-namespace {
-
-constexpr std::size_t kHeader = 8 + 4 + 8;  // magic, version, payload size (dem/io/checkpoint.cpp)
-
-uint64_t fnv1a(const char* p, std::size_t n) {
-    uint64_t h = 14695981039346656037ull;
-    for (std::size_t k = 0; k < n; ++k) {
-        h ^= uint8_t(p[k]);
-        h *= 1099511628211ull;
-    }
-    return h;
-}
-
-}  // namespace
-
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     std::string bytes(fuzz::as_text(data, size));
-    if (bytes.size() >= kHeader + 8) {
-        const uint64_t payload = bytes.size() - kHeader - 8;
-        std::memcpy(bytes.data() + 12, &payload, 8);
-        const uint64_t sum = fnv1a(bytes.data(), bytes.size() - 8);
-        std::memcpy(bytes.data() + bytes.size() - 8, &sum, 8);
-    }
+    dem::reseal_checkpoint_bytes(bytes);
     const std::string path = fuzz::write_file("state.ckpt", bytes);
     std::string blob;
     bool loaded = false;

@@ -242,6 +242,14 @@ void contacts_v1_io(Reader& a, ContactListV1& c) {
 
 }  // namespace
 
+void reseal_checkpoint_bytes(std::string& bytes) {
+    if (bytes.size() < kHeader + 8) return;
+    const uint64_t payload = bytes.size() - kHeader - 8;
+    std::memcpy(bytes.data() + 12, &payload, 8);
+    const uint64_t sum = fnv1a(bytes.data(), bytes.size() - 8);
+    std::memcpy(bytes.data() + bytes.size() - 8, &sum, 8);
+}
+
 struct WorldSerializer {
     // W is `const World` when saving and `World` when loading.
     // Version 1 contact lists, read before they are converted.
