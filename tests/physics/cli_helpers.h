@@ -52,9 +52,22 @@ inline Outcome shell(const std::string& command) {
 // `vppdem ARGS`.
 inline Outcome run(const std::string& args) { return shell(kBinary + " " + args); }
 
+// The factor on every wall-clock budget of a test that waits for a run: VPPDEM_TEST_TIME_SCALE
+// (default 1). Under AddressSanitizer and UndefinedBehaviorSanitizer a run is 20 to 50 times
+// slower, and a budget sized for the optimised build would fail a clean test
+// (scripts/sanitize.sh sets 50). A value that is not a positive number is ignored.
+inline double time_scale() {
+    const char* v = std::getenv("VPPDEM_TEST_TIME_SCALE");
+    if (!v) return 1.0;
+    char* end = nullptr;
+    const double s = std::strtod(v, &end);
+    return (end != v && *end == '\0' && std::isfinite(s) && s > 0.0) ? s : 1.0;
+}
+
 // Starts `vppdem ARGS` in the background (output discarded), waits until `ready()` holds
 // (polled every 10 ms), then kills it (SIGKILL). Returns true when the kill interrupted the
-// command; false when it ended first (finished or failed) or `ready()` never held in timeout_s.
+// command; false when it ended first (finished or failed) or `ready()` never held in timeout_s
+// (times time_scale()).
 // The tests of resuming kill a run at a known point instead of after a fixed time, which a fast
 // machine outruns and a busy one never reaches.
 inline bool kill_when(const std::string& args, const std::function<bool()>& ready, double timeout_s = 300) {
@@ -65,6 +78,7 @@ inline bool kill_when(const std::string& args, const std::function<bool()>& read
         execl("/bin/sh", "sh", "-c", cmd.c_str(), (char*)nullptr);
         _exit(127);
     }
+    timeout_s *= time_scale();
     const auto t0 = std::chrono::steady_clock::now();
     while (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < timeout_s) {
         if (waitpid(pid, nullptr, WNOHANG) == pid) return false;  // ended by itself
@@ -97,8 +111,9 @@ inline int finish(pid_t pid) {
 }
 
 // Polls `ready()` every 10 ms while the start()ed `pid` runs; false when it ended first or
-// timeout_s passed.
+// timeout_s (times time_scale()) passed.
 inline bool wait_while_running(pid_t pid, const std::function<bool()>& ready, double timeout_s = 300) {
+    timeout_s *= time_scale();
     const auto t0 = std::chrono::steady_clock::now();
     while (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() < timeout_s) {
         if (ready()) return true;
