@@ -165,8 +165,10 @@ int main(int argc, char** argv) {
     calib.app->add_option("--force-unit", c_funit, "N or kN")->check(CLI::IsMember({"N", "kN"}));
     calib.app->add_flag("--compression-negative", co.format.compression_negative,
                         "The experiment counts compression negative: flip displacement and force");
-    calib.app->add_option("--simulated-force", co.force_column, "simulated column compared: force_zeroed or force_total")
-        ->check(CLI::IsMember({"force_zeroed", "force_total"}));
+    calib.app->add_option("--simulated-force", co.force_column,
+                          "simulated column compared: force_zeroed, force_total, or force_machine_zeroed (the pump "
+                          "model's testing-machine force, docs/damper.md \"The air inside\")")
+        ->check(CLI::IsMember({"force_zeroed", "force_total", "force_machine_zeroed"}));
     calib.app->add_option("--points", co.points, "displacements per branch in the misfit")->check(CLI::Range(4, 100000));
     calib.app->add_option("--predict", co.predict, "run the best point at other values: key=v1,v2,...");
     calib.app->add_option("--predict-experiment", co.predict_experiments,

@@ -282,6 +282,19 @@ PYBIND11_MODULE(_core, m) {
                  }
                  return a;
              })
+        .def("air",
+             [](const vpp::Damper& d) {
+                 // (n, 6): enclosed volume [m^3], gas volume [m^3], p_inside [Pa], dp [Pa], lid
+                 // area [m^2], gas work [J]; (0, 6) unless the air is recorded
+                 const auto& s = d.air();
+                 py::array_t<double> a({py::ssize_t(s.size()), py::ssize_t(6)});
+                 auto v = a.mutable_unchecked<2>();
+                 for (std::size_t k = 0; k < s.size(); ++k) {
+                     const double row[6] = {s[k].enclosed, s[k].gas, s[k].p_inside, s[k].dp, s[k].lid_area, s[k].gas_work};
+                     for (py::ssize_t j = 0; j < 6; ++j) v(py::ssize_t(k), j) = row[j];
+                 }
+                 return a;
+             })
         .def("energy",
              [](const vpp::Damper& d) {
                  const auto rows = d.energy();

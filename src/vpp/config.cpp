@@ -77,6 +77,8 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
             if (c.damper.radius < 4.0 * c.foil.particle_radius) s.fail("radius", radius.allowed);
             if (c.damper.height < 4.0 * c.foil.particle_radius) s.fail("height", height.allowed);
         }
+        if (section == "process" && c.process.pressure_model != 0 && c.process.pump_down && !(c.process.pump_speed > 0.0))
+            s.fail("pump_down", "must be false when process.pump_speed is 0 (a pump-down needs a pump)");
         s.finish();
     }
 

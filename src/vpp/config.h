@@ -47,6 +47,12 @@ struct ProcessDef {
     int64_t cycles = 4;
     int64_t samples_per_cycle = 500;
     double sample_window = 2e-4;    // [s]
+    // The air inside (vpp/gas.h; docs/damper.md, "The air inside").
+    int pressure_model = 0;           // 0 "constant": dp held (the paper); 1 "pump": gas, pump, leak
+    double pump_speed = 2.0 / 3600.0; // [m^3/s] S (2 m^3/h, a small rotary-vane pump)
+    double bleed_rate = 2.0 / 3600.0; // [m^3/s] B: the regulator's bleed lets air in below the set point
+    double leak_rate = 0.0;           // [m^3/s] C: air leaks in at C (p_atm - p_inside)
+    bool pump_down = false;           // the vacuum stage pumps down from the atmosphere (else: the ramp)
 };
 
 struct TensionDef {
@@ -70,6 +76,7 @@ struct OutputDef {
     double interval = 0.0;      // [s] rows of the time series; 0 = command default
     double vtk_interval = 0.0;  // [s] VTK frames; 0 = command default
     bool energy = true;         // damper: energy ledger during cycling (energy.csv; ~25% slower)
+    bool air = false;           // damper: the air columns of forces.csv with the constant model too
 };
 
 // Post-processing of the recorded loops; acts on no simulation, so it never needs a new run.

@@ -68,6 +68,17 @@ struct DamperSample {
     double foil;          // [N] foil on the top ring
 };
 
+// The air inside at a sample (recorded with process.pressure_model = "pump" or output.air; the
+// columns of forces.csv after `cycle`): the state of the step the sample is taken at.
+struct DamperAirSample {
+    double enclosed;    // [m^3] volume bounded by the foil (through its particles' centres) and the caps
+    double gas;         // [m^3] enclosed minus the grains' volume
+    double p_inside;    // [Pa] absolute pressure of the gas
+    double dp;          // [Pa] underpressure, atmospheric minus p_inside
+    double lid_area;    // [m^2] area inside the top ring, on which dp pushes the lid
+    double gas_work;    // [J] work done by the gas on its enclosure since the first sample
+};
+
 namespace damper_detail {
 class DamperRun;
 }
@@ -103,6 +114,8 @@ public:
     int cycles_done() const;
     int cycles_total() const;                  // process.cycles
     const std::vector<DamperSample>& samples() const;
+    // The air at each sample when it is recorded (pump model or output.air), else empty.
+    const std::vector<DamperAirSample>& air() const;
     // The energy ledger at each sample (rows of energy.csv, columns energy_columns(); [s] then
     // [J]); empty with output.energy = false.
     std::vector<std::vector<double>> energy() const;

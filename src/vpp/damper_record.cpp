@@ -46,6 +46,11 @@ std::string RunState::save() const {
         for (double v : e.v) os << " " << v;
         os << "\n";
     }
+    if (gas_amount != 0.0 || gas_volume != 0.0 || gas_work != 0.0)
+        os << "gas " << gas_amount << " " << gas_volume << " " << gas_work << "\n";
+    for (const AirSample& a : air)
+        os << "air " << a.enclosed << " " << a.gas << " " << a.p_inside << " " << a.dp << " " << a.lid_area << " "
+           << a.gas_work << "\n";
     return os.str();
 }
 
@@ -113,6 +118,19 @@ RunState RunState::load(const std::string& text, const std::string& path) {
             EnergyRow e;
             for (double& v : e.v) v = real(key);
             r.energy.push_back(e);
+        } else if (key == "gas") {
+            r.gas_amount = real(key);
+            r.gas_volume = real(key);
+            r.gas_work = real(key);
+        } else if (key == "air") {
+            AirSample a;
+            a.enclosed = real(key);
+            a.gas = real(key);
+            a.p_inside = real(key);
+            a.dp = real(key);
+            a.lid_area = real(key);
+            a.gas_work = real(key);
+            r.air.push_back(a);
         } else throw std::runtime_error("checkpoint '" + path + "': unknown damper state entry '" + key + "'");
     }
     // Stage(stage) outside the enum would index past stage_name()'s table.
@@ -209,21 +227,45 @@ void DamperRun::vtk_frame(const char* tag) {
     dem::write_particles_vtk((out_ / "vtk" / name).string(), w_, true);
 }
 
+// The air's records are written when every sample has one (pump model or output.air; a run
+// that turned output.air on when resumed has none for its first samples and writes none).
+static bool air_complete(const RunState& st) { return !st.air.empty() && st.air.size() == st.samples.size(); }
+
 void DamperRun::write_energy(const fs::path& dir) const {
     if (st_.energy.empty()) return;
-    dem::CsvWriter csv((dir / "energy.csv").string(), kEnergyHeader);
-    for (const EnergyRow& e : st_.energy) csv.row(std::vector<double>(e.v, e.v + kEnergyColumns));
+    const bool air = air_complete(st_) && st_.air.size() == st_.energy.size();
+    dem::CsvWriter csv((dir / "energy.csv").string(), std::string(kEnergyHeader) + (air ? ",gas_work" : ""));
+    for (std::size_t k = 0; k < st_.energy.size(); ++k) {
+        std::vector<double> row(st_.energy[k].v, st_.energy[k].v + kEnergyColumns);
+        if (air) row.push_back(st_.air[k].gas_work);
+        csv.row(row);
+    }
     csv.close();
 }
 
 void DamperRun::write_forces(const fs::path& dir) const {
-    dem::CsvWriter csv((dir / "forces.csv").string(), "time,displacement,force_total,force_grains,force_foil,force_zeroed,cycle");
+    const bool air = air_complete(st_);
+    std::string header = "time,displacement,force_total,force_grains,force_foil,force_zeroed,cycle";
+    // The air (docs/damper.md, "The air inside"): force_lid is what dp adds to the testing
+    // machine's force on the lid (the atmosphere pushes the lid in: -dp times its area,
+    // compression positive); force_machine_zeroed is the machine's force, grains + foil + lid,
+    // zeroed at the first sample as force_zeroed is. With a constant dp the two zeroed columns agree.
+    if (air) header += ",enclosed_volume,gas_volume,pressure_inside,underpressure,force_lid,force_machine_zeroed";
+    dem::CsvWriter csv((dir / "forces.csv").string(), header);
     const int S = int(c_.process.samples_per_cycle);
     const double f0 = st_.samples.empty() ? 0.0 : st_.samples[0].grains + st_.samples[0].foil;
+    const double m0 = air ? f0 - st_.air[0].dp * st_.air[0].lid_area : 0.0;
     for (std::size_t k = 0; k < st_.samples.size(); ++k) {
         const Sample& s = st_.samples[k];
         const double total = s.grains + s.foil;
-        csv.row({s.time - st_.cycle_t0, s.displacement, total, s.grains, s.foil, total - f0, double(k / S + 1)});
+        std::vector<double> row = {s.time - st_.cycle_t0, s.displacement, total, s.grains, s.foil, total - f0,
+                                   double(k / S + 1)};
+        if (air) {
+            const AirSample& a = st_.air[k];
+            const double lid = -a.dp * a.lid_area;
+            row.insert(row.end(), {a.enclosed, a.gas, a.p_inside, a.dp, lid, total + lid - m0});
+        }
+        csv.row(row);
     }
     csv.close();
 }

@@ -18,6 +18,7 @@
 #include "dem/io/folder_lock.h"
 #include "vpp/damper.h"
 #include "vpp/foil.h"
+#include "vpp/gas.h"
 
 namespace vpp::damper_detail {
 
@@ -35,6 +36,7 @@ inline const char* stage_name(Stage s) {
 }
 
 using Sample = DamperSample;
+using AirSample = DamperAirSample;
 
 // One row of energy.csv (the ledger at a forces.csv sample; docs/energy.md).
 constexpr int kEnergyColumns = 11;
@@ -58,6 +60,14 @@ struct RunState {
     long window_n = 0;
     std::vector<Sample> samples;
     std::vector<EnergyRow> energy;  // the ledger at each sample (rows of energy.csv)
+    // The air inside (recorded with the pump model or output.air; vpp/gas.h): the gas amount
+    // p V [Pa m^3] (pump model; 0 until the vacuum stage seals the foil at atmospheric
+    // pressure), the gas volume of the step before [m^3] (0: none yet), the gas's work since
+    // the first sample [J], and the air at each sample.
+    double gas_amount = 0;
+    double gas_volume = 0;
+    double gas_work = 0;
+    std::vector<AirSample> air;
     // Geometry the prepared sample was made with: a --from run must match it.
     std::map<std::string, double> geometry;
     // Contact, process and simulation settings the run started with (kRunKeys), recorded when
@@ -149,6 +159,15 @@ private:
     double highest_grain_top() const;
     double packing_fraction(double inner_radius, double height) const;
     void record_start_of_cycling(const Sample& first);
+    // The air (docs/damper.md, "The air inside"). air_recorded(): the pump model, or output.air.
+    bool air_recorded() const { return c_.process.pressure_model != 0 || c_.output.air; }
+    // Before each step of the vacuum and the cycling: the gas volume from the foil's shape as it
+    // stands, the gas's work over the last step, and with the pump model the gas advanced by
+    // the step and the step's dp (the regulator set to the underpressure dp_set [Pa]).
+    void air_step(double dp_set);
+    AirSample air_sample() const;
+    double lid_area() const;
+    double grain_volume() const;
     // Logs a warning and keeps it for summary.json (and the checkpoints, so branches and
     // resumed runs report it too).
     void warn(const std::string& what);

@@ -148,15 +148,27 @@ void DamperRun::stage_compress() {
 }
 
 void DamperRun::stage_vacuum() {
-    const double ramp = c_.process.ramp_time, min_hold = 0.02, max_hold = 0.5, check = 2e-3;
+    const double ramp = c_.process.ramp_time, min_hold = 0.02, check = 2e-3;
     w_.pressure.nodes = cylinder_pressure_nodes(L_);
     const double dp = c_.process.underpressure;
+    const bool pump = c_.process.pressure_model != 0;
+    // The pump model follows the constant model's ramp (a sample evacuated long before its
+    // test) unless process.pump_down asks the pump to draw the gas down from the atmosphere:
+    // time constant V / S (at 2 m^3/h on the paper's damper, 0.08 L of gas: 0.14 s), and the
+    // hold may then last five of those.
+    const bool pump_down = pump && c_.process.pump_down;
+    double max_hold = 0.5;
+    if (pump_down && c_.process.pump_speed > 0.0) max_hold += 5.0 * (enclosed_volume(L_, w_.particles.pos) - grain_volume()) / c_.process.pump_speed;
     StageProgress prog("vacuum", uint64_t((ramp + max_hold) / w_.params.dt), o_);
     double next_check = next_check_after(w_.time, check);
     const double ke_ref = settle_energy_scale();
     for (;;) {
         const double t = w_.time - st_.stage_t0;
-        w_.pressure.dp = dp * std::min(1.0, t / ramp);
+        const double dp_set = dp * std::min(1.0, t / ramp);
+        if (!pump) w_.pressure.dp = dp_set;
+        if (air_recorded()) air_step(pump_down ? dp : dp_set);
+        if (pump_down && !st_.report.count("cycle.pump_down_time") && w_.pressure.dp == dp)
+            st_.report["cycle.pump_down_time"] = t;
         w_.step();
         prog.update(uint64_t(t / w_.params.dt), w_.time);
         checkpoint(false);
@@ -166,19 +178,92 @@ void DamperRun::stage_vacuum() {
         // Forces of the step just taken (computing them again would advance the shear springs).
         const double ke = grains_kinetic_energy(w_, g0_, g1_);
         const double ub = unbalanced_force(w_);
-        if (ke < 1e-4 * ke_ref && ub < 0.05) {
+        // A pump-down also waits for the set underpressure.
+        const bool drawn = !pump_down || w_.pressure.dp == dp;
+        if (ke < 1e-4 * ke_ref && ub < 0.05 && drawn) {
             log("[vacuum] at rest %.3f s after the ramp: kinetic energy %.3g J, unbalanced force %.3g\n",
                 t - ramp, ke, ub);
             break;
         }
         if (t > ramp + max_hold) {
-            char msg[160];
-            std::snprintf(msg, sizeof msg, "vacuum: sample not at rest %.2f s after the ramp (kinetic energy %.3g J, "
-                          "unbalanced force %.3g)", t - ramp, ke, ub);
+            char msg[320];
+            if (!drawn)
+                std::snprintf(msg, sizeof msg, "vacuum: the pump has not drawn the set underpressure %.4g Pa %.2f s after "
+                              "the ramp (dp = %.4g Pa; process.pump_speed %.3g m^3/s against process.leak_rate %.3g "
+                              "m^3/s): cycling starts at this dp", dp, t - ramp, w_.pressure.dp, c_.process.pump_speed,
+                              c_.process.leak_rate);
+            else
+                std::snprintf(msg, sizeof msg, "vacuum: sample not at rest %.2f s after the ramp (kinetic energy %.3g J, "
+                              "unbalanced force %.3g)", t - ramp, ke, ub);
             warn(msg);
             break;
         }
     }
+}
+
+double DamperRun::grain_volume() const {
+    double v = 0.0;
+    for (uint32_t i = g0_; i < g1_; ++i) {
+        const double r = w_.particles.radius[i];
+        v += r * r * r;
+    }
+    return 4.0 / 3.0 * std::numbers::pi * v;
+}
+
+double DamperRun::lid_area() const {
+    // The polygon of the top ring's particle centres (shoelace, projected on the cap's plane).
+    const std::vector<uint32_t> ring = L_.row(L_.rows - 1);
+    double a2 = 0.0;
+    for (std::size_t k = 0; k < ring.size(); ++k) {
+        const Vec3& p = w_.particles.pos[ring[k]];
+        const Vec3& q = w_.particles.pos[ring[(k + 1) % ring.size()]];
+        a2 += p.x * q.y - q.x * p.y;
+    }
+    return 0.5 * std::abs(a2);
+}
+
+void DamperRun::air_step(double dp_set) {
+    const double v = enclosed_volume(L_, w_.particles.pos) - grain_volume();
+    if (!(v > 0.0))
+        throw std::runtime_error("air: the gas volume inside the foil is " + std::to_string(v) +
+                                 " m^3 (the foil's enclosure minus the grains); the foil has collapsed onto them");
+    const bool pump = c_.process.pressure_model != 0;
+    if (pump && st_.gas_amount == 0.0) st_.gas_amount = kAtmosphericPressure * v;  // sealed at the atmosphere's
+    // The gas's work over the step just taken, at the amount it held (isothermal: exact for a
+    // fixed amount; the constant model's gas is at p_atm - dp).
+    if (st_.gas_volume > 0.0) {
+        st_.gas_work += pump ? isothermal_work(st_.gas_amount, st_.gas_volume, v)
+                             : (kAtmosphericPressure - w_.pressure.dp) * (v - st_.gas_volume);
+    }
+    st_.gas_volume = v;
+    if (!pump) return;
+    const double p_set = kAtmosphericPressure - dp_set;
+    if (st_.stage == Stage::Vacuum && !c_.process.pump_down) {
+        // Evacuated along the constant model's ramp: the gas is held at the set point.
+        st_.gas_amount = p_set * v;
+    } else {
+        PumpLine line;
+        line.speed = c_.process.pump_speed;
+        line.bleed = c_.process.bleed_rate;
+        line.leak = c_.process.leak_rate;
+        line.p_set = p_set;
+        line.p_atm = kAtmosphericPressure;
+        st_.gas_amount = advance_gas(st_.gas_amount, v, w_.params.dt, line);
+    }
+    // At the set point (the regulator closed there: advance_gas returns p_set v itself) dp is
+    // the set dp, bit for bit: a pump that keeps up runs the constant model's steps exactly.
+    w_.pressure.dp = st_.gas_amount == p_set * v ? dp_set : kAtmosphericPressure - st_.gas_amount / v;
+}
+
+AirSample DamperRun::air_sample() const {
+    AirSample a;
+    a.gas = st_.gas_volume;
+    a.enclosed = st_.gas_volume + grain_volume();
+    a.dp = w_.pressure.dp;
+    a.p_inside = kAtmosphericPressure - w_.pressure.dp;
+    a.lid_area = lid_area();
+    a.gas_work = st_.gas_work;
+    return a;
 }
 
 // The sample as cycling starts (after the vacuum and the start offset): the cap's height and
@@ -247,7 +332,9 @@ void DamperRun::stage_cycle(int upto) {
     auto sample_time = [&](std::size_t s) { return st_.cycle_t0 + double(s) * T / S; };
     w_.profile().enable(o_.profile);
     w_.profile().reset();
+    const bool air = air_recorded();
     while (w_.time < t_end - 0.5 * w_.params.dt) {
+        if (air) air_step(c_.process.underpressure);
         w_.compute_forces();
         const std::size_t s = st_.samples.size();
         bool sampled = false;
@@ -270,6 +357,10 @@ void DamperRun::stage_cycle(int upto) {
                 sampled = true;
                 // The ledger counts from the first sample: works and dissipations are 0 there.
                 if (energy && s == 0) w_.reset_energy();
+                if (air) {
+                    if (s == 0) st_.gas_work = 0.0;
+                    st_.air.push_back(air_sample());
+                }
                 if (s == 0) record_start_of_cycling(smp);
             }
         }
@@ -367,6 +458,7 @@ std::string Damper::stage() const { return damper_detail::stage_name(run_->state
 int Damper::cycles_done() const { return run_->cycles_done(); }
 int Damper::cycles_total() const { return int(run_->config().process.cycles); }
 const std::vector<DamperSample>& Damper::samples() const { return run_->state().samples; }
+const std::vector<DamperAirSample>& Damper::air() const { return run_->state().air; }
 std::vector<std::vector<double>> Damper::energy() const {
     std::vector<std::vector<double>> rows;
     for (const damper_detail::EnergyRow& e : run_->state().energy)

@@ -46,6 +46,7 @@ bool same_value(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max
 // A stored value as the config file writes it, for messages.
 std::string show(const std::string& key, double v) {
     if (key == "process.direction") return v == 0.0 ? "\"compression\"" : "\"extension\"";
+    if (key == "process.pressure_model") return v == 0.0 ? "\"constant\"" : "\"pump\"";
     if (key == "output.energy" || key == "damper.refill") return v != 0.0 ? "true" : "false";
     if (key == "simulation.dt" && v == 0.0) return "\"auto\"";
     if (key == "damper.cap_friction" && v < 0.0) return "(unset: the grains' friction)";
@@ -241,12 +242,15 @@ void DamperRun::adopt_checkpoint_settings() {
     std::string conflicts;
     for (const StoredKey& k : kRunKeys) {
         const auto it = ck.settings.find(k.key);
-        if (it == ck.settings.end()) continue;
-        if (c_.given.count(k.key) && !same_value(k.get(c_), it->second))
-            conflicts += (conflicts.empty() ? "" : ", ") + std::string(k.key) + " = " + show(k.key, it->second) +
+        // A key an older vppdem did not store: the run went on with the value it had then
+        // (the key's legacy value), e.g. process.pressure_model "constant".
+        if (it == ck.settings.end() && !std::isfinite(k.legacy)) continue;
+        const double stored = it != ck.settings.end() ? it->second : k.legacy;
+        if (c_.given.count(k.key) && !same_value(k.get(c_), stored))
+            conflicts += (conflicts.empty() ? "" : ", ") + std::string(k.key) + " = " + show(k.key, stored) +
                          " in the checkpoint, " + show(k.key, k.get(c_)) + " given";
         else
-            k.set(c_, it->second);
+            k.set(c_, stored);
     }
     if (!conflicts.empty())
         throw std::runtime_error("checkpoint '" + o_.from + "' continues a run with other settings: " + conflicts +

@@ -166,6 +166,42 @@ const std::vector<Setting>& table() {
         {.key = "process.sample_window", .type = T::Real, .unit = "s", .def = 2e-4, .check = C::Positive,
          .acts = A::Process, .shares_preparation = true, .run = 17, .summary = 19,
          .doc = "each force is averaged over this window before its sample time", FIELD(process.sample_window)},
+        {.key = "process.pressure_model", .type = T::Choice, .unit = "", .def = Setting::kUnset,
+         .default_text = "\"constant\"", .check = C::Custom, .allowed = "must be \"constant\" or \"pump\"",
+         .acts = A::Process, .shares_preparation = true, .run = 23, .summary = 25,
+         .doc = "\"constant\": dp held at process.underpressure (the paper); \"pump\": the air inside as an "
+                "isothermal gas in the foil's pores, drawn by a pump through a regulator set to process.underpressure, "
+                "with a leak (docs/damper.md, \"The air inside\")",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+             const std::string k = short_key(r);
+             const std::string m = s.string(k, "constant");
+             if (m != "constant" && m != "pump") s.fail(k, r.allowed);
+             c.process.pressure_model = m == "pump" ? 1 : 0;
+         },
+         FIELD(process.pressure_model), .legacy = 0.0},  // an older vppdem held dp constant
+        {.key = "process.pump_speed", .type = T::Real, .unit = "m^3/s", .def = 2.0 / 3600.0, .check = C::NonNegative,
+         .allowed = "must be a volumetric speed >= 0 m^3/s (2 m^3/h = 5.6e-4 m^3/s)", .acts = A::Process,
+         .shares_preparation = true, .run = 24, .summary = 26,
+         .doc = "pump model: S, the pump's volumetric speed at the inside pressure (2 m^3/h: a small rotary-vane "
+                "pump); 0 with process.bleed_rate = 0: sealed as cycling starts",
+         FIELD(process.pump_speed), .legacy = 2.0 / 3600.0},
+        {.key = "process.bleed_rate", .type = T::Real, .unit = "m^3/s", .def = 2.0 / 3600.0, .check = C::NonNegative,
+         .allowed = "must be a conductance >= 0 m^3/s", .acts = A::Process, .shares_preparation = true, .run = 25,
+         .summary = 27,
+         .doc = "pump model: B, the regulator's bleed valve: below the set pressure it lets air in at B (p_atm - "
+                "p_inside), up to the set pressure; 0: a one-way regulator (only leaks raise the pressure)",
+         FIELD(process.bleed_rate), .legacy = 2.0 / 3600.0},
+        {.key = "process.leak_rate", .type = T::Real, .unit = "m^3/s", .def = 0.0, .check = C::NonNegative,
+         .allowed = "must be a conductance >= 0 m^3/s", .acts = A::Process, .shares_preparation = true, .run = 26,
+         .summary = 28, .doc = "pump model: C, the leak's conductance: air enters at C (p_atm - p_inside)",
+         FIELD(process.leak_rate), .legacy = 0.0},
+        {.key = "process.pump_down", .type = T::Boolean, .unit = "", .def = 0.0, .acts = A::Process,
+         .shares_preparation = true, .run = 27, .summary = 29,
+         .doc = "pump model: the vacuum stage draws the gas down from atmospheric pressure with the pump (time "
+                "constant gas volume / process.pump_speed; summary.json start_of_cycling \"pump_down_time\"); false: along "
+                "the constant model's ramp, as a sample evacuated long before its test, and the pump acts from the "
+                "start of cycling",
+         FLAG(process.pump_down), .legacy = 0.0},
         // [tension]: the tension command's strip.
         {.key = "tension.sites_along", .type = T::Integer, .unit = "", .def = 37, .check = C::AtLeast, .lo = 3,
          .allowed = "must be an integer >= 3", .acts = A::Geometry,
@@ -251,6 +287,10 @@ const std::vector<Setting>& table() {
          .shares_preparation = true, .run = 22,
          .doc = "energy ledger during cycling: energy.csv and the dissipation split in cycles.csv; about 25% slower",
          FLAG(output.energy)},
+        {.key = "output.air", .type = T::Boolean, .unit = "", .def = 0.0, .acts = A::Output, .shares_preparation = true,
+         .doc = "damper: the air's columns in forces.csv (enclosed_volume, gas_volume, pressure_inside, underpressure, "
+                "force_lid, force_machine_zeroed) with the constant model too; the pump model always writes them",
+         FLAG(output.air)},
         // [analysis]: post-processing of the recorded loops; never needs a new run.
         {.key = "analysis.settle_tolerance", .type = T::Real, .unit = "-", .def = 0.03, .check = C::Range, .lo = 0.0,
          .hi = 1.0, .lo_open = true, .hi_open = true,

@@ -92,6 +92,30 @@ def test_write_gives_the_command_files(finished, tmp_path):
     assert len(rows) == 1 + 160
 
 
+def test_air_of_a_sealed_damper(tmp_path):
+    # The pump model, sealed (no pump, no bleed): p V is constant over the samples, the arrays
+    # are forces.csv's air columns, and the constant model records none.
+    d = vppdem.Damper(settings={**SMALL, "process.pressure_model": "pump", "process.pump_speed": 0,
+                                "process.bleed_rate": 0})
+    d.cycle()
+    a = d.air()
+    n = 2 * SMALL["process.samples_per_cycle"]
+    assert all(v.shape == (n,) for v in a.values())
+    pv = a["pressure_inside"] * a["gas_volume"]
+    np.testing.assert_allclose(pv, pv[0], rtol=1e-12)
+    assert a["pressure_inside"].max() > 1.02 * a["pressure_inside"][0]
+    np.testing.assert_allclose(a["underpressure"], 101325.0 - a["pressure_inside"], rtol=0, atol=1e-9)
+    d.write(tmp_path)
+    cols = np.genfromtxt(tmp_path / "forces.csv", delimiter=",", names=True)
+    for k in ("enclosed_volume", "gas_volume", "pressure_inside", "underpressure", "force_lid"):
+        np.testing.assert_allclose(cols[k], a[k], rtol=1e-15, atol=0)
+    assert "gas_work" in (tmp_path / "energy.csv").read_text().splitlines()[0].split(",")
+
+
+def test_constant_model_records_no_air(finished):
+    assert all(v.shape == (0,) for v in finished.air().values())
+
+
 def cli_error(args):
     r = subprocess.run(f"{BINARY} damper {args}", shell=True, capture_output=True, text=True)
     assert r.returncode != 0

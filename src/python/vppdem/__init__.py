@@ -277,6 +277,14 @@ class Damper:
         spc = int(self._config_value("process.samples_per_cycle"))
         return np.arange(n) // spc + 1
 
+    def air(self):
+        """The air inside at each sample (process.pressure_model = "pump" or output.air; forces.csv's
+        air columns): enclosed_volume and gas_volume [m^3], pressure_inside and underpressure [Pa],
+        force_lid [N] (-dp times the lid's area), gas_work [J]. Empty arrays when not recorded."""
+        a = self._d.air()
+        return {"enclosed_volume": a[:, 0], "gas_volume": a[:, 1], "pressure_inside": a[:, 2],
+                "underpressure": a[:, 3], "force_lid": -a[:, 3] * a[:, 4], "gas_work": a[:, 5]}
+
     def _config_value(self, key):
         return self.summary()["inputs"][key]
 

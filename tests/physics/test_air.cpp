@@ -1,0 +1,237 @@
+// The air inside the damper (issue 23; docs/damper.md "The air inside"): the enclosed volume of
+// the foil lattice against closed forms, and the damper with process.pressure_model = "pump"
+// through the vppdem binary: the constant model unchanged, a pump that keeps up equal to it bit
+// for bit, a sealed damper following Boyle's law, the lid force, bad values, resuming.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <numbers>
+#include <sstream>
+#include <algorithm>
+#include <string>
+#include <vector>
+
+#include "cli_helpers.h"
+#include "dem/core/world.h"
+#include "vpp/foil.h"
+
+namespace fs = std::filesystem;
+using dem::Vec3;
+
+namespace {
+
+using namespace cli_test;
+
+fs::path scratch(const std::string& name) { return scratch_path("air_test", name); }
+
+// The first `n` comma-separated cells of each line (the records' leading columns).
+std::string leading_columns(const std::string& text, int n) {
+    std::string out;
+    std::istringstream in(text);
+    for (std::string line; std::getline(in, line);) {
+        std::size_t cut = std::string::npos;
+        for (int k = 0; k < n; ++k) {
+            cut = line.find(',', cut == std::string::npos ? 0 : cut + 1);
+            if (cut == std::string::npos) break;
+        }
+        out += line.substr(0, cut) + "\n";
+    }
+    return out;
+}
+
+// The regular n-gon prism through the lattice's particle centres: the polyhedron enclosed_volume
+// triangulates, exactly.
+double prism_volume(const vpp::FoilLattice& L) {
+    const double n = L.cols;
+    return 0.5 * n * L.radius * L.radius * std::sin(2.0 * std::numbers::pi / n) * (L.rows - 1) * L.spacing;
+}
+
+}  // namespace
+
+TEST(AirVolume, EnclosedVolumeOfTheCylinderLattice) {
+    dem::World w;
+    const vpp::FoilDef f;
+    const vpp::FoilLattice L = vpp::build_cylinder(w, f, 0.0255, 0.100);
+    const double v = vpp::enclosed_volume(L, w.particles.pos);
+    std::printf("lattice %d x %d: enclosed %.10g m^3, prism %.10g m^3, circular cylinder %.10g m^3\n", L.cols, L.rows,
+                v, prism_volume(L), std::numbers::pi * L.radius * L.radius * (L.rows - 1) * L.spacing);
+    EXPECT_NEAR(v / prism_volume(L), 1.0, 1e-12);
+
+    // A rigid motion leaves it unchanged: a translation and a rotation about a tilted axis.
+    const Vec3 t{0.31, -0.17, 1.3}, k = Vec3{1, 2, 2} / 3.0;
+    const double c = std::cos(0.7), s = std::sin(0.7);
+    std::vector<Vec3> moved = w.particles.pos;
+    for (Vec3& p : moved) p = p * c + cross(k, p) * s + k * (dot(k, p) * (1 - c)) + t;  // Rodrigues
+    EXPECT_NEAR(vpp::enclosed_volume(L, moved) / v, 1.0, 1e-12);
+
+    // A radial shrink by s scales it by s^2; a stretch along the axis by a scales it by a.
+    std::vector<Vec3> shrunk = w.particles.pos;
+    for (Vec3& p : shrunk) p = {0.9 * p.x, 0.9 * p.y, 1.1 * p.z};
+    EXPECT_NEAR(vpp::enclosed_volume(L, shrunk) / v, 0.81 * 1.1, 1e-12);
+}
+
+class Air : public ::testing::Test {
+protected:
+    // One prepared small damper for the suite; every case branches from it.
+    static void SetUpTestSuite() {
+        fs::remove_all(scratch(""));
+        fs::create_directories(scratch(""));
+        prep_ = run("damper --out " + scratch("constant").string() + " " + kSmallDamper);
+    }
+    static void TearDownTestSuite() { fs::remove_all(scratch("")); }
+    static std::string branch(const std::string& name, const std::string& sets) {
+        const fs::path d = scratch(name);
+        const Outcome r = run("damper --out " + d.string() + " --from " + (scratch("constant") / "prepared.ckpt").string() +
+                              " " + kSmallDamper + " " + sets);
+        EXPECT_EQ(r.status, 0) << r.output;
+        return d.string();
+    }
+    static Outcome prep_;
+};
+Outcome Air::prep_;
+
+// The paper's model is untouched: output.air adds columns after the seven of forces.csv (and
+// gas_work after energy.csv's), the leading columns and cycles.csv are the same bytes.
+TEST_F(Air, TheConstantModelIsUnchangedByTheAirRecord) {
+    ASSERT_EQ(prep_.status, 0) << prep_.output;
+    const fs::path plain = scratch("constant"), rec = branch("constant_air", "--set output.air=true");
+    const std::string f0 = slurp(plain / "forces.csv"), f1 = slurp(fs::path(rec) / "forces.csv");
+    EXPECT_EQ(f1.substr(0, f1.find('\n')),
+              "time,displacement,force_total,force_grains,force_foil,force_zeroed,cycle,enclosed_volume,gas_volume,"
+              "pressure_inside,underpressure,force_lid,force_machine_zeroed");
+    EXPECT_EQ(f0.substr(0, f0.find('\n')), "time,displacement,force_total,force_grains,force_foil,force_zeroed,cycle");
+    EXPECT_EQ(leading_columns(f1, 7), f0);
+    EXPECT_EQ(slurp(fs::path(rec) / "cycles.csv"), slurp(plain / "cycles.csv"));
+    EXPECT_EQ(leading_columns(slurp(fs::path(rec) / "energy.csv"), 11), slurp(plain / "energy.csv"));
+    // Constant dp: the pressures are the set ones, the machine's zeroed force is force_zeroed.
+    const auto c = read_columns(fs::path(rec) / "forces.csv");
+    for (std::size_t i = 0; i < c.at("time").size(); ++i) {
+        ASSERT_EQ(c.at("underpressure")[i], 0.06e6);
+        ASSERT_EQ(c.at("pressure_inside")[i], 101325.0 - 0.06e6);
+        ASSERT_NEAR(c.at("force_machine_zeroed")[i], c.at("force_zeroed")[i], 1e-9);
+        ASSERT_LT(c.at("gas_volume")[i], c.at("enclosed_volume")[i]);
+    }
+}
+
+// A pump and bleed that keep up hold the set point exactly, so the pump model runs the constant
+// model's steps bit for bit.
+TEST_F(Air, APumpThatKeepsUpIsTheConstantModelBitForBit) {
+    ASSERT_EQ(prep_.status, 0) << prep_.output;
+    const fs::path d = branch("fast_pump",
+                              "--set process.pressure_model=pump --set process.pump_speed=1 --set process.bleed_rate=1");
+    EXPECT_EQ(leading_columns(slurp(d / "forces.csv"), 7), slurp(scratch("constant") / "forces.csv"));
+    EXPECT_EQ(slurp(d / "cycles.csv"), slurp(scratch("constant") / "cycles.csv"));
+    const auto c = read_columns(d / "forces.csv");
+    for (double dp : c.at("underpressure")) ASSERT_EQ(dp, 0.06e6);
+}
+
+// Sealed (no pump, no bleed): evacuated to 0.06 MPa, then the gas is shut in. Its pressure
+// follows p V = const through the cycles (1e-12), compression raises it, and the gas's work is
+// amount ln(V / V0) since the first sample. The lid force is -dp times the top ring's polygon.
+TEST_F(Air, ASealedDamperFollowsBoylesLaw) {
+    ASSERT_EQ(prep_.status, 0) << prep_.output;
+    const fs::path d =
+        branch("sealed", "--set process.pressure_model=pump --set process.pump_speed=0 --set process.bleed_rate=0");
+    const auto c = read_columns(d / "forces.csv");
+    const auto e = read_columns(d / "energy.csv");
+    const std::size_t n = c.at("time").size();
+    ASSERT_GT(n, 10u);
+    ASSERT_EQ(e.at("gas_work").size(), n);
+    const double pv0 = c.at("pressure_inside")[0] * c.at("gas_volume")[0];
+    // Sealed at the set pressure as the vacuum stage ends; the foil settles a little further
+    // before the first sample (0.02 Pa measured).
+    EXPECT_NEAR(c.at("pressure_inside")[0], 101325.0 - 0.06e6, 1e-5 * (101325.0 - 0.06e6));
+    double p_max = 0, w_max = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const double p = c.at("pressure_inside")[i], v = c.at("gas_volume")[i];
+        ASSERT_NEAR(p * v / pv0, 1.0, 1e-12) << i;
+        ASSERT_NEAR(c.at("underpressure")[i], 101325.0 - p, 1e-9);
+        p_max = std::max(p_max, p);
+        const double w = pv0 * std::log(v / c.at("gas_volume")[0]);
+        w_max = std::max(w_max, std::abs(w));
+        ASSERT_NEAR(e.at("gas_work")[i], w, 1e-9 * std::max(1e-3, std::abs(w))) << i;
+    }
+    std::printf("sealed: p from %.6g Pa up to %.6g Pa (gas volume down to %.4g of its start); |gas work| up to %.4g J\n",
+                c.at("pressure_inside")[0], p_max, pv0 / p_max / c.at("gas_volume")[0], w_max);
+    EXPECT_GT(p_max, 1.02 * c.at("pressure_inside")[0]);  // 2 mm of 30 mm: the gas is squeezed
+
+    // The top ring is rigid in the cycling: its polygon is the regular n-gon of the lattice.
+    const int cols = vpp::choose_columns(0.012, 2.965e-3 / 3.0);
+    const double R = 2.965e-3 / 3.0 / std::sin(std::numbers::pi / cols);
+    const double area = 0.5 * cols * R * R * std::sin(2.0 * std::numbers::pi / cols);
+    for (std::size_t i = 0; i < n; ++i) ASSERT_NEAR(c.at("force_lid")[i], -c.at("underpressure")[i] * area, 1e-9);
+}
+
+// A slow pump (0.01 m^3/h) behind a one-way regulator: compression raises the inside pressure
+// above the set point (dp falls), extension draws it below (dp rises); the loop differs from the
+// constant model's.
+TEST_F(Air, ASlowPumpLetsTheUnderpressureSwing) {
+    ASSERT_EQ(prep_.status, 0) << prep_.output;
+    const fs::path d = branch("slow_pump", "--set process.pressure_model=pump --set process.pump_speed=2.8e-6 "
+                                           "--set process.bleed_rate=0");
+    const auto c = read_columns(d / "forces.csv");
+    const auto& dp = c.at("underpressure");
+    const double lo = *std::min_element(dp.begin(), dp.end()), hi = *std::max_element(dp.begin(), dp.end());
+    std::printf("slow pump: dp %.6g ... %.6g Pa\n", lo, hi);
+    EXPECT_LT(lo, 0.06e6 - 1000.0);
+    EXPECT_GT(hi, 0.06e6 + 100.0);
+    EXPECT_NE(slurp(d / "cycles.csv"), slurp(scratch("constant") / "cycles.csv"));
+}
+
+// process.pump_down: the vacuum stage draws the gas down from the atmosphere with the pump,
+// p = p_atm exp(-S t / V) at a fixed gas volume V. The foil shrinks under the vacuum meanwhile
+// (V falls by about a tenth on the small damper, which also squeezes the gas), so the time to
+// the set point lies between that of the final volume and 1.2 times it.
+TEST_F(Air, APumpDownTakesTheExponentialsTime) {
+    ASSERT_EQ(prep_.status, 0) << prep_.output;
+    const double S = 2.0 / 3600;
+    const fs::path d = branch("pump_down", "--set process.pressure_model=pump --set process.pump_down=true");
+    const auto c = read_columns(d / "forces.csv");
+    const std::string summary = slurp(d / "summary.json");
+    const std::size_t at = summary.find("\"pump_down_time\": ");
+    ASSERT_NE(at, std::string::npos) << summary;
+    const double t = std::stod(summary.substr(at + 18));
+    const double t_final = c.at("gas_volume")[0] / S * std::log(101325.0 / (101325.0 - 0.06e6));
+    std::printf("pump-down: %.5g s; V/S ln(p_atm/p_set) at the final gas volume %.5g s (ratio %.4f)\n", t, t_final,
+                t / t_final);
+    EXPECT_GT(t / t_final, 1.0);
+    EXPECT_LT(t / t_final, 1.2);
+    EXPECT_EQ(c.at("underpressure")[0], 0.06e6);  // drawn to the set point before cycling
+}
+
+TEST_F(Air, BadValuesAreRefusedNamingTheKey) {
+    struct Case {
+        const char* set;
+        const char* says;
+    } cases[] = {
+        {"process.pump_speed=-1", "process.pump_speed"},
+        {"process.bleed_rate=-0.5", "process.bleed_rate"},
+        {"process.leak_rate=-1e-6", "process.leak_rate"},
+        {"process.pressure_model=vacuum", "must be \"constant\" or \"pump\""},
+        {"process.underpressure=2e5", "process.underpressure"},
+        {"process.pressure_model=pump --set process.pump_down=true --set process.pump_speed=0", "process.pump_down"},
+    };
+    for (const Case& k : cases) {
+        const Outcome r = run("damper --out " + scratch("bad").string() + " " + kSmallDamper + " --set " + k.set);
+        EXPECT_NE(r.status, 0) << k.set;
+        EXPECT_NE(r.output.find(k.says), std::string::npos) << k.set << ": " << r.output;
+        EXPECT_FALSE(fs::exists(scratch("bad") / "forces.csv"));
+    }
+}
+
+// Killed while cycling with the pump model and resumed: the gas is in the checkpoint, and the
+// records equal the uninterrupted run's byte for byte.
+TEST_F(Air, AResumedPumpRunEqualsTheUninterruptedOne) {
+    ASSERT_EQ(prep_.status, 0) << prep_.output;
+    const std::string sets = "--set process.pressure_model=pump --set process.pump_speed=2.8e-6 --set process.leak_rate=1e-7";
+    const fs::path whole = branch("pump_whole", sets);
+    const fs::path d = scratch("pump_killed");
+    const std::string args = "damper --out " + d.string() + " --from " + (scratch("constant") / "prepared.ckpt").string() +
+                             " --checkpoint-every 0.2 " + kSmallDamper + " " + sets;
+    ASSERT_TRUE(kill_when(args, [&] { return data_rows(d / "forces.csv") > 0; })) << "the run ended before the kill";
+    const Outcome r = run("damper --out " + d.string() + " --from " + (d / "run.ckpt").string() + " --no-plot --quiet");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(slurp(d / "forces.csv"), slurp(whole / "forces.csv"));
+    EXPECT_EQ(slurp(d / "energy.csv"), slurp(whole / "energy.csv"));
+}
