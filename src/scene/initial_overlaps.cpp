@@ -17,7 +17,13 @@ struct Cells {
     double h = 1.0;
     int64_t n[3] = {1, 1, 1};
 
-    int64_t coord(double x, int k) const { return std::clamp<int64_t>(int64_t(std::floor((x - lo[k]) / h)), 0, n[k] - 1); }
+    // Clamped as a double first: a body far outside the spheres' box (a wall at 1e100, found by
+    // fuzzing) would overflow the conversion to an integer, which is undefined behaviour.
+    int64_t coord(double x, int k) const {
+        const double q = std::floor((x - lo[k]) / h);
+        if (!(q > 0.0)) return 0;  // below the box, or NaN
+        return q >= double(n[k] - 1) ? n[k] - 1 : int64_t(q);
+    }
     uint64_t key(int64_t i, int64_t j, int64_t k) const { return (uint64_t(i) << 42) | (uint64_t(j) << 21) | uint64_t(k); }
     // Cells touched by the box [a, b]; -1 when more than `limit`.
     int64_t span(const Vec3& a, const Vec3& b, int64_t limit) const {

@@ -147,6 +147,32 @@ TEST(InitialOverlaps, FollowsTheWorldsInteractionRules) {
     EXPECT_NEAR(wr.worst.overlap, 0.51, 1e-12);
 }
 
+// A facet far outside the spheres' box (1e100 m away; fuzz/regressions/scene/
+// wall_far_outside_the_spheres.toml, found by the fuzzer: its cell coordinate overflowed the
+// integer conversion, undefined behaviour) touches nothing, and one whose box reaches far beyond
+// the spheres' box on every side (its cells clamped to the box) is still tested against them.
+TEST(InitialOverlaps, FacetsFarOutsideTheSpheresBoxAreHandled) {
+    dem::World v;
+    v.add_material(dem::Material{});
+    dem::SphereDef d;
+    d.radius = 0.01;
+    d.position = {0, 0, 0.005};
+    v.add_sphere(d);
+    d.position = {1, 0, 0.5};
+    v.add_sphere(d);
+    dem::Facet far;
+    far.vertices = {Vec3{1e100, 0, 0}, Vec3{2e100, 0, 0}, Vec3{1e100, 1e100, 0}};
+    v.add_facet(far);
+    EXPECT_EQ(scene::wall_overlaps(v, 0.01).count, 0u);
+    dem::Facet wide;  // z = 0, 1 km across: under sphere 0, which sits 0.005 into it
+    wide.vertices = {Vec3{-1e3, -1e3, 0}, Vec3{1e3, -1e3, 0}, Vec3{0, 1e3, 0}};
+    v.add_facet(wide);
+    const auto wr = scene::wall_overlaps(v, 0.01);
+    EXPECT_EQ(wr.count, 1u);
+    EXPECT_EQ(wr.worst.a, 0u);
+    EXPECT_NEAR(wr.worst.overlap, 0.005, 1e-12);
+}
+
 TEST(InitialOverlaps, HundredThousandSpheresTakeWellUnderASecond) {
     // A cubic lattice of touching-but-clear spheres (gap 1% of the radius) plus one pair that
     // overlaps: 100000 spheres, so an O(N^2) search (5e9 pairs) would take minutes.
