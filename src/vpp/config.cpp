@@ -1,5 +1,7 @@
 #include "vpp/config.h"
 
+#include <numbers>
+
 #include <algorithm>
 #include <stdexcept>
 
@@ -84,6 +86,15 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
 
     top.finish();
     return c;
+}
+
+double cycle_period(const ProcessDef& p) {
+    return p.frequency > 0.0 ? 1.0 / p.frequency : 2.0 * p.amplitude / p.velocity;
+}
+
+double peak_speed(const ProcessDef& p) {
+    if (p.waveform == 1) return std::numbers::pi * p.amplitude / cycle_period(p);
+    return p.frequency > 0.0 ? 2.0 * p.amplitude * p.frequency : p.velocity;
 }
 
 double resolve_dt(const SimulationDef& s, const dem::World& w) {

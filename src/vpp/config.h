@@ -20,6 +20,7 @@ struct GrainsDef {
     double friction = 0.6;          // [-] mu_k
     double stiffness_ratio = 0.5;   // [-] ks/kn
     double volume_fraction = 0.54;  // [-] phi
+    double restitution = 1.0;       // [-] normal restitution of grain contacts in the cycling (1: no dashpot)
 };
 
 struct DamperDef {
@@ -53,7 +54,16 @@ struct ProcessDef {
     double bleed_rate = 2.0 / 3600.0; // [m^3/s] B: the regulator's bleed lets air in below the set point
     double leak_rate = 0.0;           // [m^3/s] C: air leaks in at C (p_atm - p_inside)
     bool pump_down = false;           // the vacuum stage pumps down from the atmosphere (else: the ramp)
+    // The stroke's shape (docs/damper.md, "Waveforms and frequency").
+    int waveform = 0;                 // 0 "triangle" (the paper), 1 "sine"
+    double frequency = 0.0;           // [Hz] cycles per second; 0: the period 2 A / v of velocity
 };
+
+// The loading cycle's period [s]: 1 / frequency, or 2 A / v (the triangle at process.velocity).
+double cycle_period(const ProcessDef& p);
+// The cap's largest speed in the cycle [m/s]: 2 A / T for the triangle (process.velocity when
+// no frequency is given), pi A / T for the sine.
+double peak_speed(const ProcessDef& p);
 
 struct TensionDef {
     int64_t sites_along = 37;   // sites in the pulling direction (paper: 37)

@@ -47,6 +47,7 @@ bool same_value(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max
 std::string show(const std::string& key, double v) {
     if (key == "process.direction") return v == 0.0 ? "\"compression\"" : "\"extension\"";
     if (key == "process.pressure_model") return v == 0.0 ? "\"constant\"" : "\"pump\"";
+    if (key == "process.waveform") return v == 0.0 ? "\"triangle\"" : "\"sine\"";
     if (key == "output.energy" || key == "damper.refill") return v != 0.0 ? "true" : "false";
     if (key == "simulation.dt" && v == 0.0) return "\"auto\"";
     if (key == "damper.cap_friction" && v < 0.0) return "(unset: the grains' friction)";
@@ -412,6 +413,7 @@ void DamperRun::apply_config_to_prepared() {
     g.young = c_.grains.young;
     g.stiffness_ratio = c_.grains.stiffness_ratio;
     g.friction = c_.grains.friction;
+    g.restitution = c_.grains.restitution;  // pairs take the smaller: grain-foil and grain-cap too
     w_.materials[kCapMat].friction = c_.damper.cap_friction < 0 ? c_.grains.friction : c_.damper.cap_friction;
     w_.materials[kCapMat].young = c_.grains.young;
     dem::Material& f = w_.materials[kFoilMat];
@@ -439,7 +441,7 @@ std::size_t grain_count(const Config& c) {
 }
 
 double inertial_number(const Config& c, double height) {
-    const double gamma_dot = c.process.velocity / height;
+    const double gamma_dot = peak_speed(c.process) / height;  // the stroke's fastest
     const double p = std::max(std::abs(c.process.underpressure), 1.0);
     return gamma_dot * 2.0 * c.grains.radius * std::sqrt(c.grains.density / p);
 }

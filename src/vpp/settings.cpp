@@ -67,6 +67,13 @@ const std::vector<Setting>& table() {
          .doc = "phi: the pour's N = round(phi pi r_p^2 H_p / (4/3 pi r_k^3)) grains; with damper.refill more follow "
                 "(docs/damper.md)",
          FIELD(grains.volume_fraction)},
+        {.key = "grains.restitution", .type = T::Real, .unit = "-", .def = 1.0, .check = C::Range, .lo = 0.0, .hi = 1.0,
+         .lo_open = true, .allowed = "must be in (0, 1] (1: no dashpot)", .acts = A::ContactPhysics,
+         .shares_preparation = true, .run = 30, .summary = 32,
+         .doc = "normal coefficient of restitution of grain contacts (a linear dashpot) from the vacuum on; the "
+                "physical dissipation of dynamic runs, with simulation.local_damping = 0 (docs/damper.md, "
+                "\"Waveforms and frequency\"); the preparation has none",
+         FIELD(grains.restitution), .legacy = 1.0},
         // [foil]
         {.key = "foil.young", .type = T::Real, .unit = "Pa", .def = 122.18e6, .check = C::Positive,
          .acts = A::ContactPhysics, .run = 4, .summary = 7, .doc = "E_f of the real foil (bond and foil contact stiffness)",
@@ -202,6 +209,23 @@ const std::vector<Setting>& table() {
                 "the constant model's ramp, as a sample evacuated long before its test, and the pump acts from the "
                 "start of cycling",
          FLAG(process.pump_down), .legacy = 0.0},
+        {.key = "process.waveform", .type = T::Choice, .unit = "", .def = Setting::kUnset,
+         .default_text = "\"triangle\"", .check = C::Custom, .allowed = "must be \"triangle\" or \"sine\"",
+         .acts = A::Process, .shares_preparation = true, .run = 28, .summary = 30,
+         .doc = "the stroke's shape: \"triangle\" (constant speed, the paper) or \"sine\" (d = A (1 - cos 2 pi t / T) / "
+                "2, peak speed pi A / T), period T from process.frequency or process.velocity",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+             const std::string k = short_key(r);
+             const std::string w = s.string(k, "triangle");
+             if (w != "triangle" && w != "sine") s.fail(k, r.allowed);
+             c.process.waveform = w == "sine" ? 1 : 0;
+         },
+         FIELD(process.waveform), .legacy = 0.0},
+        {.key = "process.frequency", .type = T::Real, .unit = "Hz", .def = 0.0, .check = C::NonNegative,
+         .allowed = "must be a frequency >= 0 Hz (0: the period 2 amplitude / velocity)", .acts = A::Process,
+         .shares_preparation = true, .run = 29, .summary = 31,
+         .doc = "cycles per second; 0: the period is 2 process.amplitude / process.velocity (the triangle at that speed)",
+         FIELD(process.frequency), .legacy = 0.0},
         // [tension]: the tension command's strip.
         {.key = "tension.sites_along", .type = T::Integer, .unit = "", .def = 37, .check = C::AtLeast, .lo = 3,
          .allowed = "must be an integer >= 3", .acts = A::Geometry,

@@ -200,6 +200,61 @@ TEST_F(Air, APumpDownTakesTheExponentialsTime) {
     EXPECT_EQ(c.at("underpressure")[0], 0.06e6);  // drawn to the set point before cycling
 }
 
+// Waveforms (docs/damper.md, "Waveforms and frequency"). The sine, given by its frequency,
+// follows d = A (1 - cos 2 pi t / T) / 2 at the samples to 3e-6 A (1000 straight segments per
+// cycle), and the quasi-static mark takes its peak speed pi A / T; a triangle given by the
+// frequency v / 2A moves as the one given by v.
+TEST_F(Air, TheSineFollowsTheCosineAndTheTriangleItsFrequency) {
+    ASSERT_EQ(prep_.status, 0) << prep_.output;
+    const double A = 0.002, T = 0.04;
+    const fs::path s = branch("sine", "--set process.waveform=sine --set process.frequency=25");
+    const auto c = read_columns(s / "forces.csv");
+    ASSERT_EQ(c.at("time").size(), 160u);
+    double dev = 0;
+    for (std::size_t i = 0; i < 160; ++i)
+        dev = std::max(dev, std::abs(c.at("displacement")[i] -
+                                     0.5 * A * (1.0 - std::cos(2.0 * std::numbers::pi * c.at("time")[i] / T))));
+    std::printf("sine: largest deviation from the cosine %.3g m (%.3g A)\n", dev, dev / A);
+    EXPECT_LT(dev, 3e-6 * A);
+    EXPECT_NEAR(c.at("displacement")[40], A, 3e-6 * A);  // the bottom at T/2
+    // I = (v_peak / H) 2 r_k sqrt(rho / dp), v_peak = pi A / T.
+    const std::string sum = slurp(s / "summary.json");
+    const std::size_t at = sum.find("\"inertial_number\": ");
+    ASSERT_NE(at, std::string::npos);
+    const double I = std::stod(sum.substr(at + 19));
+    const double I_tri = std::stod(slurp(scratch("constant") / "summary.json").substr(
+        slurp(scratch("constant") / "summary.json").find("\"inertial_number\": ") + 19));
+    EXPECT_NEAR(I / I_tri, std::numbers::pi / 2.0, 1e-9);  // the same period: peak speed pi/2 of the triangle's
+
+    const fs::path t = branch("triangle_by_frequency", "--set process.frequency=25");
+    const auto a = read_columns(t / "forces.csv"), b = read_columns(scratch("constant") / "forces.csv");
+    for (std::size_t i = 0; i < 160; ++i) {
+        ASSERT_NEAR(a.at("time")[i], b.at("time")[i], 1e-12);
+        ASSERT_NEAR(a.at("displacement")[i], b.at("displacement")[i], 1e-12);
+    }
+}
+
+// grains.restitution with local damping 0: the grains' dashpot dissipates (the ledger's
+// viscous share), local damping nothing, and the ledger still closes; restitution 1 has no
+// dashpot.
+TEST_F(Air, RestitutionIsThePhysicalDissipationWithoutLocalDamping) {
+    ASSERT_EQ(prep_.status, 0) << prep_.output;
+    const fs::path d = branch("restitution", "--set grains.restitution=0.5 --set simulation.local_damping=0");
+    const auto c = read_columns(d / "cycles.csv");
+    const auto e = read_columns(d / "energy.csv");
+    for (std::size_t k = 0; k < 2; ++k) {
+        EXPECT_GT(c.at("viscous_dissipation")[k], 0.0);
+        EXPECT_EQ(c.at("damping_dissipation")[k], 0.0);
+    }
+    const double work = e.at("boundary_work").back() + e.at("pressure_work").back();
+    std::printf("restitution 0.5: viscous %.4g J, friction %.4g J over 2 cycles; residual %.3g J of %.4g J work\n",
+                c.at("viscous_dissipation")[0] + c.at("viscous_dissipation")[1],
+                c.at("friction_dissipation")[0] + c.at("friction_dissipation")[1], e.at("residual").back(), work);
+    EXPECT_LT(std::abs(e.at("residual").back()), 1e-3 * std::abs(work) + 1e-9);
+    const auto plain = read_columns(scratch("constant") / "cycles.csv");
+    EXPECT_EQ(plain.at("viscous_dissipation")[0], 0.0);
+}
+
 TEST_F(Air, BadValuesAreRefusedNamingTheKey) {
     struct Case {
         const char* set;
@@ -211,6 +266,10 @@ TEST_F(Air, BadValuesAreRefusedNamingTheKey) {
         {"process.pressure_model=vacuum", "must be \"constant\" or \"pump\""},
         {"process.underpressure=2e5", "process.underpressure"},
         {"process.pressure_model=pump --set process.pump_down=true --set process.pump_speed=0", "process.pump_down"},
+        {"process.waveform=square", "must be \"triangle\" or \"sine\""},
+        {"process.frequency=-1", "process.frequency"},
+        {"grains.restitution=0", "grains.restitution"},
+        {"grains.restitution=1.5", "grains.restitution"},
     };
     for (const Case& k : cases) {
         const Outcome r = run("damper --out " + scratch("bad").string() + " " + kSmallDamper + " --set " + k.set);

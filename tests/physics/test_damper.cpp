@@ -436,7 +436,9 @@ TEST(DamperPreparation, SharedKeysLeaveThePreparedSampleBitwiseUnchanged) {
     EXPECT_EQ(prepare("shared", "--set grains.friction=0.2 --set damper.cap_friction=0.9 "
                                 "--set process.underpressure=0.02e6 --set process.velocity=0.05 "
                                 "--set process.cycles=3 --set output.energy=false "
-                                "--set analysis.settle_tolerance=0.1"),
+                                "--set analysis.settle_tolerance=0.1 --set grains.restitution=0.5 "
+                                "--set process.waveform=sine --set process.frequency=5 "
+                                "--set process.pressure_model=pump --set process.pump_speed=0"),
               base);
     EXPECT_NE(prepare("young", "--set grains.young=1e9"), base);
     fs::remove_all(d);
