@@ -193,6 +193,7 @@ private:
     uint32_t g0_ = 0, g1_ = 0;  // grain index range
     double z_top_ = 0;          // [m] top ring / cap height after preparation
     std::vector<uint32_t> top_ring_;
+    mutable double grain_volume_ = 0;  // [m^3] grain_volume()'s sum, once the grains are final
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
     std::chrono::steady_clock::time_point last_ckpt_ = start_;
     int vtk_count_ = 0;

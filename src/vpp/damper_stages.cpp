@@ -202,17 +202,21 @@ void DamperRun::stage_vacuum() {
 }
 
 double DamperRun::grain_volume() const {
-    double v = 0.0;
-    for (uint32_t i = g0_; i < g1_; ++i) {
-        const double r = w_.particles.radius[i];
-        v += r * r * r;
+    // Summed once: the grains are fixed after the preparation, and air_step asks every step.
+    if (grain_volume_ == 0.0) {
+        double v = 0.0;
+        for (uint32_t i = g0_; i < g1_; ++i) {
+            const double r = w_.particles.radius[i];
+            v += r * r * r;
+        }
+        grain_volume_ = 4.0 / 3.0 * std::numbers::pi * v;
     }
-    return 4.0 / 3.0 * std::numbers::pi * v;
+    return grain_volume_;
 }
 
 double DamperRun::lid_area() const {
     // The polygon of the top ring's particle centres (shoelace, projected on the cap's plane).
-    const std::vector<uint32_t> ring = L_.row(L_.rows - 1);
+    const std::vector<uint32_t>& ring = top_ring_;
     double a2 = 0.0;
     for (std::size_t k = 0; k < ring.size(); ++k) {
         const Vec3& p = w_.particles.pos[ring[k]];
