@@ -88,6 +88,10 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
     return c;
 }
 
+double cycling_local_damping(const Config& c) {
+    return c.process.local_damping < 0.0 ? c.simulation.local_damping : c.process.local_damping;
+}
+
 double cycle_period(const ProcessDef& p) {
     return p.frequency > 0.0 ? 1.0 / p.frequency : 2.0 * p.amplitude / p.velocity;
 }

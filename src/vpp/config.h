@@ -57,7 +57,12 @@ struct ProcessDef {
     // The stroke's shape (docs/damper.md, "Waveforms and frequency").
     int waveform = 0;                 // 0 "triangle" (the paper), 1 "sine"
     double frequency = 0.0;           // [Hz] cycles per second; 0: the period 2 A / v of velocity
+    // Local damping from the vacuum on: < 0 is "auto", simulation.local_damping throughout. A
+    // dynamic run keeps the preparation's damping (which brings the pour to rest) and cycles
+    // with 0 and grain restitution, from one prepared sample (docs/damper.md).
+    double local_damping = -1.0;      // [-] lambda after the preparation; < 0: simulation.local_damping
 };
+
 
 // The loading cycle's period [s]: 1 / frequency, or 2 A / v (the triangle at process.velocity).
 double cycle_period(const ProcessDef& p);
@@ -107,6 +112,10 @@ struct Config {
     // A run from a checkpoint takes the checkpoint's value of a key not given here.
     std::set<std::string> given;
 };
+
+// The local damping of the vacuum stage and the cycling [-]: process.local_damping, or when that
+// is "auto" simulation.local_damping (which the preparation always uses).
+double cycling_local_damping(const Config& c);
 
 // Defaults that differ between commands.
 struct CommandDefaults {

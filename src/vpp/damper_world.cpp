@@ -423,7 +423,7 @@ void DamperRun::apply_config_to_prepared() {
     const double kn = bond_normal_stiffness(c_.foil);
     for (std::size_t b = 0; b < w_.bonds().size(); ++b) w_.set_bond_stiffness(uint32_t(b), kn, c_.foil.stiffness_ratio * kn);
     w_.invalidate_contact_physics();
-    w_.params.local_damping = c_.simulation.local_damping;
+    w_.params.local_damping = cycling_local_damping(c_);  // the preparation ran with simulation.local_damping
     w_.params.threads = c_.simulation.threads;
     w_.params.skin = c_.simulation.skin;
     st_.settings = values_of(c_, kRunKeys);  // from now on the run is bound to these

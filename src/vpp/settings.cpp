@@ -71,7 +71,7 @@ const std::vector<Setting>& table() {
          .lo_open = true, .allowed = "must be in (0, 1] (1: no dashpot)", .acts = A::ContactPhysics,
          .shares_preparation = true, .run = 30, .summary = 32,
          .doc = "normal coefficient of restitution of grain contacts (a linear dashpot) from the vacuum on; the "
-                "physical dissipation of dynamic runs, with simulation.local_damping = 0 (docs/damper.md, "
+                "physical dissipation of dynamic runs, with process.local_damping = 0 (docs/damper.md, "
                 "\"Waveforms and frequency\"); the preparation has none",
          FIELD(grains.restitution), .legacy = 1.0},
         // [foil]
@@ -226,6 +226,30 @@ const std::vector<Setting>& table() {
          .shares_preparation = true, .run = 29, .summary = 31,
          .doc = "cycles per second; 0: the period is 2 process.amplitude / process.velocity (the triangle at that speed)",
          FIELD(process.frequency), .legacy = 0.0},
+        {.key = "process.local_damping", .type = T::RealOrAuto, .unit = "-", .def = Setting::kUnset,
+         .default_text = "\"auto\"", .check = C::Custom,
+         .allowed = "must be in [0, 1) or \"auto\" (simulation.local_damping)", .acts = A::Process,
+         .shares_preparation = true, .run = 31, .summary = 33,
+         .doc = "local damping from the vacuum on; \"auto\": simulation.local_damping throughout. 0 with "
+                "grains.restitution: a dynamic run from the usual preparation (docs/damper.md, \"Waveforms and "
+                "frequency\")",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+             const std::string k = short_key(r);
+             if (const toml::node* n = s.node(k)) {
+                 if (auto str = n->as_string()) {
+                     if (str->get() != "auto") s.fail(k, r.allowed);
+                     c.process.local_damping = -1.0;
+                 } else if (auto v = n->value<double>(); v && *v >= 0.0 && *v < 1.0) {
+                     c.process.local_damping = *v;
+                 } else {
+                     s.fail(k, r.allowed);
+                 }
+             }
+         },
+         // Recorded as the value in force (a run's summary and checkpoint say what it ran with);
+         // a checkpoint without the key ran with simulation.local_damping throughout.
+         .get = [](const Config& c) { return cycling_local_damping(c); },
+         .set = [](Config& c, double v) { c.process.local_damping = v; }, .legacy = -1.0},
         // [tension]: the tension command's strip.
         {.key = "tension.sites_along", .type = T::Integer, .unit = "", .def = 37, .check = C::AtLeast, .lo = 3,
          .allowed = "must be an integer >= 3", .acts = A::Geometry,
@@ -272,7 +296,8 @@ const std::vector<Setting>& table() {
          FIELD(simulation.dt_safety)},
         {.key = "simulation.local_damping", .type = T::Real, .unit = "-", .def = 0.2, .check = C::Range, .lo = 0.0,
          .hi = 1.0, .hi_open = true, .allowed = "must be in [0, 1)", .acts = A::Simulation, .run = 18, .summary = 20,
-         .doc = "Yade-style non-viscous damping", FIELD(simulation.local_damping)},
+         .doc = "Yade-style non-viscous damping: the preparation's, and the run's unless process.local_damping "
+                "is given", FIELD(simulation.local_damping)},
         {.key = "simulation.threads", .type = T::Integer, .unit = "", .def = 0, .def_foil = 1, .check = C::Custom,
          .allowed = "must be an integer 1..1024, or 0 for the default (the free cores)", .acts = A::Simulation,
          .shares_preparation = true, .summary = 21,

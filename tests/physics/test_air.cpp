@@ -255,6 +255,28 @@ TEST_F(Air, RestitutionIsThePhysicalDissipationWithoutLocalDamping) {
     EXPECT_EQ(plain.at("viscous_dissipation")[0], 0.0);
 }
 
+// process.local_damping acts from the vacuum on: 0 there is simulation.local_damping = 0 in a
+// run from the prepared sample, and a whole run with it prepares as the default does (the pour
+// needs the damping to come to rest), so that a dynamic case shares the usual preparation.
+TEST_F(Air, LocalDampingFromTheVacuumOnKeepsThePreparation) {
+    ASSERT_EQ(prep_.status, 0) << prep_.output;
+    const std::string dyn = "--set grains.restitution=0.5 ";
+    const fs::path by_sim = branch("ld_simulation", dyn + "--set simulation.local_damping=0");
+    const fs::path by_proc = branch("ld_process", dyn + "--set process.local_damping=0");
+    EXPECT_EQ(slurp(by_proc / "forces.csv"), slurp(by_sim / "forces.csv"));
+    EXPECT_EQ(slurp(by_proc / "energy.csv"), slurp(by_sim / "energy.csv"));
+    const auto c = read_columns(by_proc / "cycles.csv");
+    EXPECT_EQ(c.at("damping_dissipation")[0], 0.0);
+    EXPECT_GT(c.at("viscous_dissipation")[0], 0.0);
+    // The whole run: preparation with simulation.local_damping (0.2), then 0 from the vacuum on.
+    const fs::path whole = scratch("ld_whole");
+    const Outcome r = run("damper --out " + whole.string() + " " + kSmallDamper + " " + dyn +
+                          "--set process.local_damping=0 --no-plot --quiet");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(slurp(whole / "forces.csv"), slurp(by_proc / "forces.csv"));
+    EXPECT_NE(slurp(whole / "summary.json").find("\"process.local_damping\": 0"), std::string::npos);
+}
+
 TEST_F(Air, BadValuesAreRefusedNamingTheKey) {
     struct Case {
         const char* set;
@@ -270,6 +292,9 @@ TEST_F(Air, BadValuesAreRefusedNamingTheKey) {
         {"process.frequency=-1", "process.frequency"},
         {"grains.restitution=0", "grains.restitution"},
         {"grains.restitution=1.5", "grains.restitution"},
+        {"process.local_damping=1", "process.local_damping"},
+        {"process.local_damping=-0.1", "process.local_damping"},
+        {"process.local_damping=none", "process.local_damping"},
     };
     for (const Case& k : cases) {
         const Outcome r = run("damper --out " + scratch("bad").string() + " " + kSmallDamper + " --set " + k.set);
