@@ -38,12 +38,27 @@ struct DamperOptions {
     std::function<void(const char* stage, uint64_t done, uint64_t total, double time)> progress;
 };
 
+// The air over one cycle (pump model or output.air; summary.json "air"): what the testing
+// machine sees, grains + foil + the lid's -dp A (forces.csv force_machine_zeroed), and the
+// underpressure's excursion. With a constant dp the lid adds a constant and W_machine is W.
+struct AirCycle {
+    int cycle = 0;
+    double W_machine = 0;           // [J/m^2] loop area of force_machine_zeroed / (pi radius^2)
+    double peak_force_machine = 0;  // [N] largest force_machine_zeroed in the cycle
+    double min_force_machine = 0;   // [N] smallest force_machine_zeroed in the cycle
+    double underpressure_min = 0;   // [Pa] smallest dp at a sample of the cycle
+    double underpressure_max = 0;   // [Pa] largest dp at a sample of the cycle
+    double gas_volume_min = 0;      // [m^3]
+    double gas_volume_max = 0;      // [m^3]
+};
+
 struct DamperResult {
     std::size_t grains = 0, foil_particles = 0, bonds = 0;
     int foil_columns = 0, foil_rows = 0;
     double foil_radius = 0, height = 0, dt = 0;
     double inertial_number = 0;
     std::vector<CycleResult> cycles;  // with the stationarity flag (settled) of each
+    std::vector<AirCycle> air;        // per cycle, when the run recorded the air (else empty)
     Settling settling;                // analysis.settle_tolerance applied to the cycles' W
     // The preparation and the start of cycling as measured ("prepare.cap_force",
     // "cycle.packing_fraction", ...; summary.json "preparation", "start_of_cycling").

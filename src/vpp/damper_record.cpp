@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -327,6 +328,28 @@ DamperResult DamperRun::result() const {
         }
     }
     r.settling = mark_settled(r.cycles, c_.analysis.settle_tolerance);
+    if (air_complete(st_)) {
+        // The machine's loop: forces.csv's force_machine_zeroed through the same analysis.
+        const double m0 = ls.force[0] - st_.air[0].dp * st_.air[0].lid_area;
+        for (std::size_t k = 0; k < st_.air.size(); ++k) ls.force[k] += -st_.air[k].dp * st_.air[k].lid_area - m0;
+        for (const CycleResult& m : analyze_cycles(ls, c_.damper.radius)) {
+            AirCycle a;
+            a.cycle = m.cycle;
+            a.W_machine = m.W;
+            a.peak_force_machine = m.peak_force;
+            a.min_force_machine = m.min_force;
+            a.underpressure_min = a.gas_volume_min = std::numeric_limits<double>::infinity();
+            a.underpressure_max = a.gas_volume_max = -std::numeric_limits<double>::infinity();
+            for (std::size_t k = 0; k < st_.air.size(); ++k) {
+                if (ls.cycle[k] != m.cycle) continue;
+                a.underpressure_min = std::min(a.underpressure_min, st_.air[k].dp);
+                a.underpressure_max = std::max(a.underpressure_max, st_.air[k].dp);
+                a.gas_volume_min = std::min(a.gas_volume_min, st_.air[k].gas);
+                a.gas_volume_max = std::max(a.gas_volume_max, st_.air[k].gas);
+            }
+            r.air.push_back(a);
+        }
+    }
     r.report = st_.report;
     r.warnings = st_.warnings;
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
@@ -432,8 +455,25 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
         .num("settle_slope_limit", r.settling.slope_limit)
         .num("inner_radius", r.foil_radius - c.foil.particle_radius)
         .raw("preparation", report_json("prepare."))
-        .raw("start_of_cycling", report_json("cycle."))
-        .raw("warnings", dem::json_string_array(r.warnings))
+        .raw("start_of_cycling", report_json("cycle."));
+    if (!r.air.empty()) {
+        std::string air_cycles = "[";
+        for (std::size_t k = 0; k < r.air.size(); ++k) {
+            const AirCycle& a = r.air[k];
+            dem::JsonObject o;
+            o.num("cycle", a.cycle).num("W_machine", a.W_machine).num("peak_force_machine", a.peak_force_machine)
+                .num("min_force_machine", a.min_force_machine).num("underpressure_min", a.underpressure_min)
+                .num("underpressure_max", a.underpressure_max).num("gas_volume_min", a.gas_volume_min)
+                .num("gas_volume_max", a.gas_volume_max);
+            air_cycles += (k ? ", " : "") + o.value();
+        }
+        dem::JsonObject air;
+        air.str("pressure_model", c.process.pressure_model == 0 ? "constant" : "pump")
+            .num("underpressure_set", c.process.underpressure)
+            .raw("cycles", air_cycles + "]");
+        j.raw("air", air.value());
+    }
+    j.raw("warnings", dem::json_string_array(r.warnings))
         .num("run_seconds", r.run_seconds)
         .str("from", from);
     return j.text();

@@ -12,6 +12,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "cli_helpers.h"
 #include "dem/core/world.h"
 #include "vpp/foil.h"
@@ -177,6 +179,36 @@ TEST_F(Air, ASlowPumpLetsTheUnderpressureSwing) {
     EXPECT_LT(lo, 0.06e6 - 1000.0);
     EXPECT_GT(hi, 0.06e6 + 100.0);
     EXPECT_NE(slurp(d / "cycles.csv"), slurp(scratch("constant") / "cycles.csv"));
+    // summary.json "air": per cycle the machine's loop (force_machine_zeroed through `analyze`)
+    // and the underpressure's range over the samples.
+    const auto air = nlohmann::json::parse(slurp(d / "summary.json")).at("air");
+    EXPECT_EQ(air.at("pressure_model"), "pump");
+    const fs::path an = scratch("slow_pump_loops.csv");
+    const Outcome r = run("analyze " + (d / "forces.csv").string() + " --force-column force_machine_zeroed --out " +
+                          an.string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const auto loops = read_columns(an);
+    ASSERT_EQ(air.at("cycles").size(), 2u);
+    for (std::size_t k = 0; k < 2; ++k) {
+        const auto& a = air.at("cycles")[k];
+        EXPECT_NEAR(a.at("W_machine").get<double>() / loops.at("W")[k], 1.0, 1e-5);  // analyze prints 6 digits
+        EXPECT_NEAR(a.at("peak_force_machine").get<double>() / loops.at("peak_force")[k], 1.0, 1e-5);
+        const std::size_t n = c.at("cycle").size();
+        double lo_k = 1e300, hi_k = -1e300;
+        for (std::size_t i = 0; i < n; ++i)
+            if (c.at("cycle")[i] == double(k + 1)) lo_k = std::min(lo_k, dp[i]), hi_k = std::max(hi_k, dp[i]);
+        EXPECT_EQ(a.at("underpressure_min").get<double>(), lo_k);
+        EXPECT_EQ(a.at("underpressure_max").get<double>(), hi_k);
+    }
+    // With the constant model the lid adds a constant: the machine's loop is the grains' and foil's.
+    const auto still = nlohmann::json::parse(slurp(fs::path(branch("slow_pump_twin", "--set output.air=true")) / "summary.json"));
+    for (std::size_t k = 0; k < 2; ++k) {
+        const auto& a = still.at("air").at("cycles")[k];
+        EXPECT_NEAR(a.at("W_machine").get<double>() / still.at("cycles")[k].at("W").get<double>(), 1.0, 1e-9);
+        EXPECT_EQ(a.at("underpressure_min").get<double>(), 0.06e6);
+        EXPECT_EQ(a.at("underpressure_max").get<double>(), 0.06e6);
+    }
+    EXPECT_FALSE(nlohmann::json::parse(slurp(scratch("constant") / "summary.json")).contains("air"));
 }
 
 // process.pump_down: the vacuum stage draws the gas down from the atmosphere with the pump,
