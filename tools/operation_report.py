@@ -97,6 +97,17 @@ def read_csv(path):
     return cols
 
 
+def save(fig, docs, name):
+    """Writes the figure to DOCS/NAME through a temporary name; returns NAME."""
+    import matplotlib.pyplot as plt
+    fig.tight_layout()
+    p = os.path.join(docs, name)
+    fig.savefig(p + ".part.png", dpi=110)
+    os.replace(p + ".part.png", p)
+    plt.close(fig)
+    return name
+
+
 def figures(pump, const, docs, waveforms, freqs):
     import matplotlib
     matplotlib.use("Agg")
@@ -139,12 +150,7 @@ def figures(pump, const, docs, waveforms, freqs):
     ax[2].legend(fontsize=8)
     fig.suptitle(f"The damper with a 2 m$^3$/h pump, 0.06 MPa: mean and 95% interval over the seeds ({COMMAND})",
                  fontsize=9)
-    fig.tight_layout()
-    p = os.path.join(docs, "operation_frequency.png")
-    fig.savefig(p + ".part.png", dpi=110)
-    os.replace(p + ".part.png", p)
-    plt.close(fig)
-    out.append("operation_frequency.png")
+    out.append(save(fig, docs, "operation_frequency.png"))
 
     # The onset of compression: the last cycle's loop, pump against constant, seed 1.
     shown = [(w, f) for f in (20.0, 10.0) for w in waveforms
@@ -166,12 +172,7 @@ def figures(pump, const, docs, waveforms, freqs):
         ax[1][0].set_ylabel("underpressure [kPa]")
         ax[0][0].legend(fontsize=8)
         fig.suptitle(f"Where the pump falls behind: the loop and dp ({COMMAND})", fontsize=9)
-        fig.tight_layout()
-        p = os.path.join(docs, "operation_onset.png")
-        fig.savefig(p + ".part.png", dpi=110)
-        os.replace(p + ".part.png", p)
-        plt.close(fig)
-        out.append("operation_onset.png")
+        out.append(save(fig, docs, "operation_onset.png"))
     return out
 
 
