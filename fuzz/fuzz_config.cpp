@@ -9,6 +9,6 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     const std::string path = fuzz::write_file("config.toml", fuzz::as_text(data, size));
-    fuzz::expect_only_reader_errors([&] { vpp::load_config(path, {}, vpp::damper_command_defaults()); });
+    fuzz::expect_only_reader_errors([&] { vpp::load_config(path, {}); });
     return 0;
 }

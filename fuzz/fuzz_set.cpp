@@ -18,6 +18,6 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
         if (b > a) sets.emplace_back(text.substr(a, b - a));
         a = b + 1;
     }
-    fuzz::expect_only_reader_errors([&] { vpp::load_config("", sets, vpp::damper_command_defaults()); });
+    fuzz::expect_only_reader_errors([&] { vpp::load_config("", sets); });
     return 0;
 }

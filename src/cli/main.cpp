@@ -210,16 +210,16 @@ int main(int argc, char** argv) {
             if (bench_threads->count() == 0) bo.threads = scene::default_threads();
             scene::run_bench(bo);
         } else if (*tension.app) {
-            const vpp::Config c = vpp::load_config(tension.config, tension.sets, vpp::foil_command_defaults());
+            const vpp::Config c = vpp::load_config(tension.config, tension.sets, vpp::CommandSet::Foil);
             // Held until the command ends: one run at a time writes into a folder.
             const dem::FolderLock lock = scene::prepare_output_dir(tension.out, tension.overwrite);
             vpp::run_tension(c, tension.out, tension.quiet);
         } else if (*envelope.app) {
-            const vpp::Config c = vpp::load_config(envelope.config, envelope.sets, vpp::foil_command_defaults());
+            const vpp::Config c = vpp::load_config(envelope.config, envelope.sets, vpp::CommandSet::Foil);
             const dem::FolderLock lock = scene::prepare_output_dir(envelope.out, envelope.overwrite);
             vpp::run_envelope(c, envelope.out, envelope.quiet);
         } else if (*damper.app) {
-            const vpp::Config c = vpp::load_config(damper.config, damper.sets, vpp::damper_command_defaults());
+            const vpp::Config c = vpp::load_config(damper.config, damper.sets);
             vpp::DamperOptions o;
             o.out_dir = damper.out;
             o.from = from;

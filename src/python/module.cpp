@@ -202,7 +202,7 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "load_config",
         [](const std::string& path, const std::vector<std::string>& sets) {
-            return vpp::load_config(path, sets, vpp::damper_command_defaults());
+            return vpp::load_config(path, sets);
         },
         py::arg("path") = "", py::arg("sets") = std::vector<std::string>{},
         "Reads a damper config (empty path: defaults) with key=value overrides, as `vppdem damper --set`");

@@ -212,7 +212,7 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             std::vector<std::string> sets = s.set;
             sets.push_back(pred.key + "=" + lit);
             try {
-                load_config(s.base, sets, damper_command_defaults());
+                load_config(s.base, sets);
             } catch (const std::exception& e) {
                 throw cfg::ConfigError("--predict '" + opt.predict + "': " + e.what());
             }

@@ -29,14 +29,14 @@ constexpr int64_t kMaxExactInteger = int64_t(1) << 53;
 std::string section_of(const std::string& key) { return key.substr(0, key.find('.')); }
 
 // Reads a key whose row needs no reader of its own: the type, the table's default and check.
-void read_generic(Section& s, const Setting& row, Config& c) {
+void read_generic(Section& s, const Setting& row, Config& c, CommandSet commands) {
     const std::string key = std::string(row.key).substr(std::string(row.key).find('.') + 1);
     switch (row.type) {
     case SettingType::Real:
-        row.set(c, cfg::check_real(s, key, s.number(key, row.def), row.limits()));
+        row.set(c, cfg::check_real(s, key, s.number(key, row.default_for(commands)), row.limits()));
         return;
     case SettingType::Integer: {
-        const int64_t v = cfg::check_integer(s, key, s.integer(key, int64_t(row.def)), row.limits());
+        const int64_t v = cfg::check_integer(s, key, s.integer(key, int64_t(row.default_for(commands))), row.limits());
         // The table carries every value as a double (Setting::set, the checkpoints, summary.json):
         // a larger integer would come back another number, or overflow the conversion back to
         // int64_t (undefined behaviour; fuzz/regressions/config).
@@ -46,31 +46,26 @@ void read_generic(Section& s, const Setting& row, Config& c) {
         return;
     }
     case SettingType::Boolean:
-        row.set(c, s.boolean(key, row.def != 0.0) ? 1.0 : 0.0);
+        row.set(c, s.boolean(key, row.default_for(commands) != 0.0) ? 1.0 : 0.0);
         return;
     default:
         throw std::logic_error(std::string("settings: ") + row.key + " needs a reader of its own");
     }
 }
 
-}  // namespace
-
-Config load_config(const std::string& path, const std::vector<std::string>& overrides,
-                   const CommandDefaults& defaults) {
-    const toml::table root = cfg::load(path, overrides);
+// Reads every key of the table, section by section as the table lists them, from the file into
+// c; a key the file does not give takes the table's default for these commands (every row's
+// reader sets its field either way, so this also makes a Config from nothing).
+void read_table(const toml::table& root, CommandSet commands, Config& c) {
     Section top(&root, "");
-    Config c;
-    collect_keys(root, "", c.given);
-
-    // Section by section, key by key, as the settings table lists them (vpp/settings.cpp).
     const std::vector<Setting>& rows = settings();
     for (std::size_t i = 0; i < rows.size();) {
         const std::string section = section_of(rows[i].key);
         Section s = top.table(section);
         for (; i < rows.size() && section_of(rows[i].key) == section; ++i) {
             const Setting& row = rows[i];
-            if (row.read) row.read(s, row, c, defaults);
-            else read_generic(s, row, c);
+            if (row.read) row.read(s, row, c, commands);
+            else read_generic(s, row, c, commands);
         }
         if (section == "damper") {
             // The foil must close around at least a few of its own particles.
@@ -83,8 +78,18 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
             s.fail("pump_down", "must be false when process.pump_speed is 0 (a pump-down needs a pump)");
         s.finish();
     }
-
     top.finish();
+}
+
+}  // namespace
+
+Config::Config(CommandSet commands) { read_table(toml::table{}, commands, *this); }
+
+Config load_config(const std::string& path, const std::vector<std::string>& overrides, CommandSet commands) {
+    const toml::table root = cfg::load(path, overrides);
+    Config c(commands);
+    collect_keys(root, "", c.given);
+    read_table(root, commands, c);
     return c;
 }
 

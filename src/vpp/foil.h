@@ -17,12 +17,12 @@
 namespace vpp {
 
 struct FoilDef {
-    double young = 122.18e6;            // [Pa] E_f, the real foil
-    double thickness = 0.15e-3;         // [m] t_f, the real foil
-    double particle_radius = 2.965e-3 / 3.0;  // [m] r_f
-    double density = 151.77;            // [kg/m^3] foil particle density (paper)
-    double friction = 0.0;              // [-] foil particles are frictionless
-    double stiffness_ratio = 0.5;       // [-] ks/kn of bonds and foil contacts
+    double young{};               // [Pa] E_f, the real foil
+    double thickness{};           // [m] t_f, the real foil
+    double particle_radius{};     // [m] r_f
+    double density{};             // [kg/m^3] foil particle density (paper)
+    double friction{};            // [-] foil particles are frictionless
+    double stiffness_ratio{};     // [-] ks/kn of bonds and foil contacts
 };
 
 // E_s = 2 E_f t_f / (2 r_f) [Pa]: only every second chain carries load (factor 2) and the

@@ -7,6 +7,7 @@
 #include "scene/config.h"
 #include "scene/scene_settings.h"
 #include "scene/threads.h"
+#include "vpp/study_file.h"
 
 namespace vpp {
 
@@ -84,7 +85,7 @@ const std::vector<Setting>& table() {
         {.key = "foil.particle_radius", .type = T::Real, .unit = "m", .def = Setting::kUnset,
          .default_text = "grains.radius/3", .check = C::Positive, .acts = A::Geometry, .geometry = 4, .summary = 9,
          .doc = "r_f, radius of the foil particles",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
              const std::string k = short_key(r);
              c.foil.particle_radius = s.positive(k, s.number(k, c.grains.radius / 3.0));
          },
@@ -107,7 +108,7 @@ const std::vector<Setting>& table() {
         {.key = "damper.cap_friction", .type = T::Real, .unit = "-", .def = Setting::kUnset,
          .default_text = "grains.friction", .check = C::Custom, .allowed = "must be >= 0", .acts = A::ContactPhysics,
          .shares_preparation = true, .run = 8, .doc = "grain-cap friction",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
              const std::string k = short_key(r);
              c.damper.cap_friction = s.number(k, -1.0);  // < 0: the grains' friction
              if (s.has(k) && !(c.damper.cap_friction >= 0.0)) s.fail(k, r.allowed);
@@ -127,9 +128,9 @@ const std::vector<Setting>& table() {
          .doc = "dp = atmospheric minus inside pressure (a perfect vacuum at most)",
          // A negative dp would blow the foil up, and NaN or inf would run to the end with NaN forces;
          // an integer is taken too, and a non-number gets the range's message.
-         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults& d) {
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet commands) {
              const std::string k = short_key(r);
-             c.process.underpressure = d.underpressure;
+             c.process.underpressure = r.default_for(commands);
              if (const toml::node* n = s.node(k)) {
                  const auto v = n->value<double>();
                  if (!v || !(*v >= r.lo && *v <= r.hi)) s.fail(k, r.allowed);
@@ -156,7 +157,7 @@ const std::vector<Setting>& table() {
          .default_text = "\"compression\"", .check = C::Custom, .allowed = "must be \"compression\" or \"extension\"",
          .acts = A::Process, .shares_preparation = true, .run = 14,
          .doc = "\"compression\": down first; \"extension\": up first",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
              const std::string k = short_key(r);
              const std::string dir = s.string(k, "compression");
              if (dir != "compression" && dir != "extension") s.fail(k, r.allowed);
@@ -179,7 +180,7 @@ const std::vector<Setting>& table() {
          .doc = "\"constant\": dp held at process.underpressure (the paper); \"pump\": the air inside as an "
                 "isothermal gas in the foil's pores, drawn by a pump through a regulator set to process.underpressure, "
                 "with a leak (docs/damper.md, \"The air inside\")",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
              const std::string k = short_key(r);
              const std::string m = s.string(k, "constant");
              if (m != "constant" && m != "pump") s.fail(k, r.allowed);
@@ -214,7 +215,7 @@ const std::vector<Setting>& table() {
          .acts = A::Process, .shares_preparation = true, .run = 28, .summary = 30,
          .doc = "the stroke's shape: \"triangle\" (constant speed, the paper) or \"sine\" (d = A (1 - cos 2 pi t / T) / "
                 "2, peak speed pi A / T), period T from process.frequency or process.velocity",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
              const std::string k = short_key(r);
              const std::string w = s.string(k, "triangle");
              if (w != "triangle" && w != "sine") s.fail(k, r.allowed);
@@ -233,12 +234,12 @@ const std::vector<Setting>& table() {
          .doc = "local damping from the vacuum on; \"auto\": simulation.local_damping throughout. 0 with "
                 "grains.restitution: a dynamic run from the usual preparation (docs/damper.md, \"Waveforms and "
                 "frequency\")",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
              const std::string k = short_key(r);
+             c.process.local_damping = -1.0;  // the default, "auto"
              if (const toml::node* n = s.node(k)) {
                  if (auto str = n->as_string()) {
                      if (str->get() != "auto") s.fail(k, r.allowed);
-                     c.process.local_damping = -1.0;
                  } else if (auto v = n->value<double>(); v && *v >= 0.0 && *v < 1.0) {
                      c.process.local_damping = *v;
                  } else {
@@ -267,8 +268,10 @@ const std::vector<Setting>& table() {
         {.key = "simulation.dt", .type = T::RealOrAuto, .unit = "s", .def = Setting::kUnset, .default_text = "\"auto\"",
          .check = C::Custom, .allowed = "must be a time step in seconds (> 0) or \"auto\"", .acts = A::Simulation,
          .run = 19, .doc = "a fixed time step, or \"auto\": simulation.dt_safety times the critical step",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
              const std::string k = short_key(r);
+             c.simulation.dt_auto = true;  // the default, "auto"
+             c.simulation.dt = 0.0;
              if (const toml::node* n = s.node(k)) {
                  if (auto str = n->as_string()) {
                      if (str->get() != "auto") s.fail(k, r.allowed);
@@ -288,9 +291,9 @@ const std::vector<Setting>& table() {
         {.key = "simulation.dt_safety", .type = T::Real, .unit = "-", .def = 0.45, .def_foil = 0.3, .check = C::Range,
          .lo = 0.0, .hi = 1.0, .lo_open = true, .allowed = "must be in (0, 1]", .acts = A::Simulation, .run = 20,
          .doc = "dt = safety * min sqrt(m/k) when simulation.dt is \"auto\"",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults& d) {
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet commands) {
              const std::string k = short_key(r);
-             c.simulation.dt_safety = s.number(k, d.dt_safety);
+             c.simulation.dt_safety = s.number(k, r.default_for(commands));
              if (!(c.simulation.dt_safety > r.lo && c.simulation.dt_safety <= r.hi)) s.fail(k, r.allowed);
          },
          FIELD(simulation.dt_safety)},
@@ -302,9 +305,9 @@ const std::vector<Setting>& table() {
          .allowed = "must be an integer 1..1024, or 0 for the default (the free cores)", .acts = A::Simulation,
          .shares_preparation = true, .summary = 21,
          .doc = "threads of a run; 0: the free cores (src/scene/threads.h). Results do not depend on it",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults& d) {
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet commands) {
              const std::string k = short_key(r);
-             const int64_t th = s.integer(k, d.threads);
+             const int64_t th = s.integer(k, int64_t(r.default_for(commands)));
              if (th < 0 || th > 1024) s.fail(k, r.allowed);
              // 0: the free cores (scene/threads.h), measured only when asked for.
              c.simulation.threads = th == 0 ? scene::default_threads() : int(th);
@@ -314,9 +317,9 @@ const std::vector<Setting>& table() {
          .allowed = "must be an integer >= 0", .acts = A::Geometry, .geometry = 8, .summary = 22,
          .doc = "grain placement (the lattice's jitter)",
          // Its own reader: a seed is an unsigned 64-bit integer, more than a double holds exactly.
-         .read = [](cfg::Section& s, const Setting& r, Config& c, const CommandDefaults&) {
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
              const std::string k = short_key(r);
-             const int64_t seed = s.integer(k, int64_t(c.simulation.seed));
+             const int64_t seed = s.integer(k, int64_t(r.def));
              if (seed < 0) s.fail(k, r.allowed);
              c.simulation.seed = uint64_t(seed);
          },
@@ -393,22 +396,6 @@ bool may_share_preparation(const std::string& key) {
     return any;
 }
 
-namespace {
-CommandDefaults defaults_from_table(bool foil) {
-    auto value = [&](const char* key) {
-        const Setting& s = *find_setting(key);
-        return foil && !std::isnan(s.def_foil) ? s.def_foil : s.def;
-    };
-    CommandDefaults d;
-    d.underpressure = value("process.underpressure");
-    d.dt_safety = value("simulation.dt_safety");
-    d.threads = int(value("simulation.threads"));
-    return d;
-}
-}  // namespace
-
-CommandDefaults damper_command_defaults() { return defaults_from_table(false); }
-CommandDefaults foil_command_defaults() { return defaults_from_table(true); }
 
 const char* acts_name(Acts a) {
     switch (a) {
@@ -425,9 +412,11 @@ const char* acts_name(Acts a) {
 std::string config_reference_markdown() {
     std::string md =
         "# Config reference\n\n"
-        "<!-- Generated from the settings tables (src/vpp/settings.cpp, src/scene/scene_settings.cpp) by\n"
+        "<!-- Generated from the settings tables (src/vpp/settings.cpp, src/vpp/study_file.cpp,\n"
+        "     src/scene/scene_settings.cpp) by\n"
         "     `vppdem config-reference`; do not edit: build/vppdem config-reference > docs/config.md -->\n\n"
         "- [VPP commands](#vpp-commands): damper, sweep, calibrate, tension, envelope\n"
+        "- [Study files](#study-files): the top-level keys of `vppdem sweep`'s study file\n"
         "- [`vppdem scene`](#vppdem-scene): generic DEM scenes (docs/scene.md)\n\n"
         "## VPP commands\n\n"
         "Every key of the config of the VPP commands (damper, sweep, calibrate, tension, envelope), in a file\n"
@@ -458,7 +447,9 @@ std::string config_reference_markdown() {
               acts_name(s.acts) + " | " + (s.shares_preparation ? "yes" : "no") + " | " + recorded + " | " +
               cfg::markdown_cell(s.doc) + " |\n";
     }
-    // The generic scene runner's keys, from its own table (scene/scene_settings.cpp).
+    // The study file's keys (vpp/study_file.cpp), then the generic scene runner's, each from its
+    // own table (scene/scene_settings.cpp).
+    md += "\n" + study_reference_markdown();
     md += "\n" + scene::scene_reference_markdown();
     return md;
 }

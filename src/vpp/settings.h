@@ -1,7 +1,7 @@
 // The damper's settings table: every config key of the VPP commands (damper, sweep, calibrate,
 // tension, envelope) described once, with its type, default, unit, allowed range, what it acts
 // on and whether cases of a study may share a preparation across it. The config reader
-// (vpp/config.cpp), the range messages, the study's sharing rule (vpp/study.cpp), what a damper
+// (vpp/config.cpp), the range messages, the study's sharing rule (vpp/study_file.cpp), what a damper
 // run records in its checkpoints and summary.json (vpp/damper.cpp) and docs/config.md
 // (`vppdem config-reference`) all come from it, so a key cannot be documented one way and read
 // another.
@@ -44,7 +44,7 @@ struct Setting {
     const char* allowed = "";  // what is allowed, as the error message says it ("must be ...")
     Acts acts;
     // Cases of a study that differ only in keys with this flag share one preparation: the key
-    // does not act before prepared.ckpt (vpp/study.cpp).
+    // does not act before prepared.ckpt (vpp/study_file.cpp).
     bool shares_preparation = false;
     int geometry = 0;  // position among the sample's geometry in the checkpoints (0: not there)
     int run = 0;       // position among the settings a started run keeps when resumed (0: not there)
@@ -52,7 +52,7 @@ struct Setting {
     const char* doc;
     // Reads the key from its section into the config; nullptr: the generic reader of the type
     // and check (vpp/config.cpp).
-    void (*read)(cfg::Section&, const Setting&, Config&, const CommandDefaults&) = nullptr;
+    void (*read)(cfg::Section&, const Setting&, Config&, CommandSet) = nullptr;
     double (*get)(const Config&);   // the value as a number (flags 0/1, "auto" dt 0, ...)
     void (*set)(Config&, double);
     // The value a checkpoint of an older vppdem, which did not store this key, was made with
@@ -60,6 +60,8 @@ struct Setting {
     double legacy = kUnset;
 
     cfg::Limits limits() const { return {check, lo, hi, lo_open, hi_open, allowed}; }
+    // The default for these commands (def_foil where the foil's checks have their own).
+    double default_for(CommandSet k) const { return k == CommandSet::Foil && def_foil == def_foil ? def_foil : def; }
 };
 
 // The table, in the order the config reader reads the keys (section by section).
@@ -74,10 +76,6 @@ std::vector<Setting> summary_inputs();
 // Whether cases that differ in this key may share a preparation. A key not in the table is
 // treated like its section when every key of the section may share (process, output, analysis).
 bool may_share_preparation(const std::string& key);
-
-// The defaults that differ between commands, from the table.
-CommandDefaults damper_command_defaults();  // damper, sweep, calibrate
-CommandDefaults foil_command_defaults();    // tension, envelope
 
 const char* acts_name(Acts a);
 

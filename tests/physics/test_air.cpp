@@ -16,6 +16,7 @@
 
 #include "cli_helpers.h"
 #include "dem/core/world.h"
+#include "vpp/config.h"
 #include "vpp/foil.h"
 
 namespace fs = std::filesystem;
@@ -53,7 +54,7 @@ double prism_volume(const vpp::FoilLattice& L) {
 
 TEST(AirVolume, EnclosedVolumeOfTheCylinderLattice) {
     dem::World w;
-    const vpp::FoilDef f;
+    const vpp::FoilDef f = vpp::Config().foil;  // the table's (the paper's) foil
     const vpp::FoilLattice L = vpp::build_cylinder(w, f, 0.0255, 0.100);
     const double v = vpp::enclosed_volume(L, w.particles.pos);
     std::printf("lattice %d x %d: enclosed %.10g m^3, prism %.10g m^3, circular cylinder %.10g m^3\n", L.cols, L.rows,

@@ -14,12 +14,12 @@
 using dem::Vec3;
 
 namespace {
-vpp::Config defaults() { return vpp::load_config("", {}, {0.01e6}); }
+vpp::Config defaults() { return vpp::Config(vpp::CommandSet::Foil); }
 }  // namespace
 
 TEST(Foil, ParticleModulusIsThePapersValue) {
     // E_s = 2 E_f t_f / (2 r_f) with the paper's numbers; the paper prints 18.545 MPa (rounded r_f).
-    const vpp::FoilDef f;
+    const vpp::FoilDef f = vpp::Config().foil;  // the table's (the paper's) foil
     EXPECT_NEAR(vpp::particle_modulus(f), 18.545e6, 0.0005 * 18.545e6);
     // kn = 2 E_s r_f = 2 E_f t_f = 36.65 kN/m (spec section 4).
     EXPECT_NEAR(vpp::bond_normal_stiffness(f), 2.0 * f.young * f.thickness, 1e-9);
@@ -36,7 +36,7 @@ TEST(Foil, StripTensileStiffnessMatchesRealFoil) {
 TEST(Foil, CylinderChoosesEvenColumnsAndOddRows) {
     // Paper: 82 sites around (80 is the other candidate), about 51 rings, about 3150 particles.
     dem::World w;
-    const vpp::FoilDef f;
+    const vpp::FoilDef f = vpp::Config().foil;  // the table's (the paper's) foil
     const vpp::FoilLattice L = vpp::build_cylinder(w, f, 0.0255, 0.100);
     EXPECT_EQ(L.cols, 82);
     EXPECT_EQ(L.rows, 51);
@@ -52,7 +52,7 @@ TEST(Foil, CylinderChoosesEvenColumnsAndOddRows) {
 
 TEST(Foil, TributaryAreasSumToLateralAreaAndCancel) {
     dem::World w;
-    const vpp::FoilDef f;
+    const vpp::FoilDef f = vpp::Config().foil;  // the table's (the paper's) foil
     const vpp::FoilLattice L = vpp::build_cylinder(w, f, 0.0255, 0.100);
     const auto nodes = vpp::cylinder_pressure_nodes(L);
     double sum_abs = 0;
@@ -76,7 +76,7 @@ TEST(Foil, HoopStrainUnderInternalPressure) {
     // Capped cylinder (end rings fixed), internal overpressure p: hoop strain p R / (E_f t_f)
     // at mid-height within 10% (membrane theory; the lattice has no Poisson coupling).
     dem::World w;
-    const vpp::FoilDef f;
+    const vpp::FoilDef f = vpp::Config().foil;  // the table's (the paper's) foil
     vpp::FoilLattice L = vpp::build_cylinder(w, f, 0.0255, 0.04);
     for (int k : {0, L.rows - 1})
         for (uint32_t i : L.row(k)) w.set_fixed(i);
@@ -136,7 +136,7 @@ TEST(Foil, BondNetworkConservesEnergyWithoutDamping) {
     // when stretched far.
     dem::World w;
     w.params.gravity = {0, 0, 0};
-    vpp::FoilDef f;
+    vpp::FoilDef f = vpp::Config().foil;
     vpp::FoilLattice L = vpp::build_strip(w, f, 6, 9);
     std::mt19937 rng(3);
     std::uniform_real_distribution<double> u(-1.0, 1.0);
@@ -159,7 +159,6 @@ TEST(Foil, BondNetworkConservesEnergyWithoutDamping) {
     };
     w.compute_forces();
     const double e0 = energy();
-    const std::size_t bonds = w.bonds().size();
     double emin = e0, emax = e0;
     for (int s = 0; s < 100000; ++s) {
         w.integrate();
@@ -174,22 +173,22 @@ TEST(Foil, BondNetworkConservesEnergyWithoutDamping) {
                 100.0 * (emin / e0 - 1.0), emax, 100.0 * (emax / e0 - 1.0));
     EXPECT_LT(emax, 1.01 * e0);  // creates no energy
     EXPECT_GT(emin, 0.99 * e0);  // and loses none (no damping anywhere)
-    EXPECT_EQ(w.bonds().size(), bonds);
 }
 
 TEST(Foil, BondsNeverBreak) {
     // Pull two bonded foil particles to +50% and push them to -50%: the axial force stays
-    // kn * (L0 - L) (linear, tension and compression), the bond stays.
+    // kn * (L0 - L) (linear, tension and compression): the bond still acts, with its full
+    // stiffness, far beyond any strain of a run. (Nothing in the engine removes a bond, so
+    // counting the bonds would prove nothing; the force does.)
     dem::World w;
     w.params.gravity = {0, 0, 0};
-    vpp::FoilDef f;
+    vpp::FoilDef f = vpp::Config().foil;
     vpp::FoilLattice L = vpp::build_strip(w, f, 1, 2);
     const double L0 = L.spacing, kn = vpp::bond_normal_stiffness(f);
     for (double strain : {0.5, -0.5}) {
         w.particles.pos[L.particles[1]] = w.particles.pos[L.particles[0]] + Vec3{L0 * (1 + strain), 0, 0};
         w.invalidate_candidates();
         w.compute_forces();
-        EXPECT_EQ(w.bonds().size(), 1u);
         EXPECT_NEAR(w.particles.force[L.particles[1]].x, -kn * L0 * strain, 1e-9 * kn * L0);
     }
 }

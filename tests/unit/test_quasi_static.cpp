@@ -10,7 +10,7 @@
 namespace {
 
 vpp::Config paper_damper(double velocity, double underpressure) {
-    vpp::Config c;  // the paper's parameters are the defaults
+    vpp::Config c;  // the paper's parameters are the defaults (the settings table)
     c.process.velocity = velocity;
     c.process.underpressure = underpressure;
     return c;
@@ -19,12 +19,17 @@ vpp::Config paper_damper(double velocity, double underpressure) {
 }  // namespace
 
 TEST(QuasiStatic, InertialNumberIsItsClosedForm) {
-    // I = (v / H) 2 r_k sqrt(rho_k / dp): the main job's 0.05 m/s at 0.06 MPa, H = 98.83 mm.
-    const vpp::Config c = paper_damper(0.05, 0.06e6);
+    // I = (v / H) 2 r_k sqrt(rho_k / dp), worked by hand for the paper's grains (r_k 2.965 mm,
+    // rho 2689.639 kg/m^3) at 0.05 m/s and 0.06 MPa, H = 98.8333 mm:
+    // sqrt(2689.639 / 60000) = 0.2117246, 0.05 / 0.0988333 = 0.5059024, 2 r_k = 5.93e-3 m:
+    // I = 0.5059024 * 5.93e-3 * 0.2117246 = 6.351741e-4.
     const double H = 0.0988333;
-    const double expected = (0.05 / H) * 2.0 * c.grains.radius * std::sqrt(c.grains.density / 0.06e6);
-    EXPECT_NEAR(vpp::inertial_number(c, H), expected, 1e-12 * expected);
-    EXPECT_NEAR(vpp::inertial_number(c, H), 6.35e-4, 0.01e-4);  // as summary.json reports it
+    const double I = vpp::inertial_number(paper_damper(0.05, 0.06e6), H);
+    EXPECT_NEAR(I, 6.351741e-4, 1e-6 * 6.351741e-4);
+    // Its scaling: linear in the speed, 1/sqrt in the confining pressure, 1/H in the height.
+    EXPECT_NEAR(vpp::inertial_number(paper_damper(0.10, 0.06e6), H), 2.0 * I, 1e-12 * I);
+    EXPECT_NEAR(vpp::inertial_number(paper_damper(0.05, 0.015e6), H), 2.0 * I, 1e-12 * I);
+    EXPECT_NEAR(vpp::inertial_number(paper_damper(0.05, 0.06e6), 2.0 * H), 0.5 * I, 1e-12 * I);
 }
 
 TEST(QuasiStatic, MarkSeparatesTheMeasuredBiases) {

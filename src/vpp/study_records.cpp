@@ -1,0 +1,327 @@
+#include "vpp/study_records.h"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "dem/io/csv.h"
+#include "vpp/damper.h"
+#include "vpp/settle.h"
+#include "vpp/stats.h"
+
+namespace vpp {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// Cells of summary.csv and summary_cases.csv: the CSV rules every hand-built table shares
+// (dem/io/csv.h).
+std::string csv_field(const std::string& s) { return dem::csv_text(s); }
+std::string num(double v) { return dem::csv_number(v); }
+
+std::string read_text(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream ss;
+    ss << in.rdbuf();
+    return ss.str();
+}
+
+// Shares of the dissipation in a cycle: friction / total, damping / total (NaN without energy).
+void dissipation_shares(double friction, double damping, double viscous, CaseOutcome& o) {
+    const double total = friction + damping + viscous;
+    if (!(total > 0)) return;
+    o.friction_share = friction / total;
+    o.damping_share = damping / total;
+}
+
+// A quantity of kEnsembleQuantities or kPairedQuantities by its column name.
+double quantity(const CaseOutcome& o, const std::string& q) {
+    if (q == "W") return o.W;
+    if (q == "W_settled") return o.W_settled;
+    if (q == "peak_force") return o.peak_force;
+    if (q == "dissipated_energy") return o.dissipated_energy;
+    if (q == "friction_share") return o.friction_share;
+    if (q == "damping_share") return o.damping_share;
+    if (q == "packing_fraction") return o.packing_fraction;
+    throw std::logic_error("no study quantity '" + q + "'");
+}
+
+// A number of an outcome's JSON: null (how nlohmann writes NaN and infinities) reads as NaN.
+double json_real(const nlohmann::json& j, const char* key) {
+    const auto it = j.find(key);
+    return it != j.end() && it->is_number() ? it->get<double>() : CaseOutcome::kNaN;
+}
+
+}  // namespace
+
+std::string case_record(const Study& s, const StudyCase& c) {
+    std::ostringstream os;
+    os << "# vppdem sweep case (compared when the sweep resumes)\n";
+    if (!s.base.empty())
+        os << "base = \"" << fs::absolute(s.base).lexically_normal().string() << "\"\nbase_hash = \""
+           << std::hash<std::string>{}(read_text(s.base)) << "\"\n";
+    os << "overrides = [\n";
+    for (const std::string& o : c.overrides) {
+        os << "  \"";
+        for (char ch : o) {
+            if (ch == '"' || ch == '\\') os << '\\';
+            os << ch;
+        }
+        os << "\",\n";
+    }
+    os << "]\n";
+    return os.str();
+}
+
+void check_case_folder(const fs::path& dir, const std::string& record) {
+    if (fs::exists(dir / "case.toml") && read_text(dir / "case.toml") != record)
+        throw std::runtime_error("folder '" + dir.string() +
+                                 "' holds a case run with other settings (see its case.toml); the study "
+                                 "changed: use another --out, or remove the folder");
+}
+
+CaseOutcome read_case_outcome(const fs::path& dir, const Config& config) {
+    CaseOutcome o;
+    o.ok = true;
+    std::vector<std::string> header;
+    const auto rows = dem::read_numeric_csv((dir / "cycles.csv").string(), 4, &header);
+    if (rows.empty()) throw std::runtime_error((dir / "cycles.csv").string() + " holds no cycle");
+    auto index = [&](const std::string& name) -> long {
+        const auto it = std::find(header.begin(), header.end(), name);
+        return it == header.end() ? -1 : long(it - header.begin());
+    };
+    auto col = [&](const std::string& name) {
+        const long k = index(name);
+        if (k < 0) throw std::runtime_error((dir / "cycles.csv").string() + ": no column " + name);
+        return rows.back()[std::size_t(k)];
+    };
+    o.W = col("W");
+    o.dissipated_energy = col("dissipated_energy");
+    o.peak_force = col("peak_force");
+    if (index("friction_dissipation") >= 0 && index("damping_dissipation") >= 0 && index("viscous_dissipation") >= 0)
+        dissipation_shares(col("friction_dissipation"), col("damping_dissipation"), col("viscous_dissipation"), o);
+    std::vector<CycleResult> cycles;
+    for (const auto& r : rows) {
+        CycleResult c;
+        c.cycle = int(std::lround(r[std::size_t(index("cycle"))]));
+        c.W = r[std::size_t(index("W"))];
+        cycles.push_back(c);
+    }
+    const Settling st = settle_cycles(cycles, config.analysis.settle_tolerance);
+    o.W_settled = st.W_mean;
+    o.settled_cycles = int(st.count);
+    o.first_settled = st.first;
+    // A key that is absent (a summary of an older vppdem) keeps its default; one that is not a
+    // number (null: a non-finite value) reads as 0, as the string search before did.
+    const nlohmann::json js = nlohmann::json::parse(read_text(dir / "summary.json"), nullptr, false);
+    auto number = [](const nlohmann::json& obj, const char* key, auto& out) {
+        if (!obj.is_object()) return;
+        const auto it = obj.find(key);
+        using T = std::remove_reference_t<decltype(out)>;
+        if (it != obj.end()) out = it->is_number() ? T(it->template get<double>()) : T(0);
+    };
+    number(js, "run_seconds", o.run_seconds);
+    number(js, "grains", o.grains);
+    if (js.is_object() && js.contains("preparation")) number(js["preparation"], "packing_fraction", o.packing_fraction);
+    if (js.is_object() && js.contains("warnings") && js["warnings"].is_array())
+        for (const nlohmann::json& w : js["warnings"]) {
+            if (!w.is_string()) break;  // anything but a string ends the list, as before
+            o.warnings.push_back(w.get<std::string>());
+        }
+    return o;
+}
+
+std::string outcome_json(std::size_t index, const CaseOutcome& o) {
+    nlohmann::ordered_json j;
+    j["case"] = index;
+    j["ok"] = o.ok;
+    j["skipped"] = o.skipped;
+    j["not_run"] = o.not_run;
+    j["message"] = o.message;
+    j["W"] = o.W;
+    j["dissipated_energy"] = o.dissipated_energy;
+    j["peak_force"] = o.peak_force;
+    j["run_seconds"] = o.run_seconds;
+    j["W_settled"] = o.W_settled;
+    j["settled_cycles"] = o.settled_cycles;
+    j["first_settled"] = o.first_settled;
+    j["friction_share"] = o.friction_share;
+    j["damping_share"] = o.damping_share;
+    j["grains"] = o.grains;
+    j["packing_fraction"] = o.packing_fraction;
+    j["warnings"] = o.warnings;
+    // Invalid UTF-8 in a message (a path) is replaced, not a reason to lose the outcome.
+    return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+}
+
+void read_outcome_lines(const std::string& text, std::vector<CaseOutcome>& out) {
+    std::istringstream is(text);
+    for (std::string line; std::getline(is, line);) {
+        if (line.empty()) continue;
+        const nlohmann::json j = nlohmann::json::parse(line);
+        const std::size_t i = j.at("case").get<std::size_t>();
+        if (i >= out.size()) continue;
+        CaseOutcome o;
+        o.ok = j.at("ok").get<bool>();
+        o.skipped = j.at("skipped").get<bool>();
+        o.not_run = j.at("not_run").get<bool>();
+        o.message = j.at("message").get<std::string>();
+        o.W = json_real(j, "W");
+        o.dissipated_energy = json_real(j, "dissipated_energy");
+        o.peak_force = json_real(j, "peak_force");
+        o.run_seconds = json_real(j, "run_seconds");
+        o.W_settled = json_real(j, "W_settled");
+        o.settled_cycles = j.at("settled_cycles").get<int>();
+        o.first_settled = j.at("first_settled").get<int>();
+        o.friction_share = json_real(j, "friction_share");
+        o.damping_share = json_real(j, "damping_share");
+        o.grains = j.at("grains").get<int>();
+        o.packing_fraction = json_real(j, "packing_fraction");
+        o.warnings = j.at("warnings").get<std::vector<std::string>>();
+        out[i] = o;
+    }
+}
+
+std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes) {
+    std::string out;
+    for (const GridAxis& a : s.grid) out += csv_field(a.key) + ",";
+    out += "W,dissipated_energy,peak_force,run_seconds,status,case,"
+           "W_settled,settled_cycles,first_settled_cycle,friction_share,damping_share,grains,packing_fraction,warnings\n";
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        for (const std::string& l : cases[i].labels) out += csv_field(l) + ",";
+        const CaseOutcome& o = outcomes[i];
+        if (o.ok) out += num(o.W) + "," + num(o.dissipated_energy) + "," + num(o.peak_force) + ",";
+        else out += ",,,";
+        out += num(o.run_seconds) + "," + csv_field(o.ok ? "ok" : o.not_run ? "not run" : "failed: " + o.message) + "," +
+               csv_field(cases[i].name) + ",";
+        if (o.ok)
+            out += num(o.W_settled) + "," + std::to_string(o.settled_cycles) + "," +
+                   (o.first_settled > 0 ? std::to_string(o.first_settled) : std::string()) + "," +
+                   num(o.friction_share) + "," + num(o.damping_share) + "," + std::to_string(o.grains) + "," +
+                   num(o.packing_fraction) + ",";
+        else
+            out += ",,,,,,,";
+        std::string w;
+        for (const std::string& x : o.warnings) {
+            if (!w.empty()) w += " | ";
+            w += x;
+        }
+        out += csv_field(w) + "\n";
+    }
+    return out;
+}
+
+std::vector<std::vector<std::size_t>> ensemble_groups(const Study& s, const std::vector<StudyCase>& cases) {
+    const int seed = seed_axis(s);
+    std::vector<std::vector<std::size_t>> groups;
+    std::map<std::vector<std::string>, std::size_t> index;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        std::vector<std::string> key = cases[i].labels;
+        if (seed >= 0) key.erase(key.begin() + seed);
+        const auto [it, inserted] = index.emplace(key, groups.size());
+        if (inserted) groups.emplace_back();
+        groups[it->second].push_back(i);
+    }
+    return groups;
+}
+
+std::string cases_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes) {
+    const int seed = seed_axis(s);
+    std::string out;
+    for (std::size_t k = 0; k < s.grid.size(); ++k)
+        if (int(k) != seed) out += csv_field(s.grid[k].key) + ",";
+    out += "seeds,ok";
+    for (const std::string& q : kEnsembleQuantities) out += "," + q + "_n," + q + "_mean," + q + "_sd," + q + "_ci95";
+    out += ",cases\n";
+    for (const auto& g : ensemble_groups(s, cases)) {
+        const StudyCase& first = cases[g.front()];
+        for (std::size_t k = 0; k < first.labels.size(); ++k)
+            if (int(k) != seed) out += csv_field(first.labels[k]) + ",";
+        std::size_t ok = 0;
+        for (std::size_t i : g) ok += outcomes[i].ok;
+        out += std::to_string(g.size()) + "," + std::to_string(ok);
+        for (const std::string& q : kEnsembleQuantities) {
+            std::vector<double> x;
+            for (std::size_t i : g)
+                if (outcomes[i].ok) x.push_back(quantity(outcomes[i], q));
+            const Interval iv = mean_interval(x);
+            for (const std::string& field : {std::to_string(iv.n), num(iv.mean), num(iv.sd), num(iv.half)}) {
+                out += ',';
+                out += field;
+            }
+        }
+        std::string names;
+        for (std::size_t i : g) {
+            if (!names.empty()) names += ';';
+            names += cases[i].name;
+        }
+        out += "," + csv_field(names) + "\n";
+    }
+    return out;
+}
+
+std::string paired_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes) {
+    const int seed = seed_axis(s);
+    if (seed < 0 || s.grid[std::size_t(seed)].labels.size() < 2) return "";
+    // The case at grid position (i_0, i_1, ...) is sum_k i_k stride_k: expand_study's order, the
+    // first axis slowest. Pairs are found by this arithmetic, not by matching labels.
+    const std::size_t axes = s.grid.size(), sk = std::size_t(seed), seeds = s.grid[sk].labels.size();
+    std::vector<std::size_t> stride(axes, 1);
+    for (std::size_t k = axes - 1; k > 0; --k) stride[k - 1] = stride[k] * s.grid[k].labels.size();
+    if (cases.size() != stride[0] * s.grid[0].labels.size() || outcomes.size() != cases.size())
+        throw std::logic_error("paired_csv: the cases are not the study's full grid");
+    auto position = [&](std::size_t i, std::size_t k) { return i / stride[k] % s.grid[k].labels.size(); };
+
+    std::string out = "key,value,reference,group,quantity,n,diff_mean,diff_sd,diff_ci95,ref_mean,rel_diff\n";
+    for (std::size_t a = 0; a < axes; ++a) {
+        const GridAxis& axis = s.grid[a];
+        if (a == sk || axis.labels.size() < 2) continue;
+        // One group per combination of the other axes: its run at A's reference and the first seed.
+        for (std::size_t base = 0; base < cases.size(); ++base) {
+            if (position(base, a) != 0 || position(base, sk) != 0) continue;
+            std::string group;
+            for (std::size_t k = 0; k < axes; ++k) {
+                if (k == a || k == sk) continue;
+                if (!group.empty()) group += ';';
+                group += s.grid[k].key + "=" + cases[base].labels[k];
+            }
+            for (std::size_t v = 1; v < axis.labels.size(); ++v)
+                for (const std::string& q : kPairedQuantities) {
+                    std::vector<double> diff, ref;
+                    for (std::size_t j = 0; j < seeds; ++j) {
+                        const std::size_t r = base + j * stride[sk], c = r + v * stride[a];
+                        if (!outcomes[r].ok || !outcomes[c].ok) continue;
+                        const double qr = quantity(outcomes[r], q), qc = quantity(outcomes[c], q);
+                        if (!std::isfinite(qr) || !std::isfinite(qc)) continue;
+                        diff.push_back(qc - qr);
+                        ref.push_back(qr);
+                    }
+                    const Interval d = mean_interval(diff);
+                    const double ref_mean = mean_interval(ref).mean;
+                    out += csv_field(axis.key) + "," + csv_field(axis.labels[v]) + "," + csv_field(axis.labels[0]) + "," +
+                           csv_field(group) + "," + q + "," + std::to_string(d.n) + "," + num(d.mean) + "," +
+                           num(d.sd) + "," + num(d.half) + "," + num(ref_mean) + "," + num(d.mean / ref_mean) + "\n";
+                }
+        }
+    }
+    return out;
+}
+
+std::string write_study_tables(const fs::path& out, const Study& s, const std::vector<StudyCase>& cases,
+                               const std::vector<CaseOutcome>& outcomes) {
+    dem::write_text_atomic((out / "summary.csv").string(), summary_csv(s, cases, outcomes));
+    dem::write_text_atomic((out / "summary_cases.csv").string(), cases_csv(s, cases, outcomes));
+    std::string names = (out / "summary.csv").string() + ", summary_cases.csv";
+    if (const std::string paired = paired_csv(s, cases, outcomes); !paired.empty()) {
+        dem::write_text_atomic((out / "summary_paired.csv").string(), paired);
+        names += ", summary_paired.csv";
+    }
+    return names;
+}
+
+}  // namespace vpp

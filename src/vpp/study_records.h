@@ -1,0 +1,103 @@
+// What a sweep records and reports (docs/studies.md, "Outputs"): each case's outcome, read from
+// its finished folder (the only place an outcome is filled, for a case just run as for one
+// finished earlier), its JSON form (the one serialisation, which the MPI gather sends), and the
+// tables summary.csv, summary_cases.csv and summary_paired.csv made from the outcomes.
+#pragma once
+
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "vpp/study_file.h"
+
+namespace vpp {
+
+struct CaseOutcome {
+    static constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+    bool ok = false;
+    bool skipped = false;        // finished in an earlier run of the sweep
+    bool not_run = false;        // report only: no finished record in its folder (status "not run")
+    std::string message;         // failure message
+    double W = 0, dissipated_energy = 0, peak_force = 0;  // last cycle
+    double run_seconds = 0;
+    // Stationary loops (vpp/settle.h): mean W of the settled cycles (NaN: none settled), how
+    // many settled, the first (0: none).
+    double W_settled = kNaN;
+    int settled_cycles = 0, first_settled = 0;
+    // Shares of the last cycle's dissipation (energy ledger; NaN without it):
+    // friction / (friction + damping + viscous), damping / (the same).
+    double friction_share = kNaN, damping_share = kNaN;
+    // The prepared sample: grains (after the re-fills) and the packing fraction of the foil's
+    // interior up to the cap at the end of the preparation (summary.json "preparation").
+    int grains = 0;
+    double packing_fraction = kNaN;
+    std::vector<std::string> warnings;  // the case's summary.json "warnings"
+};
+
+// What identifies a case's inputs: written to DIR/<case>/case.toml, compared on resume.
+std::string case_record(const Study& s, const StudyCase& c);
+
+// A case folder written for other settings (its case.toml differs from `record`): refused
+// (std::runtime_error) rather than mixing results of two studies.
+void check_case_folder(const std::filesystem::path& dir, const std::string& record);
+
+// The outcome of a finished case folder: its last cycle (cycles.csv), the stationarity of its
+// cycles (the case's analysis.settle_tolerance applied to the W column, as the damper did), its
+// run time, grains, packing fraction and warnings (summary.json). skipped is false: the caller
+// says whether the case finished in this run.
+CaseOutcome read_case_outcome(const std::filesystem::path& dir, const Config& config);
+
+// One case's outcome as one line of JSON (the case's index as "case"), and back: the MPI
+// gather's message. NaN is written as null and read back as NaN.
+std::string outcome_json(std::size_t index, const CaseOutcome& o);
+// Reads the lines of outcome_json() into out[index] (an index outside out is ignored).
+void read_outcome_lines(const std::string& text, std::vector<CaseOutcome>& out);
+
+// The summary.csv text, one row per run: the swept keys, then W, dissipated_energy, peak_force,
+// run_seconds, status, case (the contract), then W_settled, settled_cycles, first_settled_cycle,
+// friction_share, damping_share, grains, packing_fraction, warnings (docs/studies.md, "Outputs").
+// status: "ok", "failed: <message>" or (report only) "not run"; the numbers of a run that did
+// not finish are empty.
+std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases,
+                        const std::vector<CaseOutcome>& outcomes);
+
+// Quantities summarised over an ensemble, in summary_cases.csv's order.
+inline const std::vector<std::string> kEnsembleQuantities = {"W", "W_settled", "peak_force", "dissipated_energy",
+                                                             "friction_share", "damping_share", "packing_fraction"};
+
+// The summary_cases.csv text, one row per case of the grid without its seed axis (all rows of
+// summary.csv that differ only in simulation.seed): the other swept keys, `seeds` (runs in the
+// case), `ok` (finished runs), then per quantity Q of kEnsembleQuantities `Q_n,Q_mean,Q_sd,Q_ci95`
+// over the finished runs that have Q (vpp/stats.h: Student t, n - 1 degrees of freedom; ci95 the
+// half width, the interval is mean +- ci95), then `cases` (the runs' folders, ';'-separated).
+// A study without seeds has one run per row (n = 1: sd and ci95 empty).
+std::string cases_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes);
+
+// Quantities of summary_paired.csv, in its order.
+inline const std::vector<std::string> kPairedQuantities = {"W_settled", "W", "peak_force", "dissipated_energy",
+                                                           "friction_share", "damping_share"};
+
+// The summary_paired.csv text; empty unless the study has a seed axis of 2 values or more.
+// Paired differences seed by seed: for each grid axis A but the seed with 2 values or more, each
+// combination of the other axes but the seed (grid order), each value v of A but the reference
+// (A's first value) and each Q of kPairedQuantities, d_s = Q(v, s) - Q(reference, s) over the
+// seeds s whose two runs finished with a finite Q. Columns
+// `key,value,reference,group,quantity,n,diff_mean,diff_sd,diff_ci95,ref_mean,rel_diff`: group is
+// the other axes as `k1=v1;k2=v2` (empty without any), n the seeds paired, then the mean, sample
+// sd and 95% half width of d (vpp/stats.h; sd and ci95 empty for n < 2, every number for n = 0),
+// the mean of Q at the reference over the same seeds, and diff_mean / ref_mean. The seeds of
+// one case branch from that seed's sample where A shares the preparation, so the sample's own
+// scatter cancels in d (docs/studies.md, "Ensembles").
+std::string paired_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes);
+
+// Rows of the ensemble table: the indices of the runs of each case (grid order), the seed axis
+// left out.
+std::vector<std::vector<std::size_t>> ensemble_groups(const Study& s, const std::vector<StudyCase>& cases);
+
+// The tables of a sweep, each written atomically into `out`: summary.csv, summary_cases.csv and,
+// with seeds, summary_paired.csv. Returns the names written, for the closing message.
+std::string write_study_tables(const std::filesystem::path& out, const Study& s, const std::vector<StudyCase>& cases,
+                               const std::vector<CaseOutcome>& outcomes);
+
+}  // namespace vpp
