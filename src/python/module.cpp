@@ -31,6 +31,7 @@
 #include "vpp/config.h"
 #include "vpp/damper.h"
 #include "vpp/settings.h"
+#include "vpp/records.h"
 #include "vpp/study.h"
 
 namespace py = pybind11;
@@ -220,6 +221,30 @@ PYBIND11_MODULE(_core, m) {
         }
         return rows;
     });
+    // The records' columns (vpp/records.h): what cycles() and forces() hold, with units.
+    m.def("record_columns", [] {
+        py::list rows;
+        for (const vpp::CycleColumn& c : vpp::cycle_columns()) {
+            py::dict r;
+            r["record"] = "cycles";
+            r["name"] = c.name;
+            r["unit"] = c.unit;
+            r["meaning"] = c.meaning;
+            r["only_with"] = c.group == vpp::CycleGroup::Energy ? "output.energy"
+                             : c.group == vpp::CycleGroup::Settle ? "a damper run" : "";
+            rows.append(r);
+        }
+        for (const vpp::SampleColumn& c : vpp::sample_columns()) {
+            py::dict r;
+            r["record"] = "forces";
+            r["name"] = c.name;
+            r["unit"] = c.unit;
+            r["meaning"] = c.meaning;
+            r["only_with"] = c.air ? "the air record (process.pressure_model = \"pump\" or output.air)" : "";
+            rows.append(r);
+        }
+        return rows;
+    });
     m.def("scene_settings", [] {
         py::list rows;
         for (const scene::SceneSetting& s : scene::scene_settings()) {
@@ -308,35 +333,30 @@ PYBIND11_MODULE(_core, m) {
         .def_static("energy_columns", &vpp::Damper::energy_columns)
         .def("cycles",
              [](const vpp::Damper& d) {
-                 // Per cycle: the columns of cycles.csv and the ledger's split (NaN without it).
+                 // Per cycle, every column of the record's table (vpp/records.h): cycles.csv's and
+                 // summary.json's, NaN where a cycle lacks the column's group (no energy ledger).
                  const vpp::DamperResult r = d.result();
-                 py::dict out;
                  const double nan = std::numeric_limits<double>::quiet_NaN();
-                 std::vector<double> cyc, W, E, peak, mn, bw, fr, dmp, visc, res, settled;
-                 for (const auto& c : r.cycles) {
-                     cyc.push_back(c.cycle);
-                     W.push_back(c.W);
-                     E.push_back(c.dissipated_energy);
-                     peak.push_back(c.peak_force);
-                     mn.push_back(c.min_force);
-                     bw.push_back(c.has_energy ? c.boundary_work : nan);
-                     fr.push_back(c.has_energy ? c.friction_dissipation : nan);
-                     dmp.push_back(c.has_energy ? c.damping_dissipation : nan);
-                     visc.push_back(c.has_energy ? c.viscous_dissipation : nan);
-                     res.push_back(c.has_energy ? c.energy_residual : nan);
-                     settled.push_back(c.settled ? 1.0 : 0.0);
+                 py::dict out;
+                 for (const vpp::CycleColumn& col : vpp::cycle_columns()) {
+                     std::vector<double> v;
+                     for (const auto& c : r.cycles) v.push_back(vpp::cycle_has(c, col.group) ? col.get(c) : nan);
+                     out[col.name] = double_array(v);
                  }
-                 out["cycle"] = double_array(cyc);
-                 out["W"] = double_array(W);
-                 out["dissipated_energy"] = double_array(E);
-                 out["peak_force"] = double_array(peak);
-                 out["min_force"] = double_array(mn);
-                 out["boundary_work"] = double_array(bw);
-                 out["friction_dissipation"] = double_array(fr);
-                 out["damping_dissipation"] = double_array(dmp);
-                 out["viscous_dissipation"] = double_array(visc);
-                 out["energy_residual"] = double_array(res);
-                 out["settled"] = double_array(settled);
+                 return out;
+             })
+        .def("forces",
+             [](const vpp::Damper& d) {
+                 // forces.csv's columns as arrays (vpp/records.h, sample_columns()), from the same
+                 // rows the file is written from.
+                 const vpp::ForcesTable t = d.forces();
+                 py::dict out;
+                 for (std::size_t j = 0; j < t.columns.size(); ++j) {
+                     std::vector<double> v;
+                     v.reserve(t.rows.size());
+                     for (const auto& row : t.rows) v.push_back(row[j]);
+                     out[t.columns[j].c_str()] = double_array(v);
+                 }
                  return out;
              })
         .def("summary_json", [](const vpp::Damper& d, const std::string& from) {

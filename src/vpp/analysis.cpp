@@ -191,24 +191,4 @@ LoopSeries read_loop_csv(const std::string& path, const std::string& time_col,
     return s;
 }
 
-void write_cycles_csv(const std::string& path, const std::vector<CycleResult>& cycles) {
-    const bool energy = !cycles.empty() && std::all_of(cycles.begin(), cycles.end(),
-                                                       [](const CycleResult& c) { return c.has_energy; });
-    const bool settle = !cycles.empty() && std::all_of(cycles.begin(), cycles.end(),
-                                                       [](const CycleResult& c) { return c.has_settled; });
-    std::string header = "cycle,dissipated_energy,W,peak_force,min_force";
-    if (energy) header += ",friction_dissipation,damping_dissipation,viscous_dissipation";
-    if (settle) header += ",settled";
-    // The cycle number and the settled flag are whole doubles: printed without a decimal point.
-    dem::CsvWriter csv(path, header);
-    std::vector<double> row;
-    for (const auto& c : cycles) {
-        row = {double(c.cycle), c.dissipated_energy, c.W, c.peak_force, c.min_force};
-        if (energy) row.insert(row.end(), {c.friction_dissipation, c.damping_dissipation, c.viscous_dissipation});
-        if (settle) row.push_back(c.settled ? 1.0 : 0.0);
-        csv.row(row);
-    }
-    csv.close();
-}
-
 }  // namespace vpp

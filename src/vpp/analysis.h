@@ -94,10 +94,6 @@ LoopSeries read_loop_csv(const std::string& path, const std::string& time_col,
 // Returns one index per sample; all 0 when the range is zero.
 std::vector<int> split_cycles(const std::vector<double>& displacement);
 
-// Writes `cycle,dissipated_energy,W,peak_force,min_force` and one row per cycle, atomically;
-// when the cycles carry an energy budget (has_energy), the columns
-// `friction_dissipation,damping_dissipation,viscous_dissipation` [J] follow; when they carry the
-// stationarity flag (has_settled, a damper run), a last column `settled` (0 or 1).
-void write_cycles_csv(const std::string& path, const std::vector<CycleResult>& cycles);
+// cycles.csv is written and read by vpp/records.h, from the one description of its columns.
 
 }  // namespace vpp

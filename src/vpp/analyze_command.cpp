@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "vpp/analysis.h"
+#include "vpp/records.h"
 
 namespace vpp {
 

@@ -52,6 +52,14 @@ struct AirCycle {
     double gas_volume_max = 0;      // [m^3]
 };
 
+// forces.csv as a table: its column names (vpp/records.h, sample_columns(); the air's with the
+// air record) and one row per sample, the same numbers the file holds.
+struct ForcesTable {
+    std::vector<std::string> columns;
+    std::vector<std::vector<double>> rows;
+    bool air = false;
+};
+
 struct DamperResult {
     std::size_t grains = 0, foil_particles = 0, bonds = 0;
     int foil_columns = 0, foil_rows = 0;
@@ -131,6 +139,8 @@ public:
     const std::vector<DamperSample>& samples() const;
     // The air at each sample when it is recorded (pump model or output.air), else empty.
     const std::vector<DamperAirSample>& air() const;
+    // forces.csv's columns and rows as the run has them so far (the Python module's arrays).
+    ForcesTable forces() const;
     // The energy ledger at each sample (rows of energy.csv, columns energy_columns(); [s] then
     // [J]); empty with output.energy = false.
     std::vector<std::vector<double>> energy() const;

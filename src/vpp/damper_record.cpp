@@ -15,6 +15,7 @@
 #include "dem/io/json.h"
 #include "dem/io/vtk.h"
 #include "vpp/damper_run.h"
+#include "vpp/records.h"
 #include "vpp/plot.h"
 
 #include "vpp/settings.h"
@@ -244,30 +245,39 @@ void DamperRun::write_energy(const fs::path& dir) const {
     csv.close();
 }
 
-void DamperRun::write_forces(const fs::path& dir) const {
-    const bool air = air_complete(st_);
-    std::string header = "time,displacement,force_total,force_grains,force_foil,force_zeroed,cycle";
+ForcesTable DamperRun::forces() const {
+    ForcesTable t;
+    t.air = air_complete(st_);
+    t.columns = sample_column_names(t.air);
     // The air (docs/damper.md, "The air inside"): force_lid is what dp adds to the testing
     // machine's force on the lid (the atmosphere pushes the lid in: -dp times its area,
     // compression positive); force_machine_zeroed is the machine's force, grains + foil + lid,
     // zeroed at the first sample as force_zeroed is. With a constant dp the two zeroed columns agree.
-    if (air) header += ",enclosed_volume,gas_volume,pressure_inside,underpressure,force_lid,force_machine_zeroed";
-    dem::CsvWriter csv((dir / "forces.csv").string(), header);
     const int S = int(c_.process.samples_per_cycle);
     const double f0 = st_.samples.empty() ? 0.0 : st_.samples[0].grains + st_.samples[0].foil;
-    const double m0 = air ? f0 - st_.air[0].dp * st_.air[0].lid_area : 0.0;
+    const double m0 = t.air ? f0 - st_.air[0].dp * st_.air[0].lid_area : 0.0;
+    t.rows.reserve(st_.samples.size());
     for (std::size_t k = 0; k < st_.samples.size(); ++k) {
         const Sample& s = st_.samples[k];
         const double total = s.grains + s.foil;
         std::vector<double> row = {s.time - st_.cycle_t0, s.displacement, total, s.grains, s.foil, total - f0,
                                    double(k / S + 1)};
-        if (air) {
+        if (t.air) {
             const AirSample& a = st_.air[k];
             const double lid = -a.dp * a.lid_area;
             row.insert(row.end(), {a.enclosed, a.gas, a.p_inside, a.dp, lid, total + lid - m0});
         }
-        csv.row(row);
+        t.rows.push_back(std::move(row));
     }
+    return t;
+}
+
+void DamperRun::write_forces(const fs::path& dir) const {
+    const ForcesTable t = forces();
+    std::string header;
+    for (const std::string& c : t.columns) header += (header.empty() ? "" : ",") + c;
+    dem::CsvWriter csv((dir / "forces.csv").string(), header);
+    for (const std::vector<double>& row : t.rows) csv.row(row);
     csv.close();
 }
 
@@ -403,21 +413,7 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
     const Config& c = r.config;  // what the run used: a resumed run's settings are its checkpoint's
     const double I = r.inertial_number;
     const bool quasi_static = I < kQuasiStaticInertialNumber;
-    std::string cycles_json = "[";
-    for (std::size_t k = 0; k < r.cycles.size(); ++k) {
-        const CycleResult& cr = r.cycles[k];
-        dem::JsonObject j;
-        j.num("cycle", cr.cycle).num("dissipated_energy", cr.dissipated_energy).num("W", cr.W)
-            .num("peak_force", cr.peak_force).num("min_force", cr.min_force);
-        if (cr.has_energy)
-            j.num("boundary_work", cr.boundary_work).num("friction_dissipation", cr.friction_dissipation)
-                .num("damping_dissipation", cr.damping_dissipation).num("viscous_dissipation", cr.viscous_dissipation)
-                .num("energy_residual", cr.energy_residual);
-        j.boolean("settled", cr.settled);
-        const std::string t = j.value();
-        cycles_json += (k ? ", " : "") + t;
-    }
-    cycles_json += "]";
+    const std::string cycles = cycles_json(r.cycles);
     dem::JsonObject inputs;
     for (const Setting& k : summary_inputs())
         k.type == SettingType::Boolean ? (void)inputs.boolean(k.key, k.get(c) != 0.0) : (void)inputs.num(k.key, k.get(c));
@@ -446,7 +442,7 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
         .num("cycle_steps", cycle_period(c.process) / r.dt)
         .num("inertial_number", I)
         .boolean("quasi_static", quasi_static)
-        .raw("cycles", cycles_json)
+        .raw("cycles", cycles)
         .num("settle_tolerance", r.settling.tolerance)
         .raw("first_settled_cycle", r.settling.first > 0 ? std::to_string(r.settling.first) : "null")
         .num("settled_cycles", double(r.settling.count))

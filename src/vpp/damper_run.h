@@ -203,6 +203,7 @@ private:
 
 public:
     const RunState& state() const { return st_; }
+    ForcesTable forces() const;  // forces.csv's table (damper_record.cpp)
 };
 
 }  // namespace vpp::damper_detail

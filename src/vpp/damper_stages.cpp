@@ -475,6 +475,7 @@ int Damper::cycles_done() const { return run_->cycles_done(); }
 int Damper::cycles_total() const { return int(run_->config().process.cycles); }
 const std::vector<DamperSample>& Damper::samples() const { return run_->state().samples; }
 const std::vector<DamperAirSample>& Damper::air() const { return run_->state().air; }
+ForcesTable Damper::forces() const { return run_->forces(); }
 std::vector<std::vector<double>> Damper::energy() const {
     std::vector<std::vector<double>> rows;
     for (const damper_detail::EnergyRow& e : run_->state().energy)

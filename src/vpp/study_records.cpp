@@ -10,6 +10,7 @@
 
 #include "dem/io/csv.h"
 #include "vpp/damper.h"
+#include "vpp/records.h"
 #include "vpp/settle.h"
 #include "vpp/stats.h"
 
@@ -88,30 +89,13 @@ void check_case_folder(const fs::path& dir, const std::string& record) {
 CaseOutcome read_case_outcome(const fs::path& dir, const Config& config) {
     CaseOutcome o;
     o.ok = true;
-    std::vector<std::string> header;
-    const auto rows = dem::read_numeric_csv((dir / "cycles.csv").string(), 4, &header);
-    if (rows.empty()) throw std::runtime_error((dir / "cycles.csv").string() + " holds no cycle");
-    auto index = [&](const std::string& name) -> long {
-        const auto it = std::find(header.begin(), header.end(), name);
-        return it == header.end() ? -1 : long(it - header.begin());
-    };
-    auto col = [&](const std::string& name) {
-        const long k = index(name);
-        if (k < 0) throw std::runtime_error((dir / "cycles.csv").string() + ": no column " + name);
-        return rows.back()[std::size_t(k)];
-    };
-    o.W = col("W");
-    o.dissipated_energy = col("dissipated_energy");
-    o.peak_force = col("peak_force");
-    if (index("friction_dissipation") >= 0 && index("damping_dissipation") >= 0 && index("viscous_dissipation") >= 0)
-        dissipation_shares(col("friction_dissipation"), col("damping_dissipation"), col("viscous_dissipation"), o);
-    std::vector<CycleResult> cycles;
-    for (const auto& r : rows) {
-        CycleResult c;
-        c.cycle = int(std::lround(r[std::size_t(index("cycle"))]));
-        c.W = r[std::size_t(index("W"))];
-        cycles.push_back(c);
-    }
+    const std::vector<CycleResult> cycles = read_cycles_csv((dir / "cycles.csv").string());
+    const CycleResult& last = cycles.back();
+    o.W = last.W;
+    o.dissipated_energy = last.dissipated_energy;
+    o.peak_force = last.peak_force;
+    if (last.has_energy)
+        dissipation_shares(last.friction_dissipation, last.damping_dissipation, last.viscous_dissipation, o);
     const Settling st = settle_cycles(cycles, config.analysis.settle_tolerance);
     o.W_settled = st.W_mean;
     o.settled_cycles = int(st.count);

@@ -100,6 +100,26 @@ def test_write_gives_the_command_files(finished, tmp_path):
     rows = (tmp_path / "forces.csv").read_text().splitlines()
     assert rows[0] == "time,displacement,force_total,force_grains,force_foil,force_zeroed,cycle"
     assert len(rows) == 1 + 160
+    # The arrays are the files' columns, from one description of the records (vpp/records.h):
+    # forces() holds forces.csv, cycles() cycles.csv (and summary.json's cycles), same names,
+    # same numbers.
+    header = rows[0].split(",")
+    table = np.loadtxt(tmp_path / "forces.csv", delimiter=",", skiprows=1)
+    f = finished.forces()
+    assert list(f) == header
+    for j, name in enumerate(header):
+        np.testing.assert_array_equal(f[name], table[:, j], err_msg=name)
+    assert finished.time[0] == 0.0  # counted from the start of cycling, as the file
+    np.testing.assert_array_equal(finished.cycle_index, table[:, header.index("cycle")].astype(int))
+    cyc_lines = (tmp_path / "cycles.csv").read_text().splitlines()
+    cheader = cyc_lines[0].split(",")
+    ctable = np.loadtxt(tmp_path / "cycles.csv", delimiter=",", skiprows=1, ndmin=2)
+    c = finished.cycles()
+    assert set(cheader) == set(c)  # with the ledger on, every column of the record
+    for j, name in enumerate(cheader):
+        np.testing.assert_array_equal(c[name], ctable[:, j], err_msg=name)
+    names = {(r["record"], r["name"]) for r in vppdem.record_columns()}
+    assert {("forces", h) for h in header} <= names and {("cycles", h) for h in cheader} <= names
 
 
 def test_air_of_a_sealed_damper(tmp_path):

@@ -2,6 +2,7 @@
 // the closed form of an elliptic loop, W, zero-area loops, peak/min force, reading loops from CSV
 // by column names (any order, missing column, automatic cycle split) and the cycles.csv header.
 #include "vpp/analysis.h"
+#include "vpp/records.h"
 
 #include <gtest/gtest.h>
 

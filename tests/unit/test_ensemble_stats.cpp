@@ -11,6 +11,7 @@
 
 #include "scene/config.h"
 #include "vpp/analysis.h"
+#include "vpp/records.h"
 #include "vpp/config.h"
 #include "vpp/settle.h"
 #include "vpp/stats.h"

@@ -26,7 +26,7 @@ import numpy as np
 from . import _core
 from ._core import ConfigError, World  # noqa: F401  (part of the package's interface)
 
-__all__ = ["Damper", "World", "ConfigError", "load_config", "settings", "sweep", "calibrate"]
+__all__ = ["Damper", "World", "ConfigError", "load_config", "settings", "record_columns", "sweep", "calibrate"]
 
 
 def settings(command="damper"):
@@ -39,6 +39,13 @@ def settings(command="damper"):
     if command == "scene":
         return _core.scene_settings()
     raise ValueError(f"settings: command = {command!r}: must be \"damper\" or \"scene\"")
+
+
+def record_columns():
+    """The columns of the damper's records as a list of dicts (record "cycles" or "forces", name,
+    unit, meaning, only_with): what ``Damper.cycles()`` and ``Damper.forces()`` return, cycles.csv
+    and forces.csv hold and summary.json's "cycles" lists. The same table the C++ writers use."""
+    return _core.record_columns()
 
 
 def _literal(key, v):
@@ -246,7 +253,8 @@ class Damper:
 
     @property
     def sample_time(self):
-        """[s] simulated time of each sample."""
+        """[s] simulated time of each sample, counted from the start of the simulation (the
+        preparation's start); ``time`` counts from the start of cycling, as forces.csv does."""
         return self._samples()[:, 0]
 
     @property
@@ -264,18 +272,34 @@ class Damper:
         """[N] foil on the top ring per sample."""
         return self._samples()[:, 3]
 
+    def forces(self):
+        """forces.csv's columns as arrays, from the rows the file is written from: time [s] since
+        the start of cycling, displacement [m], force_total, force_grains, force_foil,
+        force_zeroed [N], cycle, and with the air record (process.pressure_model = "pump" or
+        output.air) enclosed_volume, gas_volume [m^3], pressure_inside, underpressure [Pa],
+        force_lid, force_machine_zeroed [N]. Each column's unit and meaning:
+        ``vppdem.record_columns()``."""
+        return self._d.forces()
+
+    @property
+    def time(self):
+        """[s] time of each sample since the start of cycling (forces.csv time)."""
+        return self.forces()["time"]
+
     @property
     def force_total(self):
         """[N] grains + foil per sample (forces.csv force_total)."""
-        s = self._samples()
-        return s[:, 2] + s[:, 3]
+        return self.forces()["force_total"]
+
+    @property
+    def force_zeroed(self):
+        """[N] force_total minus its first sample's (forces.csv force_zeroed; the loops' force)."""
+        return self.forces()["force_zeroed"]
 
     @property
     def cycle_index(self):
         """1-based cycle of each sample (forces.csv cycle)."""
-        n = self._samples().shape[0]
-        spc = int(self._config_value("process.samples_per_cycle"))
-        return np.arange(n) // spc + 1
+        return self.forces()["cycle"].astype(int)
 
     def air(self):
         """The air inside at each sample (process.pressure_model = "pump" or output.air; forces.csv's
@@ -289,9 +313,11 @@ class Damper:
         return self.summary()["inputs"][key]
 
     def cycles(self):
-        """Per cycle, as arrays: cycle, W [J/m^2], dissipated_energy [J], peak_force and min_force
-        [N], the ledger's boundary_work, friction/damping/viscous_dissipation and energy_residual
-        [J] (NaN with output.energy = false), settled (1/0)."""
+        """Per cycle, as arrays, the columns of cycles.csv and summary.json's "cycles": cycle,
+        dissipated_energy [J], W [J/m^2], peak_force and min_force [N], the ledger's
+        boundary_work, friction/damping/viscous_dissipation and energy_residual [J] (NaN with
+        output.energy = false), settled (1/0). Each column's unit and meaning:
+        ``vppdem.record_columns()``."""
         return self._d.cycles()
 
     @property
