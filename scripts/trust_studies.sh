@@ -36,6 +36,8 @@ JOBS=${JOBS:-}
 DOCS=${DOCS:-docs}
 SETS=${SETS:-}
 PY=/usr/bin/python3  # Debian's, with matplotlib and numpy
+# The figures: the package's vppdem.plot from the source tree (it needs no compiled module).
+PLOT="env PYTHONPATH=src/python $PY -m vppdem.plot"
 
 [ -x "$VPPDEM" ] || { echo "trust_studies.sh: no vppdem binary at $VPPDEM (build it: bash scripts/build.sh)" >&2; exit 2; }
 for v in SEEDS CYCLES; do
@@ -67,7 +69,7 @@ sweep() {
     echo "trust_studies.sh: $name: some runs failed (their rows in $OUT/$name/summary.csv say why)" >&2
     failed=1
   fi
-  $PY tools/plot_sweep.py "$OUT/$name" --prefix "$prefix" --caption "$cmd"
+  $PLOT "$OUT/$name" --kind sweep --prefix "$prefix" --caption "$cmd"
   publish "$OUT/$name/${prefix}_W.png" "$DOCS/${prefix}_W.png"
   publish "$OUT/$name/${prefix}_loops.png" "$DOCS/${prefix}_loops.png"
   publish "$OUT/$name/summary.csv" "$DOCS/data/${prefix}_summary.csv"
@@ -139,7 +141,7 @@ EOF
         echo "trust_studies.sh: calibration failed (see $OUT/friction/calibration_failed.json)" >&2
         failed=1
       else
-        $PY tools/plot_calibration.py "$OUT/friction" --caption "$tcmd; tools/synthetic_experiment.py; $cmd"
+        $PLOT "$OUT/friction" --kind calibration --caption "$tcmd; tools/synthetic_experiment.py; $cmd"
         publish "$OUT/friction/calibration.png" "$DOCS/calibration_synthetic.png"
         publish "$OUT/friction/calibration.json" "$DOCS/data/calibration_synthetic.json"
         publish "$OUT/friction/misfit.csv" "$DOCS/data/calibration_synthetic_misfit.csv"

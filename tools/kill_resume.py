@@ -24,7 +24,7 @@ except the wall-clock fields (`run_seconds` in summary.json and in summary.csv) 
 `from` (the checkpoint a resumed run continued from), which are removed before the comparison; every case must be there once (no case missing, none twice).
 Prints one line per kill and a table; exits 1 at the first difference (naming the file), 0 when
 every round matched. Delays are drawn from a seeded generator (--seed), so a failing sequence
-of kills can be replayed. Runs under any python3 (standard library only).
+of kills can be replayed. Runs under /usr/bin/python3 (numpy, which the package vppdem needs).
 """
 import argparse
 import csv
@@ -38,6 +38,10 @@ import subprocess
 import sys
 import time
 
+# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
+from vppdem.records import fail, read_table  # noqa: E402
+
 SMALL = ["--set", "damper.radius=0.012", "--set", "damper.height=0.03", "--set", "grains.volume_fraction=0.45",
          "--set", "process.velocity=0.1", "--set", "process.amplitude=0.002", "--set", "process.samples_per_cycle=40",
          "--set", "simulation.threads=1"]
@@ -47,11 +51,6 @@ STUDY = ('description = "kill_resume.py: small damper, 2 frictions x 2 seeds"\ns
          '"process.cycles" = 2\n\n[grid]\n"grains.friction" = [0.3, 0.6]\n')
 RECORDS = ["forces.csv", "cycles.csv", "energy.csv", "summary.json"]
 TABLES = ["summary.csv", "summary_cases.csv", "summary_paired.csv"]
-
-
-def fail(msg):
-    print(f"kill_resume.py: {msg}", file=sys.stderr)
-    sys.exit(1)
 
 
 def without_clock(path):
@@ -87,7 +86,7 @@ def compare(ref, got, names):
             if os.path.exists(a) and without_clock(a) != without_clock(b):
                 fail(f"{os.path.join(c, n)} differs from the uninterrupted run ({a} against {b})")
     if "summary.csv" in names:
-        rows = list(csv.DictReader(open(os.path.join(got, "summary.csv"))))
+        _, rows = read_table(os.path.join(got, "summary.csv"))
         cases = [r["case"] for r in rows]
         if len(cases) != len(set(cases)) or sorted(cases) != cases_ref:
             fail(f"summary.csv lists {cases}, the study has {cases_ref}")

@@ -21,13 +21,12 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from paired_velocity import interval  # noqa: E402  (one Student t for the tools)
 
+# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
+from vppdem.records import fail, read_csv  # noqa: E402
+
 P_ATM = 101325.0
 COMMAND = "bash examples/operation/run.sh"
-
-
-def fail(msg):
-    print(f"operation_report.py: {msg}", file=sys.stderr)
-    sys.exit(2)
 
 
 def parse_name(name):
@@ -54,7 +53,7 @@ def load(data, study):
         with open(path) as f:
             s = json.load(f)
         if "air" not in s:
-            fail(f"{path}: no \"air\" record (a run of a vppdem before summary.json had it, or output.air off)")
+            fail(f"{path}: no \"air\" record (a run of a vppdem before summary.json had it, or output.air off)", 2)
         last = s["cycles"][-1]
         air = s["air"]["cycles"][-1]
         set_dp = s["air"]["underpressure_set"]
@@ -85,16 +84,6 @@ def ci(vals, digits=0, unit=""):
     if n < 2 or not math.isfinite(h):
         return f"{m:.{digits}f}{u} (n = {n})"
     return f"{m:.{digits}f} +- {h:.{digits}f}{u}"
-
-
-def read_csv(path):
-    with open(path) as f:
-        head = f.readline().strip().split(",")
-        cols = {h: [] for h in head}
-        for line in f:
-            for h, v in zip(head, line.strip().split(",")):
-                cols[h].append(float(v))
-    return cols
 
 
 def save(fig, docs, name):
@@ -196,11 +185,11 @@ def reversal_text(pump, f):
 
 def main(argv):
     if len(argv) != 2:
-        fail("usage: operation_report.py DATA DOCS")
+        fail("usage: operation_report.py DATA DOCS", 2)
     data, docs = argv
     pump, const = load(data, "pump"), load(data, "constant")
     if not pump:
-        fail(f"no finished run in {data}/pump: run bash examples/operation/run.sh first")
+        fail(f"no finished run in {data}/pump: run bash examples/operation/run.sh first", 2)
     waveforms = [w for w in ("triangle", "sine") if any(k[0] == w for k in pump)]
     freqs = sorted({k[1] for k in pump})
     any_run = next(iter(pump.values()))

@@ -24,17 +24,15 @@ quantity: Q against velocity with its interval, and the paired difference with i
 and prints the converged velocity of each group. Runs under /usr/bin/python3 (matplotlib, numpy).
 """
 import argparse
-import csv
 import math
 import os
 import sys
 
+# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
+from vppdem.records import fail, read_table  # noqa: E402
+
 SEED = "simulation.seed"
-
-
-def fail(msg):
-    print(f"paired_velocity.py: {msg}", file=sys.stderr)
-    sys.exit(1)
 
 
 # ---- Student t quantile (no SciPy on the Debian base): bisection on the tail probability, the
@@ -166,18 +164,15 @@ def main():
     path = os.path.join(a.dir, "summary.csv")
     if not os.path.exists(path):
         fail(f"{path} not found (not a sweep folder)")
-    with open(path, newline="") as f:
-        raw = list(csv.reader(f))
-    if len(raw) < 2:
+    header, rows = read_table(path)
+    if not rows:
         fail(f"{path} holds no run")
-    header = raw[0]
     if "W" not in header:
         fail(f"{path}: no column W")
     keys = header[: header.index("W")]
     for k in (a.key, SEED):
         if k not in keys:
             fail(f"{path}: the sweep has no grid key {k} (keys: {', '.join(keys)}); run it with seeds (seeds = N)")
-    rows = [dict(zip(header, r)) for r in raw[1:]]
     rows = [r for r in rows if r.get("status") == "ok"]
     quantities = [q for q in a.quantities.split(",") if q in header]
     quantities = [q for q in quantities if any(number(r.get(q)) is not None for r in rows)]

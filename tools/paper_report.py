@@ -19,12 +19,15 @@ write: reads TMP-made tables published into DATA/<study>/ (summary.csv, summary_
   with 95% intervals, each run a dot). Claims without finished runs say how many are pending.
   Runs under Debian's /usr/bin/python3 (matplotlib, numpy).
 """
-import csv
 import math
 import os
 import shutil
 import subprocess
 import sys
+
+# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
+from vppdem.records import fail, read_table  # noqa: E402
 
 SEED = "simulation.seed"
 STUDIES = ["radius_underpressure", "friction", "damping", "young", "preparation", "foil_resolution", "timestep"]
@@ -47,11 +50,6 @@ ASSEMBLIES = {
     # paired differences (C18: 0.6 -> 1.0).
     "friction_vs_0.6": [("friction", {}, {})],
 }
-
-
-def fail(msg):
-    print(f"paper_report.py: {msg}", file=sys.stderr)
-    sys.exit(1)
 
 
 def parse_name(name):
@@ -169,10 +167,8 @@ def assemble(data, tmp, vppdem="build/vppdem"):
 
 
 def read_csv(path):
-    if not os.path.isfile(path):
-        return []
-    with open(path, newline="") as f:
-        return list(csv.DictReader(f))
+    """The rows of a CSV file as dicts; none when the file is not there (a study not run yet)."""
+    return read_table(path)[1] if os.path.isfile(path) else []
 
 
 def fnum(x):

@@ -7,7 +7,6 @@ Each DIR is a `vppdem damper` output folder; its grain friction is read from sum
 Runs under Debian's /usr/bin/python3 (matplotlib, numpy).
 """
 import argparse
-import csv
 import json
 import os
 import sys
@@ -16,6 +15,10 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+
+# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
+from vppdem.records import fail, read_table  # noqa: E402
 
 
 def main():
@@ -30,10 +33,9 @@ def main():
             s = json.load(f)
         mu = s["inputs"]["grains.friction"]
         lam = s["inputs"]["simulation.local_damping"]
-        with open(os.path.join(d, "cycles.csv")) as f:
-            cyc = list(csv.DictReader(f))
+        _, cyc = read_table(os.path.join(d, "cycles.csv"))
         if not cyc or "friction_dissipation" not in cyc[0]:
-            sys.exit(f"{d}/cycles.csv has no dissipation columns (run with output.energy = true)")
+            fail(f"{d}/cycles.csv has no dissipation columns (run with output.energy = true)")
         c = cyc[a.cycle] if a.cycle < 0 else cyc[a.cycle - 1]
         rows.append((mu, lam, float(c["dissipated_energy"]), float(c["friction_dissipation"]),
                      float(c["damping_dissipation"]), float(c["viscous_dissipation"]), int(c["cycle"])))

@@ -15,11 +15,14 @@ Gaussian noise of standard deviation --disp-noise [m] (default 2e-6) and --force
 The file is written to a temporary name and renamed. Runs under /usr/bin/python3 (numpy).
 """
 import argparse
-import csv
 import os
 import sys
 
 import numpy as np
+
+# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
+from vppdem.records import fail, read_table  # noqa: E402
 
 
 def main():
@@ -31,10 +34,9 @@ def main():
     ap.add_argument("--seed", type=int, default=7)
     ap.add_argument("--offset", type=float, default=12.5, help="[mm] origin of the stroke")
     a = ap.parse_args()
-    with open(a.forces, newline="") as f:
-        rows = list(csv.DictReader(f))
+    _, rows = read_table(a.forces)
     if not rows or "force_zeroed" not in rows[0]:
-        sys.exit(f"synthetic_experiment.py: {a.forces} is no damper forces.csv (no force_zeroed column)")
+        fail(f"{a.forces} is no damper forces.csv (no force_zeroed column)")
     rng = np.random.default_rng(a.seed)
     t = np.array([float(r["time"]) for r in rows])
     d = np.array([float(r["displacement"]) for r in rows]) + rng.normal(0.0, a.disp_noise, len(rows))

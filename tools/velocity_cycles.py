@@ -34,17 +34,11 @@ import sys
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from paired_velocity import interval  # noqa: E402  (n, mean, sd, ci95 half width; Student t)
 
+# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
+from vppdem.records import fail, read_table  # noqa: E402
+
 QUANTITIES = ["W", "friction_dissipation", "damping_dissipation", "peak_force"]
-
-
-def fail(msg):
-    print(f"velocity_cycles.py: {msg}", file=sys.stderr)
-    sys.exit(1)
-
-
-def read_cycles(path):
-    with open(path) as f:
-        return list(csv.DictReader(f))
 
 
 def key_value(text, key):
@@ -61,7 +55,7 @@ def runs_of_sweep(d):
         s = key_value(name, "simulation.seed")
         if v is None or dp is None or s is None:
             continue
-        out.append((dp, v, int(s), read_cycles(case)))
+        out.append((dp, v, int(s), read_table(case)[1]))
     return out
 
 
@@ -77,7 +71,7 @@ def run_of_extra(d):
     dp = inputs.get("process.underpressure", summ.get("underpressure"))
     if v is None:
         fail(f"{d}: summary.json has no inputs.process.velocity")
-    return (float(dp), float(v), int(s), read_cycles(os.path.join(d, "cycles.csv")))
+    return (float(dp), float(v), int(s), read_table(os.path.join(d, "cycles.csv"))[1])
 
 
 def main():

@@ -264,11 +264,7 @@ int main(int argc, char** argv) {
             vpp::mpi_finalize();
             return rc;
         } else if (*plot) {
-            const std::filesystem::path d(plot_dir);
-            if (std::filesystem::exists(d / "calibration.json"))
-                return vpp::plot_calibration_dir(plot_dir, false) == 0 && vpp::plot_sweep_dir(plot_dir, false) == 0 ? 0 : 2;
-            if (std::filesystem::exists(d / "summary.csv")) return vpp::plot_sweep_dir(plot_dir, false) == 0 ? 0 : 2;
-            return vpp::plot_damper_dir(plot_dir, false) == 0 ? 0 : 2;
+            return vpp::plot_dir(plot_dir, false) == 0 ? 0 : 2;
         }
     } catch (const std::exception& e) {
         std::fprintf(stderr, "vppdem: error: %s\n", e.what());

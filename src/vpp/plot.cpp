@@ -16,27 +16,33 @@ std::string shell_quote(const std::string& s) {
 }
 }  // namespace
 
-std::string tool_path(const std::string& script) {
-    if (const char* d = std::getenv("VPPDEM_TOOLS_DIR")) return (fs::path(d) / script).string();
-    return (fs::path(VPPDEM_SOURCE_DIR) / "tools" / script).string();
-}
-
 std::string python_interpreter() {
     // The python3 first on PATH may be another interpreter without Debian's matplotlib.
     return fs::exists("/usr/bin/python3") ? "/usr/bin/python3" : "python3";
 }
 
 namespace {
-int run_tool(const std::string& script, const std::string& dir, bool quiet) {
-    const std::string cmd = python_interpreter() + " " + shell_quote(tool_path(script)) + " " + shell_quote(dir);
+std::string python_package_dir() {
+    if (const char* d = std::getenv("VPPDEM_PYTHON_DIR"); d && *d) return d;
+    return (fs::path(VPPDEM_SOURCE_DIR) / "src" / "python").string();
+}
+
+// kind: "damper", "sweep", "calibration", or "" for what the folder holds. The package's folder
+// goes in front of the caller's PYTHONPATH, which stays for whatever else the plots import.
+int run_plot(const std::string& dir, const std::string& kind, bool quiet) {
+    std::string path = python_package_dir();
+    if (const char* p = std::getenv("PYTHONPATH"); p && *p) path += std::string(":") + p;
+    const std::string cmd = "PYTHONPATH=" + shell_quote(path) + " " + python_interpreter() + " -m vppdem.plot " +
+                            shell_quote(dir) + (kind.empty() ? "" : " --kind " + kind);
     const int rc = std::system(cmd.c_str());
     if (rc != 0 && !quiet) std::fprintf(stderr, "vppdem: plotting failed (%s); the CSV outputs are complete\n", cmd.c_str());
     return rc;
 }
 }  // namespace
 
-int plot_damper_dir(const std::string& dir, bool quiet) { return run_tool("plot_damper.py", dir, quiet); }
-int plot_sweep_dir(const std::string& dir, bool quiet) { return run_tool("plot_sweep.py", dir, quiet); }
-int plot_calibration_dir(const std::string& dir, bool quiet) { return run_tool("plot_calibration.py", dir, quiet); }
+int plot_damper_dir(const std::string& dir, bool quiet) { return run_plot(dir, "damper", quiet); }
+int plot_sweep_dir(const std::string& dir, bool quiet) { return run_plot(dir, "sweep", quiet); }
+int plot_calibration_dir(const std::string& dir, bool quiet) { return run_plot(dir, "calibration", quiet); }
+int plot_dir(const std::string& dir, bool quiet) { return run_plot(dir, "", quiet); }
 
 }  // namespace vpp

@@ -1,19 +1,20 @@
-// Plots through matplotlib (Debian's python3-matplotlib under /usr/bin/python3).
+// Plots through the Python package's vppdem.plot (numpy and matplotlib; Debian's under
+// /usr/bin/python3).
 #pragma once
 
 #include <string>
 
 namespace vpp {
 
-// Path of a script in the repository's tools/ folder (VPPDEM_TOOLS_DIR overrides it).
-std::string tool_path(const std::string& script);
 // The interpreter that sees Debian's python3-* packages.
 std::string python_interpreter();
-// Runs tools/plot_damper.py on a damper output folder; returns the exit status (0 = ok).
-int plot_damper_dir(const std::string& dir, bool quiet);
-// Runs tools/plot_sweep.py on a sweep output folder (one holding summary.csv).
-int plot_sweep_dir(const std::string& dir, bool quiet);
-// Runs tools/plot_calibration.py on a calibration output folder (calibration.json).
-int plot_calibration_dir(const std::string& dir, bool quiet);
+// The plots of an output folder by `python3 -m vppdem.plot`, the package vppdem taken from
+// VPPDEM_PYTHON_DIR when set, else from the source tree's src/python (the plots need no compiled
+// module); each returns the exit status (0 = ok).
+int plot_damper_dir(const std::string& dir, bool quiet);       // the loops of a damper folder
+int plot_sweep_dir(const std::string& dir, bool quiet);        // the plots of a sweep (summary.csv)
+int plot_calibration_dir(const std::string& dir, bool quiet);  // calibration.png (calibration.json)
+// What the folder holds: a calibration's plot and its sweep's, a sweep's, or a damper's.
+int plot_dir(const std::string& dir, bool quiet);
 
 }  // namespace vpp

@@ -11,11 +11,18 @@ winning:
     ``**{"process.underpressure": 0.06e6}``).
 A bad key or value raises ``vppdem.ConfigError`` (a ValueError) with the command's message.
 
+Plots of output folders (no compiled module needed): ``vppdem.plot.damper(dir)``, ``.sweep(dir)``,
+``.calibration(dir)``, or ``python3 -m vppdem.plot DIR``; CSV records: ``vppdem.records``.
+Without the compiled module (``_core``, e.g. PYTHONPATH=src/python), ``import vppdem`` still
+works for those; what runs the C++ (Damper, World, load_config, settings, sweep, calibrate)
+raises ImportError.
+
 Stepping releases the interpreter lock; Ctrl-C stops a run with KeyboardInterrupt (checked every
 256 steps). ``progress``: None (quiet), True (a tqdm bar when tqdm is installed, else a line on
 stderr now and then), or a callable ``f(stage, done, total, time)``.
 """
 
+import importlib
 import json
 import math
 import os
@@ -23,10 +30,47 @@ import sys
 
 import numpy as np
 
-from . import _core
-from ._core import ConfigError, World  # noqa: F401  (part of the package's interface)
+
+class _NoCore:
+    """Stands in for the compiled module when it is not built or does not load: the plots and
+    records need only Python, and what needs the C++ says why it cannot run."""
+
+    def __init__(self, why):
+        self.why = why
+
+    def __getattr__(self, name):
+        if name.startswith("__"):  # probes such as hasattr(module, "__file__") expect AttributeError
+            raise AttributeError(name)
+        raise ImportError(f"vppdem's compiled module _core is {self.why}: configure with -DVPPDEM_PYTHON=ON "
+                          "(pybind11 and Python 3 found), build, and put build/python on PYTHONPATH")
+
+
+try:
+    from ._core import ConfigError, World  # noqa: F401  (part of the package's interface)
+    from . import _core
+except ImportError as _error:
+    _core = _NoCore("not built" if getattr(_error, "name", None) == f"{__name__}._core"
+                    else f"not loadable ({_error})")
+
+    class ConfigError(ValueError):
+        """A bad key or value of the damper's settings (the compiled module's, when it is built)."""
+
+    class World:
+        """The generic DEM world: C++, in the compiled module."""
+
+        def __new__(cls, *args, **kwargs):
+            return _core.World(*args, **kwargs)
+
 
 __all__ = ["Damper", "World", "ConfigError", "load_config", "settings", "record_columns", "sweep", "calibrate"]
+
+
+def __getattr__(name):
+    # vppdem.plot (matplotlib) and vppdem.records, imported when first named, so that `import
+    # vppdem` stays as quick as before.
+    if name in ("plot", "records"):
+        return importlib.import_module(f".{name}", __name__)
+    raise AttributeError(f"module 'vppdem' has no attribute '{name}'")
 
 
 def settings(command="damper"):

@@ -1,0 +1,68 @@
+"""The records of vppdem's runs as Python reads them: CSV tables (forces.csv, cycles.csv,
+summary.csv, ...) and the one way a tool stops on a bad one.
+
+Needs numpy only (not the compiled module), so the plots (vppdem.plot) and the scripts of tools/
+share it: ``sys.path.insert(0, "<repo>/src/python")`` then ``from vppdem.records import ...``.
+"""
+
+import csv
+import os
+import sys
+
+import numpy as np
+
+
+class RecordError(ValueError):
+    """A record that is missing, unreadable, empty or lacks a column asked of it; the message
+    names the file and what is wrong."""
+
+
+def fail(msg, status=1):
+    """Ends a script: `NAME: msg` on stderr (NAME: the script's file name, as argparse names it)
+    and exit status `status`."""
+    print(f"{os.path.basename(sys.argv[0])}: {msg}", file=sys.stderr)
+    sys.exit(status)
+
+
+def _rows(path):
+    """The rows of a CSV file as lists of text, blank lines and `#` comment lines left out."""
+    try:
+        with open(path, newline="") as f:
+            return [r for r in csv.reader(f) if r and any(c.strip() for c in r) and not r[0].startswith("#")]
+    except FileNotFoundError:
+        raise RecordError(f"{path} not found") from None
+    except OSError as e:
+        raise RecordError(f"cannot read {path}: {e.strerror}") from None
+
+
+def read_table(path):
+    """(header, rows) of a CSV file with a header: the column names and each data row as
+    {name: text}; ([], []) for a file without a line."""
+    rows = _rows(path)
+    if not rows:
+        return [], []
+    header = [c.strip() for c in rows[0]]
+    return header, [dict(zip(header, r)) for r in rows[1:]]
+
+
+def read_csv(path, columns=None):
+    """{column: float array} for the named columns (None: every column) of a CSV file with a
+    header and at least one data row."""
+    rows = _rows(path)
+    if not rows:
+        raise RecordError(f"{path} is empty")
+    header = [c.strip() for c in rows[0]]
+    columns = header if columns is None else columns
+    missing = [c for c in columns if c not in header]
+    if missing:
+        raise RecordError(f"{path}: missing column(s) {', '.join(missing)} (columns: {', '.join(header)})")
+    if len(rows) < 2:
+        raise RecordError(f"{path} has a header but no data rows")
+    out = {}
+    for name in columns:
+        k = header.index(name)
+        try:
+            out[name] = np.array([float(r[k]) for r in rows[1:]])
+        except (ValueError, IndexError) as e:
+            raise RecordError(f"{path}: bad value in column {name}: {e}") from None
+    return out
