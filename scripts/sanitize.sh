@@ -42,7 +42,8 @@ mkdir -p sanitize-logs
 run_suite() {
   local s=$1 t0 rc=0
   t0=$(date +%s)
-  ./vppdem_tests --gtest_filter="$s.*" > "sanitize-logs/$s.log" 2>&1 || rc=$?
+  # A parametrized suite's name holds a slash (Examples/ExampleRuns): its log is Examples_ExampleRuns.log.
+  ./vppdem_tests --gtest_filter="$s.*" > "sanitize-logs/${s//\//_}.log" 2>&1 || rc=$?
   printf '%-34s %6d s  %s\n' "$s" $(( $(date +%s) - t0 )) "$([ $rc -eq 0 ] && echo clean || echo "FAILED (rc $rc)")"
   return $rc
 }
