@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "dem/io/csv.h"
@@ -21,35 +22,35 @@ using G = CycleGroup;
 
 const std::vector<CycleColumn>& cycle_columns() {
     static const std::vector<CycleColumn> columns = {
-        {.name = "cycle", .unit = "", .meaning = "the cycle, from 1", .group = G::Always, .flag = false,
+        {.name = "cycle", .unit = "", .meaning = "the cycle, from 1", .group = G::Always, .flag = false, .added_later = false,
          .get = [](const CycleResult& c) { return double(c.cycle); },
          .set = [](CycleResult& c, double v) { c.cycle = int(std::lround(v)); }},
         {.name = "dissipated_energy", .unit = "J",
          .meaning = "the loop's area: the closed integral of force_zeroed over the displacement (vpp/analysis.h)",
-         .group = G::Always, .flag = false, CYCLE_FIELD(dissipated_energy)},
+         .group = G::Always, .flag = false, .added_later = false, CYCLE_FIELD(dissipated_energy)},
         {.name = "W", .unit = "J/m^2", .meaning = "dissipated_energy / (pi damper.radius^2), the paper's efficiency",
-         .group = G::Always, .flag = false, CYCLE_FIELD(W)},
+         .group = G::Always, .flag = false, .added_later = false, CYCLE_FIELD(W)},
         {.name = "peak_force", .unit = "N", .meaning = "the largest force_zeroed of the cycle", .group = G::Always,
-         .flag = false, CYCLE_FIELD(peak_force)},
+         .flag = false, .added_later = false, CYCLE_FIELD(peak_force)},
         {.name = "min_force", .unit = "N", .meaning = "the smallest force_zeroed of the cycle", .group = G::Always,
-         .flag = false, CYCLE_FIELD(min_force)},
+         .flag = false, .added_later = false, CYCLE_FIELD(min_force)},
         {.name = "friction_dissipation", .unit = "J",
          .meaning = "energy ledger: Coulomb slip, and loaded shear springs lost when contacts open", .group = G::Energy,
-         .flag = false, CYCLE_FIELD(friction_dissipation)},
+         .flag = false, .added_later = false, CYCLE_FIELD(friction_dissipation)},
         {.name = "damping_dissipation", .unit = "J", .meaning = "energy ledger: local damping", .group = G::Energy,
-         .flag = false, CYCLE_FIELD(damping_dissipation)},
+         .flag = false, .added_later = false, CYCLE_FIELD(damping_dissipation)},
         {.name = "viscous_dissipation", .unit = "J", .meaning = "energy ledger: the normal dashpots (grains.restitution)",
-         .group = G::Energy, .flag = false, CYCLE_FIELD(viscous_dissipation)},
+         .group = G::Energy, .flag = false, .added_later = false, CYCLE_FIELD(viscous_dissipation)},
         {.name = "settled", .unit = "",
          .meaning = "1 when W has settled by this cycle (stationary loops, vpp/settle.h)", .group = G::Settle,
-         .flag = true, .get = [](const CycleResult& c) { return c.settled ? 1.0 : 0.0; },
+         .flag = true, .added_later = false, .get = [](const CycleResult& c) { return c.settled ? 1.0 : 0.0; },
          .set = [](CycleResult& c, double v) { c.settled = v != 0.0; }},
         {.name = "boundary_work", .unit = "J",
          .meaning = "energy ledger: work of the cap and the top ring on the sample over the cycle (docs/energy.md)",
-         .group = G::Energy, .flag = false, CYCLE_FIELD(boundary_work)},
+         .group = G::Energy, .flag = false, .added_later = true, CYCLE_FIELD(boundary_work)},
         {.name = "energy_residual", .unit = "J",
          .meaning = "energy ledger: input - change of stored energy - dissipation over the cycle (the balance's error)",
-         .group = G::Energy, .flag = false, CYCLE_FIELD(energy_residual)},
+         .group = G::Energy, .flag = false, .added_later = true, CYCLE_FIELD(energy_residual)},
     };
     return columns;
 }
@@ -100,7 +101,7 @@ std::vector<CycleResult> read_cycles_csv(const std::string& path) {
     for (const CycleColumn& col : cycle_columns()) {
         const auto it = std::find(header.begin(), header.end(), col.name);
         at.push_back(it == header.end() ? -1 : long(it - header.begin()));
-        if (at.back() >= 0) continue;
+        if (at.back() >= 0 || col.added_later) continue;
         if (col.group == CycleGroup::Always) throw std::runtime_error(path + ": no column " + col.name);
         (col.group == CycleGroup::Energy ? energy : settle) = false;
     }
@@ -109,8 +110,11 @@ std::vector<CycleResult> read_cycles_csv(const std::string& path) {
         CycleResult c;
         c.has_energy = energy;
         c.has_settled = settle;
-        for (std::size_t k = 0; k < at.size(); ++k)
-            if (at[k] >= 0 && std::size_t(at[k]) < r.size()) cycle_columns()[k].set(c, r[std::size_t(at[k])]);
+        for (std::size_t k = 0; k < at.size(); ++k) {
+            const CycleColumn& col = cycle_columns()[k];
+            if (at[k] >= 0 && std::size_t(at[k]) < r.size()) col.set(c, r[std::size_t(at[k])]);
+            else if (col.added_later) col.set(c, std::numeric_limits<double>::quiet_NaN());
+        }
         cycles.push_back(c);
     }
     return cycles;

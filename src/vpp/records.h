@@ -22,6 +22,9 @@ struct CycleColumn {
     const char* meaning;  // where it comes from
     CycleGroup group;
     bool flag;            // 0/1 in cycles.csv and Python, true/false in summary.json
+    // Added after cycles.csv files were published without it: a file that lacks it still has its
+    // group's other columns, and reads it as NaN (the study's --report-only reads old records).
+    bool added_later;
     double (*get)(const CycleResult&);
     void (*set)(CycleResult&, double);
 };
@@ -41,7 +44,8 @@ std::vector<const CycleColumn*> cycle_columns_of(const std::vector<CycleResult>&
 void write_cycles_csv(const std::string& path, const std::vector<CycleResult>& cycles);
 
 // cycles.csv read back into cycles: every column of the table that the file has, by name (other
-// columns ignored); has_energy and has_settled set when all of their group's columns are there.
+// columns ignored); has_energy and has_settled set when their group's columns are there (a column
+// added_later may be missing: NaN).
 // Throws std::runtime_error naming the file when it cannot be read, holds no cycle or lacks a
 // column of the Always group.
 std::vector<CycleResult> read_cycles_csv(const std::string& path);
