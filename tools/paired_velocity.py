@@ -31,6 +31,7 @@ import sys
 # The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
 from vppdem.records import fail, read_table  # noqa: E402
+from vppdem.records import finite_number as number  # noqa: E402
 
 SEED = "simulation.seed"
 
@@ -93,14 +94,6 @@ def interval(xs):
         return n, mean, math.nan, math.nan
     sd = math.sqrt(sum((x - mean) ** 2 for x in xs) / (n - 1))
     return n, mean, sd, t_quantile(0.975, n - 1) * sd / math.sqrt(n)
-
-
-def number(s):
-    try:
-        v = float(s)
-    except (TypeError, ValueError):
-        return None
-    return v if math.isfinite(v) else None
 
 
 def fmt(v):

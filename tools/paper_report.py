@@ -28,6 +28,7 @@ import sys
 # The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
 from vppdem.records import fail, read_table  # noqa: E402
+from vppdem.records import finite_number as fnum  # noqa: E402
 
 SEED = "simulation.seed"
 STUDIES = ["radius_underpressure", "friction", "damping", "young", "preparation", "foil_resolution", "timestep"]
@@ -169,14 +170,6 @@ def assemble(data, tmp, vppdem="build/vppdem"):
 def read_csv(path):
     """The rows of a CSV file as dicts; none when the file is not there (a study not run yet)."""
     return read_table(path)[1] if os.path.isfile(path) else []
-
-
-def fnum(x):
-    try:
-        v = float(x)
-        return v if math.isfinite(v) else None
-    except (TypeError, ValueError):
-        return None
 
 
 class Study:

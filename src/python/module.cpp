@@ -224,25 +224,23 @@ PYBIND11_MODULE(_core, m) {
     // The records' columns (vpp/records.h): what cycles() and forces() hold, with units.
     m.def("record_columns", [] {
         py::list rows;
-        for (const vpp::CycleColumn& c : vpp::cycle_columns()) {
+        auto row = [&](const char* record, const char* name, const char* unit, const char* meaning, const char* only_with) {
             py::dict r;
-            r["record"] = "cycles";
-            r["name"] = c.name;
-            r["unit"] = c.unit;
-            r["meaning"] = c.meaning;
-            r["only_with"] = c.group == vpp::CycleGroup::Energy ? "output.energy"
-                             : c.group == vpp::CycleGroup::Settle ? "a damper run" : "";
+            r["record"] = record;
+            r["name"] = name;
+            r["unit"] = unit;
+            r["meaning"] = meaning;
+            r["only_with"] = only_with;
             rows.append(r);
-        }
-        for (const vpp::SampleColumn& c : vpp::sample_columns()) {
-            py::dict r;
-            r["record"] = "forces";
-            r["name"] = c.name;
-            r["unit"] = c.unit;
-            r["meaning"] = c.meaning;
-            r["only_with"] = c.air ? "the air record (process.pressure_model = \"pump\" or output.air)" : "";
-            rows.append(r);
-        }
+        };
+        for (const vpp::CycleColumn& c : vpp::cycle_columns())
+            row("cycles", c.name, c.unit, c.meaning,
+                c.group == vpp::CycleGroup::Energy   ? "output.energy"
+                : c.group == vpp::CycleGroup::Settle ? "a damper run"
+                                                     : "");
+        for (const vpp::SampleColumn& c : vpp::sample_columns())
+            row("forces", c.name, c.unit, c.meaning,
+                c.air ? "the air record (process.pressure_model = \"pump\" or output.air)" : "");
         return rows;
     });
     m.def("scene_settings", [] {

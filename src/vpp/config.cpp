@@ -83,14 +83,15 @@ void read_table(const toml::table& root, CommandSet commands, Config& c) {
 
 }  // namespace
 
-Config::Config(CommandSet commands) { read_table(toml::table{}, commands, *this); }
+Config::Config(const toml::table& file, CommandSet commands) {
+    collect_keys(file, "", given);
+    read_table(file, commands, *this);
+}
+
+Config::Config(CommandSet commands) : Config(toml::table{}, commands) {}
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides, CommandSet commands) {
-    const toml::table root = cfg::load(path, overrides);
-    Config c(commands);
-    collect_keys(root, "", c.given);
-    read_table(root, commands, c);
-    return c;
+    return Config(cfg::load(path, overrides), commands);
 }
 
 double cycling_local_damping(const Config& c) {

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <toml++/toml.h>
 
@@ -122,6 +123,11 @@ struct Config {
     // Dotted keys the file or a --set gave (e.g. "process.velocity"); the others hold defaults.
     // A run from a checkpoint takes the checkpoint's value of a key not given here.
     std::set<std::string> given;
+
+private:
+    // A file's keys, the others the table's defaults for these commands (load_config).
+    Config(const toml::table& file, CommandSet commands);
+    friend Config load_config(const std::string&, const std::vector<std::string>&, CommandSet);
 };
 
 // The local damping of the vacuum stage and the cycling [-]: process.local_damping, or when that

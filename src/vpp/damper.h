@@ -57,7 +57,6 @@ struct AirCycle {
 struct ForcesTable {
     std::vector<std::string> columns;
     std::vector<std::vector<double>> rows;
-    bool air = false;
 };
 
 struct DamperResult {

@@ -247,22 +247,22 @@ void DamperRun::write_energy(const fs::path& dir) const {
 
 ForcesTable DamperRun::forces() const {
     ForcesTable t;
-    t.air = air_complete(st_);
-    t.columns = sample_column_names(t.air);
+    const bool air = air_complete(st_);
+    t.columns = sample_column_names(air);
     // The air (docs/damper.md, "The air inside"): force_lid is what dp adds to the testing
     // machine's force on the lid (the atmosphere pushes the lid in: -dp times its area,
     // compression positive); force_machine_zeroed is the machine's force, grains + foil + lid,
     // zeroed at the first sample as force_zeroed is. With a constant dp the two zeroed columns agree.
     const int S = int(c_.process.samples_per_cycle);
     const double f0 = st_.samples.empty() ? 0.0 : st_.samples[0].grains + st_.samples[0].foil;
-    const double m0 = t.air ? f0 - st_.air[0].dp * st_.air[0].lid_area : 0.0;
+    const double m0 = air ? f0 - st_.air[0].dp * st_.air[0].lid_area : 0.0;
     t.rows.reserve(st_.samples.size());
     for (std::size_t k = 0; k < st_.samples.size(); ++k) {
         const Sample& s = st_.samples[k];
         const double total = s.grains + s.foil;
         std::vector<double> row = {s.time - st_.cycle_t0, s.displacement, total, s.grains, s.foil, total - f0,
                                    double(k / S + 1)};
-        if (t.air) {
+        if (air) {
             const AirSample& a = st_.air[k];
             const double lid = -a.dp * a.lid_area;
             row.insert(row.end(), {a.enclosed, a.gas, a.p_inside, a.dp, lid, total + lid - m0});

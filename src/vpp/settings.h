@@ -7,6 +7,7 @@
 // another.
 #pragma once
 
+#include <cmath>
 #include <limits>
 #include <string>
 #include <string_view>
@@ -61,7 +62,7 @@ struct Setting {
 
     cfg::Limits limits() const { return {check, lo, hi, lo_open, hi_open, allowed}; }
     // The default for these commands (def_foil where the foil's checks have their own).
-    double default_for(CommandSet k) const { return k == CommandSet::Foil && def_foil == def_foil ? def_foil : def; }
+    double default_for(CommandSet k) const { return k == CommandSet::Foil && !std::isnan(def_foil) ? def_foil : def; }
 };
 
 // The table, in the order the config reader reads the keys (section by section).

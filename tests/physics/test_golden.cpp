@@ -113,6 +113,12 @@ std::vector<Mismatch> compare(const nlohmann::json& stored, const Series& now) {
     return bad;
 }
 
+std::size_t value_count(const Series& s) {
+    std::size_t n = 0;
+    for (const auto& [k, v] : s) n += v.size();
+    return n;
+}
+
 bool writing() {
     const char* w = std::getenv("VPPDEM_GOLDEN_WRITE");
     return w && std::string(w) == "1";
@@ -157,8 +163,7 @@ void check_case(const std::string& name, const std::string& args, Series (*extra
     ASSERT_FALSE(stored.is_null()) << "no " << (kGoldenDir / (name + ".json")).string()
                                    << ": run the regenerate command of tests/golden/README.md";
     const std::vector<Mismatch> bad = compare(stored, now);
-    std::size_t values = 0;
-    for (const auto& [k, v] : now) values += v.size();
+    const std::size_t values = value_count(now);
     std::cout << "[measure] golden " << name << ": " << bad.size() << " of " << values << " values differ\n";
     for (std::size_t i = 0; i < bad.size() && i < 10; ++i)
         ADD_FAILURE() << name << " " << bad[i].where << ": stored " << bad[i].stored << ", now " << bad[i].now;
@@ -186,8 +191,7 @@ TEST(Golden, ADeliberateBreakIsCaught) {
     const Series broken = scene_series(out);
     fs::remove_all(out);
     const std::vector<Mismatch> bad = compare(stored, broken);
-    std::size_t values = 0;
-    for (const auto& [k, v] : broken) values += v.size();
+    const std::size_t values = value_count(broken);
     std::cout << "[measure] golden scene_pour with local_damping 0.21: " << bad.size() << " of " << values
               << " values differ\n";
     EXPECT_GT(bad.size(), values / 4);

@@ -58,7 +58,6 @@ the best's shaded.
 
 import argparse
 import json
-import math
 import os
 import sys
 
@@ -285,17 +284,9 @@ SEED = "simulation.seed"
 LENGTHS = ("damper.radius", "damper.height", "grains.radius", "process.amplitude")
 
 
-def _as_number(s):
-    try:
-        v = float(s)
-    except (TypeError, ValueError):
-        return None
-    return v if math.isfinite(v) else None
-
-
 def _pretty(key, value):
     """Axis-friendly value: MPa for underpressures, mm for lengths."""
-    v = _as_number(value)
+    v = records.finite_number(value)
     if v is None:
         return value
     if key == "process.underpressure":
@@ -333,7 +324,7 @@ def _read_cases(d, keys, runs):
     for r in runs:
         c = {k: r[k] for k in keys if k != SEED}
         for q in ("W", "W_settled"):
-            v = _as_number(r.get(q))
+            v = records.finite_number(r.get(q))
             c[q + "_n"], c[q + "_mean"], c[q + "_ci95"] = ("1", r[q], "") if v is not None else ("0", "", "")
         rows.append(c)
     return rows
@@ -368,10 +359,10 @@ def sweep(study_dir, caption=None, prefix=None):
         return ", ".join(f"{k} = {_pretty(k, v)}" for k, v in zip(others, g)) or "all cases"
 
     def xvalue(v):
-        x = _as_number(v)
+        x = records.finite_number(v)
         return x * 1e3 if (x is not None and xkey in LENGTHS) else x
 
-    numeric = xkey is not None and all(_as_number(c[xkey]) is not None for c in cases)
+    numeric = xkey is not None and all(records.finite_number(c[xkey]) is not None for c in cases)
     xcats = [] if numeric else list(dict.fromkeys(c[xkey] if xkey else "base" for c in cases))
 
     def xpos(v):
@@ -379,9 +370,9 @@ def sweep(study_dir, caption=None, prefix=None):
 
     quantities = ["W"]
     for q in ("W_settled", "friction_share"):
-        if any(_as_number(c.get(q + "_mean")) is not None for c in cases):
+        if any(records.finite_number(c.get(q + "_mean")) is not None for c in cases):
             quantities.append(q)
-    ens = any((_as_number(c.get("W_n")) or 0) > 1 for c in cases)
+    ens = any((records.finite_number(c.get("W_n")) or 0) > 1 for c in cases)
     logx = numeric and xkey in ("grains.young", "process.velocity")
     xs_all = [xpos(c[xkey]) for c in cases] if xkey else [0]
     span = (max(xs_all) - min(xs_all)) if numeric and not logx else 0.0
@@ -398,16 +389,16 @@ def sweep(study_dir, caption=None, prefix=None):
     for ax, q in zip(axes[0], quantities):
         for gi, g in enumerate(groups):
             colour = f"C{gi % 10}"
-            members = [c for c in cases if group_of(c) == g and _as_number(c.get(q + "_mean")) is not None]
+            members = [c for c in cases if group_of(c) == g and records.finite_number(c.get(q + "_mean")) is not None]
             members.sort(key=lambda c: xpos(c[xkey]) if xkey else 0)
             xs = [dodge(xpos(c[xkey]) if xkey else 0, gi) for c in members]
             ys = [float(c[q + "_mean"]) for c in members]
-            err = [_as_number(c.get(q + "_ci95")) or 0.0 for c in members]
+            err = [records.finite_number(c.get(q + "_ci95")) or 0.0 for c in members]
             ax.errorbar(xs, ys, yerr=err if ens else None, fmt="o-", color=colour, capsize=3, label=group_label(g))
             # Every run of the ensemble as a dot, so the scatter shows beside its interval.
             if ens:
                 for r in runs:
-                    v = _as_number(r.get(q))
+                    v = records.finite_number(r.get(q))
                     if v is None or tuple(r[k] for k in others) != g:
                         continue
                     ax.plot(dodge(xpos(r[xkey]) if xkey else 0, gi), v, ".", color=colour, alpha=0.35, ms=5)

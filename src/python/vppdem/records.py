@@ -6,6 +6,7 @@ share it: ``sys.path.insert(0, "<repo>/src/python")`` then ``from vppdem.records
 """
 
 import csv
+import math
 import os
 import sys
 
@@ -22,6 +23,16 @@ def fail(msg, status=1):
     and exit status `status`."""
     print(f"{os.path.basename(sys.argv[0])}: {msg}", file=sys.stderr)
     sys.exit(status)
+
+
+def finite_number(x):
+    """A cell's text (or any value) as a finite float; None when it is empty, not a number, NaN or
+    infinite."""
+    try:
+        v = float(x)
+    except (TypeError, ValueError):
+        return None
+    return v if math.isfinite(v) else None
 
 
 def _rows(path):
