@@ -74,6 +74,18 @@ void read_table(const toml::table& root, CommandSet commands, Config& c) {
             if (c.damper.radius < 4.0 * c.foil.particle_radius) s.fail("radius", radius.allowed);
             if (c.damper.height < 4.0 * c.foil.particle_radius) s.fail("height", height.allowed);
         }
+        if (section == "grains") {
+            if (c.grains.radius_distribution == 3 && c.grains.sieve_curve.empty())
+                s.fail("sieve_curve", "must name a CSV file of the sieve curve when grains.radius_distribution = \"sieve\"");
+            if (c.grains.radius_distribution != 3 && !c.grains.sieve_curve.empty())
+                s.fail("radius_distribution", "must be \"sieve\" when grains.sieve_curve is given");
+            if ((c.grains.radius_distribution == 1 || c.grains.radius_distribution == 2) && !(c.grains.radius_spread > 0.0))
+                s.fail("radius_spread", "must be > 0 for a uniform or lognormal distribution (0: every grain grains.radius; "
+                                        "say grains.radius_distribution = \"single\")");
+            if (c.grains.radius_distribution == 2 && c.grains.radius_spread > 0.5)
+                s.fail("radius_spread", "must be at most 0.5 for a lognormal distribution (the sd of ln r: radii span a "
+                                        "factor exp(6 sd) = 20 at 0.5)");
+        }
         if (section == "process" && c.process.pressure_model != 0 && c.process.pump_down && !(c.process.pump_speed > 0.0))
             s.fail("pump_down", "must be false when process.pump_speed is 0 (a pump-down needs a pump)");
         s.finish();
@@ -92,6 +104,16 @@ Config::Config(CommandSet commands) : Config(toml::table{}, commands) {}
 
 Config load_config(const std::string& path, const std::vector<std::string>& overrides, CommandSet commands) {
     return Config(cfg::load(path, overrides), commands);
+}
+
+scene::SizeDistribution grain_sizes(const Config& c) {
+    using K = scene::SizeDistribution::Kind;
+    if (c.grains.radius_distribution == 3) return scene::SizeDistribution::sieve_curve(c.grains.sieve_curve);
+    scene::SizeDistribution d;
+    d.kind = c.grains.radius_distribution == 1 ? K::Uniform : c.grains.radius_distribution == 2 ? K::Lognormal : K::Single;
+    d.radius = c.grains.radius;
+    d.spread = d.kind == K::Single ? 0.0 : c.grains.radius_spread;
+    return d;
 }
 
 double cycling_local_damping(const Config& c) {

@@ -14,12 +14,19 @@
 
 #include <toml++/toml.h>
 
+#include "scene/size_distribution.h"
 #include "vpp/foil.h"
 
 namespace vpp {
 
 struct GrainsDef {
-    double radius{};              // [m] r_k
+    double radius{};              // [m] r_k; with a size distribution its number mean
+    // Grain sizes (scene/size_distribution.h): 0 single radius (the paper), 1 uniform,
+    // 2 lognormal, 3 a sieve curve.
+    int radius_distribution{};
+    double radius_spread{};       // [-] uniform: half-width over radius; lognormal: sd of ln r
+    std::string sieve_curve;      // CSV of sieve openings [m] and mass fractions passing (distribution 3)
+    double sieve_curve_id{};      // fingerprint of the curve's numbers (0: none): the sample's geometry check
     double density{};             // [kg/m^3]
     double young{};               // [Pa] E_k
     double friction{};            // [-] mu_k
@@ -132,6 +139,8 @@ private:
 
 // The local damping of the vacuum stage and the cycling [-]: process.local_damping, or when that
 // is "auto" simulation.local_damping (which the preparation always uses).
+// The grains' size distribution (the sieve curve read from its file): what the fill draws from.
+scene::SizeDistribution grain_sizes(const Config& c);
 double cycling_local_damping(const Config& c);
 
 // Reads the config (empty path: all defaults) with --set overrides.

@@ -139,6 +139,10 @@ private:
     void setup();
     void adopt_checkpoint_settings();
     void check_grains_fit(std::size_t n);
+    // n radii from the size distribution's stream `stream` (0: the pour, k: re-fill k).
+    std::vector<double> draw_radii(std::size_t n, uint64_t stream) const;
+    // The drawn radii's statistics into the preparation's report (size distributions only).
+    void report_grain_sizes();
     // Takes out_dir's lock (held until the run ends) and, for a run that does not resume the
     // folder's own run.ckpt, clears it as --overwrite asks (or refuses a non-empty one).
     void start_output_dir(bool resuming);
@@ -185,12 +189,18 @@ private:
         return st_.stage_t0 + check * (std::floor((t - st_.stage_t0) / check) + 1.0);
     }
     // Energy scale of the rest criteria [J]: every grain lifted by one diameter, N m g 2 r_k.
+    // With a size distribution: the grains' total mass, the mean diameter.
     double settle_energy_scale() const {
-        return double(g1_ - g0_) * w_.particles.mass[g0_] * 9.81 * 2.0 * c_.grains.radius;
+        if (sizes_.kind == scene::SizeDistribution::Kind::Single)
+            return double(g1_ - g0_) * w_.particles.mass[g0_] * 9.81 * 2.0 * c_.grains.radius;
+        double m = 0;
+        for (uint32_t i = g0_; i < g1_; ++i) m += w_.particles.mass[i];
+        return m * 9.81 * 2.0 * c_.grains.radius;
     }
     void log(const char* fmt, ...) const;
 
     Config c_;
+    scene::SizeDistribution sizes_;  // what the fill and re-fills draw the radii from (setup())
     DamperOptions o_;
     fs::path out_;
     bool files_ = false;        // out_dir given: checkpoints, frames and records are written

@@ -134,6 +134,7 @@ void DamperRun::stage_compress() {
     r["prepare.packing_fraction"] = packing_fraction(r_in, z_top_);
     r["prepare.packing_fraction_nominal"] =
         packing_fraction(c_.damper.radius, c_.damper.height);
+    report_grain_sizes();
     log("[prepare] cap travel %.3g mm on the grains, cap force %.4g N at the end (%.4g N at most), packing "
         "fraction %.4f of the foil's interior\n", 1e3 * r["prepare.cap_travel"], cap_force, f_max,
         r["prepare.packing_fraction"]);

@@ -61,10 +61,11 @@ std::string show(const std::string& key, double v) {
 // from the bottom up, so the grains never overlap each other, the foil or the funnel.
 // A re-fill (refill = true) places its grains the same way above z_floor (the top of the grains
 // already in) in the funnel that is there, as many of n as fit, with its own random stream.
+// The sites are sized for the largest grain r_max (a size distribution's; else grains.radius).
 std::vector<Vec3> generate_grains(const Config& c, const FoilLattice& L, std::size_t n, double z_top,
-                                  double funnel_top_radius, double& funnel_height, double z_floor = 0.0,
+                                  double funnel_top_radius, double& funnel_height, double r_max, double z_floor = 0.0,
                                   uint64_t stream = 0, bool refill = false) {
-    const double rk = c.grains.radius, rf = c.foil.particle_radius;
+    const double rk = r_max, rf = c.foil.particle_radius;
     const double gap = 0.05 * rk;                // [m] clearance to every wall
     const double s = 2.0 * rk * 1.04;            // [m] lattice spacing
     const double r_in = L.radius - rf;           // [m] inner surface of the foil
@@ -115,6 +116,10 @@ void DamperRun::setup() {
     // From a checkpoint: its geometry (and, for a run that started, its settings) first, since
     // the foil is built from the config.
     if (!o_.from.empty()) adopt_checkpoint_settings();
+    // A checkpoint's sample holds its radii; its sieve curve is read only when given (a re-fill
+    // of a sample in the fill stage needs it, refill() says so).
+    if (c_.grains.radius_distribution != 3 || !c_.grains.sieve_curve.empty()) sizes_ = grain_sizes(c_);
+    else sizes_.kind = scene::SizeDistribution::Kind::Sieve;
     build();
     const std::size_t n_foil = L_.particles.size();
     // The pour's grains; a checkpoint holds those and its re-fills' (an older one: the pour's).
@@ -135,12 +140,14 @@ void DamperRun::setup() {
             for (uint32_t i : L_.row(k)) w_.set_fixed(i);
         double funnel_h = 0;
         const double funnel_top_r = 1.6 * L_.radius;
-        const auto pos = generate_grains(c_, L_, n, z_top_, funnel_top_r, funnel_h);
+        const auto pos = generate_grains(c_, L_, n, z_top_, funnel_top_r, funnel_h, sizes_.max_radius());
+        const std::vector<double> radii = draw_radii(pos.size(), 0);
         double zmax = 0;
-        for (const Vec3& p : pos) {
+        for (std::size_t k = 0; k < pos.size(); ++k) {
+            const Vec3& p = pos[k];
             dem::SphereDef d;
             d.position = p;
-            d.radius = c_.grains.radius;
+            d.radius = radii[k];
             d.material = kGrainMat;
             d.mask = kGrainMask;
             w_.add_sphere(d);
@@ -153,7 +160,7 @@ void DamperRun::setup() {
         bottom.mask = kMaskCap;
         w_.add_plane(bottom);
         dem::Plane top = bottom;
-        top.point = {0, 0, std::max(zmax + c_.grains.radius + 1e-3, z_top_)};
+        top.point = {0, 0, std::max(zmax + sizes_.max_radius() + 1e-3, z_top_)};
         top.normal = {0, 0, -1};
         w_.add_plane(top);
         for (dem::Facet f : dem::make_funnel_facets({0, 0, z_top_}, L_.radius, funnel_top_r, funnel_h, 72, true)) {
@@ -259,18 +266,47 @@ void DamperRun::adopt_checkpoint_settings() {
                                  "the checkpoint's values), or start a new run from the sample's prepared.ckpt");
 }
 
+std::vector<double> DamperRun::draw_radii(std::size_t n, uint64_t stream) const {
+    if (sizes_.kind == scene::SizeDistribution::Kind::Single) return std::vector<double>(n, c_.grains.radius);
+    // A stream of its own (not the positions'), one per fill: the pour 0, re-fill k stream k.
+    std::mt19937_64 rng((c_.simulation.seed ^ 0x51E7E5C0FFEEull) + stream * 0x9E3779B97F4A7C15ull);
+    std::vector<double> r(n);
+    for (double& x : r) x = sizes_.draw(rng);
+    return r;
+}
+
+void DamperRun::report_grain_sizes() {
+    if (sizes_.kind == scene::SizeDistribution::Kind::Single) return;  // every grain grains.radius
+    std::vector<double> r(w_.particles.radius.begin() + g0_, w_.particles.radius.begin() + g1_);
+    const scene::SizeStats s = scene::size_stats(r);
+    auto& rep = st_.report;
+    rep["prepare.radius_mean"] = s.mean;
+    rep["prepare.radius_sd"] = s.sd;
+    rep["prepare.radius_min"] = s.min;
+    rep["prepare.radius_max"] = s.max;
+    rep["prepare.d10"] = s.d10;
+    rep["prepare.d50"] = s.d50;
+    rep["prepare.d90"] = s.d90;
+}
+
 void DamperRun::check_grains_fit(std::size_t n) {
-    const double rk = c_.grains.radius;
+    const double rk = sizes_.max_radius();
     const double r_in = L_.radius - c_.foil.particle_radius;  // [m] inner surface of the foil
-    if (rk > r_in / 3.0)
-        throw std::runtime_error("config key 'grains.radius' = " + show("", rk) +
-                                 ": too large for the damper; at most a third of the foil's inner radius (" +
+    if (rk > r_in / 3.0) {
+        const char* const kinds[] = {"single", "uniform", "lognormal", "sieve"};
+        const std::string what = sizes_.kind == scene::SizeDistribution::Kind::Single
+                                     ? "config key 'grains.radius' = " + show("", rk) + ": too large"
+                                     : std::string("config key 'grains.radius_distribution' = \"") +
+                                           kinds[c_.grains.radius_distribution] + "\": its largest grain (radius " +
+                                           show("", rk) + " m) is too large";
+        throw std::runtime_error(what + " for the damper; at most a third of the foil's inner radius (" +
                                  show("", r_in / 3.0) + " m)");
+    }
     // Fewest grains: one layer across the foil. A VPP damper is a packing that the vacuum
     // jams; grains that do not even cover the bottom once lie loose on the lower cap, the
     // cap never loads them and the "loop" is the foil's alone (0 grains gave a negative W).
     // A hexagonal layer of circles of radius r_k covers pi / (2 sqrt 3) = 0.907 of the area.
-    const double v_grain = 4.0 / 3.0 * std::numbers::pi * rk * rk * rk;
+    const double v_grain = sizes_.mean_volume();
     const std::size_t n_layer = std::size_t(std::max(1.0, std::floor(0.9069 * (r_in / rk) * (r_in / rk))));
     if (n < n_layer) {
         const double phi_min = double(n_layer) * v_grain /
@@ -371,7 +407,7 @@ bool DamperRun::refill() {
     }
     // As many grains as fill the gap at the packing fraction of the bed below (the grains
     // settle to about the same packing), one more so that every re-fill adds at least one.
-    const double v_k = 4.0 / 3.0 * std::numbers::pi * rk * rk * rk;
+    const double v_k = sizes_.mean_volume();
     const double area = std::numbers::pi * r_in * r_in;
     const double phi_bed = double(g1_ - g0_) * v_k / (area * level);
     const std::size_t add = std::size_t(std::ceil(phi_bed * area * (target - level) / v_k)) + 1;
@@ -383,22 +419,30 @@ bool DamperRun::refill() {
                                  "height (prepare.funnel_height): it cannot be re-filled; prepare a new sample (run "
                                  "without --from)");
     double funnel_h = funnel->second;
-    const auto pos = generate_grains(c_, L_, add, z_top_, 1.6 * L_.radius, funnel_h, highest_grain_top(),
-                                     uint64_t(done + 1), true);
+    if (sizes_.sieve_radius.empty() && sizes_.kind == scene::SizeDistribution::Kind::Sieve)
+        throw std::runtime_error("checkpoint '" + o_.from + "' holds a sample drawn from a sieve curve in the fill stage: "
+                                 "give grains.sieve_curve (the sample's curve) to re-fill it");
+    const auto pos = generate_grains(c_, L_, add, z_top_, 1.6 * L_.radius, funnel_h, sizes_.max_radius(),
+                                     highest_grain_top(), uint64_t(done + 1), true);
     if (pos.empty()) {
         warn("prepare: no room in the funnel for a re-fill; the grains stay below the damper height");
         return false;
     }
-    for (const Vec3& p : pos) {
+    const std::vector<double> radii = draw_radii(pos.size(), uint64_t(done + 1));
+    for (std::size_t k = 0; k < pos.size(); ++k) {
+        const Vec3& p = pos[k];
         dem::SphereDef d;
         d.position = p;
-        d.radius = rk;
+        d.radius = radii[k];
         d.material = kGrainMat;
         d.mask = kGrainMask;
         w_.add_sphere(d);
     }
     g1_ += uint32_t(pos.size());
     st_.grains = g1_ - g0_;
+    // A smaller grain than any before lowers the critical step (one radius: the same grains).
+    if (sizes_.kind != scene::SizeDistribution::Kind::Single)
+        w_.params.dt = std::min(w_.params.dt, resolve_dt(c_.simulation, w_));
     st_.report["prepare.refills"] = done + 1;
     w_.invalidate_candidates();
     log("[prepare] grains level %.4f m, below %.4f m: re-fill %d adds %zu grains (%u in all)\n", level, target,
@@ -435,6 +479,9 @@ std::map<std::string, double> DamperRun::run_settings() const { return values_of
 }  // namespace damper_detail
 
 std::size_t grain_count(const Config& c) {
+    if (c.grains.radius_distribution != 0)
+        return std::size_t(std::llround(c.grains.volume_fraction * std::numbers::pi * c.damper.radius * c.damper.radius *
+                                        c.damper.height / grain_sizes(c).mean_volume()));
     const double rk = c.grains.radius;
     return std::size_t(std::llround(c.grains.volume_fraction * std::numbers::pi * c.damper.radius * c.damper.radius *
                                     c.damper.height / (4.0 / 3.0 * std::numbers::pi * rk * rk * rk)));

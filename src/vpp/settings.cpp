@@ -1,5 +1,7 @@
 #include "vpp/settings.h"
 
+#include <cstring>
+
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
@@ -50,7 +52,63 @@ const std::vector<Setting>& table() {
     static const std::vector<Setting> rows = {
         // [grains]
         {.key = "grains.radius", .type = T::Real, .unit = "m", .def = 2.965e-3, .check = C::Positive,
-         .acts = A::Geometry, .geometry = 1, .summary = 1, .doc = "r_k, radius of every grain", FIELD(grains.radius)},
+         .acts = A::Geometry, .geometry = 1, .summary = 1,
+         .doc = "r_k, radius of every grain; with grains.radius_distribution the number-mean radius",
+         FIELD(grains.radius)},
+        {.key = "grains.radius_distribution", .type = T::Choice, .unit = "", .def = Setting::kUnset,
+         .default_text = "\"single\"", .check = C::Custom,
+         .allowed = "must be \"single\", \"uniform\", \"lognormal\" or \"sieve\"", .acts = A::Geometry,
+         .geometry = 10,
+         .doc = "grain radii: \"single\": every grain grains.radius (the paper); \"uniform\": in grains.radius (1 +- "
+                "grains.radius_spread); \"lognormal\": ln r with sd grains.radius_spread, cut at 3 sd, mean "
+                "grains.radius; \"sieve\": from the sieve curve grains.sieve_curve (docs/damper.md, \"Grain sizes\")",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
+             const std::string k = short_key(r);
+             const std::string d = s.string(k, "single");
+             const char* const names[] = {"single", "uniform", "lognormal", "sieve"};
+             c.grains.radius_distribution = -1;
+             for (int i = 0; i < 4; ++i)
+                 if (d == names[i]) c.grains.radius_distribution = i;
+             if (c.grains.radius_distribution < 0) s.fail(k, r.allowed);
+         },
+         FIELD(grains.radius_distribution), .legacy = 0.0},  // an older vppdem's grains had one radius
+        {.key = "grains.radius_spread", .type = T::Real, .unit = "-", .def = 0.0, .check = C::Range, .lo = 0.0,
+         .hi = 1.0, .hi_open = true,
+         .allowed = "must be in [0, 1): the half-width of the uniform distribution over grains.radius, or the "
+                    "standard deviation of ln r (at most 0.5)",
+         .acts = A::Geometry, .geometry = 11,
+         .doc = "width of the size distribution: uniform, radii in grains.radius (1 +- spread); lognormal, the sd of ln r",
+         FIELD(grains.radius_spread), .legacy = 0.0},
+        {.key = "grains.sieve_curve", .type = T::String, .unit = "", .def = Setting::kUnset, .default_text = "none",
+         .check = C::Custom,
+         .allowed = "must be a CSV file with the columns size (sieve opening [m]) and passing (mass fraction, or %), "
+                    "sizes ascending",
+         .acts = A::Geometry, .geometry = 12,
+         .doc = "a measured sieve curve (CSV: size [m], passing) for grains.radius_distribution = \"sieve\"; a path "
+                "relative to the working folder",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
+             const std::string k = short_key(r);
+             c.grains.sieve_curve = s.string(k, "");
+             c.grains.sieve_curve_id = 0.0;
+             if (c.grains.sieve_curve.empty()) return;
+             try {
+                 const scene::SizeDistribution d = scene::SizeDistribution::sieve_curve(c.grains.sieve_curve);
+                 // A fingerprint of the curve's numbers, exact in a double (52 bits): a run from a
+                 // prepared sample must use the sample's curve.
+                 uint64_t h = 14695981039346656037ull;
+                 for (const std::vector<double>* v : {&d.sieve_radius, &d.sieve_passing})
+                     for (double x : *v) {
+                         uint64_t b;
+                         std::memcpy(&b, &x, 8);
+                         for (int i = 0; i < 8; ++i) h = (h ^ ((b >> (8 * i)) & 0xffu)) * 1099511628211ull;
+                     }
+                 c.grains.sieve_curve_id = double(h >> 12);
+             } catch (const std::runtime_error& e) {
+                 s.fail(k, std::string(r.allowed) + " (" + e.what() + ")");
+             }
+         },
+         .get = [](const Config& c) { return c.grains.sieve_curve_id; },
+         .set = [](Config&, double) {}, .legacy = 0.0},
         {.key = "grains.density", .type = T::Real, .unit = "kg/m^3", .def = 2689.639, .check = C::Positive,
          .acts = A::Geometry, .geometry = 3, .summary = 2, .doc = "density of the grains", FIELD(grains.density)},
         {.key = "grains.young", .type = T::Real, .unit = "Pa", .def = 2.3e9, .check = C::Positive,
