@@ -24,7 +24,7 @@
 
 #include "scene/config.h"
 #include "scene/scene_settings.h"
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 #include "dem/io/checkpoint.h"
 #include "dem/walls/facet_sets.h"
 #include "vpp/calibrate.h"

@@ -11,7 +11,7 @@
 #include <sys/resource.h>
 
 #include "dem/core/kernels.h"
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
 #include "dem/walls/facet_sets.h"

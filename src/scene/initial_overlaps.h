@@ -17,7 +17,7 @@
 #include <string>
 #include <vector>
 
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 
 namespace scene {
 

@@ -6,7 +6,7 @@
 
 #include <toml++/toml.h>
 
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 #include "dem/io/folder_lock.h"
 
 namespace scene {

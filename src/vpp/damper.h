@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 #include "vpp/analysis.h"
 #include "vpp/config.h"
 #include "vpp/settle.h"

@@ -10,6 +10,7 @@
 #include <stdexcept>
 
 #include "scene/scene_runner.h"
+#include "dem/io/archive.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
@@ -31,29 +32,47 @@ EnergyRow energy_row(const dem::EnergyLedger& L, double time) {
              L.friction_dissipation(), L.damping_dissipation, L.viscous_dissipation, L.residual()}};
 }
 
+// The state's fields in the run-state archive (dem/io/archive.h), the format of the World's own
+// sections: one section "RUNS"; S is `const RunState` when saving.
+template <class A, class S> void RunState::fields(A& a, S& r) {
+    a.section("RUNS", [&](A& s) {
+        int32_t stage = int32_t(r.stage);
+        int64_t window_n = r.window_n;
+        uint64_t grains = r.grains;
+        s.pod(stage);
+        s.pod(r.stage_t0);
+        s.pod(r.cap_d0);
+        s.pod(r.cycle_t0);
+        s.pod(r.window_grains);
+        s.pod(r.window_foil);
+        s.pod(window_n);
+        s.numbers(r.geometry);
+        s.numbers(r.settings);
+        s.pod(grains);
+        s.numbers(r.report);
+        s.strings(r.warnings);
+        s.vec(r.samples);
+        s.vec(r.energy);
+        s.pod(r.gas_amount);
+        s.pod(r.gas_volume);
+        s.pod(r.gas_work);
+        s.vec(r.air);
+        if constexpr (A::kLoading) {
+            // Stage(stage) outside the enum would index past stage_name()'s table.
+            if (stage < int32_t(Stage::Fill) || stage > int32_t(Stage::Done))
+                throw std::runtime_error("damper state entry 'stage' holds " + std::to_string(stage) +
+                                         ", not a stage (0 fill ... 5 done)");
+            r.stage = Stage(stage);
+            r.window_n = long(window_n);
+            r.grains = std::size_t(grains);
+        }
+    });
+}
+
 std::string RunState::save() const {
-    std::ostringstream os;
-    os.precision(17);
-    os << "stage " << int(stage) << "\nstage_t0 " << stage_t0 << "\ncap_d0 " << cap_d0 << "\ncycle_t0 "
-       << cycle_t0 << "\nwindow " << window_grains << " " << window_foil << " " << window_n << "\n";
-    for (const auto& [k, v] : geometry) os << "geometry " << k << " " << v << "\n";
-    for (const auto& [k, v] : settings) os << "setting " << k << " " << v << "\n";
-    if (grains > 0) os << "grains " << grains << "\n";
-    for (const auto& [k, v] : report) os << "report " << k << " " << v << "\n";
-    for (const std::string& w : warnings) os << "warning " << w << "\n";  // one line each (warn() strips newlines)
-    for (const Sample& s : samples)
-        os << "sample " << s.time << " " << s.displacement << " " << s.grains << " " << s.foil << "\n";
-    for (const EnergyRow& e : energy) {
-        os << "energy";
-        for (double v : e.v) os << " " << v;
-        os << "\n";
-    }
-    if (gas_amount != 0.0 || gas_volume != 0.0 || gas_work != 0.0)
-        os << "gas " << gas_amount << " " << gas_volume << " " << gas_work << "\n";
-    for (const AirSample& a : air)
-        os << "air " << a.enclosed << " " << a.gas << " " << a.p_inside << " " << a.dp << " " << a.lid_area << " "
-           << a.gas_work << "\n";
-    return os.str();
+    dem::io::Writer w;
+    fields(w, *this);
+    return w.buf;
 }
 
 namespace {
@@ -74,7 +93,24 @@ template <class T> T state_number(std::istream& is, const std::string& entry, co
 
 }  // namespace
 
-RunState RunState::load(const std::string& text, const std::string& path) {
+RunState RunState::load(const std::string& blob, const std::string& path) {
+    if (blob.size() >= 4 && blob.compare(0, 4, "RUNS") == 0) {
+        RunState r;
+        dem::io::Reader in(blob.data(), blob.size(), path);
+        try {
+            fields(in, r);
+        } catch (const std::runtime_error& e) {
+            const std::string what = e.what();
+            if (what.starts_with("checkpoint '")) throw;
+            throw std::runtime_error("checkpoint '" + path + "': " + what);
+        }
+        if (!in.done()) dem::io::corrupt(path, "unexpected data after the damper state");
+        return r;
+    }
+    return load_text(blob, path);
+}
+
+RunState RunState::load_text(const std::string& text, const std::string& path) {
     RunState r;
     std::istringstream is(text);
     std::string key;

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "scene/progress.h"
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 #include "dem/io/folder_lock.h"
 #include "vpp/damper.h"
 #include "vpp/foil.h"
@@ -84,10 +84,18 @@ struct RunState {
     // and a resumed run report them too (summary.json "warnings").
     std::vector<std::string> warnings;
 
-    std::string save() const;                       // the checkpoint's app blob
-    // Throws std::runtime_error naming the checkpoint's path on an unknown entry, a value that
-    // is not a number, or a stage outside Stage.
-    static RunState load(const std::string& text, const std::string& path);
+    // The checkpoint's app blob: the run-state archive of the World's sections
+    // (dem/io/archive.h), bit for bit what load() reads back.
+    std::string save() const;
+    // Reads save()'s blob, or the key/value text of checkpoints written before vppdem kept all
+    // run state in one format (load_text). Throws std::runtime_error naming the checkpoint's
+    // path on damaged data, an unknown entry, a value that is not a number, or a stage outside
+    // Stage.
+    static RunState load(const std::string& blob, const std::string& path);
+    static RunState load_text(const std::string& text, const std::string& path);
+
+private:
+    template <class A, class S> static void fields(A& a, S& r);
 };
 
 // The terminal's progress line and the caller's hook (DamperOptions::progress).

@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 
 namespace vpp {
 

@@ -2,7 +2,10 @@
 #   dem    (generic DEM core)             may include dem/
 #   scene  (configs, generic scenes)      may include dem/, scene/
 #   vpp    (the damper)                   may include dem/, scene/, vpp/
-# cli/ (the command) and a Python module on top may include anything below them. A lower layer
+# cli/ (the command) and a Python module on top may include anything below them.
+# Inside dem the World sits on its parts and the file formats on the World:
+#   core, bonds, contact, detect, walls, integrate (the parts)  may not include dem/world, dem/io
+#   world (the World, its step and its rules)                   may not include dem/io A lower layer
 # that included a higher one would tie the core to one application (or a cycle of libraries).
 # Usage: cmake -DROOT=<folder that holds src/> -P check_layers.cmake
 # Fails naming each offending file:line; quoted includes must name their layer folder.
@@ -54,6 +57,25 @@ foreach(layer dem scene vpp)
           list(APPEND bad "${rel}:${n}: #include \"${path}\": a project include names its layer folder (allowed here: ${allowed_${layer}})")
         endif()
         continue()  # a system or third-party header
+      endif()
+      if(layer STREQUAL "dem" AND path MATCHES "^dem/([^/]+)/")
+        set(to "${CMAKE_MATCH_1}")
+        string(REGEX REPLACE "^src/dem/([^/]+)/.*" "\\1" from "${rel}")
+        set(rank_from 0)
+        set(rank_to 0)
+        if(from STREQUAL "world")
+          set(rank_from 1)
+        elseif(from STREQUAL "io")
+          set(rank_from 2)
+        endif()
+        if(to STREQUAL "world")
+          set(rank_to 1)
+        elseif(to STREQUAL "io")
+          set(rank_to 2)
+        endif()
+        if(rank_to GREATER rank_from)
+          list(APPEND bad "${rel}:${n}: dem/${from} includes ${path}, which sits above it (parts <- world <- io)")
+        endif()
       endif()
       list(FIND allowed_${layer} "${top}" a)
       if(a EQUAL -1)

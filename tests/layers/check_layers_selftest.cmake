@@ -9,6 +9,8 @@ endforeach()
 
 file(REMOVE_RECURSE "${WORK}")
 file(WRITE "${WORK}/src/dem/core/good.h" "#pragma once\n#include <vector>\n#include \"dem/core/vec3.h\"\n")
+file(WRITE "${WORK}/src/dem/world/good.h" "#pragma once\n#include \"dem/contact/good.h\"\n")
+file(WRITE "${WORK}/src/dem/io/good.cpp" "#include \"dem/world/good.h\"\n")
 file(WRITE "${WORK}/src/scene/good.cpp" "#include \"scene/good.h\"\n#include \"dem/core/good.h\"\n#include <toml++/toml.h>\n")
 file(WRITE "${WORK}/src/vpp/good.cpp" "#include \"vpp/good.h\"\n#include \"scene/good.h\"\n#include \"dem/core/good.h\"\n")
 file(WRITE "${WORK}/src/cli/main.cpp" "#include \"vpp/good.h\"\n")
@@ -34,10 +36,12 @@ file(WRITE "${WORK}/src/dem/io/bad2.cpp" "#include \"dem/io/csv.h\"\n  #  includ
 file(WRITE "${WORK}/src/scene/bad.cpp" "#include \"scene/good.h\"\n#include \"vpp/damper.h\"\n")
 file(WRITE "${WORK}/src/vpp/bad.cpp" "#include \"vpp/good.h\"\n\n\n#include \"cli/main.h\"\n")
 file(WRITE "${WORK}/src/vpp/bad_relative.cpp" "#include \"damper.h\"\n")
+file(WRITE "${WORK}/src/dem/contact/bad3.h" "#pragma once\n#include \"dem/world/world.h\"\n")
+file(WRITE "${WORK}/src/dem/world/bad4.cpp" "#include \"dem/world/good.h\"\n#include \"dem/io/checkpoint.h\"\n")
 run_checker(FALSE "bad tree")
 foreach(expected
     "src/dem/core/bad.h:3:" "src/dem/io/bad2.cpp:2:" "src/scene/bad.cpp:2:" "src/vpp/bad.cpp:4:"
-    "src/vpp/bad_relative.cpp:1:")
+    "src/vpp/bad_relative.cpp:1:" "src/dem/contact/bad3.h:2:" "src/dem/world/bad4.cpp:2:")
   string(FIND "${checker_output}" "${expected}" at)
   if(at EQUAL -1)
     message(FATAL_ERROR "check_layers_selftest: the refusal does not name ${expected}:\n${checker_output}")

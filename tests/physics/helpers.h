@@ -13,7 +13,7 @@
 #include <sstream>
 #include <string>
 
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 
 namespace dem::testing {
 

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_helpers.h"
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 #include "vpp/config.h"
 #include "vpp/foil.h"
 

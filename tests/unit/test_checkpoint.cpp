@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 #include "dem/io/checkpoint.h"
 
 using namespace dem;
@@ -364,5 +364,40 @@ TEST(Checkpoint, SaveIsAtomic) {
 
     // Saving into a directory that does not exist fails cleanly.
     EXPECT_THROW(save_checkpoint((dir / "no" / "such" / "dir.ckpt").string(), w, ""), std::runtime_error);
+    fs::remove_all(dir);
+}
+
+// World's consistency rules (World::check_invariants) hold after every phase a caller can see
+// (between compute_forces() and integrate() as well as after whole steps, with the energy
+// ledger on), and a file written from a World that breaks one is refused by the reader naming
+// the rule, before anything is derived from it.
+TEST(Checkpoint, WorldInvariantsHoldAndTheReaderAppliesThem) {
+    World w = make_scene();
+    w.params.track_energy = true;
+    for (int k = 0; k < 300; ++k) {
+        w.compute_forces();
+        ASSERT_EQ(w.broken_invariant(), nullptr) << "after compute_forces() of step " << k;
+        w.integrate();
+        ASSERT_EQ(w.broken_invariant(), nullptr) << "after step " << k;
+    }
+    EXPECT_NO_THROW(w.check_invariants());
+    EXPECT_GT(w.contact_count(), 0u);
+
+    const fs::path dir = temp_dir("invariants");
+    const fs::path bad = dir / "bad.ckpt";
+    World a = w;
+    a.particles.material[7] = 99;
+    EXPECT_STREQ(a.broken_invariant(), "particle material out of range");
+    EXPECT_THROW(a.check_invariants(), std::logic_error);
+    save_checkpoint(bad.string(), a, "");
+    expect_load_error(bad, "particle material out of range");
+    World b = w;
+    b.pressure.nodes.push_back({uint32_t(b.particles.size()), {0, 1, 2, 3}});
+    EXPECT_STREQ(b.broken_invariant(), "pressure node out of range");
+    save_checkpoint(bad.string(), b, "");
+    expect_load_error(bad, "pressure node out of range");
+    World c = w;
+    c.particles.mass.pop_back();
+    EXPECT_STREQ(c.broken_invariant(), "particle arrays of different lengths");
     fs::remove_all(dir);
 }

@@ -10,14 +10,17 @@
 // 2-lane or scalar target forms exactly these sums.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dem/bonds/bond_list.h"
 #include "dem/contact/active_contacts.h"
 #include "dem/core/particles.h"
 #include "dem/core/vec3.h"
+#include "dem/walls/wall.h"
 
 namespace dem::kernels {
 
@@ -34,7 +37,7 @@ enum PairSum { kElastic, kSlip, kRelease, kViscous, kPairSums };
 // The state the pair kernels read of each particle, packed into one cache line so that a
 // vector of pairs loads its particles with a few row loads and a transpose instead of one
 // gather per component (gathers were half the time of the bond kernel). Written each step by
-// World::find_new_contacts() from the particle arrays.
+// ContactSet::find_new() (or advance()) from the particle arrays.
 struct alignas(64) PackedParticle {
     double x, y, z;     // [m] position
     double r;           // [m] radius
@@ -60,6 +63,23 @@ struct PairArgs {
 void frictional_pairs(const PairArgs& a);
 // Contacts of the frictionless store: geometry and normal force only.
 void smooth_pairs(const PairArgs& a);
+
+struct WallPairArgs {
+    const Particles* p = nullptr;
+    ActiveContacts* c = nullptr;                                  // the wall store
+    const std::vector<Plane>* planes = nullptr;
+    const std::vector<Facet>* facets = nullptr;
+    const std::vector<Vec3>* plane_point = nullptr;               // [m] planes now
+    const std::vector<std::array<Vec3, 3>>* facet_now = nullptr;  // [m] facets now
+    const std::vector<Vec3>* wall_vel = nullptr;                  // [m/s] over the last step
+    double dt = 0;                                                // [s]
+    const std::vector<std::pair<int64_t, int64_t>>* blocks = nullptr;  // runs of blocks of slots
+    double* energy = nullptr;         // kPairSums per block, indexed by block; nullptr: no ledger
+    std::vector<uint32_t>* opened = nullptr;  // slots of pairs found apart (cleared first)
+};
+// Contacts of the wall store: geometry against planes and facets, linear law with shear history
+// (frictionless pairs: normal force only), contact points for the wall torques.
+void wall_pairs(const WallPairArgs& a);
 
 struct BondArgs {
     const Particles* p = nullptr;

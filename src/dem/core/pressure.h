@@ -27,4 +27,22 @@ struct MembranePressure {
     double dp = 0.0;  // [Pa] outside minus inside; > 0 pushes against A (underpressure)
 };
 
+// The pressure's force on each particle in one slot per particle, which the gather adds (and the
+// energy ledger reads). Only the nodes' slots are written each step, the others stay zero; so
+// the slots are zeroed whenever the node list changes or the pressure is switched on or off.
+class PressureForces {
+public:
+    std::vector<Vec3> force;  // [N] per particle
+
+    // Before a step with n particles: `on` when the pressure acts, `needed` when the slots are
+    // read at all (the pressure acts, or the ledger reads the zero slots).
+    void prepare(const MembranePressure& mp, std::size_t n, bool on, bool needed);
+    // Inside the step's parallel region: this thread's share of the nodes, F = -dp A.
+    void apply(const MembranePressure& mp, const std::vector<Vec3>& pos);
+
+private:
+    std::vector<PressureNode> seen_;  // the node list the zeroed slots were made for
+    bool was_on_ = false;
+};
+
 }  // namespace dem

@@ -1,7 +1,6 @@
-// The broad phase of World::step(): new candidate lists from a cell grid whenever something
-// moved more than half the skin. Live contacts keep their slot data in the stores and are
-// re-attached to their pair's new candidate; the stores are then compacted into candidate
-// order and the reverse table rebuilt.
+// The broad phase (dem/detect/broad_phase.h): candidate lists from a cell grid.
+#include "dem/detect/broad_phase.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -9,7 +8,6 @@
 #include <utility>
 
 #include "dem/core/parallel.h"
-#include "dem/core/world.h"
 #include "dem/detect/geometry.h"
 
 namespace dem {
@@ -41,29 +39,41 @@ float gap_down(double g) {
     return f;
 }
 
-// Slot of the candidate (i, j) in the new list, or nullptr when the pair is no candidate.
-uint32_t* find_slot(CandidateList& c, uint32_t i, uint32_t j) {
-    const auto b = c.other.begin() + c.start[i], e = c.other.begin() + c.start[i + 1];
-    const auto it = std::lower_bound(b, e, j);
-    return it != e && *it == j ? &c.slot[std::size_t(it - c.other.begin())] : nullptr;
-}
-
 }  // namespace
 
-void World::rebuild_candidates() {
-    const Particles& p = particles;
+bool BroadPhase::needs_rebuild(std::size_t n, const std::vector<Plane>& planes, const std::vector<Facet>& facets,
+                               double time) {
+    if (dirty || ref_pos.size() != n) return true;
+    if (2.0 * max_disp > skin) return true;
+    double move = 0.0;
+    for (std::size_t k = 0; k < planes.size(); ++k)
+        move = std::max(move, norm(planes[k].motion.displacement(time) - wall_ref_disp[k]));
+    for (std::size_t k = 0; k < facets.size(); ++k)
+        move = std::max(move, norm(facets[k].motion.displacement(time) - wall_ref_disp[planes.size() + k]));
+    wall_move = move;
+    return max_disp + wall_move > skin;
+}
+
+void BroadPhase::record_moves(double max_d2) { max_disp = std::sqrt(max_d2) + ref_round; }
+
+void BroadPhase::rebuild(const Scene& s, ContactSet& cs) {
+    const std::vector<Plane>& planes = *s.planes;
+    const std::vector<Facet>& facets = *s.facets;
+    const std::vector<Vec3>& plane_point = *s.plane_point;
+    const std::vector<std::array<Vec3, 3>>& facet_now = *s.facet_now;
+    const BondTables& bt = *s.bonds;
+    const Particles& p = *s.p;
     const std::size_t n = p.size();
-    const double skin = skin_ = effective_skin();
-    if (bonds_dirty_ || bond_start_.size() != n + 1) build_bond_tables();
+    skin = s.skin;
     const double rmax = n ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
-    grid_.build(p.pos, 2.0 * rmax + skin, std::max<int64_t>(int64_t(4 * n), 4096));
+    grid.build(p.pos, 2.0 * rmax + skin, std::max<int64_t>(int64_t(4 * n), 4096));
 
     // Facets are registered in every cell of a coarser grid (2 x 2 x 2 particle cells) that
     // their box (grown by rmax + skin) touches, so a particle only has to look at its own coarse
     // cell's list. Coarse because facets are often large (a cylinder wall of full height): in
     // the particle grid their lists were among the largest arrays of a run.
     std::vector<uint32_t> fstart, fitems;
-    const std::array<int64_t, 3> fdims{(grid_.dims[0] + 1) / 2, (grid_.dims[1] + 1) / 2, (grid_.dims[2] + 1) / 2};
+    const std::array<int64_t, 3> fdims{(grid.dims[0] + 1) / 2, (grid.dims[1] + 1) / 2, (grid.dims[2] + 1) / 2};
     const auto fcell = [&](int64_t x, int64_t y, int64_t z) { return (z * fdims[1] + y) * fdims[0] + x; };
     if (!facets.empty()) {
         fstart.assign(std::size_t(fdims[0] * fdims[1] * fdims[2] + 1), 0);
@@ -71,19 +81,19 @@ void World::rebuild_candidates() {
         std::vector<std::array<int64_t, 6>> range(facets.size());
         std::vector<uint8_t> inside(facets.size(), 0);
         for (std::size_t f = 0; f < facets.size(); ++f) {
-            Vec3 lo = facet_now_[f][0], hi = lo;
+            Vec3 lo = facet_now[f][0], hi = lo;
             for (int v = 1; v < 3; ++v)
                 for (int d = 0; d < 3; ++d) {
-                    lo[d] = std::min(lo[d], facet_now_[f][v][d]);
-                    hi[d] = std::max(hi[d], facet_now_[f][v][d]);
+                    lo[d] = std::min(lo[d], facet_now[f][v][d]);
+                    hi[d] = std::max(hi[d], facet_now[f][v][d]);
                 }
             bool ok = true;
             for (int d = 0; d < 3; ++d) {
-                const double a = (lo[d] - grow - grid_.origin[d]) / grid_.cell;
-                const double b = (hi[d] + grow - grid_.origin[d]) / grid_.cell;
-                if (b < 0.0 || a >= double(grid_.dims[d])) ok = false;
-                range[f][d] = std::clamp<int64_t>(int64_t(std::floor(a)), 0, grid_.dims[d] - 1) / 2;
-                range[f][d + 3] = std::clamp<int64_t>(int64_t(std::floor(b)), 0, grid_.dims[d] - 1) / 2;
+                const double a = (lo[d] - grow - grid.origin[d]) / grid.cell;
+                const double b = (hi[d] + grow - grid.origin[d]) / grid.cell;
+                if (b < 0.0 || a >= double(grid.dims[d])) ok = false;
+                range[f][d] = std::clamp<int64_t>(int64_t(std::floor(a)), 0, grid.dims[d] - 1) / 2;
+                range[f][d + 3] = std::clamp<int64_t>(int64_t(std::floor(b)), 0, grid.dims[d] - 1) / 2;
             }
             inside[f] = ok;
         }
@@ -112,16 +122,16 @@ void World::rebuild_candidates() {
     // pairs again through the stores' (i, j). The per-thread lists get room for about as many
     // candidates as last time (first time: 6 per particle, a dense packing's half list), so
     // they do not grow by doubling: up to twice the memory, in the largest arrays of the step.
-    const std::size_t hint = pp_cand_.other.empty() ? 6 * n : pp_cand_.other.size() + pp_cand_.other.size() / 8;
-    pp_cand_.clear();
-    pw_cand_.clear();
-    pp_cand_.start.assign(n + 1, 0);
-    pw_cand_.start.assign(n + 1, 0);
-    const int nt = std::max(1, params.threads);
+    const std::size_t hint = cs.pp.other.empty() ? 6 * n : cs.pp.other.size() + cs.pp.other.size() / 8;
+    cs.pp.clear();
+    cs.pw.clear();
+    cs.pp.start.assign(n + 1, 0);
+    cs.pw.start.assign(n + 1, 0);
+    const int nt = std::max(1, s.threads);
     std::vector<std::vector<uint32_t>> pp_other(nt), pw_other(nt);
     std::vector<std::vector<float>> pp_gap(nt), pw_gap(nt);
     const uint32_t nplanes = uint32_t(planes.size());
-    team_->run(nt, [&](int tid) {
+    s.team->run(nt, [&](int tid) {
         std::vector<std::pair<uint32_t, float>> local;
         pp_other[tid].reserve(hint / std::size_t(thread_count()) + 64);
         pp_gap[tid].reserve(hint / std::size_t(thread_count()) + 64);
@@ -131,16 +141,16 @@ void World::rebuild_candidates() {
         for (std::size_t i = std::size_t(r0); i < std::size_t(r1); ++i) {
             const Vec3 xi = p.pos[i];
             const double ri = p.radius[i];
-            const auto c = grid_.coords(xi);
+            const auto c = grid.coords(xi);
             local.clear();
-            grid_.for_each_neighbour(c, [&](uint32_t j) {
+            grid.for_each_neighbour(c, [&](uint32_t j) {
                 // The distance first: it rejects most of the 27 cells' particles.
                 const double reach = ri + p.radius[j] + skin;
                 const double d2 = norm2(p.pos[j] - xi);
                 if (j <= i || !(d2 < reach * reach) || !(p.mask[i] & p.mask[j])) return;
                 if (p.inv_mass[i] == 0.0 && p.inv_mass[j] == 0.0) return;
-                for (uint32_t b = bond_start_[i]; b < bond_start_[i + 1]; ++b)
-                    if (bonded_with_[b] == j) return;
+                for (uint32_t b = bt.start[i]; b < bt.start[i + 1]; ++b)
+                    if (bt.partner[b] == j) return;
                 local.emplace_back(j, gap_down(std::sqrt(d2) - (ri + p.radius[j])));
             });
             std::sort(local.begin(), local.end());
@@ -148,14 +158,14 @@ void World::rebuild_candidates() {
                 pp_other[tid].push_back(j);
                 pp_gap[tid].push_back(g);
             }
-            pp_cand_.start[i + 1] = uint32_t(local.size());
+            cs.pp.start[i + 1] = uint32_t(local.size());
 
             if (p.inv_mass[i] == 0.0 && !(p.flags[i] & kPrescribed)) continue;  // fixed: no wall contacts
             uint32_t nw = 0;
             for (uint32_t w = 0; w < nplanes; ++w) {
                 if (!(planes[w].mask & p.mask[i])) continue;
-                const double s = dot(xi - plane_point_[w], planes[w].normal);
-                const double dist = planes[w].one_sided ? s : std::abs(s);
+                const double sd = dot(xi - plane_point[w], planes[w].normal);
+                const double dist = planes[w].one_sided ? sd : std::abs(sd);
                 if (dist < ri + skin) {
                     pw_other[tid].push_back(w);
                     pw_gap[tid].push_back(gap_down(dist - ri));
@@ -168,7 +178,7 @@ void World::rebuild_candidates() {
                     const uint32_t f = fitems[k];
                     if (!(facets[f].mask & p.mask[i])) continue;
                     const double reach = ri + skin;
-                    const double d2 = distance2_to_triangle(xi, facet_now_[f]);
+                    const double d2 = distance2_to_triangle(xi, facet_now[f]);
                     if (d2 < reach * reach) {
                         pw_other[tid].push_back(nplanes + f);
                         pw_gap[tid].push_back(gap_down(std::sqrt(d2) - ri));
@@ -176,56 +186,38 @@ void World::rebuild_candidates() {
                     }
                 }
             }
-            pw_cand_.start[i + 1] = nw;
+            cs.pw.start[i + 1] = nw;
         }
     });
-    for (CandidateList* cl : {&pp_cand_, &pw_cand_})
+    for (CandidateList* cl : {&cs.pp, &cs.pw})
         for (std::size_t i = 0; i < n; ++i) cl->start[i + 1] += cl->start[i];
-    concatenate(pp_other, pp_cand_.other);
-    concatenate(pw_other, pw_cand_.other);
-    concatenate(pp_gap, pp_cand_.gap);
-    concatenate(pw_gap, pw_cand_.gap);
-    pp_cand_.slot.assign(pp_cand_.size(), kNoSlot);
-    pw_cand_.slot.assign(pw_cand_.size(), kNoSlot);
+    concatenate(pp_other, cs.pp.other);
+    concatenate(pw_other, cs.pw.other);
+    concatenate(pp_gap, cs.pp.gap);
+    concatenate(pw_gap, cs.pw.gap);
+    cs.pp.slot.assign(cs.pp.size(), kNoSlot);
+    cs.pw.slot.assign(cs.pw.size(), kNoSlot);
 
-    // Re-attach the live contacts. A touching pair is always within the skin, so it is found,
-    // unless its masks, bonds or fixity changed since: then it is dropped with its history.
-    const auto attach = [](ActiveContacts& a, CandidateList& cl, uint32_t bit) {
-        for (std::size_t s = 0; s < a.size(); ++s) {
-            if (a.cand[s] == kNoSlot) continue;
-            uint32_t* slot = find_slot(cl, a.i[s], a.j[s]);
-            if (!slot) {
-                a.cand[s] = kNoSlot;
-                continue;
-            }
-            *slot = uint32_t(s) | bit;
-            a.cand[s] = uint32_t(slot - cl.slot.data());
-        }
-    };
-    attach(fric_, pp_cand_, 0u);
-    attach(smooth_, pp_cand_, kSmoothBit);
-    attach(walls_, pw_cand_, 0u);
-    compact_contacts(physics_dirty_);  // also rebuilds the interaction lists
-    physics_dirty_ = false;
-    assign_owners();  // the particles moved: new slabs
+    // The live contacts find their pairs again.
+    cs.reattach();
 
-    ref_pos_.resize(n);
+    ref_pos.resize(n);
     double big = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
         const Vec3 x = p.pos[i];
-        ref_pos_[i] = {float(x.x), float(x.y), float(x.z)};
+        ref_pos[i] = {float(x.x), float(x.y), float(x.z)};
         big = std::max({big, std::abs(x.x), std::abs(x.y), std::abs(x.z)});
     }
     // A float rounds a coordinate by at most 2^-24 of it (relative): |x - ref| <= |x - float
     // ref| + sqrt(3) 2^-24 max|x|; twice that for safety.
-    ref_round_ = 2.0 * 1.7320508075688772 * big * 0x1p-24;
-    wall_ref_disp_.resize(wall_count());
-    for (std::size_t k = 0; k < planes.size(); ++k) wall_ref_disp_[k] = planes[k].motion.displacement(time);
+    ref_round = 2.0 * 1.7320508075688772 * big * 0x1p-24;
+    wall_ref_disp.resize(planes.size() + facets.size());
+    for (std::size_t k = 0; k < planes.size(); ++k) wall_ref_disp[k] = planes[k].motion.displacement(s.time);
     for (std::size_t k = 0; k < facets.size(); ++k)
-        wall_ref_disp_[planes.size() + k] = facets[k].motion.displacement(time);
-    max_disp_ = wall_move_ = 0.0;
-    candidates_dirty_ = false;
-    ++rebuilds_;
+        wall_ref_disp[planes.size() + k] = facets[k].motion.displacement(s.time);
+    max_disp = wall_move = 0.0;
+    dirty = false;
+    ++rebuilds;
 }
 
 }  // namespace dem

@@ -19,7 +19,7 @@
 
 #include <string>
 
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 
 namespace dem {
 

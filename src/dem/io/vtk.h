@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "dem/core/world.h"
+#include "dem/world/world.h"
 
 namespace dem {
 

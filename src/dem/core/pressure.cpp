@@ -1,0 +1,28 @@
+#include "dem/core/pressure.h"
+
+#include <cstring>
+
+#include "dem/core/parallel.h"
+
+namespace dem {
+
+void PressureForces::prepare(const MembranePressure& mp, std::size_t n, bool on, bool needed) {
+    if (!needed) return;
+    if (force.size() != n || on != was_on_ || mp.nodes.size() != seen_.size() ||
+        (on && std::memcmp(mp.nodes.data(), seen_.data(), mp.nodes.size() * sizeof(PressureNode)) != 0)) {
+        force.assign(n, Vec3{});
+        seen_ = mp.nodes;
+        was_on_ = on;
+    }
+}
+
+void PressureForces::apply(const MembranePressure& mp, const std::vector<Vec3>& pos) {
+    const auto [k0, k1] = thread_range(int64_t(mp.nodes.size()), thread_id(), thread_count());
+    // Each node appears once in the list, so every iteration writes its own slot.
+    for (int64_t k = k0; k < k1; ++k) {
+        const PressureNode& q = mp.nodes[k];
+        force[q.node] = -(tributary_area(pos, q) * mp.dp);
+    }
+}
+
+}  // namespace dem

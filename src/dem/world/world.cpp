@@ -1,0 +1,479 @@
+#include "dem/world/world.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <cstring>
+#include <stdexcept>
+#include <tuple>
+
+#include "dem/core/kernels.h"
+#include "dem/integrate/critical_dt.h"
+#include "dem/integrate/leapfrog.h"
+
+namespace dem {
+
+uint32_t World::add_material(const Material& m) {
+    materials.push_back(m);
+    physics_dirty_ = true;
+    return uint32_t(materials.size() - 1);
+}
+
+uint32_t World::add_sphere(const SphereDef& d) {
+    if (!(d.radius > 0.0)) throw std::invalid_argument("sphere radius must be > 0");
+    if (d.material >= materials.size()) throw std::invalid_argument("sphere material index out of range");
+    Particles& p = particles;
+    const double m = materials[d.material].density * 4.0 / 3.0 * std::numbers::pi * d.radius * d.radius * d.radius;
+    const bool free = !(d.flags & (kFixed | kPrescribed));
+    p.pos.push_back(d.position);
+    p.vel.push_back(d.flags & kFixed ? Vec3{} : d.velocity);
+    p.angvel.push_back(free ? d.angular_velocity : Vec3{});
+    p.force.emplace_back();
+    p.torque.emplace_back();
+    if (!p.ext_force.empty()) p.ext_force.emplace_back();
+    p.radius.push_back(d.radius);
+    p.mass.push_back(m);
+    p.inv_mass.push_back(free ? 1.0 / m : 0.0);
+    p.inv_inertia.push_back(free ? 1.0 / (0.4 * m * d.radius * d.radius) : 0.0);
+    p.material.push_back(d.material);
+    p.mask.push_back(d.mask);
+    p.flags.push_back(d.flags);
+    p.motion.push_back(-1);
+    if (!p.ref_pos.empty()) p.ref_pos.push_back(d.position);
+    broad_.dirty = prescribed_dirty_ = true;
+    return uint32_t(p.size() - 1);
+}
+
+void World::reserve(std::size_t n) {
+    Particles& p = particles;
+    for (auto* v : {&p.pos, &p.vel, &p.angvel, &p.force, &p.torque}) v->reserve(n);
+    for (auto* v : {&p.radius, &p.mass, &p.inv_mass, &p.inv_inertia}) v->reserve(n);
+    for (auto* v : {&p.material, &p.mask, &p.flags}) v->reserve(n);
+    p.motion.reserve(n);
+}
+
+uint32_t World::add_plane(const Plane& pl) {
+    Plane q = pl;
+    q.normal = normalized(pl.normal);
+    planes.push_back(q);
+    broad_.dirty = true;
+    return uint32_t(planes.size() - 1);
+}
+
+uint32_t World::add_facet(const Facet& f) {
+    facets.push_back(f);
+    broad_.dirty = true;
+    return uint32_t(facets.size() - 1);
+}
+
+uint32_t World::add_motion(const Motion& m) {
+    motions.push_back(m);
+    return uint32_t(motions.size() - 1);
+}
+
+void World::set_fixed(uint32_t i) {
+    Particles& p = particles;
+    p.flags[i] = (p.flags[i] | kFixed) & ~uint32_t(kPrescribed);
+    p.inv_mass[i] = p.inv_inertia[i] = 0.0;
+    p.vel[i] = p.angvel[i] = Vec3{};
+    p.motion[i] = -1;
+    physics_dirty_ = prescribed_dirty_ = true;  // reduced masses of its contacts change
+    packed_valid_ = false;
+}
+
+void World::set_prescribed(uint32_t i, uint32_t motion) {
+    Particles& p = particles;
+    p.flags[i] = (p.flags[i] | kPrescribed) & ~uint32_t(kFixed);
+    p.inv_mass[i] = p.inv_inertia[i] = 0.0;
+    p.angvel[i] = Vec3{};
+    p.motion[i] = int32_t(motion);
+    // The motion's displacement is measured from where the particle is at time 0 of the motion.
+    if (p.ref_pos.size() != p.size()) p.ref_pos = p.pos;
+    p.ref_pos[i] = p.pos[i] - motions[motion].displacement(time);
+    physics_dirty_ = prescribed_dirty_ = true;
+    packed_valid_ = false;
+}
+
+void World::clear_facets() {
+    // Drop the facet contacts now, so facets added later never inherit their history.
+    contacts_.drop_wall_contacts_from(uint32_t(planes.size()));
+    facets.clear();
+    walls_now_.facet_now.clear();
+    broad_.dirty = true;
+}
+
+uint32_t World::add_bond(uint32_t i, uint32_t j, double kn, double ks, double rest_length) {
+    if (i == j || i >= particles.size() || j >= particles.size())
+        throw std::invalid_argument("bond between invalid particle indices");
+    if (i > j) std::swap(i, j);
+    bonds_.i.push_back(i);
+    bonds_.j.push_back(j);
+    const double L = rest_length >= 0.0 ? rest_length : norm(particles.pos[j] - particles.pos[i]);
+    bonds_.phys.push_back({kn, ks, L});
+    bonds_.shear.emplace_back();
+    bonds_.prev_normal.emplace_back();
+    bonds_.force.emplace_back();
+    bonds_.torque1.emplace_back();
+    bonds_.torque2.emplace_back();
+    bonds_dirty_ = broad_.dirty = true;
+    return uint32_t(bonds_.size() - 1);
+}
+
+double World::effective_skin() const {
+    if (params.skin > 0.0) return params.skin;
+    const auto& r = particles.radius;
+    return r.empty() ? 1e-3 : 0.5 * *std::min_element(r.begin(), r.end());
+}
+
+double World::critical_dt() const { return dem::critical_dt(particles, materials, planes, facets, bonds_); }
+
+// ================================================================ the step
+
+void World::step() {
+    compute_forces();
+    integrate();
+}
+
+void World::compute_forces() {
+    move_walls();
+    update_candidates();
+    prepare_forces();
+    // One parallel region for the force phases: the kernels write their own slots and do not
+    // wait for each other; barriers order the contact bookkeeping before them and the gather
+    // after them.
+    team_->run(threads(), [&](int tid) {
+        open_contacts(tid);
+        contact_forces(tid);
+        bond_forces(tid);
+        pressure_forces(tid);
+        gather_forces(tid);
+    });
+    wall_reactions();
+    close_contacts();
+    finish_forces();
+}
+
+void World::integrate() {
+    const double t_n = time;
+    const bool track = prepare_integration();
+    const double moved = advance_free_particles(track);
+    broad_.record_moves(std::max(moved, follow_motions(track)));
+    profile_.lap(Phase::kIntegration);
+    advance_clock();
+    if (track) account_energy(t_n);
+    book_.ready = false;
+}
+
+// ---------------------------------------------------------------- forces at t
+
+void World::move_walls() {
+    profile_.start();  // the step's first phase
+    walls_now_.move(planes, facets, time, params.dt);
+}
+
+void World::update_candidates() {
+    const std::size_t n = particles.size();
+    if (broad_.needs_rebuild(n, planes, facets, time)) {
+        if (bonds_dirty_ || !bond_tables_.built_for(n)) {
+            bond_tables_.build(n, bonds_);
+            bonds_dirty_ = false;
+        }
+        BroadPhase::Scene scene;
+        scene.p = &particles;
+        scene.planes = &planes;
+        scene.facets = &facets;
+        scene.plane_point = &walls_now_.plane_point;
+        scene.facet_now = &walls_now_.facet_now;
+        scene.bonds = &bond_tables_;
+        scene.skin = effective_skin();
+        scene.time = time;
+        scene.threads = threads();
+        scene.team = &*team_;
+        broad_.rebuild(scene, contacts_);
+        // Holes dropped, slots in candidate order.
+        contacts_.compact(physics_dirty_, contact_physics(), bond_tables_, n);
+        // The work moves with the particles (grains settle, contacts gather at the bottom): the
+        // slabs are balanced again on the new candidates and contacts.
+        work_.invalidate();
+    } else if (physics_dirty_ || contacts_.holes > contacts_.store_slots() / 4 + 256) {
+        // Where contacts come and go much faster than rebuilds happen (a collapsing column),
+        // the holes of opened contacts are also dropped once they are a quarter of the slots,
+        // so the kernels do not sweep mostly empty stores.
+        contacts_.compact(physics_dirty_, contact_physics(), bond_tables_, n);
+    }
+    physics_dirty_ = false;
+    profile_.lap(Phase::kNeighbour);
+}
+
+void World::prepare_forces() {
+    const int nt = threads();
+    contacts_.prepare_threads(nt);
+    // The energy ledger reads the (zero) pressure slots too.
+    pressure_forces_.prepare(pressure, particles.size(), pressure_on(), pressure_on() || params.track_energy);
+    if (!work_.valid_for(nt, particles.size())) assign_work();
+    // The packed particle records exist while there are bonds or particle contacts (a free
+    // fall of 1e5 grains needs none); the first contacts get them in open_contacts().
+    if (packed_.size() != particles.size() || (bonds_.i.empty() && contacts_.fric.size() + contacts_.smooth.size() == 0)) {
+        packed_.clear();
+        packed_valid_ = false;
+    }
+}
+
+void World::assign_work() {
+    work_.assign(threads(), particles.pos, contacts_.links.count, contacts_.pp.start, bonds_.i);
+}
+
+void World::lap(int tid, Phase phase) {
+    if (!profile_.enabled()) return;
+    team_->barrier();
+    if (tid == 0) profile_.lap(phase);
+}
+
+void World::open_contacts(int tid) {
+    // In parallel, over this thread's particles: candidates touching without a slot. The
+    // margin covers the rounding of the gaps and of the moves.
+    const double margin = 1e-9 * broad_.skin;
+    ContactSet::FindArgs find;
+    find.p = &particles;
+    find.packed = packed_.empty() ? nullptr : packed_.data();
+    find.repack = !packed_valid_;
+    find.planes = &planes;
+    find.facets = &facets;
+    find.plane_point = &walls_now_.plane_point;
+    find.facet_now = &walls_now_.facet_now;
+    find.pair_reach = float(2.0 * broad_.max_disp + margin);
+    find.wall_reach = float(broad_.max_disp + broad_.wall_move + margin);
+    find.blocks = &work_.particles[tid];
+    contacts_.find_new(find);
+    team_->barrier();
+    // Serial: slots in candidate order, then what the kernels need sized for them.
+    if (tid == 0) {
+        contacts_.activate_new(contact_physics());
+        if (params.track_energy) book_.size_blocks(contacts_, bonds_.size());
+        if (packed_.empty() && (!bonds_.i.empty() || contacts_.fric.size() + contacts_.smooth.size() > 0)) {
+            packed_.resize(particles.size());
+            for (std::size_t i = 0; i < particles.size(); ++i) packed_[i] = kernels::pack(particles, i);
+        }
+        work_.fric = work_.store_runs(contacts_.fric.i);
+        work_.smooth = work_.store_runs(contacts_.smooth.i);
+        work_.walls = work_.store_runs(contacts_.walls.i);
+    }
+    team_->barrier();
+    if (profile_.enabled() && tid == 0) profile_.lap(Phase::kNeighbour);
+}
+
+void World::contact_forces(int tid) {
+    const bool track = params.track_energy;
+    const double dt = params.dt;
+    contacts_.opened_fric[tid].clear();
+    contacts_.opened_smooth[tid].clear();
+    for (const auto& [b0, b1] : work_.fric[tid])
+        kernels::frictional_pairs({&particles, packed_.data(), &contacts_.fric, dt, b0, b1,
+                                   track ? book_.fric.data() : nullptr, &contacts_.opened_fric[tid]});
+    for (const auto& [b0, b1] : work_.smooth[tid])
+        kernels::smooth_pairs({&particles, packed_.data(), &contacts_.smooth, dt, b0, b1,
+                               track ? book_.smooth.data() : nullptr, &contacts_.opened_smooth[tid]});
+    kernels::WallPairArgs w;
+    w.p = &particles;
+    w.c = &contacts_.walls;
+    w.planes = &planes;
+    w.facets = &facets;
+    w.plane_point = &walls_now_.plane_point;
+    w.facet_now = &walls_now_.facet_now;
+    w.wall_vel = &walls_now_.velocity;
+    w.dt = dt;
+    w.blocks = &work_.walls[tid];
+    w.energy = track ? book_.walls.data() : nullptr;
+    w.opened = &contacts_.opened_walls[tid];
+    kernels::wall_pairs(w);
+    lap(tid, Phase::kContacts);
+}
+
+void World::bond_forces(int tid) {
+    for (const auto& [b0, b1] : work_.bonds[tid])
+        kernels::bonds({&particles, packed_.data(), &bonds_, params.dt, b0, b1,
+                        params.track_energy ? book_.bonds.data() : nullptr});
+    lap(tid, Phase::kBonds);
+}
+
+void World::pressure_forces(int /*tid*/) {
+    if (pressure_on()) pressure_forces_.apply(pressure, particles.pos);
+}
+
+void World::gather_forces(int tid) {
+    team_->barrier();  // the gather reads every thread's forces
+    if (profile_.enabled() && tid == 0) profile_.lap(Phase::kPressure);
+    Particles& p = particles;
+    const int64_t n = int64_t(p.size());
+    const bool with_pressure = pressure_on();
+    using L = InteractionLists;
+    const ContactSet& c = contacts_;
+    // Force and torque tables by source (L::Source) and side (body 1, body 2). The
+    // frictionless store's torques are never written and stay zero; a wall contact's
+    // particle is always its body 2.
+    const Vec3* const force[4] = {c.fric.force.data(), c.smooth.force.data(), c.walls.force.data(), bonds_.force.data()};
+    const Vec3* const torque[4][2] = {{c.fric.torque1.data(), c.fric.torque2.data()},
+                                      {c.smooth.torque1.data(), c.smooth.torque2.data()},
+                                      {c.walls.torque2.data(), c.walls.torque2.data()},
+                                      {bonds_.torque1.data(), bonds_.torque2.data()}};
+    const Vec3* const pressure_force = pressure_forces_.force.data();
+    for (const auto& [b0, b1] : work_.particles[tid])
+    for (int64_t i = b0 * kernels::kBlock; i < std::min(n, b1 * kernels::kBlock); ++i) {
+        // In list order (a fixed order), alternating between two partial sums so that the
+        // chains of dependent additions are half as long (the gather is bound by them).
+        const uint32_t* r = &c.links.ref[c.links.start[i]];
+        const uint32_t m = c.links.count[i];
+        const auto add = [&](uint32_t ref, Vec3& f, Vec3& t) {
+            const uint32_t src = ref >> 30, second = (ref & L::kSecond) ? 1 : 0, k = ref & L::kIndexMask;
+            // Body 1 gets the opposite of the force on body 2: x - y and x + (-y) round alike.
+            f += force[src][k] * (second ? 1.0 : -1.0);
+            t += torque[src][second][k];
+        };
+        Vec3 fa, ta, fb, tb;
+        uint32_t e = 0;
+        for (; e + 1 < m; e += 2) {
+            add(r[e], fa, ta);
+            add(r[e + 1], fb, tb);
+        }
+        if (e < m) add(r[e], fa, ta);
+        Vec3 fi = fa + fb;
+        if (with_pressure) fi += pressure_force[i];
+        p.force[i] = fi;
+        p.torque[i] = ta + tb;
+    }
+}
+
+void World::wall_reactions() { walls_now_.sum_reactions(contacts_.walls, wall_count()); }
+
+void World::close_contacts() { contacts_.release_opened(); }
+
+void World::finish_forces() {
+    packed_valid_ = !packed_.empty();  // (integrate() keeps it so; invalidate_candidates() does not)
+    book_.ready = params.track_energy;
+    profile_.lap(Phase::kGather);
+}
+
+// ---------------------------------------------------------------- motion to t + dt
+
+bool World::prepare_integration() {
+    Particles& p = particles;
+    if (!p.ext_force.empty() && p.ext_force.size() != p.size())
+        throw std::logic_error("Particles::ext_force must be empty or hold one force per particle");
+    const bool track = params.track_energy && book_.ready;
+    if (track) book_.particles.assign(std::size_t(kernels::block_count(p.size()) * kernels::kParticleSums), 0.0);
+    if (!work_.valid_for(threads(), p.size())) assign_work();
+    if (prescribed_dirty_) {
+        prescribed_.clear();
+        for (std::size_t i = 0; i < p.size(); ++i)
+            if (p.flags[i] & kPrescribed) prescribed_.push_back(uint32_t(i));
+        prescribed_dirty_ = false;
+    }
+    return track;
+}
+
+double World::advance_free_particles(bool track) {
+    Particles& p = particles;
+    kernels::AdvanceArgs args;
+    args.p = &p;
+    args.ext_force = p.ext_force.empty() ? nullptr : p.ext_force.data();
+    args.pressure = track && !pressure_forces_.force.empty() ? pressure_forces_.force.data() : nullptr;
+    args.ref_pos = broad_.ref_pos.data();
+    args.gravity = params.gravity;
+    args.dt = params.dt;
+    args.lambda = params.local_damping;
+    args.energy = track ? book_.particles.data() : nullptr;
+    args.packed = packed_.size() == p.size() ? packed_.data() : nullptr;
+    const int nt = threads();
+    std::vector<double>& thread_max = thread_max_d2_;
+    thread_max.assign(std::size_t(nt), 0.0);
+    team_->run(nt, [&](int tid) {
+        kernels::AdvanceArgs a = args;
+        for (const auto& [b0, b1] : work_.particles[tid]) {
+            a.block_begin = b0;
+            a.block_end = b1;
+            thread_max[tid] = std::max(thread_max[tid], kernels::advance(a));
+        }
+    });
+    return *std::max_element(thread_max.begin(), thread_max.end());
+}
+
+double World::follow_motions(bool track) {
+    // Few particles: serial, in index order.
+    Particles& p = particles;
+    const double t1 = time + params.dt;
+    const bool packed = packed_.size() == p.size();
+    double max_d2 = 0.0;
+    book_.prescribed[0] = book_.prescribed[1] = 0.0;
+    for (uint32_t i : prescribed_) {
+        const Motion& m = motions[p.motion[i]];
+        const Vec3 v0 = p.vel[i];
+        p.vel[i] = m.mean_velocity(time, t1);
+        p.pos[i] = p.ref_pos[i] + m.displacement(t1);
+        if (packed) packed_[i] = kernels::pack(p, i);
+        const FloatVec3 r = broad_.ref_pos[i];
+        max_d2 = std::max(max_d2, norm2(p.pos[i] - Vec3{r.x, r.y, r.z}));
+        if (track) {
+            // Work done by the prescribed particle on the others: minus the force they exert
+            // on it (contacts and bonds, not the pressure it carries) times its displacement.
+            const double h = 0.5 * params.dt;
+            const Vec3 fint = p.force[i] - pressure_forces_.force[i];
+            book_.prescribed[0] -= dot(fint, v0) * h;
+            book_.prescribed[1] -= dot(fint, p.vel[i]) * h;
+        }
+    }
+    packed_valid_ = packed;
+    return max_d2;
+}
+
+void World::advance_clock() { clock_.advance(time, steps, params.dt); }
+
+void World::account_energy(double t_n) {
+    EnergyBook::Step s;
+    s.p = &particles;
+    s.materials = &materials;
+    s.planes = &planes;
+    s.facets = &facets;
+    s.walls = &walls_now_;
+    s.contacts = &contacts_;
+    s.time = time;
+    s.dt = params.dt;
+    s.t_n = t_n;
+    book_.account(s);
+    profile_.lap(Phase::kEnergy);
+}
+
+// ---------------------------------------------------------------- queries
+
+Vec3 World::total_force(std::size_t i) const {
+    const Particles& p = particles;
+    const Vec3 fx = p.ext_force.empty() ? Vec3{} : p.ext_force[i];
+    return p.force[i] + fx + params.gravity * p.mass[i];
+}
+
+Vec3 World::velocity_at_time(std::size_t i) const {
+    const Particles& p = particles;
+    if (p.inv_mass[i] == 0.0) return p.vel[i];
+    const Vec3 a = damped_acceleration(total_force(i), p.inv_mass[i], p.vel[i], params.dt, params.local_damping);
+    return p.vel[i] + a * (0.5 * params.dt);
+}
+
+Vec3 World::angular_velocity_at_time(std::size_t i) const {
+    const Particles& p = particles;
+    if (p.inv_inertia[i] == 0.0) return p.angvel[i];
+    const Vec3 a = damped_angular_acceleration(p.torque[i], p.inv_inertia[i], p.angvel[i], params.local_damping);
+    return p.angvel[i] + a * (0.5 * params.dt);
+}
+
+
+void World::rebuild_derived_tables() {
+    // The bond tables only depend on the bond list; bonds_dirty_ keeps its restored value (a
+    // pending rebuild builds them again, with the same result).
+    bond_tables_.build(particles.size(), bonds_);
+    contacts_.build_interaction_lists(bond_tables_, particles.size());
+    prescribed_dirty_ = true;
+    broad_.skin = effective_skin();
+    broad_.grid = CellGrid{};  // scratch of the broad phase, rebuilt before every use
+}
+
+}  // namespace dem

@@ -1,0 +1,200 @@
+// The World: particles, walls, materials, bonds and contacts, advanced by step(). A step is the
+// method of docs/model.md, one named phase after the other (world.cpp reads as that list):
+//   forces at t (compute_forces()): prepare the step's scratch -> move the walls -> rebuild the
+//     candidates if anything moved more than half the skin -> open contacts -> contact forces
+//     (shear history) -> bond forces -> pressure -> gather per particle -> wall reactions ->
+//     close contacts
+//   motion to t + dt (integrate()): free particles (gravity, external forces, local damping,
+//     leapfrog) -> prescribed particles -> clock -> energy ledger (params.track_energy).
+// The phases' state and code live with their concept: the contact lifecycle in
+// dem/contact/contact_set, the broad phase in dem/detect/broad_phase, the work sharing in
+// dem/core/work_share, the force and integration kernels in dem/core/kernels (walls:
+// wall_kernel.cpp), the pressure in dem/core/pressure, the walls' motion and reactions in
+// dem/walls/wall_state, the time step estimate in dem/integrate/critical_dt, the ledger in
+// dem/world/energy_book. World owns them and keeps the rules that tie them together
+// (check_invariants()).
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "dem/bonds/bond_list.h"
+#include "dem/bonds/bond_tables.h"
+#include "dem/contact/contact_set.h"
+#include "dem/core/energy.h"
+#include "dem/core/kernels.h"
+#include "dem/core/material.h"
+#include "dem/core/particles.h"
+#include "dem/core/pressure.h"
+#include "dem/core/profile.h"
+#include "dem/core/thread_team.h"
+#include "dem/core/vec3.h"
+#include "dem/core/work_share.h"
+#include "dem/detect/broad_phase.h"
+#include "dem/integrate/step_clock.h"
+#include "dem/walls/motion.h"
+#include "dem/walls/wall.h"
+#include "dem/walls/wall_state.h"
+#include "dem/world/energy_book.h"
+
+namespace dem {
+
+struct SimulationParams {
+    double dt = 1e-7;                // [s] time step
+    Vec3 gravity{0.0, 0.0, -9.81};   // [m/s^2]
+    double local_damping = 0.0;      // [-] Yade's non-viscous damping coefficient lambda
+    double skin = 0.0;               // [m] Verlet distance; 0 = half the smallest radius (Yade)
+    int threads = 1;                 // threads of the step; results do not depend on it
+    bool track_energy = false;       // keep the energy ledger (World::energy()); costs nothing when off
+};
+
+class World {
+public:
+    std::vector<Material> materials;
+    Particles particles;
+    std::vector<Plane> planes;
+    std::vector<Facet> facets;
+    std::vector<Motion> motions;     // motions of prescribed particles
+    MembranePressure pressure;       // follower pressure on membrane nodes (empty: none)
+    SimulationParams params;
+
+    double time = 0.0;               // [s]
+    uint64_t steps = 0;
+
+    uint32_t add_material(const Material& m);
+    uint32_t add_sphere(const SphereDef& d);
+    // Room for n particles in all per-particle arrays (saves the growth copies of large scenes).
+    void reserve(std::size_t n);
+    uint32_t add_plane(const Plane& p);
+    uint32_t add_facet(const Facet& f);
+    uint32_t add_motion(const Motion& m);
+    // Blocks all six degrees of freedom of particle i from now on.
+    void set_fixed(uint32_t i);
+    // Particle i follows motions[motion] from its current position (no rotation).
+    void set_prescribed(uint32_t i, uint32_t motion);
+    // Removes all facets (e.g. a filling funnel) and their contacts.
+    void clear_facets();
+    // Changes a bond's stiffness (e.g. a foil of another modulus on a prepared sample).
+    void set_bond_stiffness(uint32_t b, double kn, double ks) {
+        bonds_.phys[b].kn = kn;
+        bonds_.phys[b].ks = ks;
+    }
+    // Permanent bond; rest_length < 0 takes the current centre distance.
+    uint32_t add_bond(uint32_t i, uint32_t j, double kn, double ks, double rest_length = -1.0);
+    const BondList& bonds() const { return bonds_; }
+    std::size_t wall_count() const { return planes.size() + facets.size(); }
+
+    // Contact physics depends on materials; call after changing them mid-run.
+    void invalidate_contact_physics() { physics_dirty_ = true; }
+    // Call after changing particles by hand between steps (positions, velocities, radii:
+    // teleporting, adding) so the candidates are rebuilt and the kernels see the change.
+    void invalidate_candidates() { broad_.dirty = true; packed_valid_ = false; }
+
+    // One step: compute_forces() then integrate(). The two halves are public so that a caller
+    // can read the forces at t (x(t), v(t - dt/2)) before the motion moves on.
+    void step();
+    void compute_forces();  // forces at the current time t (positions x(t), velocities v(t-dt/2))
+    void integrate();       // advance to t + dt
+
+    // Largest stable step [s] for a lone contact pair: min over particles of
+    // sqrt(m / kn_max), kn_max the stiffest pair the particle can form with any material
+    // present or with a wall. Multiply by a safety factor (< 1) for dense packings.
+    double critical_dt() const;  // dem/integrate/critical_dt.h
+
+    // Results of the last compute_forces():
+    Vec3 wall_force(std::size_t w) const { return walls_now_.force[w]; }    // [N] particles on wall
+    Vec3 wall_torque(std::size_t w) const { return walls_now_.torque[w]; }  // [N m] about the origin
+    std::size_t contact_count() const { return contacts_.live_count(); }  // touching pairs, particle-particle and wall
+    std::size_t particle_contact_count() const { return contacts_.particle_live_count(); }
+    // Pairs within the skin (touching or not): what the broad phase found at the last rebuild.
+    std::size_t candidate_count() const { return contacts_.pp.size() + contacts_.pw.size(); }
+    // Calls f(const TouchingContact&) for every touching pair, particle pairs first, each list
+    // in candidate order (particle i, then partner).
+    template <class F> void for_each_touching(F&& f) const { contacts_.for_each_touching(f); }
+    // v(t) = v(t-dt/2) + dt/2 a(t): synchronous velocity for output (after compute_forces()).
+    Vec3 velocity_at_time(std::size_t i) const;
+    Vec3 angular_velocity_at_time(std::size_t i) const;
+    // Current geometry of the walls at time t.
+    Vec3 plane_point(std::size_t p) const { return walls_now_.plane_point[p]; }
+    const std::array<Vec3, 3>& facet_vertices(std::size_t f) const { return walls_now_.facet_now[f]; }
+
+    uint64_t rebuild_count() const { return broad_.rebuilds; }
+
+    // Energy ledger (docs/energy.md), updated by integrate() while params.track_energy is on.
+    const EnergyLedger& energy() const { return book_.ledger; }
+    // Starts the ledger afresh: its t0 is the time of the next step (works and dissipations 0,
+    // stored energies then recorded as the reference). Call after switching tracking on, and
+    // after changing which particles are free (set_fixed, set_prescribed) or removing walls.
+    void reset_energy() { book_.ledger = EnergyLedger{}; }
+
+    // Time per phase of step() (dem/core/profile.h); off until profile().enable(true).
+    PhaseProfile& profile() { return profile_; }
+    const PhaseProfile& profile() const { return profile_; }
+
+    // The rules that tie the World's parts together (array lengths, indices in range, candidate
+    // lists and contact stores pointing at each other, energy terms sized to what they sum):
+    // nullptr when they hold, else what is broken. The checkpoint reader asks before it
+    // rebuilds the derived tables, so a file that passed the checksum but was written
+    // inconsistently cannot make the next step read out of bounds.
+    const char* broken_invariant() const;
+    // Throws std::logic_error naming the broken rule.
+    void check_invariants() const;
+
+    // Writes (Self = const World) or reads (Self = World, Archive::kLoading) the whole state,
+    // section by section: the checkpoint format (dem/io/checkpoint.h) of `version`; the field
+    // list is dem/world/world_io.h. After loading, ask broken_invariant(), then call
+    // rebuild_derived_tables().
+    template <class Archive, class Self> static void serialize(Archive& a, Self& self, uint32_t version);
+    // Rebuilds what follows from the saved state (bond tables, interaction lists) after loading.
+    void rebuild_derived_tables();
+
+private:
+    // ---- the phases of step(), in order (world.cpp)
+    void move_walls();           // the walls at t
+    void update_candidates();    // broad phase when needed, else a compaction of the stores
+    void prepare_forces();       // upkeep: per-thread lists, pressure slots, owners, packed records
+    void open_contacts(int tid); // candidates touching now get slots (in parallel, then serial)
+    void contact_forces(int tid);
+    void bond_forces(int tid);
+    void pressure_forces(int tid);
+    void gather_forces(int tid);
+    void wall_reactions();
+    void close_contacts();       // the slots of pairs found apart are freed
+    void finish_forces();        // upkeep: the packed records and the energy terms are current
+    bool prepare_integration();  // upkeep: energy blocks, owners, the prescribed list; true: book the ledger
+    double advance_free_particles(bool track);  // returns the largest squared move since the rebuild [m^2]
+    double follow_motions(bool track);          // prescribed particles; their largest squared move [m^2]
+    void advance_clock();
+    void account_energy(double t_n);
+
+    void assign_work();          // new slabs of work for the threads
+    // With profiling on, a barrier after a phase so that its time is the slowest thread's.
+    void lap(int tid, Phase phase);
+    ContactPhysics contact_physics() const { return {&particles, &materials, &planes, &facets}; }
+    int threads() const { return params.threads > 1 ? params.threads : 1; }
+    bool pressure_on() const { return pressure.dp != 0.0 && !pressure.nodes.empty(); }
+    double effective_skin() const;
+    Vec3 total_force(std::size_t i) const;
+
+    ContactSet contacts_;              // candidates, live contacts, interaction lists
+    BroadPhase broad_;                 // rebuild test and state (positions at the last rebuild)
+    WorkShare work_;                   // which thread does which blocks
+    BondList bonds_;
+    BondTables bond_tables_;           // each particle's bonds (from bonds_)
+    bool bonds_dirty_ = false;         // bonds added since bond_tables_ was built
+    bool physics_dirty_ = false;       // materials changed: contact coefficients to refresh
+    WallState walls_now_;              // walls at t, their velocities and reactions
+    StepClock clock_;
+    EnergyBook book_;                  // the ledger and the step's energy block sums
+    PressureForces pressure_forces_;   // [N] the pressure's force per particle
+    std::vector<kernels::PackedParticle> packed_;  // the pair kernels' copy of the particle state
+    bool packed_valid_ = false;        // packed_ holds the current state (written by integrate())
+    std::vector<uint32_t> prescribed_; // indices of the prescribed particles
+    bool prescribed_dirty_ = true;
+    PhaseProfile profile_;
+    TeamHandle team_;                  // the threads of the step (dem/core/thread_team.h)
+    std::vector<double> thread_max_d2_;
+};
+
+}  // namespace dem
