@@ -4,7 +4,7 @@
 #   vpp    (the damper)                   may include dem/, scene/, vpp/
 # cli/ (the command) and a Python module on top may include anything below them.
 # Inside dem the World sits on its parts and the file formats on the World:
-#   core, bonds, contact, detect, walls, integrate (the parts)  may not include dem/world, dem/io
+#   core, bonds, clumps, contact, detect, walls, integrate (the parts)  may not include dem/world, dem/io
 #   world (the World, its step and its rules)                   may not include dem/io A lower layer
 # that included a higher one would tie the core to one application (or a cycle of libraries).
 # Usage: cmake -DROOT=<folder that holds src/> -P check_layers.cmake

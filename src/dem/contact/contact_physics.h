@@ -19,12 +19,12 @@ struct ContactPhysics {
     const std::vector<Facet>* facets = nullptr;
 
     // Particle pair (i, j). Against a fixed or prescribed particle the moving one meets an
-    // infinite mass.
+    // infinite mass; a clump member's mass is its clump's.
     ContactPhys pair(uint32_t i, uint32_t j) const {
         const Particles& q = *p;
         double m_eff;
-        if (q.inv_mass[i] == 0.0) m_eff = q.mass[j];
-        else if (q.inv_mass[j] == 0.0) m_eff = q.mass[i];
+        if (!moves(q, i)) m_eff = q.mass[j];
+        else if (!moves(q, j)) m_eff = q.mass[i];
         else m_eff = q.mass[i] * q.mass[j] / (q.mass[i] + q.mass[j]);
         const auto& m = *materials;
         return make_contact_phys(m[q.material[i]], q.radius[i], m[q.material[j]], q.radius[j], m_eff);

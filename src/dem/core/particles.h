@@ -15,6 +15,7 @@ enum ParticleFlag : uint32_t {
     kFixed = 1u << 0,       // never moves (all six degrees of freedom blocked)
     kPrescribed = 1u << 1,  // translation follows a Motion (see World::prescribed); no rotation
     kTracked = 1u << 2,     // written to tracked output
+    kClumpMember = 1u << 3, // a member sphere of a clump (dem/clumps/clumps.h): moved with it
 };
 
 struct SphereDef {
@@ -52,5 +53,9 @@ struct Particles {
 
     std::size_t size() const { return pos.size(); }
 };
+
+// Whether particle i moves under forces: free spheres and clump members (whose inverse mass is
+// 0 because their clump, not the particle integrator, moves them).
+inline bool moves(const Particles& p, std::size_t i) { return p.inv_mass[i] != 0.0 || (p.flags[i] & kClumpMember); }
 
 }  // namespace dem

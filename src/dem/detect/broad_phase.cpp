@@ -63,6 +63,7 @@ void BroadPhase::rebuild(const Scene& s, ContactSet& cs) {
     const std::vector<std::array<Vec3, 3>>& facet_now = *s.facet_now;
     const BondTables& bt = *s.bonds;
     const Particles& p = *s.p;
+    const int32_t* owner = s.owner;
     const std::size_t n = p.size();
     skin = s.skin;
     const double rmax = n ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
@@ -148,7 +149,8 @@ void BroadPhase::rebuild(const Scene& s, ContactSet& cs) {
                 const double reach = ri + p.radius[j] + skin;
                 const double d2 = norm2(p.pos[j] - xi);
                 if (j <= i || !(d2 < reach * reach) || !(p.mask[i] & p.mask[j])) return;
-                if (p.inv_mass[i] == 0.0 && p.inv_mass[j] == 0.0) return;
+                if (!moves(p, i) && !moves(p, j)) return;
+                if (owner && owner[i] >= 0 && owner[i] == owner[j]) return;
                 for (uint32_t b = bt.start[i]; b < bt.start[i + 1]; ++b)
                     if (bt.partner[b] == j) return;
                 local.emplace_back(j, gap_down(std::sqrt(d2) - (ri + p.radius[j])));
@@ -160,7 +162,7 @@ void BroadPhase::rebuild(const Scene& s, ContactSet& cs) {
             }
             cs.pp.start[i + 1] = uint32_t(local.size());
 
-            if (p.inv_mass[i] == 0.0 && !(p.flags[i] & kPrescribed)) continue;  // fixed: no wall contacts
+            if (!moves(p, i) && !(p.flags[i] & kPrescribed)) continue;  // fixed: no wall contacts
             uint32_t nw = 0;
             for (uint32_t w = 0; w < nplanes; ++w) {
                 if (!(planes[w].mask & p.mask[i])) continue;

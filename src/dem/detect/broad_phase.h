@@ -40,6 +40,7 @@ struct BroadPhase {
         const std::vector<Vec3>* plane_point = nullptr;               // [m] planes now
         const std::vector<std::array<Vec3, 3>>* facet_now = nullptr;  // [m] facets now
         const BondTables* bonds = nullptr;                            // bonded pairs are no candidates
+        const int32_t* owner = nullptr;  // per particle its clump or -1; nullptr: no clumps (members of one clump are no candidates)
         double skin = 0.0;                                            // [m]
         double time = 0.0;                                            // [s]
         int threads = 1;

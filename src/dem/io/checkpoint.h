@@ -12,7 +12,8 @@
 //            PRES membrane pressure, PARM parameters, CLCK time/steps/time base,
 //            CONT contact lists, BOND bonds, VRLT rebuild state and flags,
 //            LAST wall geometry and reactions of the last compute_forces(), ENRG energy ledger
-//            (optional: only when energy is tracked), APPS app blob
+//            (optional: only when energy is tracked), CLMP clumps (optional: only when there
+//            are clumps), APPS app blob
 //   uint64   FNV-1a 64 checksum of everything before it (magic to end of payload)
 // Vectors are stored as uint64 count + raw elements, strings as uint64 length + bytes.
 #pragma once

@@ -32,14 +32,15 @@ void EnergyBook::account(const Step& st) {
         v_next[planes.size() + k] = facets[k].motion.mean_velocity(time - dt, time);
 
     double back[kTerms] = {}, fwd[kTerms] = {}, kinetic = 0;
-    for (std::size_t b = 0; b < particles.size(); b += kernels::kParticleSums) {
-        const double* s = &particles[b];
-        for (int k = 0; k < kTerms; ++k) {
-            back[k] += s[k];
-            fwd[k] += s[kTerms + k];
+    for (const std::vector<double>* blocks : {&particles, &clumps})
+        for (std::size_t b = 0; b < blocks->size(); b += kernels::kParticleSums) {
+            const double* s = &(*blocks)[b];
+            for (int k = 0; k < kTerms; ++k) {
+                back[k] += s[k];
+                fwd[k] += s[kTerms + k];
+            }
+            kinetic += s[2 * kTerms];
         }
-        kinetic += s[2 * kTerms];
-    }
     back[kernels::kBoundary] += prescribed[0];
     fwd[kernels::kBoundary] += prescribed[1];
     for (std::size_t w = 0; w < nw; ++w) {

@@ -21,8 +21,9 @@ struct EnergyBook {
     EnergyLedger ledger;
     bool ready = false;  // compute_forces() filled the block sums below (integrate() books them)
     // Block sums of the step's kernels: kernels::kPairSums per block of each contact store,
-    // one per block of bonds, kernels::kParticleSums per block of particles (integrate()).
-    std::vector<double> fric, smooth, walls, bonds, particles;
+    // one per block of bonds, kernels::kParticleSums per block of particles and per block of
+    // clumps (integrate()).
+    std::vector<double> fric, smooth, walls, bonds, particles, clumps;
     double prescribed[2] = {};        // [J] boundary work of prescribed particles: back, forward half
     std::vector<Vec3> wall_vel_next;  // scratch of account()
 

@@ -10,6 +10,8 @@
 
 #include "dem/core/kernels.h"
 #include "dem/integrate/critical_dt.h"
+#include "dem/clumps/rigid_rotation.h"
+#include "dem/core/parallel.h"
 #include "dem/integrate/leapfrog.h"
 
 namespace dem {
@@ -41,8 +43,61 @@ uint32_t World::add_sphere(const SphereDef& d) {
     p.flags.push_back(d.flags);
     p.motion.push_back(-1);
     if (!p.ref_pos.empty()) p.ref_pos.push_back(d.position);
+    if (!clumps_.owner.empty()) clumps_.owner.push_back(-1);
     broad_.dirty = prescribed_dirty_ = true;
     return uint32_t(p.size() - 1);
+}
+
+uint32_t World::add_clump(const ClumpShape& shape, const ClumpDef& d) {
+    if (shape.members.empty()) throw std::invalid_argument("clump shape without members");
+    if (d.material >= materials.size()) throw std::invalid_argument("clump material index out of range");
+    if (!(shape.volume > 0.0)) throw std::invalid_argument("clump shape volume must be > 0");
+    Particles& p = particles;
+    Clumps& c = clumps_;
+    const double density = materials[d.material].density;
+    const double m = density * shape.volume;
+    const Vec3 inertia = shape.inertia_per_density * density;
+    const Quat q = normalized(d.orientation);
+    if (c.owner.empty()) c.owner.assign(p.size(), -1);
+    const uint32_t k = uint32_t(c.size());
+    for (const ClumpMember& mb : shape.members) {
+        const Vec3 r = rotate(q, mb.center);
+        c.member.push_back(uint32_t(p.size()));
+        c.rel.push_back(mb.center);
+        c.owner.push_back(int32_t(k));
+        p.pos.push_back(d.position + r);
+        p.vel.push_back(d.velocity + cross(d.angular_velocity, r));
+        p.angvel.push_back(d.angular_velocity);
+        p.force.emplace_back();
+        p.torque.emplace_back();
+        if (!p.ext_force.empty()) p.ext_force.emplace_back();
+        p.radius.push_back(mb.radius);
+        p.mass.push_back(m);  // the clump's: a contact's reduced mass is the bodies'
+        p.inv_mass.push_back(0.0);  // moved by advance_clumps(), not by the particle integrator
+        p.inv_inertia.push_back(0.0);
+        p.material.push_back(d.material);
+        p.mask.push_back(d.mask);
+        p.flags.push_back(kClumpMember);
+        p.motion.push_back(-1);
+        if (!p.ref_pos.empty()) p.ref_pos.push_back(d.position + r);
+    }
+    c.start.push_back(uint32_t(c.member.size()));
+    c.pos.push_back(d.position);
+    c.vel.push_back(d.velocity);
+    c.q.push_back(q);
+    c.mom.push_back(rigid::momentum(q, d.angular_velocity, inertia));
+    c.angvel.push_back(d.angular_velocity);
+    c.inertia.push_back(inertia);
+    c.mass.push_back(m);
+    c.inv_mass.push_back(1.0 / m);
+    broad_.dirty = true;
+    packed_valid_ = false;
+    return k;
+}
+
+double World::clump_kinetic_energy(std::size_t k) const {
+    const Clumps& c = clumps_;
+    return 0.5 * c.mass[k] * norm2(c.vel[k]) + rigid::rotational_energy(c.q[k], c.mom[k], c.inertia[k]);
 }
 
 void World::reserve(std::size_t n) {
@@ -73,6 +128,8 @@ uint32_t World::add_motion(const Motion& m) {
 }
 
 void World::set_fixed(uint32_t i) {
+    if (i < particles.size() && (particles.flags[i] & kClumpMember))
+        throw std::invalid_argument("set_fixed: particle " + std::to_string(i) + " is a clump member");
     Particles& p = particles;
     p.flags[i] = (p.flags[i] | kFixed) & ~uint32_t(kPrescribed);
     p.inv_mass[i] = p.inv_inertia[i] = 0.0;
@@ -83,6 +140,8 @@ void World::set_fixed(uint32_t i) {
 }
 
 void World::set_prescribed(uint32_t i, uint32_t motion) {
+    if (i < particles.size() && (particles.flags[i] & kClumpMember))
+        throw std::invalid_argument("set_prescribed: particle " + std::to_string(i) + " is a clump member");
     Particles& p = particles;
     p.flags[i] = (p.flags[i] | kPrescribed) & ~uint32_t(kFixed);
     p.inv_mass[i] = p.inv_inertia[i] = 0.0;
@@ -126,7 +185,7 @@ double World::effective_skin() const {
     return r.empty() ? 1e-3 : 0.5 * *std::min_element(r.begin(), r.end());
 }
 
-double World::critical_dt() const { return dem::critical_dt(particles, materials, planes, facets, bonds_); }
+double World::critical_dt() const { return dem::critical_dt(particles, materials, planes, facets, bonds_, clumps_); }
 
 // ================================================================ the step
 
@@ -157,7 +216,7 @@ void World::compute_forces() {
 void World::integrate() {
     const double t_n = time;
     const bool track = prepare_integration();
-    const double moved = advance_free_particles(track);
+    const double moved = std::max(advance_free_particles(track), advance_clumps(track));
     broad_.record_moves(std::max(moved, follow_motions(track)));
     profile_.lap(Phase::kIntegration);
     advance_clock();
@@ -186,6 +245,7 @@ void World::update_candidates() {
         scene.plane_point = &walls_now_.plane_point;
         scene.facet_now = &walls_now_.facet_now;
         scene.bonds = &bond_tables_;
+        scene.owner = clumps_.owner.empty() ? nullptr : clumps_.owner.data();
         scene.skin = effective_skin();
         scene.time = time;
         scene.threads = threads();
@@ -395,6 +455,102 @@ double World::advance_free_particles(bool track) {
             thread_max[tid] = std::max(thread_max[tid], kernels::advance(a));
         }
     });
+    return *std::max_element(thread_max.begin(), thread_max.end());
+}
+
+double World::advance_clumps(bool track) {
+    Clumps& c = clumps_;
+    if (c.empty()) return 0.0;
+    Particles& p = particles;
+    const double dt = params.dt, h = 0.5 * dt, lambda = params.local_damping;
+    const Vec3 g = params.gravity;
+    const bool packed = packed_.size() == p.size();
+    const Vec3* ext = p.ext_force.empty() ? nullptr : p.ext_force.data();
+    const Vec3* pressure = track && pressure_forces_.force.size() == p.size() ? pressure_forces_.force.data() : nullptr;
+    // Blocks of clumps, each block's energy terms summed in clump order: the same sums for any
+    // number of threads (each clump writes only its own members).
+    const int64_t nb = kernels::block_count(c.size());
+    using kernels::kTerms;
+    if (track) book_.clumps.assign(std::size_t(nb * kernels::kParticleSums), 0.0);
+    const int nt = threads();
+    std::vector<double>& thread_max = thread_max_d2_;
+    thread_max.assign(std::size_t(nt), 0.0);
+    team_->run(nt, [&](int tid) {
+        const auto [b0, b1] = thread_range(nb, tid, nt);
+        for (int64_t b = b0; b < b1; ++b)
+        for (int64_t k = b * kernels::kBlock; k < std::min(int64_t(c.size()), (b + 1) * kernels::kBlock); ++k) {
+            const Vec3 x0 = c.pos[k], v0 = c.vel[k], w0 = c.angvel[k], L0 = c.mom[k], I = c.inertia[k];
+            const Quat q0 = c.q[k];
+            const double m = c.mass[k];
+            // The members' forces and torques about the centre of mass, in member order.
+            Vec3 f, t, fx, tx, fp, tp;
+            for (uint32_t e = c.start[k]; e < c.start[k + 1]; ++e) {
+                const uint32_t i = c.member[e];
+                const Vec3 r = p.pos[i] - x0;
+                f += p.force[i];
+                t += cross(r, p.force[i]) + p.torque[i];
+                if (ext) {
+                    fx += ext[i];
+                    tx += cross(r, ext[i]);
+                }
+                if (pressure) {
+                    fp += pressure[i];
+                    tp += cross(r, pressure[i]);
+                }
+            }
+            const Vec3 fg = g * m;
+            // As the spheres (kernels::advance): total force, Yade's cundallDamp2nd, leapfrog.
+            const Vec3 ftot = (f + fx) + fg;
+            const Vec3 a = damped_acceleration(ftot, c.inv_mass[k], v0, dt, lambda);
+            const Vec3 v1 = v0 + a * dt;
+            const Vec3 x1 = x0 + v1 * dt;
+            // Rotation: cundallDamp1st on the world-frame torque (sign of torque times angular
+            // velocity), kick of the angular momentum, then the symplectic drift.
+            const Vec3 ttot = t + tx;
+            Vec3 td = ttot;
+            if (lambda != 0.0)
+                for (int d = 0; d < 3; ++d) td[d] *= 1.0 - lambda * sign(td[d] * w0[d]);
+            const Vec3 L1 = L0 + td * dt;
+            const Quat q1 = rigid::drift(q0, L1, I, dt);
+            // The half step's angular velocity: the mean of the drift's two ends.
+            const Vec3 w1 = (rigid::angular_velocity(q0, L1, I) + rigid::angular_velocity(q1, L1, I)) * 0.5;
+            c.pos[k] = x1;
+            c.vel[k] = v1;
+            c.q[k] = q1;
+            c.mom[k] = L1;
+            c.angvel[k] = w1;
+            double max_d2 = 0.0;
+            for (uint32_t e = c.start[k]; e < c.start[k + 1]; ++e) {
+                const uint32_t i = c.member[e];
+                const Vec3 r = rotate(q1, c.rel[e]);
+                p.pos[i] = x1 + r;
+                p.vel[i] = v1 + cross(w1, r);
+                p.angvel[i] = w1;
+                if (packed) packed_[i] = kernels::pack(p, i);
+                const FloatVec3 rf = broad_.ref_pos[i];
+                max_d2 = std::max(max_d2, norm2(p.pos[i] - Vec3{rf.x, rf.y, rf.z}));
+            }
+            thread_max[tid] = std::max(thread_max[tid], max_d2);
+            if (track) {
+                // The terms of kernels::advance for a rigid body (docs/energy.md): trapezoid
+                // halves of each force's work, the kinetic energy at t, what the damping removed.
+                double* s = &book_.clumps[std::size_t(b * kernels::kParticleSums)];
+                s[kernels::kGravity] += dot(fg, v0) * h;
+                s[kTerms + kernels::kGravity] += dot(fg, v1) * h;
+                s[kernels::kPressure] += (dot(fp, v0) + dot(tp, w0)) * h;
+                s[kTerms + kernels::kPressure] += (dot(fp, v1) + dot(tp, w1)) * h;
+                s[kernels::kExternal] += (dot(fx, v0) + dot(tx, w0)) * h;
+                s[kTerms + kernels::kExternal] += (dot(fx, v1) + dot(tx, w1)) * h;
+                s[2 * kTerms] += 0.5 * m * dot(v0, v1) + 0.25 * (dot(w0, L1) + dot(w1, L0));
+                if (lambda != 0.0) {
+                    const Vec3 df = ftot - a * m, dq = ttot - td;
+                    s[kernels::kDamping] += (dot(df, v0) + dot(dq, w0)) * h;
+                    s[kTerms + kernels::kDamping] += (dot(df, v1) + dot(dq, w1)) * h;
+                }
+            }
+        }
+    });
+    packed_valid_ = packed;
     return *std::max_element(thread_max.begin(), thread_max.end());
 }
 

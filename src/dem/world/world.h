@@ -5,11 +5,13 @@
 //     (shear history) -> bond forces -> pressure -> gather per particle -> wall reactions ->
 //     close contacts
 //   motion to t + dt (integrate()): free particles (gravity, external forces, local damping,
-//     leapfrog) -> prescribed particles -> clock -> energy ledger (params.track_energy).
+//     leapfrog) -> clumps (rigid bodies: their members' forces summed, then the same leapfrog
+//     for translation and a symplectic rotation, members placed) -> prescribed particles ->
+//     clock -> energy ledger (params.track_energy).
 // The phases' state and code live with their concept: the contact lifecycle in
 // dem/contact/contact_set, the broad phase in dem/detect/broad_phase, the work sharing in
 // dem/core/work_share, the force and integration kernels in dem/core/kernels (walls:
-// wall_kernel.cpp), the pressure in dem/core/pressure, the walls' motion and reactions in
+// wall_kernel.cpp), the clumps' state and rotation in dem/clumps, the pressure in dem/core/pressure, the walls' motion and reactions in
 // dem/walls/wall_state, the time step estimate in dem/integrate/critical_dt, the ledger in
 // dem/world/energy_book. World owns them and keeps the rules that tie them together
 // (check_invariants()).
@@ -21,6 +23,8 @@
 
 #include "dem/bonds/bond_list.h"
 #include "dem/bonds/bond_tables.h"
+#include "dem/clumps/clump_shape.h"
+#include "dem/clumps/clumps.h"
 #include "dem/contact/contact_set.h"
 #include "dem/core/energy.h"
 #include "dem/core/kernels.h"
@@ -64,6 +68,13 @@ public:
 
     uint32_t add_material(const Material& m);
     uint32_t add_sphere(const SphereDef& d);
+    // A rigid clump of `shape`'s members (dem/clumps/clump_shape.h) at d's pose and velocities;
+    // its mass and moments from the material's density. The members are appended as particles
+    // (flag kClumpMember) in shape order. Returns the clump's index.
+    uint32_t add_clump(const ClumpShape& shape, const ClumpDef& d);
+    const Clumps& clumps() const { return clumps_; }
+    // Kinetic energy of clump c [J] at the half step (translation and rotation).
+    double clump_kinetic_energy(std::size_t c) const;
     // Room for n particles in all per-particle arrays (saves the growth copies of large scenes).
     void reserve(std::size_t n);
     uint32_t add_plane(const Plane& p);
@@ -164,10 +175,12 @@ private:
     void finish_forces();        // upkeep: the packed records and the energy terms are current
     bool prepare_integration();  // upkeep: energy blocks, owners, the prescribed list; true: book the ledger
     double advance_free_particles(bool track);  // returns the largest squared move since the rebuild [m^2]
+    double advance_clumps(bool track);          // clumps and their members; their largest squared move [m^2]
     double follow_motions(bool track);          // prescribed particles; their largest squared move [m^2]
     void advance_clock();
     void account_energy(double t_n);
 
+    const char* clump_rule() const;  // the clumps' part of broken_invariant()
     void assign_work();          // new slabs of work for the threads
     // With profiling on, a barrier after a phase so that its time is the slowest thread's.
     void lap(int tid, Phase phase);
@@ -190,6 +203,7 @@ private:
     PressureForces pressure_forces_;   // [N] the pressure's force per particle
     std::vector<kernels::PackedParticle> packed_;  // the pair kernels' copy of the particle state
     bool packed_valid_ = false;        // packed_ holds the current state (written by integrate())
+    Clumps clumps_;                    // rigid grains (their members are particles)
     std::vector<uint32_t> prescribed_; // indices of the prescribed particles
     bool prescribed_dirty_ = true;
     PhaseProfile profile_;

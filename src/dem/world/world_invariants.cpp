@@ -31,6 +31,7 @@ const char* World::broken_invariant() const {
         for (uint32_t r : q.ring)
             if (r >= n) return "pressure ring out of range";
     }
+    if (const char* why = clump_rule()) return why;
     if (const char* why = contacts_.broken_rule(n, nw)) return why;
     const BondList& b = bonds_;
     const std::size_t nb = b.size();
@@ -50,6 +51,40 @@ const char* World::broken_invariant() const {
          book_.bonds.size() != std::size_t(block_count(nb)) || pressure_forces_.force.size() != n ||
          walls_now_.force.size() != nw || walls_now_.velocity.size() != nw))
         return "energy terms do not match the contacts, bonds and particles";
+    return nullptr;
+}
+
+const char* World::clump_rule() const {
+    const Clumps& c = clumps_;
+    const Particles& p = particles;
+    const std::size_t n = p.size(), nc = c.size();
+    for (std::size_t s : {c.vel.size(), c.q.size(), c.mom.size(), c.angvel.size(), c.inertia.size(), c.mass.size(),
+                          c.inv_mass.size()})
+        if (s != nc) return "clump arrays of different lengths";
+    if (c.start.size() != nc + 1 || c.start[0] != 0 || c.start[nc] != c.member.size() || c.rel.size() != c.member.size())
+        return "clump member lists do not match the clumps";
+    if (nc == 0) {
+        if (!c.owner.empty()) return "clump owners without clumps";
+        for (std::size_t i = 0; i < n; ++i)
+            if (p.flags[i] & kClumpMember) return "clump member without a clump";
+        return nullptr;
+    }
+    if (c.owner.size() != n) return "clump owners do not match the particles";
+    std::size_t members = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const bool flagged = p.flags[i] & kClumpMember;
+        if (c.owner[i] < -1 || c.owner[i] >= int64_t(nc) || flagged != (c.owner[i] >= 0))
+            return "clump owner out of range or not matching the member flag";
+        members += flagged;
+    }
+    if (members != c.member.size()) return "clump member lists do not match the member flags";
+    for (std::size_t k = 0; k < nc; ++k) {
+        if (c.start[k] > c.start[k + 1]) return "clump member lists do not match the clumps";
+        if (!(c.mass[k] > 0.0) || !(c.inertia[k].x > 0.0) || !(c.inertia[k].y > 0.0) || !(c.inertia[k].z > 0.0))
+            return "clump mass or moment of inertia not positive";
+        for (uint32_t e = c.start[k]; e < c.start[k + 1]; ++e)
+            if (c.member[e] >= n || c.owner[c.member[e]] != int32_t(k)) return "clump member out of range or of another clump";
+    }
     return nullptr;
 }
 

@@ -18,6 +18,7 @@ namespace dem {
 // A field added to one of these structs must also be added to the checkpoint (and the format
 // version bumped); these asserts make that impossible to forget.
 static_assert(sizeof(Particles) == 15 * sizeof(std::vector<int>), "update dem/world/world_io.h");
+static_assert(sizeof(Clumps) == 12 * sizeof(std::vector<int>) && sizeof(Quat) == 32, "update dem/world/world_io.h");
 static_assert(sizeof(CandidateList) == 4 * sizeof(std::vector<int>), "update dem/world/world_io.h");
 static_assert(sizeof(ActiveContacts) == 11 * sizeof(std::vector<int>), "update dem/world/world_io.h");
 static_assert(sizeof(BondList) == 8 * sizeof(std::vector<int>), "update dem/world/world_io.h");
@@ -289,6 +290,22 @@ template <class A, class W> void World::serialize(A& a, W& w, uint32_t version) 
             // have no counterpart here; such files come from a program's own tests only.
             throw std::runtime_error("a version 1 checkpoint written in the middle of a step cannot be converted");
         }
+    });
+    // Clumps: only in files of worlds that have them, so other checkpoints are unchanged.
+    a.optional_section("CLMP", !w.clumps_.empty(), [&](A& s) {
+        auto& c = w.clumps_;
+        s.vec(c.pos);
+        s.vec(c.vel);
+        s.vec(c.q);
+        s.vec(c.mom);
+        s.vec(c.angvel);
+        s.vec(c.inertia);
+        s.vec(c.mass);
+        s.vec(c.inv_mass);
+        s.vec(c.start);
+        s.vec(c.member);
+        s.vec(c.rel);
+        s.vec(c.owner);
     });
     if constexpr (A::kLoading)
         if (version == 1) io::convert_v1(w.contacts_, w.particles.size(), v1_lists);
