@@ -19,6 +19,7 @@
 #include <mutex>
 #include <stdexcept>
 #include <thread>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -403,6 +404,66 @@ PYBIND11_MODULE(_core, m) {
              py::arg("mask") = 1,
              "Adds a sphere; returns its index. position [m], radius [m], velocity [m/s], angular_velocity "
              "[rad/s]; mask: bodies interact when their masks share a bit")
+        .def("add_clump",
+             [](dem::World& w, const std::vector<double>& position, const py::object& shape, double radius,
+                uint32_t material, const std::vector<double>& orientation, const std::vector<double>& velocity,
+                const std::vector<double>& angular_velocity, uint32_t mask) {
+                 if (material >= w.materials.size()) throw std::invalid_argument("add_clump: no material " + std::to_string(material) + "; add_material first");
+                 dem::ClumpShape cs;
+                 if (py::isinstance<py::str>(shape)) {
+                     if (!(radius > 0)) throw std::invalid_argument("add_clump: a built-in shape needs radius > 0 (the volume-equivalent radius [m])");
+                     cs = dem::builtin_clump_shape(shape.cast<std::string>(), radius);
+                 } else {
+                     // rows (x, y, z, r) [m] of the members in the grain's frame
+                     std::vector<dem::ClumpMember> members;
+                     for (const auto& row : shape.cast<std::vector<std::vector<double>>>()) {
+                         if (row.size() != 4) throw std::invalid_argument("add_clump: each member is a row (x, y, z, r)");
+                         members.push_back({{row[0], row[1], row[2]}, row[3]});
+                     }
+                     cs = dem::make_clump_shape(members);
+                     if (radius > 0) cs = dem::scaled(cs, std::cbrt(4.0 / 3.0 * std::numbers::pi * radius * radius * radius / cs.volume));
+                 }
+                 dem::ClumpDef d;
+                 d.position = to_vec3(position, "position");
+                 if (orientation.size() != 4) throw std::invalid_argument("add_clump: orientation is a quaternion (w, x, y, z)");
+                 d.orientation = {orientation[0], orientation[1], orientation[2], orientation[3]};
+                 d.velocity = to_vec3(velocity, "velocity");
+                 d.angular_velocity = to_vec3(angular_velocity, "angular_velocity");
+                 d.material = material;
+                 d.mask = mask;
+                 const uint32_t first = uint32_t(w.particles.size());
+                 const uint32_t k = w.add_clump(cs, d);
+                 return py::make_tuple(k, first, cs.members.size());
+             },
+             py::arg("position"), py::arg("shape"), py::arg("radius") = 0.0, py::arg("material") = 0,
+             py::arg("orientation") = std::vector<double>{1, 0, 0, 0}, py::arg("velocity") = std::vector<double>{0, 0, 0},
+             py::arg("angular_velocity") = std::vector<double>{0, 0, 0}, py::arg("mask") = 1,
+             "Adds a rigid clump; returns (clump index, first member's particle index, member count). shape: a "
+             "built-in name (sphere, dimer, trimer, tetrahedron, pellet) scaled to the volume of a sphere of "
+             "radius [m], or rows (x, y, z, r) [m] of member spheres (scaled likewise when radius > 0). "
+             "position: centre of mass [m]; orientation: quaternion (w, x, y, z) of the principal frame; "
+             "velocity [m/s], angular_velocity [rad/s] (world frame)")
+        .def("clump_count", [](const dem::World& w) { return w.clumps().size(); })
+        .def("clump_state",
+             [](const dem::World& w, std::size_t k) {
+                 const dem::Clumps& c = w.clumps();
+                 if (k >= c.size()) throw std::out_of_range("clump_state: no clump " + std::to_string(k));
+                 py::dict out;
+                 const auto v3 = [](const dem::Vec3& v) { return py::make_tuple(v.x, v.y, v.z); };
+                 out["position"] = v3(c.pos[k]);
+                 out["velocity"] = v3(c.vel[k]);
+                 out["orientation"] = py::make_tuple(c.q[k].w, c.q[k].x, c.q[k].y, c.q[k].z);
+                 out["angular_velocity"] = v3(c.angvel[k]);
+                 out["angular_momentum"] = v3(c.mom[k]);
+                 out["mass"] = c.mass[k];
+                 out["inertia"] = v3(c.inertia[k]);
+                 out["kinetic_energy"] = w.clump_kinetic_energy(k);
+                 return out;
+             },
+             py::arg("k"),
+             "Clump k at the half step: position [m], velocity [m/s], orientation (w, x, y, z), angular_velocity "
+             "[rad/s] and angular_momentum [kg m^2/s] (world frame), mass [kg], principal inertia [kg m^2], "
+             "kinetic_energy [J]")
         .def("add_plane",
              [](dem::World& w, const std::vector<double>& point, const std::vector<double>& normal, uint32_t material,
                 bool one_sided, uint32_t mask) {

@@ -64,12 +64,15 @@ void consider(OverlapReport& rep, const Overlap& o) {
         rep.worst = o;
 }
 
-bool interacts(const dem::Particles& p, uint32_t i, uint32_t j) {
-    return (p.mask[i] & p.mask[j]) && !(p.inv_mass[i] == 0.0 && p.inv_mass[j] == 0.0);
+// owner: per particle its clump or -1 (nullptr: no clumps); one clump's members overlap by design.
+bool interacts(const dem::Particles& p, const int32_t* owner, uint32_t i, uint32_t j) {
+    if (owner && owner[i] >= 0 && owner[i] == owner[j]) return false;
+    return (p.mask[i] & p.mask[j]) && (dem::moves(p, i) || dem::moves(p, j));
 }
 
-void test_pair(const dem::Particles& p, uint32_t i, uint32_t j, double tolerance, OverlapReport& rep) {
-    if (!interacts(p, i, j)) return;
+void test_pair(const dem::Particles& p, const int32_t* owner, uint32_t i, uint32_t j, double tolerance,
+               OverlapReport& rep) {
+    if (!interacts(p, owner, i, j)) return;
     const double ov = p.radius[i] + p.radius[j] - norm(p.pos[j] - p.pos[i]);
     const double rmin = std::min(p.radius[i], p.radius[j]);
     if (ov > tolerance * rmin) consider(rep, {std::min(i, j), std::max(i, j), false, ov, ov / rmin});
@@ -97,6 +100,7 @@ void bin_spheres(const dem::Particles& p, const Cells& c, std::vector<std::pair<
 OverlapReport sphere_overlaps(const dem::World& w, double tolerance) {
     OverlapReport rep;
     const dem::Particles& p = w.particles;
+    const int32_t* owner = w.clumps().owner.empty() ? nullptr : w.clumps().owner.data();
     if (p.size() < 2) return rep;
     const Cells c = make_cells(p);
     std::vector<std::pair<uint64_t, uint32_t>> items;
@@ -117,7 +121,7 @@ OverlapReport sphere_overlaps(const dem::World& w, double tolerance) {
                 }
                 if (disjoint || c.key(c.coord(corner.x, 0), c.coord(corner.y, 1), c.coord(corner.z, 2)) != items[s].first)
                     continue;
-                test_pair(p, i, j, tolerance, rep);
+                test_pair(p, owner, i, j, tolerance, rep);
             }
         s = e;
     }
@@ -126,7 +130,7 @@ OverlapReport sphere_overlaps(const dem::World& w, double tolerance) {
     for (uint32_t b : big) is_big[b] = 1;
     for (uint32_t b : big)
         for (uint32_t j = 0; j < uint32_t(p.size()); ++j)
-            if (j != b && (!is_big[j] || j > b)) test_pair(p, b, j, tolerance, rep);
+            if (j != b && (!is_big[j] || j > b)) test_pair(p, owner, b, j, tolerance, rep);
     return rep;
 }
 

@@ -7,7 +7,8 @@
 // touches slightly) are normal and allowed.
 //
 // Only pairs that can interact count, by the World's rules: masks sharing a bit; two spheres not
-// both immobile (fixed or prescribed); a fixed sphere touches no wall. A two-sided plane
+// both immobile (fixed or prescribed); not two members of one clump; a fixed sphere touches no
+// wall. A two-sided plane
 // overlaps a sphere by r - |s| (s the signed distance of its centre), a one-sided plane by r - s
 // (a centre behind it is pushed back out), a facet by r - distance to the triangle (one-sided:
 // only a centre on its +normal side).

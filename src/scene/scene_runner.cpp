@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <map>
+#include <numbers>
 #include <optional>
 
 #include "scene/config.h"
@@ -119,6 +120,7 @@ void check_initial_overlaps(const Scene& sc, double tolerance) {
 std::string sphere_name(const Scene& sc, uint32_t id) {
     if (id >= sc.sphere_origin.size()) return "sphere " + std::to_string(id);
     const auto [file, k] = sc.sphere_origin[id];
+    if (file == -2) return "a member of clumps[" + std::to_string(k) + "]";
     if (file < 0) return "spheres[" + std::to_string(k) + "]";
     return "sphere_files[" + std::to_string(file) + "] row " + std::to_string(k + 1) + " of '" +
            sc.sphere_file_paths[std::size_t(file)] + "'";
@@ -236,6 +238,51 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
         ++file_index;
     }
 
+    uint32_t clump_entry = 0;
+    for (SceneSection s : entries(top, "clumps")) {
+        dem::ClumpDef d;
+        d.material = material_index(s, by_name);
+        const std::string shape = s.string("shape");
+        std::optional<double> radius;
+        if (s.has("radius")) radius = s.real("radius");
+        dem::ClumpShape cs;
+        try {
+            if (shape == "template") {
+                if (!s.has("template")) s.fail("template", "is required with shape = \"template\"");
+                const fs::path path = resolve(base_dir, s.string("template"));
+                std::vector<dem::ClumpMember> members;
+                try {
+                    for (const auto& r : dem::read_numeric_csv(path.string(), 4)) members.push_back({{r[0], r[1], r[2]}, r[3]});
+                } catch (const std::exception& e) {
+                    s.fail("template", e.what());
+                }
+                cs = dem::make_clump_shape(members);
+                if (radius) cs = dem::scaled(cs, std::cbrt(4.0 / 3.0 * std::numbers::pi * *radius * *radius * *radius / cs.volume));
+            } else {
+                if (s.has("template")) s.fail("template", "is only read with shape = \"template\"");
+                if (!radius) s.fail("radius", "is required with a built-in shape (the volume-equivalent radius)");
+                cs = dem::builtin_clump_shape(shape, *radius);
+            }
+        } catch (const std::invalid_argument& e) {
+            s.fail(shape == "template" ? "template" : "shape", e.what());
+        }
+        d.position = s.vec3("position");
+        const dem::Vec3 rot = s.vec3("orientation");
+        const double angle = norm(rot);
+        if (angle > 0.0) {
+            const dem::Vec3 u = rot / angle;
+            const double sh = std::sin(0.5 * angle);
+            d.orientation = {std::cos(0.5 * angle), u.x * sh, u.y * sh, u.z * sh};
+        }
+        d.velocity = s.vec3("velocity");
+        d.angular_velocity = s.vec3("angular_velocity");
+        d.mask = read_mask(s);
+        s.finish();
+        w.add_clump(cs, d);
+        for (std::size_t m = 0; m < cs.members.size(); ++m) sc.sphere_origin.push_back({-2, clump_entry});
+        ++clump_entry;
+    }
+
     for (SceneSection s : entries(top, "planes")) {
         dem::Plane p;
         p.material = material_index(s, by_name);
@@ -321,7 +368,7 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
         sc.wall_names.push_back(s.path());
     }
     top.finish();
-    if (w.particles.size() == 0) throw ConfigError("the scene has no spheres: add [[spheres]] or [[sphere_files]]");
+    if (w.particles.size() == 0) throw ConfigError("the scene has no spheres: add [[spheres]], [[sphere_files]] or [[clumps]]");
     check_initial_overlaps(sc, max_overlap);
 
     if (sc.dt_auto) {

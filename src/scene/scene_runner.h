@@ -25,7 +25,7 @@ struct Scene {
     std::vector<std::vector<uint32_t>> wall_members;
     std::vector<std::string> wall_names;
     // Where each sphere came from, for messages: {-1, k} = [[spheres]] entry k, {f, r} = data
-    // row r (0-based) of [[sphere_files]] entry f.
+    // row r (0-based) of [[sphere_files]] entry f, {-2, k} = a member of [[clumps]] entry k.
     std::vector<std::pair<int32_t, uint32_t>> sphere_origin;
     std::vector<std::string> sphere_file_paths;  // per [[sphere_files]] entry
     // [simulation] and [output] as the run used them, defaults included (dotted key, JSON value):

@@ -124,6 +124,24 @@ std::vector<SceneSetting> build_table() {
     add(mask_row(sf));
     add(flag_row(sf, "fixed", false, "every row never moves"));
     add(flag_row(sf, "track", false, "write every row to tracked.csv"));
+    // [[clumps]]
+    const std::string cl = "clumps[]";
+    add(material_row(cl, "material of the clump (its density sets the mass)"));
+    add({.key = cl + ".shape", .type = T::String, .unit = "", .required = true,
+         .limits = {.allowed = "one of sphere, dimer, trimer, tetrahedron, pellet, template"},
+         .doc = "a built-in shape (docs/scene.md#clumps) or \"template\": the spheres of `template`"});
+    add({.key = cl + ".template", .type = T::String, .unit = "", .default_text = "none",
+         .limits = {.allowed = "a CSV file with columns x,y,z,r [m], the members in the grain's frame"},
+         .doc = "the members of shape = \"template\"; a relative path is relative to the TOML file's folder"});
+    add({.key = cl + ".radius", .type = T::Real, .unit = "m", .default_text = "the template as given",
+         .limits = {.check = C::Positive},
+         .doc = "volume-equivalent radius: the shape is scaled to the volume of a sphere of this radius "
+                "(required for a built-in shape)"});
+    add(required_vec_row(cl, "position", "m", "centre of mass at t = 0"));
+    add(vec_row(cl, "orientation", "rad", "rotation vector (axis times angle) from the principal frame"));
+    add(vec_row(cl, "velocity", "m/s", "initial velocity of the centre, taken as v(-dt/2)"));
+    add(vec_row(cl, "angular_velocity", "rad/s", "initial angular velocity (world frame), taken as w(-dt/2)"));
+    add(mask_row(cl));
     // [[planes]]
     const std::string pl = "planes[]";
     add(material_row(pl, "material of the plane"));

@@ -149,3 +149,38 @@ def test_results_do_not_depend_on_the_thread_count():
     np.testing.assert_array_equal(a.positions, b.positions)
     np.testing.assert_array_equal(a.velocities, b.velocities)
     np.testing.assert_array_equal(a.forces, b.forces)
+
+
+def test_clumps_fall_like_points_and_rest_with_their_weight():
+    # A dimer and a template clump (three spheres) from Python: in free flight the centre follows
+    # the leapfrog parabola of a point mass and a free spin keeps its energy; on the floor they
+    # rest with their weight (tests/physics/test_clumps.cpp has the closed forms in C++).
+    w = vppdem.World()
+    w.add_material("m", density=2000.0, young=1e7, restitution=0.3)
+    k, first, n = w.add_clump([0, 0, 0.05], "dimer", radius=0.005, angular_velocity=[0.0, 3.0, 10.0])
+    assert (k, first, n) == (0, 0, 2)
+    k2, first2, n2 = w.add_clump([0.05, 0, 0.05], [[0, 0, 0, 0.004], [0.004, 0, 0, 0.004], [0, 0.004, 0, 0.004]], radius=0.005)
+    assert (k2, first2, n2) == (1, 2, 3) and w.clump_count() == 2 and len(w) == 5
+    s = w.clump_state(0)
+    assert s["mass"] == pytest.approx(2000.0 * 4 / 3 * math.pi * 0.005**3, rel=1e-12)
+    e0 = s["kinetic_energy"]
+    w.dt = 1e-5
+    w.local_damping = 0
+    g, steps = 9.81, 1000
+    w.step(steps)
+    s = w.clump_state(0)
+    assert s["position"][2] == pytest.approx(0.05 - g * w.dt**2 * steps * (steps + 1) / 2, rel=1e-12)
+    rot = s["kinetic_energy"] - 0.5 * s["mass"] * sum(v * v for v in s["velocity"])
+    assert rot == pytest.approx(e0, rel=1e-6)
+    # The members stay on the body: the dimer's two centres one member radius apart.
+    p = w.positions
+    r_member = (0.005**3 / (2 - 5 / 16)) ** (1 / 3)  # the union of two unit balls 1 apart: (2 - 5/16) 4/3 pi
+    assert np.linalg.norm(p[1] - p[0]) == pytest.approx(r_member, rel=1e-9)
+    w.add_plane([0, 0, 0], [0, 0, 1])
+    w.local_damping = 0.4
+    w.dt = 0.1 * w.critical_dt()
+    w.step(30000)
+    weight = (w.clump_state(0)["mass"] + w.clump_state(1)["mass"]) * g
+    assert -w.wall_force(0)[2] == pytest.approx(weight, rel=1e-5)
+    with pytest.raises(ValueError, match="not built in"):
+        w.add_clump([0, 0, 0.1], "cube", radius=0.005)

@@ -802,3 +802,61 @@ track = true
     // The free sphere was pushed ahead (it started 0.5 mm away and the pusher moved 20 mm).
     EXPECT_GT(pushed_x_end, 0.0205 + 0.015);
 }
+
+// [[clumps]] (docs/scene.md#clumps): a built-in dimer lying on the floor and a template clump
+// of three spheres (scaled to a volume-equivalent radius) standing on it; at rest the floor
+// carries both weights, each mass the density times the shape's volume (4/3 pi r^3 for both,
+// by the scaling). Members of one clump overlap by design and are not refused as an initial
+// overlap; a template with a wrong row, a built-in without radius and an unknown shape are
+// refused naming the key.
+TEST(SceneCli, ClumpsRestOnAPlaneWithTheirWeight) {
+    TempDir d;
+    write_file(d / "pellet.csv", "x,y,z,r\n0,0,0,0.004\n0.004,0,0,0.004\n0,0.004,0,0.004\n");
+    const std::string head = std::string(R"(
+[simulation]
+dt = 2.0e-6
+duration = 0.3
+gravity = [0.0, 0.0, -9.81]
+local_damping = 0.4
+output_interval = 0.05
+)") + kSoftDamped + R"(
+[[planes]]
+material = "steel"
+point = [0.0, 0.0, 0.0]
+normal = [0.0, 0.0, 1.0]
+)";
+    write_file(d / "s.toml", head + R"(
+[[clumps]]
+material = "grain"
+shape = "dimer"
+radius = 0.005
+position = [0.0, 0.0, 0.0045]
+[[clumps]]
+material = "grain"
+shape = "template"
+template = "pellet.csv"
+radius = 0.005
+position = [0.05, 0.0, 0.006]
+orientation = [0.0, 0.0, 0.5]
+)");
+    const Result res = run_scene(d / "s.toml", d / "out");
+    ASSERT_EQ(res.rc, 0) << res.output;
+    const double w = 2.0 * 2000.0 * 4.0 / 3.0 * kPi * 0.005 * 0.005 * 0.005 * kG;
+    const auto last = last_wall_rows(read_csv(d / "out/walls.csv"));
+    ASSERT_EQ(last.size(), 1u);
+    EXPECT_NEAR(last.at(0)[4], -w, 1e-5 * w);
+
+    const auto refused = [&](const std::string& entry, const std::string& expect) {
+        write_file(d / "bad.toml", head + entry);
+        const Result r = run_scene(d / "bad.toml", d / "bad_out");
+        EXPECT_NE(r.rc, 0) << entry;
+        EXPECT_NE(r.output.find(expect), std::string::npos) << r.output;
+        EXPECT_FALSE(fs::exists(d / "bad_out/summary.json"));
+    };
+    refused("[[clumps]]\nmaterial = \"grain\"\nshape = \"cube\"\nradius = 0.005\nposition = [0, 0, 0.01]\n",
+            "clumps[0].shape");
+    refused("[[clumps]]\nmaterial = \"grain\"\nshape = \"dimer\"\nposition = [0, 0, 0.01]\n", "clumps[0].radius");
+    write_file(d / "apart.csv", "x,y,z,r\n0,0,0,0.004\n0.1,0,0,0.004\n");
+    refused("[[clumps]]\nmaterial = \"grain\"\nshape = \"template\"\ntemplate = \"apart.csv\"\nposition = [0, 0, 0.01]\n",
+            "do not all touch");
+}
