@@ -43,9 +43,9 @@ int main(int argc, char** argv) {
     // vppdem bench SCENE ...
     auto* bench = app.add_subcommand("bench", "Time a shared benchmark scene (../shared/bench/README.md)");
     scene::BenchOptions bo;
-    bench->add_option("scene", bo.scene, "grains-in-cylinder | foil-plus-grains")
+    bench->add_option("scene", bo.scene, "grains-in-cylinder | foil-plus-grains | checkpoint (the World saved in --state)")
         ->required()
-        ->check(CLI::IsMember({"grains-in-cylinder", "foil-plus-grains"}));
+        ->check(CLI::IsMember({"grains-in-cylinder", "foil-plus-grains", "checkpoint"}));
     bench->add_option("--grains", bo.grains, "grains_N.csv (grains-in-cylinder)")->check(CLI::ExistingFile);
     bench->add_option("--scene-dir", bo.scene_dir, "folder with foil_*.csv (foil-plus-grains)")
         ->check(CLI::ExistingDirectory);

@@ -124,13 +124,14 @@ void print_result(const BenchOptions& opt, const dem::World& w, const Timing& t)
         "{\"scene\": \"%s\", \"particles\": %zu, \"steps\": %ld, \"warmup\": %ld, \"threads\": %d, "
         "\"wall_s\": %.6g, \"steps_per_s\": %.6g, \"particle_steps_per_s\": %.6g, \"contacts\": %zu, "
         "\"contacts_start\": %zu, \"particle_contacts\": %zu, \"candidates\": %zu, \"bonds\": %zu, "
-        "\"rebuilds\": %llu, \"underpressure\": %g, \"peak_rss_bytes\": %ld, \"simd\": \"%s\", \"energy\": %s%s}\n",
+        "\"rebuilds\": %llu, \"underpressure\": %g, \"peak_rss_bytes\": %ld, \"simd\": \"%s\", \"energy\": %s, "
+        "\"clumps\": %zu, \"dt\": %.6g%s}\n",
         opt.scene.c_str(), w.particles.size(), opt.steps, opt.warmup, opt.threads, t.wall_s, sps,
         sps * double(w.particles.size()), t.contacts_end, t.contacts_start, w.particle_contact_count(),
         w.candidate_count(), w.bonds().size(),
         (unsigned long long)t.rebuilds, opt.underpressure, peak_rss_bytes(),
         dem::kernels::target_name(dem::kernels::available_targets().front()).c_str(), opt.energy ? "true" : "false",
-        profile.c_str());
+        w.clumps().size(), w.params.dt, profile.c_str());
     std::fflush(stdout);
 }
 
@@ -244,9 +245,18 @@ void run_bench(const BenchOptions& opt) {
     } else if (opt.scene == "foil-plus-grains") {
         if (opt.scene_dir.empty()) throw std::invalid_argument("foil-plus-grains needs --scene-dir DIR");
         foil_plus_grains(opt);
+    } else if (opt.scene == "checkpoint") {
+        // Any saved World (a damper's run.ckpt or prepared.ckpt, a scene's): its steps timed
+        // as it stands, e.g. the cost per step of grain shapes (bench/grain_shapes.sh).
+        if (opt.state.empty() || !std::filesystem::exists(opt.state))
+            throw std::invalid_argument("checkpoint needs --state FILE, an existing checkpoint");
+        dem::World w;
+        w.params.threads = opt.threads;
+        const Timing t = run(w, opt);
+        print_result(opt, w, t);
     } else {
         throw std::invalid_argument("unknown bench scene '" + opt.scene +
-                                    "' (allowed: grains-in-cylinder, foil-plus-grains)");
+                                    "' (allowed: grains-in-cylinder, foil-plus-grains, checkpoint)");
     }
 }
 

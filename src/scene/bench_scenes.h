@@ -6,7 +6,7 @@
 namespace scene {
 
 struct BenchOptions {
-    std::string scene;        // "grains-in-cylinder" or "foil-plus-grains"
+    std::string scene;        // "grains-in-cylinder", "foil-plus-grains" or "checkpoint" (the World of --state)
     std::string grains;       // grains-in-cylinder: CSV x,y,z,r
     std::string scene_dir;    // foil-plus-grains: folder with foil_*.csv
     long warmup = 0;          // steps before timing

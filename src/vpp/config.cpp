@@ -3,8 +3,10 @@
 #include <numbers>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
+#include "dem/io/csv.h"
 #include "scene/config.h"
 #include "vpp/settings.h"
 
@@ -75,6 +77,10 @@ void read_table(const toml::table& root, CommandSet commands, Config& c) {
             if (c.damper.height < 4.0 * c.foil.particle_radius) s.fail("height", height.allowed);
         }
         if (section == "grains") {
+            if (c.grains.shape == 5 && c.grains.clump_template.empty())
+                s.fail("clump_template", "must name a CSV file of the members when grains.shape = \"template\"");
+            if (c.grains.shape != 5 && !c.grains.clump_template.empty())
+                s.fail("shape", "must be \"template\" when grains.clump_template is given");
             if (c.grains.radius_distribution == 3 && c.grains.sieve_curve.empty())
                 s.fail("sieve_curve", "must name a CSV file of the sieve curve when grains.radius_distribution = \"sieve\"");
             if (c.grains.radius_distribution != 3 && !c.grains.sieve_curve.empty())
@@ -114,6 +120,22 @@ scene::SizeDistribution grain_sizes(const Config& c) {
     d.radius = c.grains.radius;
     d.spread = d.kind == K::Single ? 0.0 : c.grains.radius_spread;
     return d;
+}
+
+dem::ClumpShape clump_template_shape(const std::string& path) {
+    std::vector<dem::ClumpMember> members;
+    for (const auto& r : dem::read_numeric_csv(path, 4)) members.push_back({{r[0], r[1], r[2]}, r[3]});
+    try {
+        const dem::ClumpShape s = dem::make_clump_shape(members);
+        return dem::scaled(s, std::cbrt(4.0 / 3.0 * std::numbers::pi / s.volume));
+    } catch (const std::invalid_argument& e) {
+        throw std::runtime_error(path + ": " + e.what());
+    }
+}
+
+dem::ClumpShape grain_shape(const Config& c) {
+    if (c.grains.shape == 5) return clump_template_shape(c.grains.clump_template);
+    return dem::builtin_clump_shape(dem::builtin_clump_shapes().at(std::size_t(c.grains.shape)), 1.0);
 }
 
 double cycling_local_damping(const Config& c) {

@@ -14,6 +14,7 @@
 
 #include <toml++/toml.h>
 
+#include "dem/clumps/clump_shape.h"
 #include "scene/size_distribution.h"
 #include "vpp/foil.h"
 
@@ -27,6 +28,11 @@ struct GrainsDef {
     double radius_spread{};       // [-] uniform: half-width over radius; lognormal: sd of ln r
     std::string sieve_curve;      // CSV of sieve openings [m] and mass fractions passing (distribution 3)
     double sieve_curve_id{};      // fingerprint of the curve's numbers (0: none): the sample's geometry check
+    // Grain shape: 0 spheres (the paper), else rigid clumps (dem/clumps) of the same volume as the
+    // sphere of the grain's radius: 1 dimer, 2 trimer, 3 tetrahedron, 4 pellet, 5 the template.
+    int shape{};
+    std::string clump_template;   // CSV x, y, z, r [m] of the members in the grain's frame (shape 5)
+    double clump_template_id{};   // fingerprint of the template's numbers (0: none)
     double density{};             // [kg/m^3]
     double young{};               // [Pa] E_k
     double friction{};            // [-] mu_k
@@ -141,6 +147,12 @@ private:
 // is "auto" simulation.local_damping (which the preparation always uses).
 // The grains' size distribution (the sieve curve read from its file): what the fill draws from.
 scene::SizeDistribution grain_sizes(const Config& c);
+// The members of a clump template file (CSV x, y, z, r [m]) as a shape scaled to the volume of a
+// sphere of radius 1 m. Throws std::runtime_error naming the file and the reason.
+dem::ClumpShape clump_template_shape(const std::string& path);
+// The grains' shape at a volume-equivalent radius of 1 m (grains.shape > 0: a clump; scale it to
+// a grain's radius with dem::scaled); the template is read from grains.clump_template.
+dem::ClumpShape grain_shape(const Config& c);
 double cycling_local_damping(const Config& c);
 
 // Reads the config (empty path: all defaults) with --set overrides.

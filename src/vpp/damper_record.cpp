@@ -337,7 +337,7 @@ void DamperRun::write_records(const std::string& dir) const {
 
 DamperResult DamperRun::result() const {
     DamperResult r;
-    r.grains = g1_ - g0_;
+    r.grains = grain_count_now();
     r.foil_particles = L_.particles.size();
     r.bonds = w_.bonds().size();
     r.foil_columns = L_.cols;

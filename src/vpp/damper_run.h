@@ -143,6 +143,20 @@ private:
     std::vector<double> draw_radii(std::size_t n, uint64_t stream) const;
     // The drawn radii's statistics into the preparation's report (size distributions only).
     void report_grain_sizes();
+    // Grains at these centres with these (volume-equivalent) radii: spheres, or clumps of
+    // grains.shape in random orientations from stream `stream` (0: the pour, k: re-fill k).
+    void add_grains(const std::vector<Vec3>& pos, const std::vector<double>& radii, uint64_t stream);
+    // Grains in the world: clumps, or the spheres g0_ .. g1_.
+    std::size_t grain_count_now() const { return clumps() ? w_.clumps().size() : std::size_t(g1_ - g0_); }
+    bool clumps() const { return c_.grains.shape != 0; }
+    // The reach of a grain of volume-equivalent radius r from its centre [m] (r for spheres).
+    double grain_reach(double r) const { return clumps() ? r * shape_.bounding_radius : r; }
+    // Per grain: its volume-equivalent radius [m], its top (highest point) [m]; the grains'
+    // volume [m^3] and mass [kg].
+    std::vector<double> grain_radii() const;
+    std::vector<double> grain_tops() const;
+    double grains_volume_now() const;
+    double grains_mass() const;
     // Takes out_dir's lock (held until the run ends) and, for a run that does not resume the
     // folder's own run.ckpt, clears it as --overwrite asks (or refuses a non-empty one).
     void start_output_dir(bool resuming);
@@ -192,15 +206,14 @@ private:
     // With a size distribution: the grains' total mass, the mean diameter.
     double settle_energy_scale() const {
         if (sizes_.kind == scene::SizeDistribution::Kind::Single)
-            return double(g1_ - g0_) * w_.particles.mass[g0_] * 9.81 * 2.0 * c_.grains.radius;
-        double m = 0;
-        for (uint32_t i = g0_; i < g1_; ++i) m += w_.particles.mass[i];
-        return m * 9.81 * 2.0 * c_.grains.radius;
+            return double(grain_count_now()) * w_.particles.mass[g0_] * 9.81 * 2.0 * c_.grains.radius;
+        return grains_mass() * 9.81 * 2.0 * c_.grains.radius;
     }
     void log(const char* fmt, ...) const;
 
     Config c_;
     scene::SizeDistribution sizes_;  // what the fill and re-fills draw the radii from (setup())
+    dem::ClumpShape shape_;          // grains.shape > 0: the clump at a volume-equivalent radius of 1 m
     DamperOptions o_;
     fs::path out_;
     bool files_ = false;        // out_dir given: checkpoints, frames and records are written
@@ -208,7 +221,7 @@ private:
     dem::World w_;
     FoilLattice L_;
     RunState st_;
-    uint32_t g0_ = 0, g1_ = 0;  // grain index range
+    uint32_t g0_ = 0, g1_ = 0;  // the grains' particle range (clumps: their members)
     double z_top_ = 0;          // [m] top ring / cap height after preparation
     std::vector<uint32_t> top_ring_;
     mutable double grain_volume_ = 0;  // [m^3] grain_volume()'s sum, once the grains are final

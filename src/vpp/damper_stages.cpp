@@ -15,8 +15,14 @@ namespace damper_detail {
 
 namespace {
 
+// The grains' kinetic energy [J]: the spheres g0 .. g1, or every clump (the damper's clumps are
+// its grains; their members' inverse mass is 0).
 double grains_kinetic_energy(const dem::World& w, uint32_t g0, uint32_t g1) {
     double e = 0;
+    if (!w.clumps().empty()) {
+        for (std::size_t k = 0; k < w.clumps().size(); ++k) e += w.clump_kinetic_energy(k);
+        return e;
+    }
     for (uint32_t i = g0; i < g1; ++i) e += 0.5 * w.particles.mass[i] * norm2(w.particles.vel[i]);
     return e;
 }
@@ -30,6 +36,17 @@ double unbalanced_force(const dem::World& w) {
         if (p.inv_mass[i] == 0.0) continue;
         const dem::Vec3 fx = p.ext_force.empty() ? dem::Vec3{} : p.ext_force[i];
         net += norm(p.force[i] + fx + w.params.gravity * p.mass[i]);
+        ++nfree;
+    }
+    // Clumps: the net force on the body (its members' sum).
+    const dem::Clumps& cl = w.clumps();
+    for (std::size_t k = 0; k < cl.size(); ++k) {
+        dem::Vec3 f = w.params.gravity * cl.mass[k];
+        for (uint32_t e = cl.start[k]; e < cl.start[k + 1]; ++e) {
+            const uint32_t i = cl.member[e];
+            f += p.force[i] + (p.ext_force.empty() ? dem::Vec3{} : p.ext_force[i]);
+        }
+        net += norm(f);
         ++nfree;
     }
     double fc = 0;
@@ -125,7 +142,7 @@ void DamperRun::stage_compress() {
     const double r_in = L_.radius - c_.foil.particle_radius;
     const double cap_force = f_n ? f_sum / double(f_n) : 0.0;
     auto& r = st_.report;
-    r["prepare.grains"] = double(g1_ - g0_);
+    r["prepare.grains"] = double(grain_count_now());
     r["prepare.grain_top"] = top;
     r["prepare.fill_level"] = level;
     r["prepare.cap_travel"] = std::max(0.0, top - z_top_);
@@ -204,14 +221,7 @@ void DamperRun::stage_vacuum() {
 
 double DamperRun::grain_volume() const {
     // Summed once: the grains are fixed after the preparation, and air_step asks every step.
-    if (grain_volume_ == 0.0) {
-        double v = 0.0;
-        for (uint32_t i = g0_; i < g1_; ++i) {
-            const double r = w_.particles.radius[i];
-            v += r * r * r;
-        }
-        grain_volume_ = 4.0 / 3.0 * std::numbers::pi * v;
-    }
+    if (grain_volume_ == 0.0) grain_volume_ = grains_volume_now();
     return grain_volume_;
 }
 

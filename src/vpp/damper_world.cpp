@@ -120,12 +120,15 @@ void DamperRun::setup() {
     // of a sample in the fill stage needs it, refill() says so).
     if (c_.grains.radius_distribution != 3 || !c_.grains.sieve_curve.empty()) sizes_ = grain_sizes(c_);
     else sizes_.kind = scene::SizeDistribution::Kind::Sieve;
+    // A checkpoint's clumps hold their shape; its template is read only when given (a re-fill
+    // in the fill stage needs it).
+    if (clumps() && (c_.grains.shape != 5 || !c_.grains.clump_template.empty())) shape_ = grain_shape(c_);
     build();
     const std::size_t n_foil = L_.particles.size();
     // The pour's grains; a checkpoint holds those and its re-fills' (an older one: the pour's).
     const std::size_t n = ckpt_grains_ > 0 ? ckpt_grains_ : grain_count(c_);
     g0_ = uint32_t(n_foil);
-    g1_ = uint32_t(n_foil + n);
+    g1_ = uint32_t(n_foil + n * (clumps() ? shape_.members.size() : 1));
     if (o_.from.empty()) check_grains_fit(n);  // a checkpoint's sample was checked when it was prepared
 
     if (o_.from.empty()) {
@@ -140,19 +143,11 @@ void DamperRun::setup() {
             for (uint32_t i : L_.row(k)) w_.set_fixed(i);
         double funnel_h = 0;
         const double funnel_top_r = 1.6 * L_.radius;
-        const auto pos = generate_grains(c_, L_, n, z_top_, funnel_top_r, funnel_h, sizes_.max_radius());
-        const std::vector<double> radii = draw_radii(pos.size(), 0);
+        const auto pos = generate_grains(c_, L_, n, z_top_, funnel_top_r, funnel_h, grain_reach(sizes_.max_radius()));
+        add_grains(pos, draw_radii(pos.size(), 0), 0);
+        g1_ = uint32_t(w_.particles.size());
         double zmax = 0;
-        for (std::size_t k = 0; k < pos.size(); ++k) {
-            const Vec3& p = pos[k];
-            dem::SphereDef d;
-            d.position = p;
-            d.radius = radii[k];
-            d.material = kGrainMat;
-            d.mask = kGrainMask;
-            w_.add_sphere(d);
-            zmax = std::max(zmax, p.z);
-        }
+        for (const Vec3& p : pos) zmax = std::max(zmax, p.z);
         dem::Plane bottom;
         bottom.point = {0, 0, 0};
         bottom.normal = {0, 0, 1};
@@ -160,7 +155,7 @@ void DamperRun::setup() {
         bottom.mask = kMaskCap;
         w_.add_plane(bottom);
         dem::Plane top = bottom;
-        top.point = {0, 0, std::max(zmax + sizes_.max_radius() + 1e-3, z_top_)};
+        top.point = {0, 0, std::max(zmax + grain_reach(sizes_.max_radius()) + 1e-3, z_top_)};
         top.normal = {0, 0, -1};
         w_.add_plane(top);
         for (dem::Facet f : dem::make_funnel_facets({0, 0, z_top_}, L_.radius, funnel_top_r, funnel_h, 72, true)) {
@@ -169,8 +164,8 @@ void DamperRun::setup() {
             w_.add_facet(f);
         }
         st_.geometry = values_of(c_, kGeometryKeys);
-        st_.grains = n;
-        st_.report["prepare.grains_poured"] = double(n);
+        st_.grains = grain_count_now();
+        st_.report["prepare.grains_poured"] = double(grain_count_now());
         st_.report["prepare.funnel_height"] = funnel_h;
         w_.params.dt = resolve_dt(c_.simulation, w_);
         start_output_dir(false);  // only now: bad input writes nothing
@@ -181,7 +176,9 @@ void DamperRun::setup() {
     } else {
         const std::string blob = dem::load_checkpoint(o_.from, w_);
         st_ = RunState::load(blob, o_.from);
-        if (w_.particles.size() != n_foil + n)
+        // Clumps: every clump a grain, its members the particles after the foil.
+        if (clumps() && w_.clumps().size() == n) g1_ = uint32_t(n_foil + w_.clumps().member.size());
+        if (w_.particles.size() != g1_ || (clumps() ? w_.clumps().size() != n : !w_.clumps().empty()))
             throw std::runtime_error("checkpoint '" + o_.from + "' does not hold this damper's particles");
         st_.grains = n;
         st_.warnings.insert(st_.warnings.end(), pending_warnings_.begin(), pending_warnings_.end());
@@ -277,8 +274,7 @@ std::vector<double> DamperRun::draw_radii(std::size_t n, uint64_t stream) const 
 
 void DamperRun::report_grain_sizes() {
     if (sizes_.kind == scene::SizeDistribution::Kind::Single) return;  // every grain grains.radius
-    std::vector<double> r(w_.particles.radius.begin() + g0_, w_.particles.radius.begin() + g1_);
-    const scene::SizeStats s = scene::size_stats(r);
+    const scene::SizeStats s = scene::size_stats(grain_radii());
     auto& rep = st_.report;
     rep["prepare.radius_mean"] = s.mean;
     rep["prepare.radius_sd"] = s.sd;
@@ -363,14 +359,83 @@ double DamperRun::highest_grain_top() const {
     return top;
 }
 
+void DamperRun::add_grains(const std::vector<Vec3>& pos, const std::vector<double>& radii, uint64_t stream) {
+    if (!clumps()) {
+        for (std::size_t k = 0; k < pos.size(); ++k) {
+            dem::SphereDef d;
+            d.position = pos[k];
+            d.radius = radii[k];
+            d.material = kGrainMat;
+            d.mask = kGrainMask;
+            w_.add_sphere(d);
+        }
+        return;
+    }
+    // Uniform random orientations (Shoemake's unit quaternion from three uniform numbers), a
+    // stream of their own (not the positions' nor the radii's), one per fill.
+    std::mt19937_64 rng((c_.simulation.seed ^ 0x0C1A5E0F0A11ull) + stream * 0x9E3779B97F4A7C15ull);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    for (std::size_t k = 0; k < pos.size(); ++k) {
+        const double u1 = u(rng), u2 = 2.0 * std::numbers::pi * u(rng), u3 = 2.0 * std::numbers::pi * u(rng);
+        const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);
+        dem::ClumpDef d;
+        d.position = pos[k];
+        d.orientation = {a * std::sin(u2), a * std::cos(u2), b * std::sin(u3), b * std::cos(u3)};
+        d.material = kGrainMat;
+        d.mask = kGrainMask;
+        w_.add_clump(dem::scaled(shape_, radii[k]), d);
+    }
+}
+
+std::vector<double> DamperRun::grain_radii() const {
+    if (!clumps()) return std::vector<double>(w_.particles.radius.begin() + g0_, w_.particles.radius.begin() + g1_);
+    std::vector<double> r;
+    const double rho = w_.materials[kGrainMat].density;
+    for (double m : w_.clumps().mass) r.push_back(std::cbrt(3.0 * m / (4.0 * std::numbers::pi * rho)));
+    return r;
+}
+
+std::vector<double> DamperRun::grain_tops() const {
+    const dem::Particles& p = w_.particles;
+    if (!clumps()) {
+        std::vector<double> tops;
+        for (uint32_t i = g0_; i < g1_; ++i) tops.push_back(p.pos[i].z + p.radius[i]);
+        return tops;
+    }
+    const dem::Clumps& c = w_.clumps();
+    std::vector<double> tops(c.size(), -1e300);
+    for (std::size_t k = 0; k < c.size(); ++k)
+        for (uint32_t e = c.start[k]; e < c.start[k + 1]; ++e)
+            tops[k] = std::max(tops[k], p.pos[c.member[e]].z + p.radius[c.member[e]]);
+    return tops;
+}
+
+double DamperRun::grains_volume_now() const {
+    if (clumps()) return grains_mass() / w_.materials[kGrainMat].density;
+    double v = 0.0;
+    for (uint32_t i = g0_; i < g1_; ++i) {
+        const double r = w_.particles.radius[i];
+        v += r * r * r;
+    }
+    return 4.0 / 3.0 * std::numbers::pi * v;
+}
+
+double DamperRun::grains_mass() const {
+    double m = 0;
+    if (clumps())
+        for (double x : w_.clumps().mass) m += x;
+    else
+        for (uint32_t i = g0_; i < g1_; ++i) m += w_.particles.mass[i];
+    return m;
+}
+
 // Level of the grains' top surface [m]: the mean top (z + r) of the highest layer, i.e. of the
 // n_layer highest grains, n_layer the grains of one hexagonal layer across the foil (0.907
 // (r_in / r_k)^2). The single highest grain would say little: one grain resting on the others
 // stands a radius above the surface, and a cap that meets only it ends above the packing.
 double DamperRun::fill_level() const {
     const double r_in = L_.radius - c_.foil.particle_radius, rk = c_.grains.radius;
-    std::vector<double> tops;
-    for (uint32_t i = g0_; i < g1_; ++i) tops.push_back(w_.particles.pos[i].z + w_.particles.radius[i]);
+    std::vector<double> tops = grain_tops();
     const std::size_t layer = std::clamp<std::size_t>(std::size_t(0.9069 * (r_in / rk) * (r_in / rk)), 1, tops.size());
     std::partial_sort(tops.begin(), tops.begin() + long(layer), tops.end(), std::greater<double>());
     double sum = 0;
@@ -382,7 +447,9 @@ double DamperRun::fill_level() const {
 // summary.json ("preparation", "start_of_cycling").
 double DamperRun::packing_fraction(double inner_radius, double height) const {
     double v = 0;
-    for (uint32_t i = g0_; i < g1_; ++i) v += 4.0 / 3.0 * std::numbers::pi * std::pow(w_.particles.radius[i], 3);
+    if (clumps()) v = grains_volume_now();
+    else
+        for (uint32_t i = g0_; i < g1_; ++i) v += 4.0 / 3.0 * std::numbers::pi * std::pow(w_.particles.radius[i], 3);
     return v / (std::numbers::pi * inner_radius * inner_radius * height);
 }
 
@@ -409,7 +476,7 @@ bool DamperRun::refill() {
     // settle to about the same packing), one more so that every re-fill adds at least one.
     const double v_k = sizes_.mean_volume();
     const double area = std::numbers::pi * r_in * r_in;
-    const double phi_bed = double(g1_ - g0_) * v_k / (area * level);
+    const double phi_bed = double(grain_count_now()) * v_k / (area * level);
     const std::size_t add = std::size_t(std::ceil(phi_bed * area * (target - level) / v_k)) + 1;
     // Written by the fill; a checkpoint of the fill stage without it (an older vppdem's, or an
     // edited one) cannot be re-filled: say so rather than fail with a bare map lookup.
@@ -422,31 +489,25 @@ bool DamperRun::refill() {
     if (sizes_.sieve_radius.empty() && sizes_.kind == scene::SizeDistribution::Kind::Sieve)
         throw std::runtime_error("checkpoint '" + o_.from + "' holds a sample drawn from a sieve curve in the fill stage: "
                                  "give grains.sieve_curve (the sample's curve) to re-fill it");
-    const auto pos = generate_grains(c_, L_, add, z_top_, 1.6 * L_.radius, funnel_h, sizes_.max_radius(),
+    if (clumps() && shape_.members.empty())
+        throw std::runtime_error("checkpoint '" + o_.from + "' holds clumps of a template in the fill stage: give "
+                                 "grains.clump_template (the sample's template) to re-fill it");
+    const auto pos = generate_grains(c_, L_, add, z_top_, 1.6 * L_.radius, funnel_h, grain_reach(sizes_.max_radius()),
                                      highest_grain_top(), uint64_t(done + 1), true);
     if (pos.empty()) {
         warn("prepare: no room in the funnel for a re-fill; the grains stay below the damper height");
         return false;
     }
-    const std::vector<double> radii = draw_radii(pos.size(), uint64_t(done + 1));
-    for (std::size_t k = 0; k < pos.size(); ++k) {
-        const Vec3& p = pos[k];
-        dem::SphereDef d;
-        d.position = p;
-        d.radius = radii[k];
-        d.material = kGrainMat;
-        d.mask = kGrainMask;
-        w_.add_sphere(d);
-    }
-    g1_ += uint32_t(pos.size());
-    st_.grains = g1_ - g0_;
+    add_grains(pos, draw_radii(pos.size(), uint64_t(done + 1)), uint64_t(done + 1));
+    g1_ = uint32_t(w_.particles.size());
+    st_.grains = grain_count_now();
     // A smaller grain than any before lowers the critical step (one radius: the same grains).
     if (sizes_.kind != scene::SizeDistribution::Kind::Single)
         w_.params.dt = std::min(w_.params.dt, resolve_dt(c_.simulation, w_));
     st_.report["prepare.refills"] = done + 1;
     w_.invalidate_candidates();
     log("[prepare] grains level %.4f m, below %.4f m: re-fill %d adds %zu grains (%u in all)\n", level, target,
-        done + 1, pos.size(), g1_ - g0_);
+        done + 1, pos.size(), grain_count_now());
     return true;
 }
 

@@ -109,6 +109,51 @@ const std::vector<Setting>& table() {
          },
          .get = [](const Config& c) { return c.grains.sieve_curve_id; },
          .set = [](Config&, double) {}, .legacy = 0.0},
+        {.key = "grains.shape", .type = T::Choice, .unit = "", .def = Setting::kUnset, .default_text = "\"sphere\"",
+         .check = C::Custom,
+         .allowed = "must be \"sphere\", \"dimer\", \"trimer\", \"tetrahedron\", \"pellet\" or \"template\"",
+         .acts = A::Geometry, .geometry = 13,
+         .doc = "grain shape: spheres (the paper) or rigid clumps of overlapping spheres with the volume of the "
+                "sphere of the grain's radius, in random orientations (docs/scene.md#clumps: dimer, trimer, "
+                "tetrahedron, pellet; \"template\": grains.clump_template)",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
+             const std::string k = short_key(r);
+             const std::string d = s.string(k, "sphere");
+             const char* const names[] = {"sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"};
+             c.grains.shape = -1;
+             for (int i = 0; i < 6; ++i)
+                 if (d == names[i]) c.grains.shape = i;
+             if (c.grains.shape < 0) s.fail(k, r.allowed);
+         },
+         FIELD(grains.shape), .legacy = 0.0},  // an older vppdem's grains were spheres
+        {.key = "grains.clump_template", .type = T::String, .unit = "", .def = Setting::kUnset, .default_text = "none",
+         .check = C::Custom,
+         .allowed = "must be a CSV file with columns x, y, z, r [m]: member spheres that all touch one another",
+         .acts = A::Geometry, .geometry = 14,
+         .doc = "the members of grains.shape = \"template\" in the grain's frame, scaled to the grain's volume; a "
+                "path relative to the working folder",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
+             const std::string k = short_key(r);
+             c.grains.clump_template = s.string(k, "");
+             c.grains.clump_template_id = 0.0;
+             if (c.grains.clump_template.empty()) return;
+             try {
+                 const dem::ClumpShape shape = clump_template_shape(c.grains.clump_template);
+                 // A fingerprint of the members in the principal frame, exact in a double (52 bits).
+                 uint64_t h = 14695981039346656037ull;
+                 for (const dem::ClumpMember& m : shape.members)
+                     for (double x : {m.center.x, m.center.y, m.center.z, m.radius}) {
+                         uint64_t b;
+                         std::memcpy(&b, &x, 8);
+                         for (int i = 0; i < 8; ++i) h = (h ^ ((b >> (8 * i)) & 0xffu)) * 1099511628211ull;
+                     }
+                 c.grains.clump_template_id = double(h >> 12);
+             } catch (const std::exception& e) {
+                 s.fail(k, std::string(r.allowed) + " (" + e.what() + ")");
+             }
+         },
+         .get = [](const Config& c) { return c.grains.clump_template_id; },
+         .set = [](Config&, double) {}, .legacy = 0.0},
         {.key = "grains.density", .type = T::Real, .unit = "kg/m^3", .def = 2689.639, .check = C::Positive,
          .acts = A::Geometry, .geometry = 3, .summary = 2, .doc = "density of the grains", FIELD(grains.density)},
         {.key = "grains.young", .type = T::Real, .unit = "Pa", .def = 2.3e9, .check = C::Positive,

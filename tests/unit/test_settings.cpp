@@ -101,6 +101,7 @@ TEST(Settings, EveryKeyIsReadAndNoOther) {
         else if (s.type == SettingType::Choice)
             v = std::string(s.key) == "process.pressure_model" ? "\"pump\""
                 : std::string(s.key) == "process.waveform"     ? "\"sine\""
+                : std::string(s.key) == "grains.shape"         ? "\"dimer\""
                                                                 : "\"extension\"";  // the other word
         else if (s.type == SettingType::RealOrAuto) v = "1e-6";
         else if (s.type == SettingType::Integer) v = "5";
@@ -113,6 +114,12 @@ TEST(Settings, EveryKeyIsReadAndNoOther) {
             const std::string csv = ::testing::TempDir() + "settings_sieve.csv";
             std::ofstream(csv) << "size,passing\n0.004,0\n0.006,100\n";
             sets = {"grains.radius_distribution=\"sieve\"", "grains.sieve_curve=\"" + csv + "\""};
+        }
+        // A clump template with its shape.
+        if (std::string(s.key) == "grains.clump_template") {
+            const std::string csv = ::testing::TempDir() + "settings_clump.csv";
+            std::ofstream(csv) << "x,y,z,r\n0,0,0,0.001\n0.001,0,0,0.001\n";
+            sets = {"grains.shape=\"template\"", "grains.clump_template=\"" + csv + "\""};
         }
         EXPECT_EQ(message_of(sets), "") << s.key << "=" << v;
     }
@@ -174,7 +181,7 @@ TEST(Settings, RecordedKeysAreNumberedWithoutGaps) {
     for (auto list : {geometry_settings(), run_settings(), summary_inputs()}) {
         EXPECT_FALSE(list.empty());
     }
-    EXPECT_EQ(geometry_settings().size(), 12u);
+    EXPECT_EQ(geometry_settings().size(), 14u);
     EXPECT_EQ(run_settings().size(), 31u);
     EXPECT_EQ(summary_inputs().size(), 33u);
     auto positions = [](int Setting::*p) {
