@@ -1,0 +1,194 @@
+#!/usr/bin/env python3
+"""docs/grains.md and its figure from the grain-shape study's records (issue 24, item 4).
+
+usage: grain_shapes_report.py DATA DOCS [--bench FILE]
+  DATA   the records of scripts/grain_shapes.sh (docs/data/grains/shapes: one folder per case,
+         grains.shape=S_simulation.seed=K, with summary.json and cycles.csv)
+  DOCS   where grains.md and grains_shapes.png go (docs)
+  --bench FILE  the table printed by bench/grain_shapes.sh (its cost per step), quoted as is
+
+Per run: W of the stationary tail (summary.json W_settled; when the run did not become
+stationary, the mean of its last two cycles, flagged), the peak force and the friction and
+local-damping shares of the dissipation over the same cycles, the packing fraction at the start
+of the cycling. Per shape: mean and 95% interval over the seeds (Student's t); against the
+spheres the difference of the means with Welch's 95% interval (the shapes prepare their own
+samples: unpaired). Runs under /usr/bin/python3.
+"""
+import json
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from paired_velocity import interval, t_quantile  # noqa: E402  (one Student t for the tools)
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
+from vppdem.records import fail  # noqa: E402
+
+COMMAND = "bash scripts/grain_shapes.sh, then /usr/bin/python3 tools/grain_shapes_report.py docs/data/grains/shapes docs"
+ORDER = ["sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"]
+
+
+def parse_name(name):
+    try:
+        shape = name.split("grains.shape=")[1].split("_")[0]
+        seed = int(name.split("simulation.seed=")[1])
+    except (IndexError, ValueError):
+        return None
+    return shape, seed
+
+
+def load(data):
+    runs = {}
+    if not os.path.isdir(data):
+        fail(f"{data}: no such folder (run scripts/grain_shapes.sh first)", 2)
+    for name in sorted(os.listdir(data)):
+        k = parse_name(name)
+        path = os.path.join(data, name, "summary.json")
+        if k is None or not os.path.isfile(path):
+            continue
+        with open(path) as f:
+            s = json.load(f)
+        cyc = s["cycles"]
+        if not cyc:
+            continue
+        stationary = s.get("W_settled") is not None and s.get("first_settled_cycle") is not None
+        used = [c for c in cyc if c["cycle"] >= s["first_settled_cycle"]] if stationary else cyc[-2:]
+        W = s["W_settled"] if stationary else sum(c["W"] for c in used) / len(used)
+        diss = sum(c["friction_dissipation"] + c["damping_dissipation"] + c["viscous_dissipation"] for c in used)
+        runs[k] = dict(
+            name=name, W=W, stationary=stationary, cycles=[c["cycle"] for c in used], n_cycles=len(cyc),
+            peak=sum(c["peak_force"] for c in used) / len(used),
+            friction=sum(c["friction_dissipation"] for c in used) / diss if diss > 0 else math.nan,
+            damping=sum(c["damping_dissipation"] for c in used) / diss if diss > 0 else math.nan,
+            packing=s["start_of_cycling"]["packing_fraction"], grains=s["grains"], dt=s["dt"],
+            run_seconds=s["run_seconds"], velocity=s["inputs"]["process.velocity"],
+            dp=s["inputs"]["process.underpressure"], radius=s["inputs"]["damper.radius"])
+    if not runs:
+        fail(f"{data}: no finished runs (case folders grains.shape=S_simulation.seed=K with summary.json)", 2)
+    return runs
+
+
+def welch(a, b):
+    """(difference of the means b - a, half width of Welch's 95% interval)."""
+    na, ma, sa, _ = interval(a)
+    nb, mb, sb, _ = interval(b)
+    if na < 2 or nb < 2:
+        return mb - ma, math.nan
+    va, vb = sa * sa / na, sb * sb / nb
+    if va + vb == 0:
+        return mb - ma, 0.0
+    dof = (va + vb) ** 2 / (va * va / (na - 1) + vb * vb / (nb - 1))
+    return mb - ma, t_quantile(0.975, dof) * math.sqrt(va + vb)
+
+
+def ci(vals, digits=0, scale=1.0):
+    n, m, sd, h = interval([v * scale for v in vals])
+    if n == 0:
+        return "-"
+    if n < 2 or not math.isfinite(h):
+        return f"{m:.{digits}f} (n = {n})"
+    return f"{m:.{digits}f} +- {h:.{digits}f}"
+
+
+def figure(runs, shapes, docs):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(1, 4, figsize=(15, 3.8))
+    for a, q, label, scale in ((ax[0], "W", "W [J/m$^2$] (stationary cycles)", 1.0),
+                               (ax[1], "peak", "peak force [N]", 1.0),
+                               (ax[2], "friction", "friction share of the dissipation [%]", 100.0),
+                               (ax[3], "packing", "packing fraction at the start of cycling", 1.0)):
+        for i, sh in enumerate(shapes):
+            vals = [r[q] * scale for (s, _), r in runs.items() if s == sh]
+            n, m, sd, h = interval(vals)
+            a.bar(i, m, color="C%d" % i, alpha=0.5)
+            if math.isfinite(h):
+                a.errorbar(i, m, yerr=h, color="k", capsize=4)
+            a.plot([i] * len(vals), vals, "k.", ms=5)
+        a.set_xticks(range(len(shapes)))
+        a.set_xticklabels(shapes)
+        a.set_ylabel(label)
+        a.grid(alpha=0.3, axis="y")
+    fig.suptitle("Grain shape at 0.06 MPa: mean and 95% interval over the seeds (dots: the seeds)", fontsize=10)
+    fig.tight_layout()
+    p = os.path.join(docs, "grains_shapes.png")
+    fig.savefig(p + ".part.png", dpi=110)
+    os.replace(p + ".part.png", p)
+    plt.close(fig)
+    return "grains_shapes.png"
+
+
+def main(argv):
+    args = [a for a in argv[1:] if not a.startswith("--")]
+    bench = None
+    if "--bench" in argv:
+        i = argv.index("--bench")
+        if i + 1 >= len(argv):
+            fail("--bench needs a FILE", 2)
+        bench = open(argv[i + 1]).read().strip()
+        args = [a for a in args if a != argv[i + 1]]
+    if len(args) != 2:
+        fail(__doc__.strip().splitlines()[2], 2)
+    data, docs = args
+    runs = load(data)
+    shapes = [s for s in ORDER if any(k[0] == s for k in runs)]
+    fig = figure(runs, shapes, docs)
+    any_run = next(iter(runs.values()))
+    L = []
+    L.append("# Grain shape under vacuum")
+    L.append("")
+    L.append(f"<!-- Generated by `{COMMAND}`; do not edit. -->")
+    L.append("")
+    L.append(f"The damper (radius {1e3 * any_run['radius']:g} mm, the other keys the calibrated defaults) at "
+             f"{any_run['dp'] / 1e6:g} MPa, "
+             f"{any_run['velocity']:g} m/s, filled with grains of one volume (the sphere of radius grains.radius) "
+             "in different shapes by the same packing procedure (docs/damper.md, \"Grain shapes\"; the clumps: "
+             "docs/scene.md#clumps). Each shape prepares its own samples, so shapes are compared unpaired.")
+    L.append("")
+    L.append("| shape | runs | grains | packing at cycling | W [J/m^2] | W - spheres' [%] | peak force [N] | friction share [%] | damping share [%] |")
+    L.append("|---|---|---|---|---|---|---|---|---|")
+    ref = [r["W"] for (s, _), r in runs.items() if s == "sphere"]
+    _, m_ref, _, _ = interval(ref)
+    for sh in shapes:
+        rs = [r for (s, _), r in sorted(runs.items()) if s == sh]
+        vals = [r["W"] for r in rs]
+        if sh == "sphere" or not ref:
+            rel = "-"
+        else:
+            d, h = welch(ref, vals)
+            rel = f"{100 * d / m_ref:+.0f} +- {100 * h / m_ref:.0f}" if math.isfinite(h) else f"{100 * d / m_ref:+.0f}"
+        flag = "" if all(r["stationary"] for r in rs) else " (not all stationary)"
+        L.append(f"| {sh} | {len(rs)} | {ci([r['grains'] for r in rs])} | {ci([r['packing'] for r in rs], 3)} | "
+                 f"{ci(vals)}{flag} | {rel} | {ci([r['peak'] for r in rs])} | {ci([r['friction'] for r in rs], 1, 100)} | "
+                 f"{ci([r['damping'] for r in rs], 1, 100)} |")
+    L.append("")
+    L.append("Mean +- half width of the 95% interval over the seeds (Student's t); against the spheres the "
+             "difference of the means with Welch's 95% interval, in % of the spheres' mean.")
+    L.append("")
+    L.append(f"![W, peak force, friction share and packing by shape]({fig})")
+    L.append("")
+    L.append("## The runs")
+    L.append("")
+    L.append("| case | W [J/m^2] | cycles used | peak [N] | friction [%] | packing | dt [s] | run [h] |")
+    L.append("|---|---|---|---|---|---|---|---|")
+    for (sh, seed), r in sorted(runs.items(), key=lambda kv: (ORDER.index(kv[0][0]) if kv[0][0] in ORDER else 99, kv[0][1])):
+        used = f"{r['cycles'][0]}-{r['cycles'][-1]} of {r['n_cycles']}" + ("" if r["stationary"] else " (last two: not stationary)")
+        L.append(f"| {r['name']} | {r['W']:.0f} | {used} | {r['peak']:.0f} | {100 * r['friction']:.1f} | "
+                 f"{r['packing']:.3f} | {r['dt']:.3g} | {r['run_seconds'] / 3600:.2f} |")
+    if bench:
+        L.append("")
+        L.append("## Cost per step")
+        L.append("")
+        L.append(bench)
+    path = os.path.join(docs, "grains.md")
+    with open(path + ".part", "w") as f:
+        f.write("\n".join(L) + "\n")
+    os.replace(path + ".part", path)
+    print(f"grain_shapes_report.py: {len(runs)} runs of {len(shapes)} shapes -> {path}, {fig}")
+
+
+if __name__ == "__main__":
+    main(sys.argv)
