@@ -74,6 +74,17 @@ mask = 1
 fixed = false
 track = false
 
+[[clumps]]
+material = "a"
+shape = "template"
+template = "clump.csv"
+radius = 0.01
+position = [0.8, 0.0, 0.5]
+orientation = [0.0, 0.0, 0.3]
+velocity = [0.0, 0.0, 0.0]
+angular_velocity = [0.0, 0.0, 0.0]
+mask = 1
+
 [[planes]]
 material = "a"
 point = [0.0, 0.0, -1.0]
@@ -136,6 +147,7 @@ public:
     SceneFolder() : dir_(fs::temp_directory_path() / ("vppdem_scene_settings_" + std::to_string(::getpid()))) {
         fs::create_directories(dir_);
         std::ofstream(dir_ / "grains.csv") << "x,y,z,r\n0.5,0.0,0.5,0.01\n0.6,0.0,0.5,0.01\n";
+        std::ofstream(dir_ / "clump.csv") << "x,y,z,r\n0,0,0,0.01\n0.01,0,0,0.01\n";
         std::ofstream(dir_ / "tri.stl") << "solid t\nfacet normal 0 0 1\nouter loop\nvertex 30000 0 0\n"
                                            "vertex 31000 0 0\nvertex 30000 1000 0\nendloop\nendfacet\nendsolid t\n";
     }
