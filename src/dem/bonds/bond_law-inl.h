@@ -7,7 +7,7 @@
 // body 1 gets the opposite. With kEnergy the stored energy 1/2 kn (L - L0)^2 + |Fs|^2 / (2 ks)
 // [J] after the step goes to *elastic; the force does not depend on it.
 template <bool kEnergy, class R>
-inline V3<R> bond_force_lanes(const R& kn, const R& ks, const R& rest_length, const V3<R>& n, const R& dist,
+VPPDEM_HD inline V3<R> bond_force_lanes(const R& kn, const R& ks, const R& rest_length, const V3<R>& n, const R& dist,
                               const V3<R>& vrel, const R& spin_n, const R& dt, V3<R>& fs, V3<R>& prev,
                               R* elastic = nullptr) {
     rotate_shear_lanes(fs, prev, n, spin_n, dt);

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "dem/core/vec3.h"
+#include "dem/core/hd.h"
 
 namespace dem {
 
@@ -21,7 +22,7 @@ constexpr Quat operator*(const Quat& a, const Quat& b) {
 
 constexpr Quat conjugate(const Quat& q) { return {q.w, -q.x, -q.y, -q.z}; }
 
-inline Quat normalized(const Quat& q) {
+VPPDEM_HD inline Quat normalized(const Quat& q) {
     const double s = 1.0 / std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
     return {q.w * s, q.x * s, q.y * s, q.z * s};
 }

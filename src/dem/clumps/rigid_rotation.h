@@ -18,12 +18,13 @@
 
 #include "dem/clumps/quaternion.h"
 #include "dem/core/vec3.h"
+#include "dem/core/hd.h"
 
 namespace dem::rigid {
 
 // Turns the body about its own axis k by the Cayley angle of theta (the body-frame momentum pi
 // of a fixed world momentum turns the opposite way).
-inline void turn_about_body_axis(Quat& q, Vec3& pi, int k, double theta) {
+VPPDEM_HD inline void turn_about_body_axis(Quat& q, Vec3& pi, int k, double theta) {
     const double t = 0.5 * theta;             // tan of half the angle
     const double n2 = 1.0 + t * t;
     const double hc = 1.0 / std::sqrt(n2);    // cos and sin of half the angle
@@ -42,7 +43,7 @@ inline void turn_about_body_axis(Quat& q, Vec3& pi, int k, double theta) {
 
 // Orientation after a drift of dt [s] with the world-frame angular momentum L [kg m^2/s] fixed;
 // I [kg m^2] the principal moments. Returns the normalised quaternion.
-inline Quat drift(Quat q, const Vec3& L, const Vec3& I, double dt) {
+VPPDEM_HD inline Quat drift(Quat q, const Vec3& L, const Vec3& I, double dt) {
     Vec3 pi = rotate_back(q, L);
     const double h = 0.5 * dt;
     turn_about_body_axis(q, pi, 0, h * pi.x / I.x);
@@ -54,19 +55,19 @@ inline Quat drift(Quat q, const Vec3& L, const Vec3& I, double dt) {
 }
 
 // World-frame angular velocity [rad/s] of a body at orientation q with momentum L.
-inline Vec3 angular_velocity(const Quat& q, const Vec3& L, const Vec3& I) {
+VPPDEM_HD inline Vec3 angular_velocity(const Quat& q, const Vec3& L, const Vec3& I) {
     const Vec3 pi = rotate_back(q, L);
     return rotate(q, Vec3{pi.x / I.x, pi.y / I.y, pi.z / I.z});
 }
 
 // Rotational kinetic energy [J]: sum pi_k^2 / (2 I_k).
-inline double rotational_energy(const Quat& q, const Vec3& L, const Vec3& I) {
+VPPDEM_HD inline double rotational_energy(const Quat& q, const Vec3& L, const Vec3& I) {
     const Vec3 pi = rotate_back(q, L);
     return 0.5 * (pi.x * pi.x / I.x + pi.y * pi.y / I.y + pi.z * pi.z / I.z);
 }
 
 // World-frame angular momentum [kg m^2/s] of angular velocity w [rad/s] at orientation q.
-inline Vec3 momentum(const Quat& q, const Vec3& w, const Vec3& I) {
+VPPDEM_HD inline Vec3 momentum(const Quat& q, const Vec3& w, const Vec3& I) {
     const Vec3 wb = rotate_back(q, w);
     return rotate(q, Vec3{I.x * wb.x, I.y * wb.y, I.z * wb.z});
 }

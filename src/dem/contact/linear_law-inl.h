@@ -7,7 +7,7 @@
 // onto the plane and keeps its length. Yade rotates to first order only; keeping |Fs| avoids
 // creating energy by the rotation itself. A zero `prev` marks the first step of a contact.
 template <class R>
-inline void rotate_shear_lanes(V3<R>& fs, V3<R>& prev, const V3<R>& n, const R& spin_n, const R& dt) {
+VPPDEM_HD inline void rotate_shear_lanes(V3<R>& fs, V3<R>& prev, const V3<R>& n, const R& spin_n, const R& dt) {
     const R zero = lit(dt, 0.0);
     prev = select(both(both(prev.x == zero, prev.y == zero), prev.z == zero), n, prev);
     const R len0_2 = norm2(fs);
@@ -33,7 +33,7 @@ template <class R> struct ContactEnergyLanes {
 // `fs`, `prev`: the shear history. Returns the force on body 2 [N] (body 1 gets the
 // opposite). With kEnergy the step's energy terms go to *e; the force does not depend on it.
 template <bool kEnergy, class R>
-inline V3<R> linear_contact_force_lanes(const R& kn, const R& ks, const R& mu, const R& cn, const V3<R>& n,
+VPPDEM_HD inline V3<R> linear_contact_force_lanes(const R& kn, const R& ks, const R& mu, const R& cn, const V3<R>& n,
                                         const R& overlap, const V3<R>& vrel, const R& spin_n, const R& dt,
                                         V3<R>& fs, V3<R>& prev, ContactEnergyLanes<R>* e = nullptr) {
     rotate_shear_lanes(fs, prev, n, spin_n, dt);
@@ -69,7 +69,7 @@ inline V3<R> linear_contact_force_lanes(const R& kn, const R& ks, const R& mu, c
 // no slip, and a force along n that exerts no torque. Kept as its own function because most
 // pairs in a damper are frictionless (grain-foil, foil-foil) and skip all the shear work.
 template <bool kEnergy, class R>
-inline V3<R> normal_contact_force_lanes(const R& kn, const R& cn, const V3<R>& n, const R& overlap,
+VPPDEM_HD inline V3<R> normal_contact_force_lanes(const R& kn, const R& cn, const V3<R>& n, const R& overlap,
                                         const V3<R>& vrel, const R& dt, ContactEnergyLanes<R>* e = nullptr) {
     const R vn = dot(vrel, n);
     const R fn = kn * overlap - cn * vn;

@@ -15,20 +15,21 @@
 
 #include <cmath>
 
+#include "dem/core/hd.h"
 #include "dem/core/vec3.h"
 
 namespace dem {
 
 // ---- R = double
-inline double lit(double, double v) { return v; }  // a constant in every lane; first argument: type tag
-inline double neg(double a) { return -a; }
-inline double lane_sqrt(double a) { return std::sqrt(a); }
-inline double select(bool m, double a, double b) { return m ? a : b; }
-inline bool both(bool a, bool b) { return a && b; }
+VPPDEM_HD inline double lit(double, double v) { return v; }  // a constant in every lane; first argument: type tag
+VPPDEM_HD inline double neg(double a) { return -a; }
+VPPDEM_HD inline double lane_sqrt(double a) { return std::sqrt(a); }
+VPPDEM_HD inline double select(bool m, double a, double b) { return m ? a : b; }
+VPPDEM_HD inline bool both(bool a, bool b) { return a && b; }
 
 #include "dem/core/lanes-inl.h"  // IWYU pragma: export
 
-inline V3<double> lanes(const Vec3& v) { return {v.x, v.y, v.z}; }
-inline Vec3 vec3(const V3<double>& v) { return {v.x, v.y, v.z}; }
+VPPDEM_HD inline V3<double> lanes(const Vec3& v) { return {v.x, v.y, v.z}; }
+VPPDEM_HD inline Vec3 vec3(const V3<double>& v) { return {v.x, v.y, v.z}; }
 
 }  // namespace dem

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "dem/core/vec3.h"
+#include "dem/core/hd.h"
 
 namespace dem {
 
@@ -18,8 +19,12 @@ struct PressureNode {
     std::array<uint32_t, 4> ring;     // P1..P4, cyclic; A points to the side dp pushes from
 };
 
+// The tributary-area vector of a node from its ring P1..P4 [m^2].
+VPPDEM_HD inline Vec3 tributary_area(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4) {
+    return cross(p1 - p3, p2 - p4);
+}
 inline Vec3 tributary_area(const std::vector<Vec3>& pos, const PressureNode& q) {
-    return cross(pos[q.ring[0]] - pos[q.ring[2]], pos[q.ring[1]] - pos[q.ring[3]]);
+    return tributary_area(pos[q.ring[0]], pos[q.ring[1]], pos[q.ring[2]], pos[q.ring[3]]);
 }
 
 struct MembranePressure {

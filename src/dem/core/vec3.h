@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "dem/core/hd.h"
 namespace dem {
 
 struct Vec3 {
@@ -33,8 +34,8 @@ constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
     return {a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
 }
 constexpr double norm2(const Vec3& a) { return dot(a, a); }
-inline double norm(const Vec3& a) { return std::sqrt(norm2(a)); }
-inline Vec3 normalized(const Vec3& a) { return a / norm(a); }
+VPPDEM_HD inline double norm(const Vec3& a) { return std::sqrt(norm2(a)); }
+VPPDEM_HD inline Vec3 normalized(const Vec3& a) { return a / norm(a); }
 
 // A position stored in single precision (reference positions of the broad phase).
 struct FloatVec3 {

@@ -2,15 +2,16 @@
 #pragma once
 
 #include "dem/core/vec3.h"
+#include "dem/core/hd.h"
 
 namespace dem {
 
-inline double sign(double v) { return double((v > 0.0) - (v < 0.0)); }
+VPPDEM_HD inline double sign(double v) { return double((v > 0.0) - (v < 0.0)); }
 
 // Translational acceleration after Yade's NewtonIntegrator::cundallDamp2nd: each component
 // is scaled by (1 - lambda sign(a_k v_k(t))), with v(t) estimated as v(t-dt/2) + dt/2 a.
 // Equivalent to F_k - lambda sign(v_k) |F_k| with gravity included in F.
-inline Vec3 damped_acceleration(const Vec3& f, double inv_mass, const Vec3& v_half, double dt,
+VPPDEM_HD inline Vec3 damped_acceleration(const Vec3& f, double inv_mass, const Vec3& v_half, double dt,
                                 double lambda) {
     Vec3 a = f * inv_mass;
     if (lambda != 0.0)
@@ -19,7 +20,7 @@ inline Vec3 damped_acceleration(const Vec3& f, double inv_mass, const Vec3& v_ha
 }
 
 // Angular acceleration after Yade's cundallDamp1st (sign of torque times angular velocity).
-inline Vec3 damped_angular_acceleration(const Vec3& t, double inv_inertia, const Vec3& w_half,
+VPPDEM_HD inline Vec3 damped_angular_acceleration(const Vec3& t, double inv_inertia, const Vec3& w_half,
                                         double lambda) {
     Vec3 a = t * inv_inertia;
     if (lambda != 0.0)

@@ -1,0 +1,47 @@
+// Inputs and outputs of the laws written once (dem/core/hd.h), shared by the GCC-compiled
+// reference (laws_reference.cpp) and the nvcc-compiled test (test_laws.cu): the same function
+// bodies must give the same bits whichever compiler built them and wherever they run.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "dem/clumps/quaternion.h"
+#include "dem/core/vec3.h"
+
+namespace cuda_test {
+
+struct LawCase {
+    // a contact (and a bond: the same numbers)
+    double kn, ks, mu, cn, overlap, spin, dt, rest;
+    dem::Vec3 n, vrel, fs, prev;
+    // integration
+    dem::Vec3 f, v, t, w;
+    double inv_mass, inv_inertia, lambda;
+    // pressure ring
+    dem::Vec3 p1, p2, p3, p4;
+    // a rigid body
+    dem::Quat q;
+    dem::Vec3 L, I;
+};
+
+struct LawResult {
+    dem::Vec3 f_fric, fs_fric, prev_fric;
+    double elastic, slip, viscous;
+    dem::Vec3 f_smooth, f_bond, fs_bond;
+    double bond_elastic;
+    dem::Vec3 acc, ang_acc, area;
+    dem::Quat q1;
+    dem::Vec3 w1;
+};
+
+// Built by the host compiler into a shared library of its own whose inline functions stay
+// hidden (laws_reference.cpp): otherwise the linker would fold its instances of the laws and the
+// test's into one copy, and the comparison could not fail.
+#define VPPDEM_REF_API __attribute__((visibility("default")))
+// n cases from a fixed seed (deterministic on every machine: integer arithmetic only).
+VPPDEM_REF_API std::vector<LawCase> make_cases(std::size_t n);
+// The laws on one case as the CPU build compiles them.
+VPPDEM_REF_API LawResult reference(const LawCase& c);
+
+}  // namespace cuda_test

@@ -1,0 +1,44 @@
+// The laws applied to one case (laws_cases.h), as one VPPDEM_HD function: the GCC reference
+// and the nvcc test (host and device) compile this same body.
+#pragma once
+
+#include "dem/bonds/bond_law.h"
+#include "dem/clumps/rigid_rotation.h"
+#include "dem/contact/linear_law.h"
+#include "dem/core/hd.h"
+#include "dem/core/pressure.h"
+#include "dem/integrate/leapfrog.h"
+#include "laws_cases.h"
+
+namespace cuda_test {
+
+VPPDEM_HD inline LawResult evaluate(const LawCase& c) {
+    using dem::V3;
+    LawResult r{};
+    V3<double> fs = dem::lanes(c.fs), prev = dem::lanes(c.prev);
+    dem::ContactEnergyLanes<double> e{};
+    const V3<double> f = dem::linear_contact_force_lanes<true, double>(c.kn, c.ks, c.mu, c.cn, dem::lanes(c.n), c.overlap,
+                                                                        dem::lanes(c.vrel), c.spin, c.dt, fs, prev, &e);
+    r.f_fric = dem::vec3(f);
+    r.fs_fric = dem::vec3(fs);
+    r.prev_fric = dem::vec3(prev);
+    r.elastic = e.elastic;
+    r.slip = e.slip;
+    r.viscous = e.viscous;
+    r.f_smooth = dem::vec3(dem::normal_contact_force_lanes<false, double>(c.kn, c.cn, dem::lanes(c.n), c.overlap,
+                                                                          dem::lanes(c.vrel), c.dt));
+    V3<double> bfs = dem::lanes(c.fs), bprev = dem::lanes(c.prev);
+    double be = 0;
+    r.f_bond = dem::vec3(dem::bond_force_lanes<true, double>(c.kn, c.ks, c.rest, dem::lanes(c.n), c.rest + c.overlap,
+                                                             dem::lanes(c.vrel), c.spin, c.dt, bfs, bprev, &be));
+    r.fs_bond = dem::vec3(bfs);
+    r.bond_elastic = be;
+    r.acc = dem::damped_acceleration(c.f, c.inv_mass, c.v, c.dt, c.lambda);
+    r.ang_acc = dem::damped_angular_acceleration(c.t, c.inv_inertia, c.w, c.lambda);
+    r.area = dem::tributary_area(c.p1, c.p2, c.p3, c.p4);
+    r.q1 = dem::rigid::drift(c.q, c.L, c.I, c.dt * 1e3);
+    r.w1 = dem::rigid::angular_velocity(r.q1, c.L, c.I);
+    return r;
+}
+
+}  // namespace cuda_test
