@@ -216,8 +216,11 @@ void World::compute_forces() {
 void World::integrate() {
     const double t_n = time;
     const bool track = prepare_integration();
-    const double moved = std::max(advance_free_particles(track), advance_clumps(track));
-    broad_.record_moves(std::max(moved, follow_motions(track)));
+    // In this order (the clumps place their members after the free particles' kernel wrote its
+    // records), not as arguments of one call, whose order C++ leaves open.
+    const double moved_free = advance_free_particles(track);
+    const double moved_clumps = advance_clumps(track);
+    broad_.record_moves(std::max(std::max(moved_free, moved_clumps), follow_motions(track)));
     profile_.lap(Phase::kIntegration);
     advance_clock();
     if (track) account_energy(t_n);
