@@ -20,6 +20,18 @@ using A = Acts;
 using C = Check;
 
 // The key within its section ("process.velocity" -> "velocity").
+// A fingerprint of a file's numbers (FNV-1a over their bytes), exact in a double (52 bits): the
+// geometry check of a file a prepared sample was drawn from (a sieve curve, a clump template).
+double fingerprint(const std::vector<double>& values) {
+    uint64_t h = 14695981039346656037ull;
+    for (double x : values) {
+        uint64_t b;
+        std::memcpy(&b, &x, 8);
+        for (int i = 0; i < 8; ++i) h = (h ^ ((b >> (8 * i)) & 0xffu)) * 1099511628211ull;
+    }
+    return double(h >> 12);
+}
+
 std::string short_key(const Setting& s) {
     const std::string k = s.key;
     return k.substr(k.find('.') + 1);
@@ -93,16 +105,10 @@ const std::vector<Setting>& table() {
              if (c.grains.sieve_curve.empty()) return;
              try {
                  const scene::SizeDistribution d = scene::SizeDistribution::sieve_curve(c.grains.sieve_curve);
-                 // A fingerprint of the curve's numbers, exact in a double (52 bits): a run from a
-                 // prepared sample must use the sample's curve.
-                 uint64_t h = 14695981039346656037ull;
-                 for (const std::vector<double>* v : {&d.sieve_radius, &d.sieve_passing})
-                     for (double x : *v) {
-                         uint64_t b;
-                         std::memcpy(&b, &x, 8);
-                         for (int i = 0; i < 8; ++i) h = (h ^ ((b >> (8 * i)) & 0xffu)) * 1099511628211ull;
-                     }
-                 c.grains.sieve_curve_id = double(h >> 12);
+                 // A run from a prepared sample must use the sample's curve.
+                 std::vector<double> v = d.sieve_radius;
+                 v.insert(v.end(), d.sieve_passing.begin(), d.sieve_passing.end());
+                 c.grains.sieve_curve_id = fingerprint(v);
              } catch (const std::runtime_error& e) {
                  s.fail(k, std::string(r.allowed) + " (" + e.what() + ")");
              }
@@ -139,15 +145,11 @@ const std::vector<Setting>& table() {
              if (c.grains.clump_template.empty()) return;
              try {
                  const dem::ClumpShape shape = clump_template_shape(c.grains.clump_template);
-                 // A fingerprint of the members in the principal frame, exact in a double (52 bits).
-                 uint64_t h = 14695981039346656037ull;
+                 // The members in the principal frame.
+                 std::vector<double> v;
                  for (const dem::ClumpMember& m : shape.members)
-                     for (double x : {m.center.x, m.center.y, m.center.z, m.radius}) {
-                         uint64_t b;
-                         std::memcpy(&b, &x, 8);
-                         for (int i = 0; i < 8; ++i) h = (h ^ ((b >> (8 * i)) & 0xffu)) * 1099511628211ull;
-                     }
-                 c.grains.clump_template_id = double(h >> 12);
+                     v.insert(v.end(), {m.center.x, m.center.y, m.center.z, m.radius});
+                 c.grains.clump_template_id = fingerprint(v);
              } catch (const std::exception& e) {
                  s.fail(k, std::string(r.allowed) + " (" + e.what() + ")");
              }
