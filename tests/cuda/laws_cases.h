@@ -33,6 +33,7 @@ struct LawResult {
     dem::Vec3 acc, ang_acc, area;
     dem::Quat q1;
     dem::Vec3 w1;
+    dem::Vec3 adv_x, adv_v, adv_w;  // the batch engine's particle step
 };
 
 // Built by the host compiler into a shared library of its own whose inline functions stay

@@ -2,6 +2,7 @@
 // and the nvcc test (host and device) compile this same body.
 #pragma once
 
+#include "dem/batch/particle_step.h"
 #include "dem/bonds/bond_law.h"
 #include "dem/clumps/rigid_rotation.h"
 #include "dem/contact/linear_law.h"
@@ -38,6 +39,11 @@ VPPDEM_HD inline LawResult evaluate(const LawCase& c) {
     r.area = dem::tributary_area(c.p1, c.p2, c.p3, c.p4);
     r.q1 = dem::rigid::drift(c.q, c.L, c.I, c.dt * 1e3);
     r.w1 = dem::rigid::angular_velocity(r.q1, c.L, c.I);
+    dem::batch::ParticleState st{c.p1, c.v, c.w};
+    dem::batch::advance_particle(st, c.f, c.vrel, c.t, 1.0 / c.inv_mass, c.inv_mass, c.inv_inertia, c.p2, c.dt, c.lambda);
+    r.adv_x = st.x;
+    r.adv_v = st.v;
+    r.adv_w = st.w;
     return r;
 }
 

@@ -5,7 +5,8 @@
 # cli/ (the command) and a Python module on top may include anything below them.
 # Inside dem the World sits on its parts and the file formats on the World:
 #   core, bonds, clumps, contact, detect, walls, integrate (the parts)  may not include dem/world, dem/io
-#   world (the World, its step and its rules)                   may not include dem/io A lower layer
+#   world (the World, its step and its rules)                   may not include dem/io, dem/batch
+#   io (file formats), batch (the batch engine: systems packed from Worlds) sit on the World. A lower layer
 # that included a higher one would tie the core to one application (or a cycle of libraries).
 # Usage: cmake -DROOT=<folder that holds src/> -P check_layers.cmake
 # Fails naming each offending file:line; quoted includes must name their layer folder.
@@ -65,16 +66,16 @@ foreach(layer dem scene vpp)
         set(rank_to 0)
         if(from STREQUAL "world")
           set(rank_from 1)
-        elseif(from STREQUAL "io")
+        elseif(from STREQUAL "io" OR from STREQUAL "batch")
           set(rank_from 2)
         endif()
         if(to STREQUAL "world")
           set(rank_to 1)
-        elseif(to STREQUAL "io")
+        elseif(to STREQUAL "io" OR to STREQUAL "batch")
           set(rank_to 2)
         endif()
         if(rank_to GREATER rank_from)
-          list(APPEND bad "${rel}:${n}: dem/${from} includes ${path}, which sits above it (parts <- world <- io)")
+          list(APPEND bad "${rel}:${n}: dem/${from} includes ${path}, which sits above it (parts <- world <- io, batch)")
         endif()
       endif()
       list(FIND allowed_${layer} "${top}" a)
