@@ -293,3 +293,28 @@ TEST(Clumps, EnergyLedgerBalancesAPour) {
     report_abs("clump_pour_ledger_residual_over_gravity_work", std::abs(e.residual()) / e.gravity_work, 1e-2);
     EXPECT_LT(std::abs(e.residual()), 1e-2 * e.gravity_work);
 }
+
+// `vppdem bench checkpoint` times any saved World: the pour's checkpoint, its clumps counted in
+// the JSON line (the contract read by bench/grain_shapes.sh); a missing file is refused.
+TEST(Clumps, BenchTimesASavedWorldWithItsClumps) {
+    World w = pour(1);
+    for (int k = 0; k < 100; ++k) w.step();
+    const auto path = (std::filesystem::temp_directory_path() / "vppdem_clumps_bench.ckpt").string();
+    save_checkpoint(path, w, "");
+    const auto run = [](const std::string& args) {
+        std::string out;
+        FILE* f = popen((std::string(VPPDEM_BINARY) + " bench checkpoint " + args + " 2>&1").c_str(), "r");
+        char buf[4096];
+        while (f && fgets(buf, sizeof buf, f)) out += buf;
+        const int rc = f ? pclose(f) : -1;
+        return std::make_pair(rc, out);
+    };
+    const auto [rc, out] = run("--state " + path + " --steps 50 --threads 1");
+    std::filesystem::remove(path);
+    ASSERT_EQ(rc, 0) << out;
+    EXPECT_NE(out.find("\"steps\": 50"), std::string::npos) << out;
+    EXPECT_NE(out.find("\"clumps\": " + std::to_string(w.clumps().size())), std::string::npos) << out;
+    const auto [rc2, out2] = run("--state /nonexistent.ckpt --steps 5");
+    EXPECT_NE(rc2, 0);
+    EXPECT_NE(out2.find("--state"), std::string::npos) << out2;
+}
