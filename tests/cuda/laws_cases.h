@@ -34,6 +34,7 @@ struct LawResult {
     dem::Quat q1;
     dem::Vec3 w1;
     dem::Vec3 adv_x, adv_v, adv_w;  // the batch engine's particle step
+    dem::Vec3 bs_force, bs_t1, bs_t2, bs_fs, bs_prev, p_force;  // its bond step and pressure
 };
 
 // Built by the host compiler into a shared library of its own whose inline functions stay

@@ -2,6 +2,7 @@
 // and the nvcc test (host and device) compile this same body.
 #pragma once
 
+#include "dem/batch/bond_step.h"
 #include "dem/batch/particle_step.h"
 #include "dem/bonds/bond_law.h"
 #include "dem/clumps/rigid_rotation.h"
@@ -44,6 +45,15 @@ VPPDEM_HD inline LawResult evaluate(const LawCase& c) {
     r.adv_x = st.x;
     r.adv_v = st.v;
     r.adv_w = st.w;
+    dem::Vec3 bfs2 = c.fs, bprev2 = c.prev;
+    const dem::batch::BondOut bo = dem::batch::bond_step({c.p1, c.v, c.w, c.rest}, {c.p1 + c.n * (2.0 * c.rest), c.vrel, c.t, c.rest},
+                                                         c.kn, c.ks, 2.0 * c.rest, c.dt, bfs2, bprev2);
+    r.bs_force = bo.force;
+    r.bs_t1 = bo.torque1;
+    r.bs_t2 = bo.torque2;
+    r.bs_fs = bfs2;
+    r.bs_prev = bprev2;
+    r.p_force = dem::batch::pressure_force(c.p1, c.p2, c.p3, c.p4, c.kn);
     return r;
 }
 
