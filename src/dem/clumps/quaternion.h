@@ -44,4 +44,18 @@ constexpr Vec3 body_axis(const Quat& q, int k) {
     return rotate(q, e);
 }
 
+// R(q) as a matrix, for turning several vectors by one orientation (a clump's members).
+struct RotationMatrix {
+    Vec3 c0, c1, c2;  // the columns: the body axes in the world frame
+    VPPDEM_HD explicit RotationMatrix(const Quat& q) {
+        const double xx = q.x * q.x, yy = q.y * q.y, zz = q.z * q.z;
+        const double xy = q.x * q.y, xz = q.x * q.z, yz = q.y * q.z;
+        const double wx = q.w * q.x, wy = q.w * q.y, wz = q.w * q.z;
+        c0 = {1.0 - 2.0 * (yy + zz), 2.0 * (xy + wz), 2.0 * (xz - wy)};
+        c1 = {2.0 * (xy - wz), 1.0 - 2.0 * (xx + zz), 2.0 * (yz + wx)};
+        c2 = {2.0 * (xz + wy), 2.0 * (yz - wx), 1.0 - 2.0 * (xx + yy)};
+    }
+    VPPDEM_HD Vec3 operator*(const Vec3& v) const { return c0 * v.x + c1 * v.y + c2 * v.z; }
+};
+
 }  // namespace dem

@@ -23,41 +23,55 @@
 namespace dem::rigid {
 
 // Turns the body about its own axis k by the Cayley angle of theta (the body-frame momentum pi
-// of a fixed world momentum turns the opposite way).
+// of a fixed world momentum turns the opposite way). The rotation's quaternion is (1, t e_k) /
+// sqrt(1 + t^2), t = tan(angle / 2) = theta / 2; q is multiplied by (1, t e_k) only, its norm
+// growing by sqrt(1 + t^2), and drift() normalises once at the end: one division per turn and no
+// square root in the chain (the drift is latency-bound: each turn waits for the last).
 VPPDEM_HD inline void turn_about_body_axis(Quat& q, Vec3& pi, int k, double theta) {
-    const double t = 0.5 * theta;             // tan of half the angle
-    const double n2 = 1.0 + t * t;
-    const double hc = 1.0 / std::sqrt(n2);    // cos and sin of half the angle
-    const double hs = t * hc;
-    Quat r{hc, 0.0, 0.0, 0.0};
-    if (k == 0) r.x = hs;
-    else if (k == 1) r.y = hs;
-    else r.z = hs;
-    q = q * r;
-    const double c = (1.0 - t * t) / n2, s = 2.0 * t / n2;  // cos and sin of the angle
-    const int a = (k + 1) % 3, b = (k + 2) % 3;
-    const double pa = pi[a], pb = pi[b];
-    pi[a] = c * pa + s * pb;
-    pi[b] = c * pb - s * pa;
+    const double t = 0.5 * theta;
+    const Quat a = q;
+    if (k == 0) q = {a.w - a.x * t, a.w * t + a.x, a.y + a.z * t, a.z - a.y * t};
+    else if (k == 1) q = {a.w - a.y * t, a.x - a.z * t, a.w * t + a.y, a.z + a.x * t};
+    else q = {a.w - a.z * t, a.x + a.y * t, a.y - a.x * t, a.w * t + a.z};
+    const double inv_n2 = 1.0 / (1.0 + t * t);
+    const double c = (1.0 - t * t) * inv_n2, s = (2.0 * t) * inv_n2;  // cos and sin of the angle
+    const int i = (k + 1) % 3, j = (k + 2) % 3;
+    const double pa = pi[i], pb = pi[j];
+    pi[i] = c * pa + s * pb;
+    pi[j] = c * pb - s * pa;
 }
 
-// Orientation after a drift of dt [s] with the world-frame angular momentum L [kg m^2/s] fixed;
-// I [kg m^2] the principal moments. Returns the normalised quaternion.
-VPPDEM_HD inline Quat drift(Quat q, const Vec3& L, const Vec3& I, double dt) {
+// One drift of dt [s] with the world-frame angular momentum L [kg m^2/s] fixed; inv_I [1/(kg
+// m^2)] the inverse principal moments. q becomes the normalised new orientation; pi0 and pi1
+// are the body-frame momenta at the start and at the end (for the angular velocities).
+VPPDEM_HD inline void drift(Quat& q, const Vec3& L, const Vec3& inv_I, double dt, Vec3& pi0, Vec3& pi1) {
     Vec3 pi = rotate_back(q, L);
+    pi0 = pi;
     const double h = 0.5 * dt;
-    turn_about_body_axis(q, pi, 0, h * pi.x / I.x);
-    turn_about_body_axis(q, pi, 1, h * pi.y / I.y);
-    turn_about_body_axis(q, pi, 2, dt * pi.z / I.z);
-    turn_about_body_axis(q, pi, 1, h * pi.y / I.y);
-    turn_about_body_axis(q, pi, 0, h * pi.x / I.x);
-    return normalized(q);
+    turn_about_body_axis(q, pi, 0, h * pi.x * inv_I.x);
+    turn_about_body_axis(q, pi, 1, h * pi.y * inv_I.y);
+    turn_about_body_axis(q, pi, 2, dt * pi.z * inv_I.z);
+    turn_about_body_axis(q, pi, 1, h * pi.y * inv_I.y);
+    turn_about_body_axis(q, pi, 0, h * pi.x * inv_I.x);
+    q = normalized(q);  // the turns' norms sqrt(1 + t^2) too
+    pi1 = pi;
+}
+
+// Orientation after a drift (drift() without the momenta).
+VPPDEM_HD inline Quat drift(Quat q, const Vec3& L, const Vec3& I, double dt) {
+    Vec3 pi0, pi1;
+    drift(q, L, Vec3{1.0 / I.x, 1.0 / I.y, 1.0 / I.z}, dt, pi0, pi1);
+    return q;
+}
+
+// World-frame angular velocity [rad/s] from the body-frame momentum pi at orientation q.
+VPPDEM_HD inline Vec3 angular_velocity_of(const Quat& q, const Vec3& pi, const Vec3& inv_I) {
+    return rotate(q, Vec3{pi.x * inv_I.x, pi.y * inv_I.y, pi.z * inv_I.z});
 }
 
 // World-frame angular velocity [rad/s] of a body at orientation q with momentum L.
 VPPDEM_HD inline Vec3 angular_velocity(const Quat& q, const Vec3& L, const Vec3& I) {
-    const Vec3 pi = rotate_back(q, L);
-    return rotate(q, Vec3{pi.x / I.x, pi.y / I.y, pi.z / I.z});
+    return angular_velocity_of(q, rotate_back(q, L), Vec3{1.0 / I.x, 1.0 / I.y, 1.0 / I.z});
 }
 
 // Rotational kinetic energy [J]: sum pi_k^2 / (2 I_k).

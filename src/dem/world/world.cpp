@@ -514,18 +514,22 @@ double World::advance_clumps(bool track) {
             if (lambda != 0.0)
                 for (int d = 0; d < 3; ++d) td[d] *= 1.0 - lambda * sign(td[d] * w0[d]);
             const Vec3 L1 = L0 + td * dt;
-            const Quat q1 = rigid::drift(q0, L1, I, dt);
+            const Vec3 inv_i{1.0 / I.x, 1.0 / I.y, 1.0 / I.z};
+            Quat q1 = q0;
+            Vec3 pi0, pi1;
+            rigid::drift(q1, L1, inv_i, dt, pi0, pi1);
             // The half step's angular velocity: the mean of the drift's two ends.
-            const Vec3 w1 = (rigid::angular_velocity(q0, L1, I) + rigid::angular_velocity(q1, L1, I)) * 0.5;
+            const Vec3 w1 = (rigid::angular_velocity_of(q0, pi0, inv_i) + rigid::angular_velocity_of(q1, pi1, inv_i)) * 0.5;
             c.pos[k] = x1;
             c.vel[k] = v1;
             c.q[k] = q1;
             c.mom[k] = L1;
             c.angvel[k] = w1;
             double max_d2 = 0.0;
+            const RotationMatrix rm(q1);
             for (uint32_t e = c.start[k]; e < c.start[k + 1]; ++e) {
                 const uint32_t i = c.member[e];
-                const Vec3 r = rotate(q1, c.rel[e]);
+                const Vec3 r = rm * c.rel[e];
                 p.pos[i] = x1 + r;
                 p.vel[i] = v1 + cross(w1, r);
                 p.angvel[i] = w1;
