@@ -83,6 +83,21 @@ void BatchSystems::store(std::size_t s, World& world) const {
     world.invalidate_candidates();
 }
 
+namespace {
+
+// System s's particles by advance_particle.
+void advance_system(BatchSystems& b, int64_t s) {
+    for (int64_t k = b.first[s]; k < b.first[s + 1]; ++k) {
+        ParticleState st{b.x[k], b.v[k], b.w[k]};
+        advance_particle(st, b.f[k], b.fx[k], b.t[k], b.m[k], b.inv_m[k], b.inv_i[k], b.gravity[s], b.dt[s], b.lambda[s]);
+        b.x[k] = st.x;
+        b.v[k] = st.v;
+        b.w[k] = st.w;
+    }
+}
+
+}  // namespace
+
 void step_host(BatchSystems& b, int threads) {
     const int nt = threads > 1 ? threads : 1;
     ThreadTeam team;
@@ -123,14 +138,7 @@ void step_host(BatchSystems& b, int threads) {
                 b.f[i] = fi;
                 b.t[i] = ta + tb;
             }
-            for (int64_t k = b.first[s]; k < b.first[s + 1]; ++k) {
-                ParticleState st{b.x[k], b.v[k], b.w[k]};
-                advance_particle(st, b.f[k], b.fx[k], b.t[k], b.m[k], b.inv_m[k], b.inv_i[k], b.gravity[s], b.dt[s],
-                                 b.lambda[s]);
-                b.x[k] = st.x;
-                b.v[k] = st.v;
-                b.w[k] = st.w;
-            }
+            advance_system(b, s);
         }
     });
 }
@@ -140,15 +148,7 @@ void advance_host(BatchSystems& b, int threads) {
     ThreadTeam team;
     team.run(nt, [&](int tid) {
         const auto [s0, s1] = thread_range(int64_t(b.systems()), tid, nt);
-        for (int64_t s = s0; s < s1; ++s)
-            for (int64_t k = b.first[s]; k < b.first[s + 1]; ++k) {
-                ParticleState st{b.x[k], b.v[k], b.w[k]};
-                advance_particle(st, b.f[k], b.fx[k], b.t[k], b.m[k], b.inv_m[k], b.inv_i[k], b.gravity[s], b.dt[s],
-                                 b.lambda[s]);
-                b.x[k] = st.x;
-                b.v[k] = st.v;
-                b.w[k] = st.w;
-            }
+        for (int64_t s = s0; s < s1; ++s) advance_system(b, s);
     });
 }
 
