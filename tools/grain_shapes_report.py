@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """docs/grains.md and its figure from the grain-shape study's records (issue 24, item 4).
 
-usage: grain_shapes_report.py DATA DOCS [--bench FILE]
+usage: grain_shapes_report.py DATA DOCS [--bench FILE] [--pressure DIR]
   DATA   the records of scripts/grain_shapes.sh (docs/data/grains/shapes: one folder per case,
          grains.shape=S_simulation.seed=K, with summary.json and cycles.csv)
   DOCS   where grains.md and grains_shapes.png go (docs)
   --bench FILE  the table printed by bench/grain_shapes.sh (its cost per step), quoted as is
+  --pressure DIR  the paper's underpressure study (docs/data/paper/radius_underpressure): the
+         effect of the confining pressure on W beside the effect of the shape (Athanassiadis et
+         al. 2014: "confining pressure has the largest overall effect")
 
 Per run: W of the stationary tail (summary.json W_settled; when the run did not become
 stationary, the mean of its last two cycles, flagged), the peak force and the friction and
@@ -25,7 +28,8 @@ from paired_velocity import interval, t_quantile  # noqa: E402  (one Student t f
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
 from vppdem.records import fail  # noqa: E402
 
-COMMAND = "bash scripts/grain_shapes.sh, then /usr/bin/python3 tools/grain_shapes_report.py docs/data/grains/shapes docs"
+COMMAND = ("bash scripts/grain_shapes.sh, then /usr/bin/python3 tools/grain_shapes_report.py docs/data/grains/shapes docs "
+           "--pressure docs/data/paper/radius_underpressure")
 ORDER = ["sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"]
 
 
@@ -67,6 +71,32 @@ def load(data):
     if not runs:
         fail(f"{data}: no finished runs (case folders grains.shape=S_simulation.seed=K with summary.json)", 2)
     return runs
+
+
+def pressure_effect(root, radius=0.0255):
+    """{dp [Pa]: {seed: W}} of the 25.5 mm rows of the paper's underpressure study (W as load())."""
+    out = {}
+    if not os.path.isdir(root):
+        return out
+    for name in sorted(os.listdir(root)):
+        try:
+            r = float(name.split("damper.radius=")[1].split("_")[0])
+            dp = float(name.split("process.underpressure=")[1].split("_")[0])
+            seed = int(name.split("simulation.seed=")[1])
+        except (IndexError, ValueError):
+            continue
+        path = os.path.join(root, name, "summary.json")
+        if abs(r - radius) > 1e-9 or not os.path.isfile(path):
+            continue
+        with open(path) as f:
+            s = json.load(f)
+        cyc = s["cycles"]
+        if s.get("W_settled") is not None:
+            W = s["W_settled"]
+        else:
+            W = sum(c["W"] for c in cyc[-2:]) / len(cyc[-2:])
+        out.setdefault(dp, {})[seed] = W
+    return out
 
 
 def welch(a, b):
@@ -123,13 +153,19 @@ def figure(runs, shapes, docs):
 
 def main(argv):
     args = [a for a in argv[1:] if not a.startswith("--")]
-    bench = None
+    bench = pressure = None
     if "--bench" in argv:
         i = argv.index("--bench")
         if i + 1 >= len(argv):
             fail("--bench needs a FILE", 2)
         bench = open(argv[i + 1]).read().strip()
         args = [a for a in args if a != argv[i + 1]]
+    if "--pressure" in argv:
+        i = argv.index("--pressure")
+        if i + 1 >= len(argv):
+            fail("--pressure needs a DIR", 2)
+        pressure = argv[i + 1]
+        args = [a for a in args if a != pressure]
     if len(args) != 2:
         fail(__doc__.strip().splitlines()[2], 2)
     data, docs = args
@@ -178,6 +214,40 @@ def main(argv):
         used = f"{r['cycles'][0]}-{r['cycles'][-1]} of {r['n_cycles']}" + ("" if r["stationary"] else " (last two: not stationary)")
         L.append(f"| {r['name']} | {r['W']:.0f} | {used} | {r['peak']:.0f} | {100 * r['friction']:.1f} | "
                  f"{r['packing']:.3f} | {r['dt']:.3g} | {r['run_seconds'] / 3600:.2f} |")
+    L.append("")
+    L.append("## Beside the experiment of Athanassiadis et al.")
+    L.append("")
+    L.append("Athanassiadis et al. (Soft Matter 10, 48, 2014) jammed 3D-printed grains of many shapes in a "
+             "membrane by vacuum at four confining pressures and measured the effective modulus, the yield "
+             "stress and the energy lost per loading cycle. Only their abstract could be read for this page: "
+             "\"confining pressure has the largest overall effect\" on the mechanical response, while shape "
+             "\"controls the details\" and can tune stiffness and yielding. vppdem's runs against those two "
+             "statements:")
+    L.append("")
+    pe = pressure_effect(pressure) if pressure else {}
+    if ref:
+        for sh in [x for x in shapes if x != "sphere"]:
+            vals = [r["W"] for (s, _), r in runs.items() if s == sh]
+            _, m, _, _ = interval(vals)
+            pk = [r["peak"] for (s, _), r in runs.items() if s == sh]
+            pk_ref = [r["peak"] for (s, _), r in runs.items() if s == "sphere"]
+            L.append(f"- {sh}: W {m / m_ref:.2f} times the spheres', peak force {interval(pk)[1] / interval(pk_ref)[1]:.2f} "
+                     "times (the loop's stiffness and the load it yields at).")
+    if len(pe) >= 2:
+        lo, hi = min(pe), max(pe)
+        seeds = sorted(set(pe[lo]) & set(pe[hi]))
+        ratios = [pe[hi][k] / pe[lo][k] for k in seeds]
+        n, m, sd, h = interval(ratios)
+        L.append(f"- the confining pressure: W at {hi / 1e6:g} MPa is {m:.2f}"
+                 + (f" +- {h:.2f}" if math.isfinite(h) else "")
+                 + f" times W at {lo / 1e6:g} MPa (paired by seed, {n} seeds; docs/data/paper/radius_underpressure).")
+        shape_max = max((interval([r["W"] for (s, _), r in runs.items() if s == sh])[1] / m_ref
+                         for sh in shapes if sh != "sphere"), default=math.nan)
+        if math.isfinite(shape_max):
+            verdict = ("reproduced: the pressure changes W more than the shape does" if m > shape_max
+                       else f"not reproduced: in the model the shape changes W more than a {hi / lo:.0f}-fold pressure does")
+            L.append(f"- their first statement, {verdict} ({m:.2f} against {shape_max:.2f}).")
+    L.append("")
     if bench:
         L.append("")
         L.append("## Cost per step")
