@@ -240,7 +240,7 @@ def main(argv):
         n, m, sd, h = interval(ratios)
         L.append(f"- the confining pressure: W at {hi / 1e6:g} MPa is {m:.2f}"
                  + (f" +- {h:.2f}" if math.isfinite(h) else "")
-                 + f" times W at {lo / 1e6:g} MPa (paired by seed, {n} seeds; docs/data/paper/radius_underpressure).")
+                 + f" times W at {lo / 1e6:g} MPa (paired by seed, {n} seeds; {pressure}).")
         shape_max = max((interval([r["W"] for (s, _), r in runs.items() if s == sh])[1] / m_ref
                          for sh in shapes if sh != "sphere"), default=math.nan)
         if math.isfinite(shape_max):

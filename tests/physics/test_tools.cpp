@@ -232,3 +232,52 @@ TEST(Tools, KillResumeEndsWithTheUninterruptedRecords) {
     EXPECT_NE(bad.output.find("--kills = 0"), std::string::npos) << bad.output;
     fs::remove_all(d);
 }
+
+// tools/grain_shapes_report.py by hand: spheres W = 100, 110, 120 and dimers 210, 220, 230 J/m^2
+// (3 seeds, sd 10 each): the dimers' difference is +110 (+100% of 110) with Welch's interval
+// t_{0.975,4} sqrt(100/3 + 100/3) = 2.7764 * 8.165 = 22.67 (20.6% of 110), printed "+100 +- 21";
+// the pressure study's W doubles from 0.02 to 0.08 MPa for every seed: 2.00 +- 0.00.
+TEST(Tools, GrainShapesReportByHand) {
+    const fs::path d = scratch_path("tools", "shapes");
+    fs::remove_all(d);
+    const auto summary = [](double W, double peak, double dp) {
+        std::ostringstream s;
+        s << "{\"inputs\": {\"process.velocity\": 0.02, \"process.underpressure\": " << dp
+          << ", \"damper.radius\": 0.0255}, \"grains\": 1100, \"dt\": 1.8e-06, \"run_seconds\": 3600, "
+          << "\"cycles\": [{\"cycle\": 1, \"W\": " << W + 50 << ", \"peak_force\": " << peak
+          << ", \"friction_dissipation\": 3, \"damping_dissipation\": 1, \"viscous_dissipation\": 0}, "
+          << "{\"cycle\": 2, \"W\": " << W << ", \"peak_force\": " << peak
+          << ", \"friction_dissipation\": 3, \"damping_dissipation\": 1, \"viscous_dissipation\": 0}], "
+          << "\"W_settled\": " << W << ", \"first_settled_cycle\": 2, \"start_of_cycling\": {\"packing_fraction\": 0.6}}";
+        return s.str();
+    };
+    for (int s = 1; s <= 3; ++s) {
+        write_file(d / "data" / ("grains.shape=sphere_simulation.seed=" + std::to_string(s)) / "summary.json",
+                   summary(90.0 + 10.0 * s, 500, 60000));
+        write_file(d / "data" / ("grains.shape=dimer_simulation.seed=" + std::to_string(s)) / "summary.json",
+                   summary(200.0 + 10.0 * s, 900, 60000));
+        for (const double dp : {20000.0, 80000.0})
+            write_file(d / "pressure" /
+                           ("damper.radius=0.0255_process.underpressure=" + std::to_string(int(dp)) + "_simulation.seed=" +
+                            std::to_string(s)) / "summary.json",
+                       summary((dp > 50000 ? 2.0 : 1.0) * (100.0 + s), 500, dp));
+    }
+    fs::create_directories(d / "docs");
+    const Outcome r = shell(kPython + (kSource / "tools/grain_shapes_report.py").string() + " " + (d / "data").string() +
+                            " " + (d / "docs").string() + " --pressure " + (d / "pressure").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    const std::string md = slurp(d / "docs" / "grains.md");
+    EXPECT_NE(md.find("| sphere | 3 |"), std::string::npos) << md;
+    EXPECT_NE(md.find("| 110 +- 25 |"), std::string::npos) << md;  // t_{0.975,2} 10 / sqrt(3) = 24.8
+    EXPECT_NE(md.find("| +100 +- 21 |"), std::string::npos) << md;
+    EXPECT_NE(md.find("W at 0.08 MPa is 2.00 +- 0.00 times W at 0.02 MPa"), std::string::npos) << md;
+    EXPECT_NE(md.find("friction share"), std::string::npos);
+    EXPECT_TRUE(fs::exists(d / "docs" / "grains_shapes.png"));
+    // A folder without runs is refused naming it.
+    fs::create_directories(d / "empty");
+    const Outcome bad = shell(kPython + (kSource / "tools/grain_shapes_report.py").string() + " " + (d / "empty").string() +
+                              " " + (d / "docs").string());
+    EXPECT_NE(bad.status, 0);
+    EXPECT_NE(bad.output.find("no finished runs"), std::string::npos) << bad.output;
+    fs::remove_all(d);
+}
