@@ -3,6 +3,7 @@
 #pragma once
 
 #include "dem/batch/bond_step.h"
+#include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
 #include "dem/bonds/bond_law.h"
 #include "dem/clumps/rigid_rotation.h"
@@ -54,6 +55,44 @@ VPPDEM_HD inline LawResult evaluate(const LawCase& c) {
     r.bs_fs = bfs2;
     r.bs_prev = bprev2;
     r.p_force = dem::batch::pressure_force(c.p1, c.p2, c.p3, c.p4, c.kn);
+    // The batch engine's contacts: two spheres of radius `rest` closer than touching by
+    // `overlap` (apart when it is negative), a sphere against a plane and against a facet.
+    const dem::ContactPhys ph{c.kn, c.ks, c.mu, c.cn};
+    const double ov = c.cn == 0.0 ? -c.overlap : c.overlap;  // a third of the cases apart
+    const dem::batch::PairEnd a{c.p1, c.v, c.w, c.rest};
+    const dem::batch::PairEnd b{c.p1 + c.n * (2.0 * c.rest - ov), c.vrel, c.t, c.rest};
+    dem::Vec3 pfs = c.fs, pprev = c.prev;
+    const dem::batch::PairOut fo = dem::batch::frictional_pair(a, b, ph, c.dt, pfs, pprev);
+    r.fp_force = fo.force;
+    r.fp_t1 = fo.torque1;
+    r.fp_t2 = fo.torque2;
+    r.fp_fs = pfs;
+    r.fp_prev = pprev;
+    r.sp_force = dem::batch::smooth_pair(a, b, ph, c.dt).force;
+    dem::batch::WallNow plane;
+    plane.point = c.p2;
+    plane.normal = c.n;
+    plane.velocity = c.vrel;
+    const dem::batch::PairEnd s{c.p2 + c.n * (c.rest - ov), c.v, c.w, c.rest};
+    dem::Vec3 wfs = c.fs, wprev = c.prev;
+    const dem::batch::PairOut po = dem::batch::wall_pair(s, plane, ph, c.dt, wfs, wprev);
+    r.wp_force = po.force;
+    r.wp_t2 = po.torque2;
+    r.wp_point = po.point;
+    r.wp_fs = wfs;
+    dem::batch::WallNow facet;
+    facet.plane = false;
+    facet.v0 = c.p2;
+    facet.v1 = c.p3;
+    facet.v2 = c.p4;
+    facet.velocity = c.vrel;
+    const dem::batch::PairEnd sf{(c.p2 + c.p3 + c.p4) * (1.0 / 3.0) + c.n * (c.rest - ov), c.v, c.w, c.rest};
+    dem::Vec3 ffs = c.fs, fprev = c.prev;
+    const dem::batch::PairOut qo = dem::batch::wall_pair(sf, facet, ph, c.dt, ffs, fprev);
+    r.wf_force = qo.force;
+    r.wf_t2 = qo.torque2;
+    r.wf_point = qo.point;
+    r.wf_fs = ffs;
     return r;
 }
 

@@ -5,25 +5,26 @@
 #include <string>
 
 #include "dem/batch/bond_step.h"
+#include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
 #include "dem/core/parallel.h"
 #include "dem/core/thread_team.h"
 
 namespace dem::batch {
 
-std::size_t BatchSystems::add(const World& world) {
-    const Particles& p = world.particles;
-    if (!world.clumps().empty())
+std::size_t BatchSystems::add(World& wd) {
+    const Particles& p = wd.particles;
+    if (!wd.clumps().empty())
         throw std::invalid_argument("batch: a system with clumps is not supported yet (docs/gpu.md)");
-    if (!world.planes.empty() || !world.facets.empty() || world.contact_count() != 0)
-        throw std::invalid_argument("batch: walls and contacts are not supported yet (docs/gpu.md)");
-    for (std::size_t i = 0; i < p.size(); ++i)
-        if (p.flags[i] & kPrescribed) throw std::invalid_argument("batch: prescribed particles are not supported yet");
+    if (wd.params.track_energy)
+        throw std::invalid_argument("batch: a system with the energy ledger is not supported yet (docs/gpu.md)");
     const std::size_t s = systems();
-    const int64_t base = int64_t(x.size()), bond_base = int64_t(bi.size());
-    gravity.push_back(world.params.gravity);
-    dt.push_back(world.params.dt);
-    lambda.push_back(world.params.local_damping);
+    const int64_t base = int64_t(x.size());
+    wd.params.threads = 1;
+    world.push_back(&wd);
+    gravity.push_back(wd.params.gravity);
+    dt.push_back(wd.params.dt);
+    lambda.push_back(wd.params.local_damping);
     for (std::size_t i = 0; i < p.size(); ++i) {
         x.push_back(p.pos[i]);
         v.push_back(p.vel[i]);
@@ -36,10 +37,11 @@ std::size_t BatchSystems::add(const World& world) {
         inv_i.push_back(p.inv_inertia[i]);
         r.push_back(p.radius[i]);
         pressure_slot.emplace_back();
+        if (p.flags[i] & kPrescribed) prescribed.push_back(uint32_t(i));
     }
     first.push_back(int64_t(x.size()));
-    const BondList& bl = world.bonds();
-    std::vector<std::vector<int64_t>> per(p.size());
+    presc_first.push_back(int64_t(prescribed.size()));
+    const BondList& bl = wd.bonds();
     for (std::size_t k = 0; k < bl.size(); ++k) {
         bi.push_back(base + bl.i[k]);
         bj.push_back(base + bl.j[k]);
@@ -51,18 +53,10 @@ std::size_t BatchSystems::add(const World& world) {
         bond_force.push_back(bl.force[k]);
         torque1.push_back(bl.torque1[k]);
         torque2.push_back(bl.torque2[k]);
-        per[bl.i[k]].push_back(2 * (bond_base + int64_t(k)));
-        per[bl.j[k]].push_back(2 * (bond_base + int64_t(k)) + 1);
-    }
-    // World's order: by reference value, all of a particle's bonds as body 1 first, then as body 2.
-    for (auto& l : per) {
-        std::stable_sort(l.begin(), l.end(), [](int64_t a, int64_t c) { return (a & 1) != (c & 1) ? (a & 1) < (c & 1) : a < c; });
-        links.insert(links.end(), l.begin(), l.end());
-        link_start.push_back(int64_t(links.size()));
     }
     bond_first.push_back(int64_t(bi.size()));
-    dp.push_back(world.pressure.nodes.empty() ? 0.0 : world.pressure.dp);
-    for (const PressureNode& q : world.pressure.nodes) {
+    dp.push_back(wd.pressure.nodes.empty() ? 0.0 : wd.pressure.dp);
+    for (const PressureNode& q : wd.pressure.nodes) {
         node.push_back(base + q.node);
         ring.push_back({base + q.ring[0], base + q.ring[1], base + q.ring[2], base + q.ring[3]});
     }
@@ -70,85 +64,202 @@ std::size_t BatchSystems::add(const World& world) {
     return s;
 }
 
-void BatchSystems::store(std::size_t s, World& world) const {
-    Particles& p = world.particles;
-    if (s >= systems() || std::size_t(first[s + 1] - first[s]) != p.size())
-        throw std::invalid_argument("batch: system " + std::to_string(s) + " does not match the world");
+void BatchSystems::store(std::size_t s) const {
+    if (s >= systems()) throw std::invalid_argument("batch: no system " + std::to_string(s));
+    World& wd = *world[s];
+    Particles& p = wd.particles;
     for (std::size_t i = 0; i < p.size(); ++i) {
         const std::size_t k = std::size_t(first[s]) + i;
         p.pos[i] = x[k];
         p.vel[i] = v[k];
         p.angvel[i] = w[k];
+        p.force[i] = f[k];
+        p.torque[i] = t[k];
     }
-    world.invalidate_candidates();
+    BondList& bl = wd.engine_bonds();
+    for (std::size_t k = 0; k < bl.size(); ++k) {
+        const std::size_t q = std::size_t(bond_first[s]) + k;
+        bl.shear[k] = shear[q];
+        bl.prev_normal[k] = prev_normal[q];
+        bl.force[k] = bond_force[q];
+        bl.torque1[k] = torque1[q];
+        bl.torque2[k] = torque2[q];
+    }
+    wd.engine_handback();
 }
 
 namespace {
 
-// System s's particles by advance_particle.
-void advance_system(BatchSystems& b, int64_t s) {
-    for (int64_t k = b.first[s]; k < b.first[s + 1]; ++k) {
+// One step of system s: World's phases (World::engine_*) around the kernel bodies, in the order
+// of World::step(). The loops over slots, bonds, nodes and particles are the kernels' index
+// spaces (one thread per index on a device).
+void step_system(BatchSystems& b, int64_t s) {
+    World& wd = *b.world[s];
+    const int64_t base = b.first[s], n = b.first[s + 1] - base;
+    const int64_t bb = b.bond_first[s];
+    const double dt = b.dt[s];
+    const auto end = [&](uint32_t i) { return PairEnd{b.x[base + i], b.v[base + i], b.w[base + i], b.r[base + i]}; };
+
+    // Forces at t. The broad phase reads World's positions: they are handed over when it runs.
+    if (wd.engine_rebuild_due())
+        for (int64_t i = 0; i < n; ++i) wd.particles.pos[std::size_t(i)] = b.x[base + i];
+    wd.engine_begin_forces();
+    ContactSet& c = wd.engine_contacts();
+    const BroadPhase& bp = wd.broad_phase();
+    const WallState& walls = wd.wall_state();
+    const uint32_t nplanes = uint32_t(wd.planes.size());
+    const auto wall_now = [&](uint32_t k) {
+        WallNow wl;
+        wl.plane = k < nplanes;
+        if (wl.plane) {
+            wl.point = walls.plane_point[k];
+            wl.normal = wd.planes[k].normal;
+            wl.one_sided = wd.planes[k].one_sided;
+        } else {
+            const auto& v = walls.facet_now[k - nplanes];
+            wl.v0 = v[0];
+            wl.v1 = v[1];
+            wl.v2 = v[2];
+            wl.one_sided = wd.facets[k - nplanes].one_sided;
+        }
+        wl.velocity = walls.velocity[k];
+        return wl;
+    };
+    // Candidates without a contact that could have closed their gap since the rebuild, tested
+    // (ContactSet::find_new: the same reach and margin).
+    const double margin = 1e-9 * bp.skin;
+    const float pair_reach = float(2.0 * bp.max_disp + margin);
+    const float wall_reach = float(bp.max_disp + bp.wall_move + margin);
+    if (!c.pp.other.empty())
+        for (int64_t i = 0; i < n; ++i)
+            for (uint32_t k = c.pp.start[i]; k < c.pp.start[i + 1]; ++k) {
+                if (c.pp.slot[k] != kNoSlot || !(c.pp.gap[k] < pair_reach)) continue;
+                const uint32_t j = c.pp.other[k];
+                if (spheres_touch(b.x[base + i], b.r[base + i], b.x[base + j], b.r[base + j])) {
+                    c.new_pp[0].push_back(uint32_t(i));
+                    c.new_pp[0].push_back(k);
+                }
+            }
+    if (!c.pw.other.empty())
+        for (int64_t i = 0; i < n; ++i)
+            for (uint32_t k = c.pw.start[i]; k < c.pw.start[i + 1]; ++k) {
+                if (c.pw.slot[k] != kNoSlot || !(c.pw.gap[k] < wall_reach)) continue;
+                ContactGeom g;
+                if (wall_geometry(end(uint32_t(i)), wall_now(c.pw.other[k]), g)) {
+                    c.new_pw[0].push_back(uint32_t(i));
+                    c.new_pw[0].push_back(k);
+                }
+            }
+    wd.engine_activate();
+
+    // The contacts of each store, slot by slot; a pair found apart is zeroed and its slot freed.
+    for (std::size_t q = 0; q < c.fric.size(); ++q) {
+        if (c.fric.cand[q] == kNoSlot) continue;
+        const PairOut o = frictional_pair(end(c.fric.i[q]), end(c.fric.j[q]), c.fric.phys[q], dt, c.fric.shear[q],
+                                          c.fric.prev_normal[q]);
+        c.fric.force[q] = o.force;
+        c.fric.torque1[q] = o.torque1;
+        c.fric.torque2[q] = o.torque2;
+        if (!o.touch) c.opened_fric[0].push_back(uint32_t(q));
+    }
+    for (std::size_t q = 0; q < c.smooth.size(); ++q) {
+        if (c.smooth.cand[q] == kNoSlot) continue;
+        const PairOut o = smooth_pair(end(c.smooth.i[q]), end(c.smooth.j[q]), c.smooth.phys[q], dt);
+        c.smooth.force[q] = o.force;
+        if (!o.touch) c.opened_smooth[0].push_back(uint32_t(q));
+    }
+    for (std::size_t q = 0; q < c.walls.size(); ++q) {
+        if (c.walls.cand[q] == kNoSlot) continue;
+        const PairOut o = wall_pair(end(c.walls.i[q]), wall_now(c.walls.j[q]), c.walls.phys[q], dt, c.walls.shear[q],
+                                    c.walls.prev_normal[q]);
+        c.walls.force[q] = o.force;
+        c.walls.torque2[q] = o.torque2;
+        if (o.touch) {
+            c.walls.point[q] = o.point;
+        } else {
+            c.walls.fv[q] = Vec3{};
+            c.opened_walls[0].push_back(uint32_t(q));
+        }
+    }
+    const bool with_pressure = b.dp[s] != 0.0 && b.node_first[s + 1] > b.node_first[s];
+    for (int64_t k = b.node_first[s]; k < b.node_first[s + 1]; ++k) {
+        const auto& q = b.ring[k];
+        b.pressure_slot[b.node[k]] = pressure_force(b.x[q[0]], b.x[q[1]], b.x[q[2]], b.x[q[3]], b.dp[s]);
+    }
+    for (int64_t k = bb; k < b.bond_first[s + 1]; ++k) {
+        const int64_t i = b.bi[k], j = b.bj[k];
+        const BondOut o = bond_step({b.x[i], b.v[i], b.w[i], b.r[i]}, {b.x[j], b.v[j], b.w[j], b.r[j]}, b.kn[k], b.ks[k],
+                                    b.rest[k], dt, b.shear[k], b.prev_normal[k]);
+        b.bond_force[k] = o.force;
+        b.torque1[k] = o.torque1;
+        b.torque2[k] = o.torque2;
+    }
+    // The gather of World: each particle's interaction list in order, alternating two partial
+    // sums; the force on body 1 is the opposite of that on body 2.
+    using L = InteractionLists;
+    const Vec3* const force[3] = {c.fric.force.data(), c.smooth.force.data(), c.walls.force.data()};
+    const Vec3* const torque[3][2] = {{c.fric.torque1.data(), c.fric.torque2.data()},
+                                      {c.smooth.torque1.data(), c.smooth.torque2.data()},
+                                      {c.walls.torque2.data(), c.walls.torque2.data()}};
+    const auto add = [&](uint32_t ref, Vec3& fo, Vec3& to) {
+        const uint32_t src = ref >> 30, second = (ref & L::kSecond) ? 1 : 0, k = ref & L::kIndexMask;
+        if (src == L::kBond) {
+            fo += b.bond_force[bb + k] * (second ? 1.0 : -1.0);
+            to += second ? b.torque2[bb + k] : b.torque1[bb + k];
+        } else {
+            fo += force[src][k] * (second ? 1.0 : -1.0);
+            to += torque[src][second][k];
+        }
+    };
+    for (int64_t i = 0; i < n; ++i) {
+        const uint32_t* refs = c.links.ref.data() + c.links.start[i];
+        const uint32_t m = c.links.count[i];
+        Vec3 fa, ta, fb, tb;
+        uint32_t e = 0;
+        for (; e + 1 < m; e += 2) {
+            add(refs[e], fa, ta);
+            add(refs[e + 1], fb, tb);
+        }
+        if (e < m) add(refs[e], fa, ta);
+        Vec3 fi = fa + fb;
+        if (with_pressure) fi += b.pressure_slot[base + i];
+        b.f[base + i] = fi;
+        b.t[base + i] = ta + tb;
+    }
+    wd.engine_end_forces();
+
+    // Motion to t + dt: the free particles, then World's prescribed ones, then the clock.
+    const std::vector<FloatVec3>& ref = bp.ref_pos;
+    double max_d2 = 0.0;
+    for (int64_t i = 0; i < n; ++i) {
+        const int64_t k = base + i;
+        if (!(b.inv_m[k] > 0.0)) continue;
         ParticleState st{b.x[k], b.v[k], b.w[k]};
-        advance_particle(st, b.f[k], b.fx[k], b.t[k], b.m[k], b.inv_m[k], b.inv_i[k], b.gravity[s], b.dt[s], b.lambda[s]);
+        advance_particle(st, b.f[k], b.fx[k], b.t[k], b.m[k], b.inv_m[k], b.inv_i[k], b.gravity[s], dt, b.lambda[s]);
         b.x[k] = st.x;
         b.v[k] = st.v;
         b.w[k] = st.w;
+        const FloatVec3 rf = ref[std::size_t(i)];
+        max_d2 = std::max(max_d2, norm2(st.x - Vec3{rf.x, rf.y, rf.z}));
     }
+    max_d2 = std::max(max_d2, wd.engine_follow_motions());
+    for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {
+        const uint32_t i = b.prescribed[q];
+        b.x[base + i] = wd.particles.pos[i];
+        b.v[base + i] = wd.particles.vel[i];
+    }
+    wd.engine_end_step(max_d2);
 }
 
 }  // namespace
 
-void step_host(BatchSystems& b, int threads) {
+void step_host(BatchSystems& b, int threads, uint64_t steps) {
     const int nt = threads > 1 ? threads : 1;
     ThreadTeam team;
     team.run(nt, [&](int tid) {
         const auto [s0, s1] = thread_range(int64_t(b.systems()), tid, nt);
-        for (int64_t s = s0; s < s1; ++s) {
-            const bool with_pressure = b.dp[s] != 0.0 && b.node_first[s + 1] > b.node_first[s];
-            for (int64_t k = b.node_first[s]; k < b.node_first[s + 1]; ++k) {
-                const auto& q = b.ring[k];
-                b.pressure_slot[b.node[k]] = pressure_force(b.x[q[0]], b.x[q[1]], b.x[q[2]], b.x[q[3]], b.dp[s]);
-            }
-            for (int64_t k = b.bond_first[s]; k < b.bond_first[s + 1]; ++k) {
-                const int64_t i = b.bi[k], j = b.bj[k];
-                const BondOut o = bond_step({b.x[i], b.v[i], b.w[i], b.r[i]}, {b.x[j], b.v[j], b.w[j], b.r[j]}, b.kn[k],
-                                            b.ks[k], b.rest[k], b.dt[s], b.shear[k], b.prev_normal[k]);
-                b.bond_force[k] = o.force;
-                b.torque1[k] = o.torque1;
-                b.torque2[k] = o.torque2;
-            }
-            // The gather of World: in list order, alternating two partial sums.
-            for (int64_t i = b.first[s]; i < b.first[s + 1]; ++i) {
-                Vec3 fa, ta, fb, tb;
-                const auto add = [&](int64_t ref, Vec3& f, Vec3& t) {
-                    const int64_t k = ref >> 1;
-                    const bool second = ref & 1;
-                    f += b.bond_force[k] * (second ? 1.0 : -1.0);
-                    t += second ? b.torque2[k] : b.torque1[k];
-                };
-                const int64_t e0 = b.link_start[i], m = b.link_start[i + 1] - e0;
-                int64_t e = 0;
-                for (; e + 1 < m; e += 2) {
-                    add(b.links[e0 + e], fa, ta);
-                    add(b.links[e0 + e + 1], fb, tb);
-                }
-                if (e < m) add(b.links[e0 + e], fa, ta);
-                Vec3 fi = fa + fb;
-                if (with_pressure) fi += b.pressure_slot[i];
-                b.f[i] = fi;
-                b.t[i] = ta + tb;
-            }
-            advance_system(b, s);
-        }
-    });
-}
-
-void advance_host(BatchSystems& b, int threads) {
-    const int nt = threads > 1 ? threads : 1;
-    ThreadTeam team;
-    team.run(nt, [&](int tid) {
-        const auto [s0, s1] = thread_range(int64_t(b.systems()), tid, nt);
-        for (int64_t s = s0; s < s1; ++s) advance_system(b, s);
+        for (int64_t s = s0; s < s1; ++s)
+            for (uint64_t k = 0; k < steps; ++k) step_system(b, s);
     });
 }
 

@@ -1,8 +1,12 @@
-// The batch engine's state (docs/gpu.md): B independent systems stored concatenated, each with
-// its own particles and parameters, advanced by one call. This part holds the particles, the
-// bonds with their shear history, the follower pressure and each system's gravity, dt and local
-// damping, and the host backend of their kernels; the contact and wall kernels come next (a
-// system's particles must not touch yet: add() refuses what the engine cannot step).
+// The batch engine's state (docs/gpu.md): B independent systems advanced by one call, each with
+// its own particles, contacts, walls, parameters and prescribed motions. The hot state (the
+// particles, the bonds with their shear history, the follower pressure's nodes) is stored
+// concatenated over the batch with per-system offsets, and the per-index kernel bodies
+// (dem/batch/*_step.h, VPPDEM_HD) work on it. Each system is a World that the caller keeps: the
+// engine runs World's own serial phases on it (the walls' motion, the broad phase and the contact
+// lifecycle, the prescribed motions, the clock; World::engine_*), so that a system's contacts get
+// the slots World would give them and the gather sums in World's order: a batch gives every
+// World's bits. A World in a batch is stepped by the batch only, until store() hands it back.
 #pragma once
 
 #include <array>
@@ -15,7 +19,8 @@
 namespace dem::batch {
 
 struct BatchSystems {
-    // Per system: its particles are first[s] .. first[s + 1] (first has B + 1 entries).
+    // Per system: its World, its particles first[s] .. first[s + 1] (first has B + 1 entries).
+    std::vector<World*> world;
     std::vector<int64_t> first{0};
     std::vector<Vec3> gravity;          // [m/s^2]
     std::vector<double> dt, lambda;     // [s], [-]
@@ -24,13 +29,10 @@ struct BatchSystems {
     std::vector<Vec3> f, fx, t;         // [N] contact force, external force, [N m] torque
     std::vector<double> m, inv_m, inv_i;  // [kg], [1/kg], [1/(kg m^2)]
     std::vector<double> r;              // [m]
-    // What acts on each particle, in World's gather order (dem/contact/interaction_lists.h: by
-    // reference value): bond k as body 1 (2 k) or body 2 (2 k + 1), global bond indices.
-    std::vector<int64_t> link_start{0};
-    std::vector<int64_t> links;
     std::vector<Vec3> pressure_slot;    // [N] the pressure's force (zero but on the nodes)
-    // Per system: bonds bond_first[s] .. bond_first[s + 1], pressure nodes node_first[s] ..
-    std::vector<int64_t> bond_first{0}, node_first{0};
+    // Per system: bonds bond_first[s] .. bond_first[s + 1], pressure nodes node_first[s] ..,
+    // prescribed particles presc_first[s] ..
+    std::vector<int64_t> bond_first{0}, node_first{0}, presc_first{0};
     std::vector<double> dp;             // [Pa]
     // Per bond (global particle indices).
     std::vector<int64_t> bi, bj;
@@ -39,22 +41,20 @@ struct BatchSystems {
     // Per pressure node (global particle indices): the node and its ring P1..P4.
     std::vector<int64_t> node;
     std::vector<std::array<int64_t, 4>> ring;
+    // The prescribed particles (indices within their system), copied from World after it moved them.
+    std::vector<uint32_t> prescribed;
 
     std::size_t systems() const { return gravity.size(); }
     std::size_t particles() const { return x.size(); }
-    // Appends world's particles and parameters as system B; returns B.
-    std::size_t add(const World& world);
-    // Writes system s's positions and velocities back into `world` (the one it was made from).
-    void store(std::size_t s, World& world) const;
+    // Appends `world` as system B and returns B. The World must outlive the batch's use of it;
+    // its step runs on one thread (params.threads is set to 1). Refused: clumps, the energy ledger.
+    std::size_t add(World& world);
+    // Hands system s back to its World: particles (state, forces), bonds' state and history.
+    void store(std::size_t s) const;
 };
 
-// Host backend of one step of every system: the pressure on its nodes, the bonds, the gather per
-// particle in World's order, then advance_particle; systems shared among `threads` threads.
-void step_host(BatchSystems& b, int threads);
-
-// Host backend: advance_particle (dem/batch/particle_step.h) for every particle of every system,
-// the systems shared among `threads` threads (each system's particles in one thread: the same
-// bits for any thread count).
-void advance_host(BatchSystems& b, int threads);
+// Host backend: `steps` steps of every system, the systems shared among `threads` threads (each
+// system in one thread: the same bits for any thread count).
+void step_host(BatchSystems& b, int threads, uint64_t steps = 1);
 
 }  // namespace dem::batch

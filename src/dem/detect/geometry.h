@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 
+#include "dem/core/hd.h"
 #include "dem/core/vec3.h"
 
 namespace dem {
@@ -19,7 +20,7 @@ struct ContactGeom {
 };
 
 // Sphere-sphere. Returns false when the spheres do not overlap.
-inline bool sphere_sphere(const Vec3& x1, double r1, const Vec3& x2, double r2, ContactGeom& g) {
+VPPDEM_HD inline bool sphere_sphere(const Vec3& x1, double r1, const Vec3& x2, double r2, ContactGeom& g) {
     const Vec3 d = x2 - x1;
     const double d2 = norm2(d);
     const double rs = r1 + r2;
@@ -37,7 +38,7 @@ inline bool sphere_sphere(const Vec3& x1, double r1, const Vec3& x2, double r2, 
 // Two-sided: the sphere is pushed away from whichever side its centre is on.
 // One-sided: the plane bounds the half-space on its +normal side, so a sphere whose centre
 // has crossed it is still pushed back out (a floor never lets grains tunnel through).
-inline bool sphere_plane(const Vec3& x, double r, const Vec3& point, const Vec3& normal,
+VPPDEM_HD inline bool sphere_plane(const Vec3& x, double r, const Vec3& point, const Vec3& normal,
                          bool one_sided, ContactGeom& g) {
     const double s = dot(x - point, normal);
     double dist = s;
@@ -56,7 +57,7 @@ inline bool sphere_plane(const Vec3& x, double r, const Vec3& point, const Vec3&
 
 // Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection 5.1.5).
 // Returns the point; `region` tells face (0), edge (1) or vertex (2), which the tests use.
-inline Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
+VPPDEM_HD inline Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c,
                                       int* region = nullptr) {
     auto set = [&](int r) { if (region) *region = r; };
     const Vec3 ab = b - a, ac = c - a, ap = p - a;
@@ -85,7 +86,7 @@ inline Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& 
 // Sphere against a triangular facet: face, edge and vertex contacts all follow from the
 // closest point; the normal runs from that point to the sphere centre.
 // One-sided facets only touch spheres whose centre is on the +normal side.
-inline bool sphere_facet(const Vec3& x, double r, const std::array<Vec3, 3>& v, bool one_sided,
+VPPDEM_HD inline bool sphere_facet(const Vec3& x, double r, const std::array<Vec3, 3>& v, bool one_sided,
                          ContactGeom& g) {
     const Vec3 q = closest_point_on_triangle(x, v[0], v[1], v[2]);
     const Vec3 d = x - q;

@@ -426,13 +426,16 @@ bool World::prepare_integration() {
     const bool track = params.track_energy && book_.ready;
     if (track) book_.particles.assign(std::size_t(kernels::block_count(p.size()) * kernels::kParticleSums), 0.0);
     if (!work_.valid_for(threads(), p.size())) assign_work();
-    if (prescribed_dirty_) {
-        prescribed_.clear();
-        for (std::size_t i = 0; i < p.size(); ++i)
-            if (p.flags[i] & kPrescribed) prescribed_.push_back(uint32_t(i));
-        prescribed_dirty_ = false;
-    }
+    refresh_prescribed();
     return track;
+}
+
+void World::refresh_prescribed() {
+    if (!prescribed_dirty_) return;
+    prescribed_.clear();
+    for (std::size_t i = 0; i < particles.size(); ++i)
+        if (particles.flags[i] & kPrescribed) prescribed_.push_back(uint32_t(i));
+    prescribed_dirty_ = false;
 }
 
 double World::advance_free_particles(bool track) {
@@ -604,6 +607,31 @@ void World::account_energy(double t_n) {
     s.t_n = t_n;
     book_.account(s);
     profile_.lap(Phase::kEnergy);
+}
+
+// ---------------------------------------------------------------- an engine's step
+
+void World::engine_begin_forces() {
+    move_walls();
+    update_candidates();
+    contacts_.prepare_threads(1);
+    for (auto* l : {&contacts_.new_pp, &contacts_.new_pw, &contacts_.opened_fric, &contacts_.opened_smooth, &contacts_.opened_walls})
+        (*l)[0].clear();
+}
+
+void World::engine_end_forces() {
+    wall_reactions();
+    close_contacts();
+}
+
+double World::engine_follow_motions() {
+    refresh_prescribed();
+    return follow_motions(false);
+}
+
+void World::engine_end_step(double max_d2) {
+    broad_.record_moves(max_d2);
+    advance_clock();
 }
 
 // ---------------------------------------------------------------- queries

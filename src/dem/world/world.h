@@ -152,6 +152,33 @@ public:
     // Throws std::logic_error naming the broken rule.
     void check_invariants() const;
 
+    // ---- The step for an engine that runs the step's kernels in World's stead (the batch
+    // engine, dem/batch, docs/gpu.md). The engine keeps the particles' state in arrays of its own
+    // and calls World's serial phases around its kernels, in step()'s order, so that the contact
+    // lifecycle follows World's rules (the same slots, hence the same gather order and bits):
+    //   if engine_rebuild_due(): particles.pos := the engine's positions
+    //   engine_begin_forces()      walls at t, candidates (rebuild or compaction), scratch lists
+    //   the engine's touch test    (particle, candidate) into engine_contacts().new_pp[0], new_pw[0]
+    //   engine_activate()          slots for the new contacts, in candidate order
+    //   the engine's kernels       pairs, walls, bonds, pressure, gather (opened slots into opened_*[0])
+    //   engine_end_forces()        wall reactions, the opened contacts' slots freed
+    //   the engine's integration   of the free particles
+    //   engine_follow_motions()    the prescribed particles (World's arrays: the engine copies them)
+    //   engine_end_step(d2)        the largest squared move since the rebuild [m^2], the clock
+    // The energy ledger and clumps are not part of it (the engine refuses a World with either).
+    bool engine_rebuild_due() { return broad_.needs_rebuild(particles.size(), planes, facets, time); }
+    void engine_begin_forces();
+    ContactSet& engine_contacts() { return contacts_; }
+    BondList& engine_bonds() { return bonds_; }
+    const BroadPhase& broad_phase() const { return broad_; }
+    const WallState& wall_state() const { return walls_now_; }
+    void engine_activate() { contacts_.activate_new(contact_physics()); }
+    void engine_end_forces();
+    double engine_follow_motions();
+    void engine_end_step(double max_d2);
+    // The engine wrote the particles back: the pair kernels' packed copy is stale.
+    void engine_handback() { packed_valid_ = false; }
+
     // Writes (Self = const World) or reads (Self = World, Archive::kLoading) the whole state,
     // section by section: the checkpoint format (dem/io/checkpoint.h) of `version`; the field
     // list is dem/world/world_io.h. After loading, ask broken_invariant(), then call
@@ -179,6 +206,7 @@ private:
     double follow_motions(bool track);          // prescribed particles; their largest squared move [m^2]
     void advance_clock();
     void account_energy(double t_n);
+    void refresh_prescribed();  // the list of prescribed particles, when it changed
 
     const char* clump_rule() const;  // the clumps' part of broken_invariant()
     void assign_work();          // new slabs of work for the threads
