@@ -421,7 +421,7 @@ PYBIND11_MODULE(_core, m) {
                          members.push_back({{row[0], row[1], row[2]}, row[3]});
                      }
                      cs = dem::make_clump_shape(members);
-                     if (radius > 0) cs = dem::scaled(cs, std::cbrt(4.0 / 3.0 * std::numbers::pi * radius * radius * radius / cs.volume));
+                     if (radius > 0) cs = dem::scaled_to_radius(cs, radius);
                  }
                  dem::ClumpDef d;
                  d.position = to_vec3(position, "position");

@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 
+#include "scene/clump_template.h"
 #include "scene/config.h"
 #include "scene/initial_overlaps.h"
 #include "scene/progress.h"
@@ -250,14 +251,12 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
             if (shape == "template") {
                 if (!s.has("template")) s.fail("template", "is required with shape = \"template\"");
                 const fs::path path = resolve(base_dir, s.string("template"));
-                std::vector<dem::ClumpMember> members;
                 try {
-                    for (const auto& r : dem::read_numeric_csv(path.string(), 4)) members.push_back({{r[0], r[1], r[2]}, r[3]});
+                    cs = read_clump_template(path.string());
                 } catch (const std::exception& e) {
                     s.fail("template", e.what());
                 }
-                cs = dem::make_clump_shape(members);
-                if (radius) cs = dem::scaled(cs, std::cbrt(4.0 / 3.0 * std::numbers::pi * *radius * *radius * *radius / cs.volume));
+                if (radius) cs = dem::scaled_to_radius(cs, *radius);
             } else {
                 if (s.has("template")) s.fail("template", "is only read with shape = \"template\"");
                 if (!radius) s.fail("radius", "is required with a built-in shape (the volume-equivalent radius)");

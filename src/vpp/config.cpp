@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "dem/io/csv.h"
+#include "scene/clump_template.h"
 #include "scene/config.h"
 #include "vpp/settings.h"
 
@@ -123,14 +124,7 @@ scene::SizeDistribution grain_sizes(const Config& c) {
 }
 
 dem::ClumpShape clump_template_shape(const std::string& path) {
-    std::vector<dem::ClumpMember> members;
-    for (const auto& r : dem::read_numeric_csv(path, 4)) members.push_back({{r[0], r[1], r[2]}, r[3]});
-    try {
-        const dem::ClumpShape s = dem::make_clump_shape(members);
-        return dem::scaled(s, std::cbrt(4.0 / 3.0 * std::numbers::pi / s.volume));
-    } catch (const std::invalid_argument& e) {
-        throw std::runtime_error(path + ": " + e.what());
-    }
+    return dem::scaled_to_radius(scene::read_clump_template(path), 1.0);
 }
 
 dem::ClumpShape grain_shape(const Config& c) {

@@ -306,9 +306,12 @@ ClumpShape builtin_clump_shape(const std::string& name, double r_equivalent) {
         for (const std::string& n : builtin_clump_shapes()) list += (list.empty() ? "" : ", ") + n;
         throw std::invalid_argument("clump shape '" + name + "' is not built in (built-in: " + list + ")");
     }
-    const ClumpShape unit = make_clump_shape(t);
-    const double target = 4.0 / 3.0 * std::numbers::pi * r_equivalent * r_equivalent * r_equivalent;
-    return scaled(unit, std::cbrt(target / unit.volume));
+    return scaled_to_radius(make_clump_shape(t), r_equivalent);
+}
+
+ClumpShape scaled_to_radius(const ClumpShape& shape, double r) {
+    const double target = 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    return scaled(shape, std::cbrt(target / shape.volume));
 }
 
 }  // namespace dem

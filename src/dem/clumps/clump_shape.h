@@ -46,6 +46,9 @@ ClumpShape make_clump_shape(const std::vector<ClumpMember>& members, int cells_p
 
 // The same shape scaled by s > 0 (lengths s, volume s^3, moments s^5).
 ClumpShape scaled(const ClumpShape& shape, double s);
+// The same shape scaled to the volume of a sphere of radius r > 0 [m] (r becomes its
+// volume-equivalent radius).
+ClumpShape scaled_to_radius(const ClumpShape& shape, double r);
 
 // The built-in shapes, made of unit spheres and then scaled to the volume of a sphere of radius
 // r_equivalent [m]:
