@@ -37,6 +37,7 @@ struct LawResult {
     dem::Vec3 bs_force, bs_t1, bs_t2, bs_fs, bs_prev, p_force;  // its bond step and pressure
     dem::Vec3 fp_force, fp_t1, fp_t2, fp_fs, fp_prev, sp_force;  // its particle pairs
     dem::Vec3 wp_force, wp_t2, wp_point, wp_fs, wf_force, wf_t2, wf_point, wf_fs;  // its wall pairs (plane, facet)
+    double fp_energy[4], wp_energy[4], adv_energy[11];  // their energy terms (elastic, slip, release, viscous)
 };
 
 // Built by the host compiler into a shared library of its own whose inline functions stay

@@ -46,6 +46,15 @@ VPPDEM_HD inline LawResult evaluate(const LawCase& c) {
     r.adv_x = st.x;
     r.adv_v = st.v;
     r.adv_w = st.w;
+    dem::batch::ParticleState st2{c.p1, c.v, c.w};
+    dem::batch::ParticleEnergy ae;
+    dem::batch::advance_particle<true>(st2, c.f, c.vrel, c.t, 1.0 / c.inv_mass, c.inv_mass, c.inv_inertia, c.p2, c.dt,
+                                       c.lambda, &ae, c.p3, c.rest);
+    for (int k = 0; k < 5; ++k) {
+        r.adv_energy[k] = ae.back[k];
+        r.adv_energy[5 + k] = ae.fwd[k];
+    }
+    r.adv_energy[10] = ae.kinetic;
     dem::Vec3 bfs2 = c.fs, bprev2 = c.prev;
     const dem::batch::BondOut bo = dem::batch::bond_step({c.p1, c.v, c.w, c.rest}, {c.p1 + c.n * (2.0 * c.rest), c.vrel, c.t, c.rest},
                                                          c.kn, c.ks, 2.0 * c.rest, c.dt, bfs2, bprev2);
@@ -68,6 +77,13 @@ VPPDEM_HD inline LawResult evaluate(const LawCase& c) {
     r.fp_t2 = fo.torque2;
     r.fp_fs = pfs;
     r.fp_prev = pprev;
+    dem::Vec3 efs = c.fs, eprev = c.prev;
+    dem::batch::PairEnergy pe;
+    dem::batch::frictional_pair<true>(a, b, ph, c.dt, efs, eprev, &pe);
+    r.fp_energy[0] = pe.elastic;
+    r.fp_energy[1] = pe.slip;
+    r.fp_energy[2] = pe.release;
+    r.fp_energy[3] = pe.viscous;
     r.sp_force = dem::batch::smooth_pair(a, b, ph, c.dt).force;
     dem::batch::WallNow plane;
     plane.point = c.p2;
@@ -80,6 +96,13 @@ VPPDEM_HD inline LawResult evaluate(const LawCase& c) {
     r.wp_t2 = po.torque2;
     r.wp_point = po.point;
     r.wp_fs = wfs;
+    dem::Vec3 gfs = c.fs, gprev = c.prev;
+    dem::batch::PairEnergy we;
+    dem::batch::wall_pair<true>(s, plane, ph, c.dt, gfs, gprev, &we);
+    r.wp_energy[0] = we.elastic;
+    r.wp_energy[1] = we.slip;
+    r.wp_energy[2] = we.release;
+    r.wp_energy[3] = we.viscous;
     dem::batch::WallNow facet;
     facet.plane = false;
     facet.v0 = c.p2;

@@ -7,6 +7,7 @@
 #include "dem/batch/bond_step.h"
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
+#include "dem/core/kernels.h"
 #include "dem/core/parallel.h"
 #include "dem/core/thread_team.h"
 
@@ -16,8 +17,6 @@ std::size_t BatchSystems::add(World& wd) {
     const Particles& p = wd.particles;
     if (!wd.clumps().empty())
         throw std::invalid_argument("batch: a system with clumps is not supported yet (docs/gpu.md)");
-    if (wd.params.track_energy)
-        throw std::invalid_argument("batch: a system with the energy ledger is not supported yet (docs/gpu.md)");
     const std::size_t s = systems();
     const int64_t base = int64_t(x.size());
     wd.params.threads = 1;
@@ -90,6 +89,35 @@ void BatchSystems::store(std::size_t s) const {
 
 namespace {
 
+// The energy ledger's block sums as the SIMD kernels form them (dem/core/kernels.h): within a block
+// of kBlock entries, entry e adds its K terms to virtual lane e % 8 in entry order, then the 8
+// lanes are added in order.
+template <int K> struct LaneSums {
+    double lane[K][8] = {};
+    void add(int64_t e, const double* t) {
+        for (int k = 0; k < K; ++k) lane[k][e % 8] += t[k];
+    }
+    // The block's K sums into out, and a fresh start.
+    void flush(double* out) {
+        for (int k = 0; k < K; ++k) {
+            double sum = 0.0;
+            for (int l = 0; l < 8; ++l) sum += lane[k][l];
+            out[k] = sum;
+        }
+        *this = LaneSums{};
+    }
+};
+
+// Runs body(q) for the entries of each block of n and flushes the block's sums into out.
+template <int K, class Body> void blocks_of(std::size_t n, double* out, Body&& body) {
+    const int64_t nb = kernels::block_count(n);
+    for (int64_t b = 0; b < nb; ++b) {
+        LaneSums<K> sums;
+        for (int64_t q = b * kernels::kBlock; q < std::min(int64_t(n), (b + 1) * kernels::kBlock); ++q) body(q, sums);
+        if (out) sums.flush(out + b * K);
+    }
+}
+
 // One step of system s: World's phases (World::engine_*) around the kernel bodies, in the order
 // of World::step(). The loops over slots, bonds, nodes and particles are the kernels' index
 // spaces (one thread per index on a device).
@@ -153,47 +181,93 @@ void step_system(BatchSystems& b, int64_t s) {
     wd.engine_activate();
 
     // The contacts of each store, slot by slot; a pair found apart is zeroed and its slot freed.
-    for (std::size_t q = 0; q < c.fric.size(); ++q) {
-        if (c.fric.cand[q] == kNoSlot) continue;
-        const PairOut o = frictional_pair(end(c.fric.i[q]), end(c.fric.j[q]), c.fric.phys[q], dt, c.fric.shear[q],
-                                          c.fric.prev_normal[q]);
+    // With the ledger, the terms of each block of slots into World's book (the wall store's in
+    // slot order, as its scalar kernel).
+    const bool track = wd.params.track_energy;
+    EnergyBook& book = wd.engine_book();
+    constexpr int P = kernels::kPairSums;
+    const auto pair_terms = [](const PairEnergy& e, double* t) {
+        t[kernels::kElastic] = e.elastic;
+        t[kernels::kSlip] = e.slip;
+        t[kernels::kRelease] = e.release;
+        t[kernels::kViscous] = e.viscous;
+    };
+    blocks_of<P>(c.fric.size(), track ? book.fric.data() : nullptr, [&](int64_t q, LaneSums<P>& sums) {
+        if (c.fric.cand[q] == kNoSlot) return;
+        PairEnergy en;
+        const PairOut o = track ? frictional_pair<true>(end(c.fric.i[q]), end(c.fric.j[q]), c.fric.phys[q], dt,
+                                                        c.fric.shear[q], c.fric.prev_normal[q], &en)
+                                : frictional_pair(end(c.fric.i[q]), end(c.fric.j[q]), c.fric.phys[q], dt, c.fric.shear[q],
+                                                  c.fric.prev_normal[q]);
         c.fric.force[q] = o.force;
         c.fric.torque1[q] = o.torque1;
         c.fric.torque2[q] = o.torque2;
         if (!o.touch) c.opened_fric[0].push_back(uint32_t(q));
-    }
-    for (std::size_t q = 0; q < c.smooth.size(); ++q) {
-        if (c.smooth.cand[q] == kNoSlot) continue;
-        const PairOut o = smooth_pair(end(c.smooth.i[q]), end(c.smooth.j[q]), c.smooth.phys[q], dt);
+        if (track) {
+            double t[P];
+            pair_terms(en, t);
+            sums.add(q, t);
+            c.fric.fv[q] = en.fv;
+        }
+    });
+    blocks_of<P>(c.smooth.size(), track ? book.smooth.data() : nullptr, [&](int64_t q, LaneSums<P>& sums) {
+        if (c.smooth.cand[q] == kNoSlot) return;
+        PairEnergy en;
+        const PairOut o = track ? smooth_pair<true>(end(c.smooth.i[q]), end(c.smooth.j[q]), c.smooth.phys[q], dt, &en)
+                                : smooth_pair(end(c.smooth.i[q]), end(c.smooth.j[q]), c.smooth.phys[q], dt);
         c.smooth.force[q] = o.force;
         if (!o.touch) c.opened_smooth[0].push_back(uint32_t(q));
-    }
-    for (std::size_t q = 0; q < c.walls.size(); ++q) {
-        if (c.walls.cand[q] == kNoSlot) continue;
-        const PairOut o = wall_pair(end(c.walls.i[q]), wall_now(c.walls.j[q]), c.walls.phys[q], dt, c.walls.shear[q],
-                                    c.walls.prev_normal[q]);
-        c.walls.force[q] = o.force;
-        c.walls.torque2[q] = o.torque2;
-        if (o.touch) {
-            c.walls.point[q] = o.point;
-        } else {
-            c.walls.fv[q] = Vec3{};
-            c.opened_walls[0].push_back(uint32_t(q));
+        if (track) {
+            double t[P];
+            pair_terms(en, t);
+            sums.add(q, t);
+            c.smooth.fv[q] = en.fv;
         }
+    });
+    for (int64_t blk = 0; blk < kernels::block_count(c.walls.size()); ++blk) {
+        double sum[P] = {};
+        for (int64_t q = blk * kernels::kBlock; q < std::min(int64_t(c.walls.size()), (blk + 1) * kernels::kBlock); ++q) {
+            if (c.walls.cand[q] == kNoSlot) continue;
+            PairEnergy en;
+            const WallNow wl = wall_now(c.walls.j[q]);
+            const PairOut o = track ? wall_pair<true>(end(c.walls.i[q]), wl, c.walls.phys[q], dt, c.walls.shear[q],
+                                                      c.walls.prev_normal[q], &en)
+                                    : wall_pair(end(c.walls.i[q]), wl, c.walls.phys[q], dt, c.walls.shear[q],
+                                                c.walls.prev_normal[q]);
+            c.walls.force[q] = o.force;
+            c.walls.torque2[q] = o.torque2;
+            if (o.touch) {
+                c.walls.point[q] = o.point;
+                if (track) {
+                    c.walls.fv[q] = en.fv;
+                    sum[kernels::kElastic] += en.elastic;
+                    sum[kernels::kSlip] += en.slip;
+                    sum[kernels::kViscous] += en.viscous;
+                }
+            } else {
+                c.walls.fv[q] = Vec3{};
+                c.opened_walls[0].push_back(uint32_t(q));
+                if (track) sum[kernels::kRelease] += en.release;
+            }
+        }
+        if (track) std::copy(sum, sum + P, book.walls.data() + blk * P);
     }
     const bool with_pressure = b.dp[s] != 0.0 && b.node_first[s + 1] > b.node_first[s];
     for (int64_t k = b.node_first[s]; k < b.node_first[s + 1]; ++k) {
         const auto& q = b.ring[k];
         b.pressure_slot[b.node[k]] = pressure_force(b.x[q[0]], b.x[q[1]], b.x[q[2]], b.x[q[3]], b.dp[s]);
     }
-    for (int64_t k = bb; k < b.bond_first[s + 1]; ++k) {
-        const int64_t i = b.bi[k], j = b.bj[k];
-        const BondOut o = bond_step({b.x[i], b.v[i], b.w[i], b.r[i]}, {b.x[j], b.v[j], b.w[j], b.r[j]}, b.kn[k], b.ks[k],
-                                    b.rest[k], dt, b.shear[k], b.prev_normal[k]);
+    blocks_of<1>(std::size_t(b.bond_first[s + 1] - bb), track ? book.bonds.data() : nullptr, [&](int64_t q, LaneSums<1>& sums) {
+        const int64_t k = bb + q, i = b.bi[k], j = b.bj[k];
+        const BondEnd e1{b.x[i], b.v[i], b.w[i], b.r[i]}, e2{b.x[j], b.v[j], b.w[j], b.r[j]};
+        double elastic = 0.0;
+        const BondOut o = track ? bond_step<true>(e1, e2, b.kn[k], b.ks[k], b.rest[k], dt, b.shear[k], b.prev_normal[k], &elastic)
+                                : bond_step(e1, e2, b.kn[k], b.ks[k], b.rest[k], dt, b.shear[k], b.prev_normal[k]);
         b.bond_force[k] = o.force;
         b.torque1[k] = o.torque1;
         b.torque2[k] = o.torque2;
-    }
+        if (track) sums.add(q, &elastic);
+    });
     // The gather of World: each particle's interaction list in order, alternating two partial
     // sums; the force on body 1 is the opposite of that on body 2.
     using L = InteractionLists;
@@ -228,26 +302,47 @@ void step_system(BatchSystems& b, int64_t s) {
     }
     wd.engine_end_forces();
 
-    // Motion to t + dt: the free particles, then World's prescribed ones, then the clock.
+    // Motion to t + dt: the free particles, then World's prescribed ones, then the clock (and
+    // the ledger, from the block sums, the prescribed particles' forces and the new velocities).
     const std::vector<FloatVec3>& ref = bp.ref_pos;
+    constexpr int Q = kernels::kParticleSums;
+    if (track) book.particles.assign(std::size_t(kernels::block_count(std::size_t(n)) * Q), 0.0);
     double max_d2 = 0.0;
-    for (int64_t i = 0; i < n; ++i) {
+    blocks_of<Q>(std::size_t(n), track ? book.particles.data() : nullptr, [&](int64_t i, LaneSums<Q>& sums) {
         const int64_t k = base + i;
-        if (!(b.inv_m[k] > 0.0)) continue;
         ParticleState st{b.x[k], b.v[k], b.w[k]};
-        advance_particle(st, b.f[k], b.fx[k], b.t[k], b.m[k], b.inv_m[k], b.inv_i[k], b.gravity[s], dt, b.lambda[s]);
+        if (track) {
+            ParticleEnergy en;
+            advance_particle<true>(st, b.f[k], b.fx[k], b.t[k], b.m[k], b.inv_m[k], b.inv_i[k], b.gravity[s], dt,
+                                   b.lambda[s], &en, with_pressure ? b.pressure_slot[k] : Vec3{}, b.r[k]);
+            double t[Q];
+            for (int q = 0; q < kernels::kTerms; ++q) {
+                t[q] = en.back[q];
+                t[kernels::kTerms + q] = en.fwd[q];
+            }
+            t[2 * kernels::kTerms] = en.kinetic;
+            sums.add(i, t);
+        } else {
+            advance_particle(st, b.f[k], b.fx[k], b.t[k], b.m[k], b.inv_m[k], b.inv_i[k], b.gravity[s], dt, b.lambda[s]);
+        }
+        if (!(b.inv_m[k] > 0.0)) return;
         b.x[k] = st.x;
         b.v[k] = st.v;
         b.w[k] = st.w;
         const FloatVec3 rf = ref[std::size_t(i)];
         max_d2 = std::max(max_d2, norm2(st.x - Vec3{rf.x, rf.y, rf.z}));
-    }
-    max_d2 = std::max(max_d2, wd.engine_follow_motions());
+    });
+    if (track)
+        for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q)
+            wd.particles.force[b.prescribed[q]] = b.f[base + b.prescribed[q]];
+    max_d2 = std::max(max_d2, wd.engine_follow_motions(b.pressure_slot.data() + base));
     for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {
         const uint32_t i = b.prescribed[q];
         b.x[base + i] = wd.particles.pos[i];
         b.v[base + i] = wd.particles.vel[i];
     }
+    if (track)
+        for (int64_t i = 0; i < n; ++i) wd.particles.vel[std::size_t(i)] = b.v[base + i];
     wd.engine_end_step(max_d2);
 }
 

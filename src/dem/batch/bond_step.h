@@ -24,8 +24,10 @@ struct BondOut {
 
 // One bond's step: geometry, relative velocity at the bond point (lever arms at the full radii,
 // Yade's convention), the bond law with its shear history (fs, prev: updated), torques.
+// With kEnergy the bond's stored energy [J] goes to *elastic.
+template <bool kEnergy = false>
 VPPDEM_HD inline BondOut bond_step(const BondEnd& a, const BondEnd& b, double kn, double ks, double rest, double dt,
-                                   Vec3& fs, Vec3& prev) {
+                                   Vec3& fs, Vec3& prev, double* elastic = nullptr) {
     const Vec3 dx = b.x - a.x;
     const double dist = lane_sqrt(norm2(dx));
     const Vec3 n = dx * (1.0 / dist);
@@ -33,7 +35,7 @@ VPPDEM_HD inline BondOut bond_step(const BondEnd& a, const BondEnd& b, double kn
     const Vec3 vrel = (b.v + cross(b.w, n * neg(b.r))) - (a.v + cross(a.w, n * a.r));
     const double spin_n = 0.5 * dot(n, a.w + b.w);
     V3<double> s = lanes(fs), p = lanes(prev);
-    const V3<double> f = bond_force_lanes<false, double>(kn, ks, rest, lanes(n), dist, lanes(vrel), spin_n, dt, s, p);
+    const V3<double> f = bond_force_lanes<kEnergy, double>(kn, ks, rest, lanes(n), dist, lanes(vrel), spin_n, dt, s, p, elastic);
     fs = vec3(s);
     prev = vec3(p);
     const Vec3 force = vec3(f);

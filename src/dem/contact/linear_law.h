@@ -96,7 +96,7 @@ inline Vec3 linear_contact_force(const ContactPhys& p, const ContactGeom& g, con
 // spring's energy |Fs|^2 / (2 ks) minus the work it did on the bodies over the first half of
 // the opening step (trapezoid: Fs . vrel dt / 2). `vrel` as for linear_contact_force, with the
 // last contact normal as lever-arm direction. Call before the history is cleared.
-inline double shear_release_energy(double ks, const Vec3& shear, const Vec3& vrel, double dt) {
+VPPDEM_HD inline double shear_release_energy(double ks, const Vec3& shear, const Vec3& vrel, double dt) {
     if (!(ks > 0.0)) return 0.0;
     return norm2(shear) / (2.0 * ks) - 0.5 * dot(shear, vrel) * dt;
 }

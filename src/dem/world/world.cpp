@@ -564,7 +564,7 @@ double World::advance_clumps(bool track) {
     return *std::max_element(thread_max.begin(), thread_max.end());
 }
 
-double World::follow_motions(bool track) {
+double World::follow_motions(bool track, const Vec3* pressure) {
     // Few particles: serial, in index order.
     Particles& p = particles;
     const double t1 = time + params.dt;
@@ -583,7 +583,7 @@ double World::follow_motions(bool track) {
             // Work done by the prescribed particle on the others: minus the force they exert
             // on it (contacts and bonds, not the pressure it carries) times its displacement.
             const double h = 0.5 * params.dt;
-            const Vec3 fint = p.force[i] - pressure_forces_.force[i];
+            const Vec3 fint = p.force[i] - (pressure ? pressure[i] : pressure_forces_.force[i]);
             book_.prescribed[0] -= dot(fint, v0) * h;
             book_.prescribed[1] -= dot(fint, p.vel[i]) * h;
         }
@@ -624,14 +624,21 @@ void World::engine_end_forces() {
     close_contacts();
 }
 
-double World::engine_follow_motions() {
+void World::engine_activate() {
+    contacts_.activate_new(contact_physics());
+    if (params.track_energy) book_.size_blocks(contacts_, bonds_.size());
+}
+
+double World::engine_follow_motions(const Vec3* pressure) {
     refresh_prescribed();
-    return follow_motions(false);
+    return follow_motions(params.track_energy, pressure);
 }
 
 void World::engine_end_step(double max_d2) {
+    const double t_n = time;
     broad_.record_moves(max_d2);
     advance_clock();
+    if (params.track_energy) account_energy(t_n);
 }
 
 // ---------------------------------------------------------------- queries

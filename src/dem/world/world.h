@@ -163,18 +163,22 @@ public:
     //   the engine's kernels       pairs, walls, bonds, pressure, gather (opened slots into opened_*[0])
     //   engine_end_forces()        wall reactions, the opened contacts' slots freed
     //   the engine's integration   of the free particles
-    //   engine_follow_motions()    the prescribed particles (World's arrays: the engine copies them)
-    //   engine_end_step(d2)        the largest squared move since the rebuild [m^2], the clock
-    // The energy ledger and clumps are not part of it (the engine refuses a World with either).
+    //   engine_follow_motions(fp)  the prescribed particles (World's arrays: the engine copies them)
+    //   engine_end_step(d2)        the largest squared move since the rebuild [m^2], the clock, the ledger
+    // With params.track_energy the engine leaves the kernels' block sums in engine_book() (as the
+    // SIMD kernels do), the prescribed particles' forces in particles.force and every velocity in
+    // particles.vel before engine_end_step(); fp is its pressure force per particle [N] (for the
+    // prescribed particles' boundary work). Clumps are not part of it (the engine refuses them).
     bool engine_rebuild_due() { return broad_.needs_rebuild(particles.size(), planes, facets, time); }
     void engine_begin_forces();
     ContactSet& engine_contacts() { return contacts_; }
     BondList& engine_bonds() { return bonds_; }
     const BroadPhase& broad_phase() const { return broad_; }
     const WallState& wall_state() const { return walls_now_; }
-    void engine_activate() { contacts_.activate_new(contact_physics()); }
+    void engine_activate();
+    EnergyBook& engine_book() { return book_; }
     void engine_end_forces();
-    double engine_follow_motions();
+    double engine_follow_motions(const Vec3* pressure);
     void engine_end_step(double max_d2);
     // The engine wrote the particles back: the pair kernels' packed copy is stale.
     void engine_handback() { packed_valid_ = false; }
@@ -203,7 +207,9 @@ private:
     bool prepare_integration();  // upkeep: energy blocks, owners, the prescribed list; true: book the ledger
     double advance_free_particles(bool track);  // returns the largest squared move since the rebuild [m^2]
     double advance_clumps(bool track);          // clumps and their members; their largest squared move [m^2]
-    double follow_motions(bool track);          // prescribed particles; their largest squared move [m^2]
+    // Prescribed particles; their largest squared move [m^2]. `pressure`: the pressure's force per
+    // particle (nullptr: pressure_forces_).
+    double follow_motions(bool track, const Vec3* pressure = nullptr);
     void advance_clock();
     void account_energy(double t_n);
     void refresh_prescribed();  // the list of prescribed particles, when it changed
