@@ -126,6 +126,7 @@ int main(int argc, char** argv) {
         int jobs = 0, seeds = 0;
         bool quiet = false, no_plot = false;
         double ckpt_every = 60.0;
+        std::string backend = "cpu";
     };
     auto add_study = [&](const char* name, const char* help, StudyCommand& c) {
         c.app = app.add_subcommand(name, help);
@@ -142,6 +143,11 @@ int main(int argc, char** argv) {
                                               "study's seeds; docs/studies.md)");
         c.app->add_flag("--quiet", c.quiet, "No progress output");
         c.app->add_flag("--no-plot", c.no_plot, "Do not draw the PNG plots at the end");
+        c.app->add_option("--backend", c.backend,
+                          "How the cases' cycling is stepped: cpu (each case its own World, default), batch (the "
+                          "running cases in lockstep through the batch engine's host backend, the same bits), cuda "
+                          "(the batch engine on a GPU; docs/gpu.md)")
+            ->check(CLI::IsMember({"cpu", "batch", "cuda"}));
     };
     StudyCommand sweep, calib;
     add_study("sweep", "Run a parameter study: every combination of a grid of config values (docs/studies.md)", sweep);
@@ -243,6 +249,7 @@ int main(int argc, char** argv) {
             so.checkpoint_every = sc.ckpt_every;
             so.rank = rank;
             so.ranks = ranks;
+            so.backend = sc.backend;
             int rc = 0;
             if (*sweep.app && list_only) {
                 const auto cases = vpp::expand_study(st);

@@ -17,6 +17,10 @@
 #include <vector>
 
 #include "dem/world/world.h"
+
+namespace dem::batch {
+class BatchStepper;
+}
 #include "vpp/analysis.h"
 #include "vpp/config.h"
 #include "vpp/settle.h"
@@ -36,6 +40,10 @@ struct DamperOptions {
     // [s]. It may throw to stop the run (the Python module does on Ctrl-C); the exception
     // leaves the stage where it stood. Empty: none (the results do not depend on it).
     std::function<void(const char* stage, uint64_t done, uint64_t total, double time)> progress;
+    // The cycling stage's steps go to this batch, in lockstep with the other runs it holds (sweep
+    // --backend batch, docs/gpu.md); nullptr: the run steps its World itself. The results are the
+    // same bits.
+    dem::batch::BatchStepper* batch = nullptr;
 };
 
 // The air over one cycle (pump model or output.air; summary.json "air"): what the testing

@@ -15,6 +15,7 @@
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
 #include "dem/io/vtk.h"
+#include "dem/batch/batch_stepper.h"
 #include "vpp/damper_run.h"
 #include "vpp/records.h"
 #include "vpp/plot.h"
@@ -230,6 +231,7 @@ void DamperRun::checkpoint(bool force) {
     const auto now = std::chrono::steady_clock::now();
     if (!force && std::chrono::duration<double>(now - last_ckpt_).count() < o_.checkpoint_every) return;
     last_ckpt_ = now;
+    if (o_.batch) o_.batch->sync(w_);
     if (st_.settings.empty()) {
         // Before its settings are applied to the sample (while preparing), a run's run.ckpt
         // carries them all the same: resuming it continues this run. Without them, a run
@@ -259,6 +261,7 @@ void DamperRun::save_prepared() {
 
 void DamperRun::vtk_frame(const char* tag) {
     if (!files_) return;
+    if (o_.batch) o_.batch->sync(w_);
     fs::create_directories(out_ / "vtk");
     char name[96];
     std::snprintf(name, sizeof name, "damper_%04d_%s.vtk", vtk_count_++, tag);

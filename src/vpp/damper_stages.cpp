@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "dem/batch/batch_stepper.h"
 #include "vpp/damper_run.h"
 
 namespace vpp {
@@ -360,9 +361,24 @@ void DamperRun::stage_cycle(int upto) {
     w_.profile().enable(o_.profile);
     w_.profile().reset();
     const bool air = air_recorded();
+    // In a batch the World's particles are the batch's between the half steps: they are handed
+    // back (sync) before anything here reads them (the air's volume, a checkpoint, a VTK frame),
+    // and for good when the stage ends or throws.
+    dem::batch::BatchStepper* const batch = o_.batch;
+    struct LeaveBatch {
+        dem::batch::BatchStepper* b;
+        dem::World& w;
+        ~LeaveBatch() {
+            if (b) b->leave(w);
+        }
+    } leave_batch{batch, w_};
     while (w_.time < t_end - 0.5 * w_.params.dt) {
-        if (air) air_step(c_.process.underpressure);
-        w_.compute_forces();
+        if (air) {
+            if (batch) batch->sync(w_);
+            air_step(c_.process.underpressure);
+        }
+        if (batch) batch->compute_forces(w_);
+        else w_.compute_forces();
         const std::size_t s = st_.samples.size();
         bool sampled = false;
         if (s < std::size_t(ncyc) * S) {
@@ -392,7 +408,8 @@ void DamperRun::stage_cycle(int upto) {
             }
         }
         w_.profile().lap(dem::Phase::kOutput);
-        w_.integrate();
+        if (batch) batch->integrate(w_);
+        else w_.integrate();
         // The ledger at this sample's time is complete once the step is integrated.
         if (energy && sampled) st_.energy.push_back(energy_row(w_.energy(), w_.energy().time - st_.cycle_t0));
         prog.update(++done, w_.time);
@@ -403,6 +420,7 @@ void DamperRun::stage_cycle(int upto) {
         }
         w_.profile().lap(dem::Phase::kOutput);
     }
+    if (batch) batch->leave(w_);
     if (o_.profile && done > 0) {
         const dem::PhaseProfile& pr = w_.profile();
         std::fprintf(stderr, "[cycle] time per phase over %llu steps (%d threads):\n", (unsigned long long)done, w_.params.threads);

@@ -9,6 +9,8 @@
 #include <mutex>
 #include <thread>
 
+#include "dem/batch/batch_stepper.h"
+
 #include "dem/io/csv.h"
 #include "scene/config.h"
 #include "scene/scene_runner.h"
@@ -68,6 +70,11 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     SweepResult res;
     res.cases = expand_study(s);  // every case's config is checked before anything runs
     if (opt.report_only) return report_sweep(s, opt, std::move(res));
+    if (opt.backend == "cuda")
+        throw ConfigError("--backend cuda: this vppdem has no CUDA backend yet (docs/gpu.md: the batch engine runs on "
+                          "the CPU as --backend batch; its device kernels are what is left)");
+    if (opt.backend != "cpu" && opt.backend != "batch")
+        throw ConfigError("--backend '" + opt.backend + "' is not one of cpu, batch, cuda");
     const auto& cases = res.cases;
     const fs::path out(opt.out_dir);
     if (fs::exists(out) && !fs::is_directory(out))
@@ -98,6 +105,10 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
         jobs = opt.ranks > 1 ? 1 : std::max(1, cores / per_case);
     }
     jobs = std::max(1, std::min<int>(jobs, int(mine.size())));
+
+    // The batch the running cases step their cycling through (--backend batch).
+    std::unique_ptr<dem::batch::BatchStepper> batch;
+    if (opt.backend == "batch") batch = std::make_unique<dem::batch::BatchStepper>(jobs);
 
     std::mutex mu;
     std::map<std::size_t, int> state;  // 0 pending, 1 running, 2 finished
@@ -177,6 +188,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             d.plot = false;
             d.overwrite = true;  // the folder holds case.toml, perhaps leftovers of a killed start
             d.checkpoint_every = opt.checkpoint_every;
+            d.batch = c.config.grains.shape == 0 ? batch.get() : nullptr;  // clumps: not in the batch yet
             if (opt.progress)
                 d.progress = [&](const char*, uint64_t, uint64_t, double) {
                     ask_hook(0, "");
@@ -260,6 +272,9 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     for (auto& t : pool) t.join();
     if (hook_error) std::rethrow_exception(hook_error);
     if (stop.load()) throw SweepStopped();
+    if (batch && !opt.quiet)
+        std::fprintf(stderr, "sweep: batch backend: %llu half steps launched, up to %zu runs at once\n",
+                     (unsigned long long)batch->launches(), batch->most_systems());
 
     // Gather on rank 0 and write the summary.
     std::string text;

@@ -40,6 +40,11 @@ struct SweepOptions {
     // (read_case_outcome recomputes the stationary loops) without running them again. Rank 0 alone
     // reads and writes, with no MPI call: the other ranks return at once.
     bool report_only = false;
+    // How the cases' cycling stages are stepped (docs/gpu.md): "cpu", each case its own World;
+    // "batch", the running cases (up to `jobs`) in lockstep through one batch of the batch
+    // engine's host backend (the same bits as "cpu"); "cuda", the batch engine on a GPU (a build
+    // with VPPDEM_CUDA and a device; refused otherwise). Preparations run as with "cpu".
+    std::string backend = "cpu";
 };
 
 // Thrown by run_sweep (and run_calibration) when SweepOptions::progress asked to stop.

@@ -715,3 +715,43 @@ TEST_F(Study, MpiSweepWritesTheSameSummaryAsTheSerialOne) {
     EXPECT_EQ(slurp(mpi / "grains.friction=0.6" / "forces.csv"), slurp(serial / "grains.friction=0.6" / "forces.csv"));
 }
 #endif
+
+// --backend batch (docs/gpu.md): the running cases' cycling stepped in lockstep through one batch
+// of the batch engine's host backend gives the files of --backend cpu byte for byte: three
+// underpressures branching from one preparation, two at a time (so the batch also takes a case
+// in and lets one go mid-run). --backend cuda is refused before anything is written.
+TEST_F(Study, TheBatchBackendWritesTheCpuBackendsFiles) {
+    std::string set = kSmallSet;
+    const std::string two = "\"process.cycles\" = 2\n";
+    set.replace(set.find(two), two.size(), "\"process.cycles\" = 1\n");
+    const fs::path study = scratch("backend.toml"), cpu = scratch("backend_cpu"), batch = scratch("backend_batch");
+    write_file(study, set + "[grid]\n\"process.underpressure\" = [0.04e6, 0.06e6, 0.08e6]\n");
+    const Outcome a = run("sweep " + study.string() + " --out " + cpu.string() + " --jobs 1 --no-plot");
+    ASSERT_EQ(a.status, 0) << a.output;
+    const Outcome b = run("sweep " + study.string() + " --out " + batch.string() + " --jobs 2 --backend batch --no-plot");
+    ASSERT_EQ(b.status, 0) << b.output;
+    int cases = 0;
+    for (const auto& e : fs::directory_iterator(cpu)) {
+        if (!e.is_directory()) continue;
+        ++cases;
+        const fs::path other = batch / e.path().filename();
+        for (const char* f : {"forces.csv", "cycles.csv", "energy.csv"})
+            EXPECT_EQ(slurp(e.path() / f), slurp(other / f)) << e.path().filename() << "/" << f;
+        // summary.json but for the wall-clock time and the folder it started from.
+        const auto without_time = [](const fs::path& p) {
+            std::string out;
+            for (const std::string& l : lines_of(p))
+                if (l.find("run_seconds") == std::string::npos && l.find("\"from\"") == std::string::npos) out += l + "\n";
+            return out;
+        };
+        EXPECT_EQ(without_time(e.path() / "summary.json"), without_time(other / "summary.json")) << e.path().filename();
+    }
+    EXPECT_EQ(cases, 3);
+    // Two cases did share the batch.
+    EXPECT_NE(b.output.find("up to 2 runs at once"), std::string::npos) << b.output;
+    const fs::path none = scratch("backend_cuda");
+    const Outcome c = run("sweep " + study.string() + " --out " + none.string() + " --backend cuda --no-plot");
+    EXPECT_NE(c.status, 0);
+    EXPECT_NE(c.output.find("--backend cuda"), std::string::npos) << c.output;
+    EXPECT_FALSE(fs::exists(none));
+}

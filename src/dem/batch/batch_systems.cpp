@@ -19,7 +19,6 @@ std::size_t BatchSystems::add(World& wd) {
         throw std::invalid_argument("batch: a system with clumps is not supported yet (docs/gpu.md)");
     const std::size_t s = systems();
     const int64_t base = int64_t(x.size());
-    wd.params.threads = 1;
     world.push_back(&wd);
     gravity.push_back(wd.params.gravity);
     dt.push_back(wd.params.dt);
@@ -118,10 +117,13 @@ template <int K, class Body> void blocks_of(std::size_t n, double* out, Body&& b
     }
 }
 
-// One step of system s: World's phases (World::engine_*) around the kernel bodies, in the order
-// of World::step(). The loops over slots, bonds, nodes and particles are the kernels' index
-// spaces (one thread per index on a device).
-void step_system(BatchSystems& b, int64_t s) {
+}  // namespace
+
+// Forces at t of system s: World's phases (World::engine_*) around the kernel bodies, in the order
+// of World::compute_forces(). The loops over slots, bonds, nodes and particles are the kernels'
+// index spaces (one thread per index on a device).
+void step_forces(BatchSystems& b, std::size_t sys) {
+    const int64_t s = int64_t(sys);
     World& wd = *b.world[s];
     const int64_t base = b.first[s], n = b.first[s + 1] - base;
     const int64_t bb = b.bond_first[s];
@@ -252,6 +254,8 @@ void step_system(BatchSystems& b, int64_t s) {
         }
         if (track) std::copy(sum, sum + P, book.walls.data() + blk * P);
     }
+    // The underpressure is World's (a driver may change it between steps: the air inside).
+    b.dp[s] = wd.pressure.nodes.empty() ? 0.0 : wd.pressure.dp;
     const bool with_pressure = b.dp[s] != 0.0 && b.node_first[s + 1] > b.node_first[s];
     for (int64_t k = b.node_first[s]; k < b.node_first[s + 1]; ++k) {
         const auto& q = b.ring[k];
@@ -301,6 +305,20 @@ void step_system(BatchSystems& b, int64_t s) {
         b.t[base + i] = ta + tb;
     }
     wd.engine_end_forces();
+    // The prescribed particles' forces are World's to read (a driver reads what they carry).
+    for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q)
+        wd.particles.force[b.prescribed[q]] = b.f[base + b.prescribed[q]];
+}
+
+void step_motion(BatchSystems& b, std::size_t sys) {
+    const int64_t s = int64_t(sys);
+    World& wd = *b.world[s];
+    const int64_t base = b.first[s], n = b.first[s + 1] - base;
+    const double dt = b.dt[s];
+    const bool track = wd.params.track_energy;
+    EnergyBook& book = wd.engine_book();
+    const BroadPhase& bp = wd.broad_phase();
+    const bool with_pressure = b.dp[s] != 0.0 && b.node_first[s + 1] > b.node_first[s];
 
     // Motion to t + dt: the free particles, then World's prescribed ones, then the clock (and
     // the ledger, from the block sums, the prescribed particles' forces and the new velocities).
@@ -332,9 +350,6 @@ void step_system(BatchSystems& b, int64_t s) {
         const FloatVec3 rf = ref[std::size_t(i)];
         max_d2 = std::max(max_d2, norm2(st.x - Vec3{rf.x, rf.y, rf.z}));
     });
-    if (track)
-        for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q)
-            wd.particles.force[b.prescribed[q]] = b.f[base + b.prescribed[q]];
     max_d2 = std::max(max_d2, wd.engine_follow_motions(b.pressure_slot.data() + base));
     for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {
         const uint32_t i = b.prescribed[q];
@@ -346,15 +361,16 @@ void step_system(BatchSystems& b, int64_t s) {
     wd.engine_end_step(max_d2);
 }
 
-}  // namespace
-
 void step_host(BatchSystems& b, int threads, uint64_t steps) {
     const int nt = threads > 1 ? threads : 1;
     ThreadTeam team;
     team.run(nt, [&](int tid) {
         const auto [s0, s1] = thread_range(int64_t(b.systems()), tid, nt);
         for (int64_t s = s0; s < s1; ++s)
-            for (uint64_t k = 0; k < steps; ++k) step_system(b, s);
+            for (uint64_t k = 0; k < steps; ++k) {
+                step_forces(b, std::size_t(s));
+                step_motion(b, std::size_t(s));
+            }
     });
 }
 

@@ -33,7 +33,7 @@ struct BatchSystems {
     // Per system: bonds bond_first[s] .. bond_first[s + 1], pressure nodes node_first[s] ..,
     // prescribed particles presc_first[s] ..
     std::vector<int64_t> bond_first{0}, node_first{0}, presc_first{0};
-    std::vector<double> dp;             // [Pa]
+    std::vector<double> dp;             // [Pa] (World's, read at each step)
     // Per bond (global particle indices).
     std::vector<int64_t> bi, bj;
     std::vector<double> kn, ks, rest;   // [N/m], [N/m], [m]
@@ -46,12 +46,18 @@ struct BatchSystems {
 
     std::size_t systems() const { return gravity.size(); }
     std::size_t particles() const { return x.size(); }
-    // Appends `world` as system B and returns B. The World must outlive the batch's use of it;
-    // its step runs on one thread (params.threads is set to 1). Refused: clumps, the energy ledger.
+    // Appends `world` as system B and returns B. The World must outlive the batch's use of it (its
+    // own threads, params.threads, serve its broad phase). Refused: clumps.
     std::size_t add(World& world);
     // Hands system s back to its World: particles (state, forces), bonds' state and history.
     void store(std::size_t s) const;
 };
+
+// The two halves of system s's step on the host (World::compute_forces(), World::integrate()):
+// between them World's wall reactions, its prescribed particles' forces, its energy ledger and
+// its parameters are current and may be read or changed (reset_energy(), pressure.dp).
+void step_forces(BatchSystems& b, std::size_t s);
+void step_motion(BatchSystems& b, std::size_t s);
 
 // Host backend: `steps` steps of every system, the systems shared among `threads` threads (each
 // system in one thread: the same bits for any thread count).

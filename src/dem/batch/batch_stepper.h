@@ -1,0 +1,64 @@
+// Lockstep driving of a batch (docs/gpu.md): independent runs, each in its own thread and each
+// stepping its own World as it always does (compute_forces, read what it records, integrate),
+// hand their two half steps to one BatchStepper, which advances all of them at once when every
+// member has asked: one batch launch per half step for all the runs of a study. A run joins with
+// its first compute_forces() and leaves with leave(); members come and go between steps. Between
+// its half steps a run may read and change its World as ever (wall reactions, the prescribed
+// particles' forces, the energy ledger, parameters) but for the particles' state, which is the
+// batch's until sync() (or leave()) hands it back.
+#pragma once
+
+#include <condition_variable>
+#include <cstdint>
+#include <exception>
+#include <mutex>
+#include <vector>
+
+#include "dem/batch/batch_systems.h"
+#include "dem/core/thread_team.h"
+#include "dem/world/world.h"
+
+namespace dem::batch {
+
+class BatchStepper {
+public:
+    // `threads`: the host backend's threads for one launch (the systems shared among them).
+    explicit BatchStepper(int threads = 1) : threads_(threads > 1 ? threads : 1) {}
+
+    // The halves of world's step (as World::compute_forces() and World::integrate()); each returns
+    // when every member's half is done. compute_forces() of a World not in the batch joins it.
+    void compute_forces(World& world);
+    void integrate(World& world);
+    // World's particle arrays (state and forces) and bonds made current.
+    void sync(World& world);
+    // Hands world back (as sync) and leaves the batch; no-op for a World not in it.
+    void leave(World& world) noexcept;
+
+    uint64_t launches() const { return launches_; }        // batch half steps run so far
+    std::size_t most_systems() const { return most_; }     // the most systems one launch stepped
+
+private:
+    enum class Half { kForces, kMotion };
+    void arrive(World& world, Half half);
+    // Runs the pending half for all members (the lock held): first, before a forces half, the
+    // batch laid out again when members joined or left.
+    void run_half();
+    std::size_t index_of(const World& world) const;  // its system, or SIZE_MAX
+
+    std::mutex mu_;
+    std::condition_variable cv_;
+    BatchSystems batch_;
+    std::vector<bool> gone_;           // per system: its World left
+    std::vector<World*> joining_;      // waiting at a forces half to enter the batch
+    std::vector<std::exception_ptr> error_;  // per system: what its half threw
+    std::size_t active_ = 0;           // systems not gone
+    std::size_t arrived_ = 0;          // of them, waiting for the half
+    Half half_ = Half::kForces;        // the half the batch runs next
+    uint64_t generation_ = 0;          // halves run (waiters wake when it moves on)
+    uint64_t launches_ = 0;
+    std::size_t most_ = 0;
+    int threads_;
+    ThreadTeam team_;
+};
+
+}  // namespace dem::batch
