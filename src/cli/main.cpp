@@ -57,6 +57,9 @@ int main(int argc, char** argv) {
     bench->add_flag("--profile", bo.profile, "Print the time per phase (neighbour search, contacts, ...)");
     bench->add_option("--state", bo.state, "Checkpoint after the warm-up: loaded instead of warming up if it exists, else written");
     bench->add_flag("--energy", bo.energy, "Keep the energy ledger during the timed steps");
+    bench->add_option("--batch", bo.batch, "checkpoint: step this many copies of the World as one batch (the batch "
+                                           "engine's host backend, docs/gpu.md)")
+        ->check(CLI::PositiveNumber);
     bench->add_option("--simd", bo.simd, "Run the kernels on this SIMD target only (default: the best here)");
 
     // vppdem tension|envelope [CONFIG] --out DIR [--set ...]: the foil checks of the paper.

@@ -17,6 +17,8 @@ struct BenchOptions {
     std::string state;        // checkpoint of the state after the warm-up: loaded if it exists, else written
     bool energy = false;      // keep the energy ledger during the timed steps
     std::string simd;         // run the kernels on this SIMD target only (names: --simd list); "" = best
+    int batch = 0;            // checkpoint: > 0 steps that many copies of the World as one batch (the
+                              // batch engine's host backend, docs/gpu.md) instead of the World itself
 };
 
 // Runs the benchmark and prints one JSON line last (a contract read by outside tools). With
