@@ -611,12 +611,13 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "sweep",
         [](const std::string& study, const std::string& out, const std::vector<std::string>& sets, int seeds, int jobs,
-           bool quiet, py::object progress) {
+           bool quiet, py::object progress, const std::string& backend) {
             const vpp::Study st = vpp::load_study(study, sets, seeds);
             vpp::SweepOptions so;
             so.out_dir = out;
             so.jobs = jobs;
             so.quiet = quiet;
+            so.backend = backend;  // "cpu", "batch" or "cuda" (vppdem sweep --backend)
             return run_stoppable(progress, [&](auto hook) {
                 vpp::SweepOptions o = so;
                 o.progress = hook;
@@ -624,7 +625,7 @@ PYBIND11_MODULE(_core, m) {
             });
         },
         py::arg("study"), py::arg("out"), py::arg("sets") = std::vector<std::string>{}, py::arg("seeds") = 0,
-        py::arg("jobs") = 0, py::arg("quiet") = true, py::arg("progress") = py::none());
+        py::arg("jobs") = 0, py::arg("quiet") = true, py::arg("progress") = py::none(), py::arg("backend") = "cpu");
     m.def(
         "calibrate",
         [](const std::string& study, const std::string& experiment, const std::string& out,

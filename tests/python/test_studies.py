@@ -36,6 +36,20 @@ def test_sweep_on_a_tiny_study(tmp_path):
     assert all(float(r["W"]) > 0 for r in rows)
 
 
+def test_sweep_backend_batch_gives_the_cpu_backends_loops(tmp_path):
+    # vppdem.sweep(..., backend="batch"): the two cases' cycling in lockstep through one batch of the
+    # batch engine (docs/gpu.md), the same forces.csv as each case stepping its own World.
+    study = tmp_path / "tiny.toml"
+    study.write_text(TINY)
+    assert vppdem.sweep(study, tmp_path / "cpu", jobs=1) == 0
+    assert vppdem.sweep(study, tmp_path / "batch", jobs=2, backend="batch") == 0
+    for case in ("grains.friction=0.3", "grains.friction=0.6"):
+        assert (tmp_path / "cpu" / case / "forces.csv").read_bytes() == (tmp_path / "batch" / case / "forces.csv").read_bytes()
+    with pytest.raises(vppdem.ConfigError, match="--backend cuda"):
+        vppdem.sweep(study, tmp_path / "cuda", backend="cuda")
+    assert not (tmp_path / "cuda").exists()
+
+
 def test_sweep_errors_carry_the_command_message(tmp_path):
     study = tmp_path / "bad.toml"
     study.write_text('[grid]\n"grains.fricton" = [0.3]\n')

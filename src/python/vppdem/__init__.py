@@ -210,12 +210,12 @@ class _CaseProgress(_Bar):
         print(f"[{done}/{total}] {case}", file=sys.stderr)
 
 
-def _run(call, progress, *args, callback=_Progress):
-    """call(*args, hook): hook a `callback` made from progress (None when progress is None or
-    False), closed (its bar) however the call ends."""
+def _run(call, progress, *args, callback=_Progress, **kwargs):
+    """call(*args, hook, **kwargs): hook a `callback` made from progress (None when progress is
+    None or False), closed (its bar) however the call ends."""
     hook = None if progress is None or progress is False else callback(progress)
     try:
-        return call(*args, hook)
+        return call(*args, hook, **kwargs)
     finally:
         if hook is not None:
             hook.close()
@@ -391,16 +391,17 @@ class Damper:
         return self._d.radii()
 
 
-def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None, progress=None):
+def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None, progress=None, backend="cpu"):
     """`vppdem sweep STUDY --out OUT`: runs (or resumes) the study; returns the failed cases'
     count. sets: ["key=value", ...] or `settings` (a dict) fixed for every case.
+    backend: "cpu", "batch" or "cuda", as the command's --backend (docs/studies.md, docs/gpu.md).
     progress: None, True (a tqdm bar over the cases, else a line per case on stderr) or a
     callable progress(done, total, case) called after each finished case. Ctrl-C, or an
     exception of the callable, stops the sweep and is raised; finished cases stay, and the
     same call resumes it."""
     extra = list(sets or []) + _sets(None, settings, {})[1]
     return _run(_core.sweep, progress, os.fspath(study_path), os.fspath(out), extra, int(seeds), int(jobs),
-                bool(quiet), callback=_CaseProgress)
+                bool(quiet), callback=_CaseProgress, backend=str(backend))
 
 
 def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None,
