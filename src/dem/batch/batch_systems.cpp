@@ -272,8 +272,8 @@ void step_forces(BatchSystems& b, std::size_t sys) {
         b.torque2[k] = o.torque2;
         if (track) sums.add(q, &elastic);
     });
-    // The gather of World: each particle's interaction list in order, alternating two partial
-    // sums; the force on body 1 is the opposite of that on body 2.
+    // The gather of World (gather_in_order): each particle's interaction list in order; the force
+    // on body 1 is the opposite of that on body 2.
     using L = InteractionLists;
     const Vec3* const force[3] = {c.fric.force.data(), c.smooth.force.data(), c.walls.force.data()};
     const Vec3* const torque[3][2] = {{c.fric.torque1.data(), c.fric.torque2.data()},
@@ -290,19 +290,11 @@ void step_forces(BatchSystems& b, std::size_t sys) {
         }
     };
     for (int64_t i = 0; i < n; ++i) {
-        const uint32_t* refs = c.links.ref.data() + c.links.start[i];
-        const uint32_t m = c.links.count[i];
-        Vec3 fa, ta, fb, tb;
-        uint32_t e = 0;
-        for (; e + 1 < m; e += 2) {
-            add(refs[e], fa, ta);
-            add(refs[e + 1], fb, tb);
-        }
-        if (e < m) add(refs[e], fa, ta);
-        Vec3 fi = fa + fb;
+        Vec3 fi, ti;
+        gather_in_order(c.links.ref.data() + c.links.start[i], c.links.count[i], add, fi, ti);
         if (with_pressure) fi += b.pressure_slot[base + i];
         b.f[base + i] = fi;
-        b.t[base + i] = ta + tb;
+        b.t[base + i] = ti;
     }
     wd.engine_end_forces();
     // The prescribed particles' forces are World's to read (a driver reads what they carry).

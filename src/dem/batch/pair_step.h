@@ -45,20 +45,32 @@ VPPDEM_HD inline bool spheres_touch(const Vec3& xi, double ri, const Vec3& xj, d
     return norm2(dx) < rs * rs;
 }
 
+// Sphere-sphere geometry as the SIMD pair kernels compute it (dem/detect/geometry.h,
+// sphere_sphere, evaluated whether or not the spheres touch).
+struct SphereGeometry {
+    V3<double> n;    // unit normal from body 1 to body 2 ((0, 0, 1) for coincident centres)
+    double overlap;  // [m] rs - distance (negative when apart)
+    bool touch;
+};
+VPPDEM_HD inline SphereGeometry sphere_geometry(const PairEnd& a, const PairEnd& b) {
+    const V3<double> dx = lanes(b.x) - lanes(a.x);
+    const double d2 = norm2(dx), rs = a.r + b.r;
+    const double dist = lane_sqrt(d2);
+    const double inv = 1.0 / dist;
+    return {dist > 0.0 ? dx * inv : V3<double>{0.0, 0.0, 1.0}, rs - dist, d2 < rs * rs};
+}
+
 // A frictional particle pair: sphere-sphere geometry, relative velocity at the contact with
 // lever arms at the full radii (Yade's avoidGranularRatcheting), the linear law with its shear
 // history (fs, prev: updated; zeroed when apart), torques at the contact point.
 template <bool kEnergy = false>
 VPPDEM_HD inline PairOut frictional_pair(const PairEnd& a, const PairEnd& b, const ContactPhys& ph, double dt, Vec3& fs,
                                          Vec3& prev, PairEnergy* en = nullptr) {
-    const V3<double> dx = lanes(b.x) - lanes(a.x);
-    const double d2 = norm2(dx), rs = a.r + b.r;
+    const SphereGeometry q = sphere_geometry(a, b);
+    const V3<double>& n = q.n;
+    const double overlap = q.overlap;
     PairOut o;
-    o.touch = d2 < rs * rs;
-    const double dist = lane_sqrt(d2);
-    const double inv = 1.0 / dist;
-    const V3<double> n = dist > 0.0 ? dx * inv : V3<double>{0.0, 0.0, 1.0};
-    const double overlap = rs - dist;
+    o.touch = q.touch;
     const double arm1 = a.r - 0.5 * overlap, arm2 = b.r - 0.5 * overlap;
     const auto relative_velocity = [&](const V3<double>& m) {
         return (lanes(b.v) + cross(lanes(b.w), m * neg(b.r))) - (lanes(a.v) + cross(lanes(a.w), m * a.r));
@@ -93,14 +105,11 @@ VPPDEM_HD inline PairOut frictional_pair(const PairEnd& a, const PairEnd& b, con
 template <bool kEnergy = false>
 VPPDEM_HD inline PairOut smooth_pair(const PairEnd& a, const PairEnd& b, const ContactPhys& ph, double dt,
                                      PairEnergy* en = nullptr) {
-    const V3<double> dx = lanes(b.x) - lanes(a.x);
-    const double d2 = norm2(dx), rs = a.r + b.r;
+    const SphereGeometry q = sphere_geometry(a, b);
+    const V3<double>& n = q.n;
+    const double overlap = q.overlap;
     PairOut o;
-    o.touch = d2 < rs * rs;
-    const double dist = lane_sqrt(d2);
-    const double inv = 1.0 / dist;
-    const V3<double> n = dist > 0.0 ? dx * inv : V3<double>{0.0, 0.0, 1.0};
-    const double overlap = rs - dist;
+    o.touch = q.touch;
     // Only the normal relative velocity matters here: without shear there is no lever arm.
     const V3<double> vrel = lanes(b.v) - lanes(a.v);
     ContactEnergyLanes<double> e;

@@ -11,6 +11,9 @@
 #include <cstdint>
 #include <vector>
 
+#include "dem/core/hd.h"
+#include "dem/core/vec3.h"
+
 namespace dem {
 
 struct InteractionLists {
@@ -51,5 +54,22 @@ struct InteractionLists {
         --count[i];
     }
 };
+
+// The gather's fixed order (World's and the batch engine's): a particle's references in list
+// order, alternating between two partial sums so that the chains of dependent additions are half
+// as long (the gather is bound by them). add(ref, f, t) adds one interaction's force and torque;
+// the sums come out in f and t.
+template <class Add>
+VPPDEM_HD inline void gather_in_order(const uint32_t* refs, uint32_t m, Add&& add, Vec3& f, Vec3& t) {
+    Vec3 fa, ta, fb, tb;
+    uint32_t e = 0;
+    for (; e + 1 < m; e += 2) {
+        add(refs[e], fa, ta);
+        add(refs[e + 1], fb, tb);
+    }
+    if (e < m) add(refs[e], fa, ta);
+    f = fa + fb;
+    t = ta + tb;
+}
 
 }  // namespace dem

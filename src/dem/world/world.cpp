@@ -383,27 +383,18 @@ void World::gather_forces(int tid) {
     const Vec3* const pressure_force = pressure_forces_.force.data();
     for (const auto& [b0, b1] : work_.particles[tid])
     for (int64_t i = b0 * kernels::kBlock; i < std::min(n, b1 * kernels::kBlock); ++i) {
-        // In list order (a fixed order), alternating between two partial sums so that the
-        // chains of dependent additions are half as long (the gather is bound by them).
-        const uint32_t* r = &c.links.ref[c.links.start[i]];
-        const uint32_t m = c.links.count[i];
+        // In list order (a fixed order), two partial sums (gather_in_order).
         const auto add = [&](uint32_t ref, Vec3& f, Vec3& t) {
             const uint32_t src = ref >> 30, second = (ref & L::kSecond) ? 1 : 0, k = ref & L::kIndexMask;
             // Body 1 gets the opposite of the force on body 2: x - y and x + (-y) round alike.
             f += force[src][k] * (second ? 1.0 : -1.0);
             t += torque[src][second][k];
         };
-        Vec3 fa, ta, fb, tb;
-        uint32_t e = 0;
-        for (; e + 1 < m; e += 2) {
-            add(r[e], fa, ta);
-            add(r[e + 1], fb, tb);
-        }
-        if (e < m) add(r[e], fa, ta);
-        Vec3 fi = fa + fb;
+        Vec3 fi, ti;
+        gather_in_order(&c.links.ref[c.links.start[i]], c.links.count[i], add, fi, ti);
         if (with_pressure) fi += pressure_force[i];
         p.force[i] = fi;
-        p.torque[i] = ta + tb;
+        p.torque[i] = ti;
     }
 }
 
