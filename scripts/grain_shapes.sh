@@ -18,13 +18,7 @@ publish_only=0
 source scripts/publish.sh
 mkdir -p "$OUT" "$DATA"
 # Published records back into the run folders.
-for d in "$DATA"/*/; do
-  [ -f "$d/summary.json" ] || continue
-  c=$(basename "$d")
-  [ -f "$OUT/$c/summary.json" ] && continue
-  mkdir -p "$OUT/$c"
-  for f in case.toml cycles.csv summary.json; do [ -f "$d/$f" ] && publish "$d/$f" "$OUT/$c/$f"; done
-done
+restore_records "$DATA" "$OUT"
 failed=0
 if [ $publish_only -eq 0 ]; then
   [ -x "$VPPDEM" ] || { echo "grain_shapes.sh: no vppdem binary at $VPPDEM" >&2; exit 2; }
@@ -32,16 +26,6 @@ if [ $publish_only -eq 0 ]; then
   printf '%s (pinned build %s)\n' "$cmd" "$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)" > "$OUT/COMMAND"
   $cmd || failed=1
 fi
-n=0
-for d in "$OUT"/*/; do
-  [ -f "$d/summary.json" ] || continue
-  c=$(basename "$d")
-  mkdir -p "$DATA/$c"
-  for f in case.toml cycles.csv summary.json; do
-    [ -f "$d/$f" ] && ! cmp -s "$d/$f" "$DATA/$c/$f" && publish "$d/$f" "$DATA/$c/$f"
-  done
-  n=$((n + 1))
-done
-for f in summary.csv summary_cases.csv COMMAND; do [ -f "$OUT/$f" ] && publish "$OUT/$f" "$DATA/$f"; done
-echo "grain_shapes.sh: $n finished runs in $DATA"
+save_records "$OUT" "$DATA"
+echo "grain_shapes.sh: $SAVED finished runs in $DATA"
 exit $failed

@@ -45,42 +45,16 @@ done
 jobs_arg=${JOBS:+--jobs $JOBS}
 pinned_commit=$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)
 
-# publish FILE DEST (atomic copy)
+# publish FILE DEST (atomic copy), restore_records, save_records
 source scripts/publish.sh
 
-# restore STUDY: the published records back into the run folders (only where the folder has no
-# summary.json of its own).
-restore() {
-  local s=$1 d
-  [ -d "$DATA/$s" ] || return 0
-  for d in "$DATA/$s"/*/; do
-    [ -f "$d/summary.json" ] || continue
-    local c
-    c=$(basename "$d")
-    [ -f "$OUT/$s/$c/summary.json" ] && continue
-    mkdir -p "$OUT/$s/$c"
-    for f in case.toml cycles.csv summary.json; do [ -f "$d/$f" ] && publish "$d/$f" "$OUT/$s/$c/$f"; done
-  done
-}
-
-# save STUDY: every finished run's records and the study's tables into $DATA/STUDY.
+# restore STUDY: the published records back into the run folders; save STUDY: every finished
+# run's records and the study's tables into $DATA/STUDY (scripts/publish.sh).
+restore() { restore_records "$DATA/$1" "$OUT/$1"; }
 save() {
-  local s=$1 d n=0
-  [ -d "$OUT/$s" ] || return 0
-  mkdir -p "$DATA/$s"
-  for d in "$OUT/$s"/*/; do
-    [ -f "$d/summary.json" ] || continue
-    local c
-    c=$(basename "$d")
-    mkdir -p "$DATA/$s/$c"
-    for f in case.toml cycles.csv summary.json; do
-      [ -f "$d/$f" ] && ! cmp -s "$d/$f" "$DATA/$s/$c/$f" && publish "$d/$f" "$DATA/$s/$c/$f"
-    done
-    n=$((n + 1))
-  done
-  for f in summary.csv summary_cases.csv; do [ -f "$OUT/$s/$f" ] && publish "$OUT/$s/$f" "$DATA/$s/$f"; done
-  [ -f "$OUT/$s/COMMAND" ] && publish "$OUT/$s/COMMAND" "$DATA/$s/COMMAND"
-  echo "paper_studies.sh: $s: $n finished runs in $DATA/$s"
+  save_records "$OUT/$1" "$DATA/$1"
+  [ -d "$OUT/$1" ] && echo "paper_studies.sh: $1: $SAVED finished runs in $DATA/$1"
+  return 0
 }
 
 # The folder a study runs into (underpressure: a part of the radius study).

@@ -1,5 +1,6 @@
-# Shared by scripts/trust_studies.sh and scripts/velocity_convergence.sh (sourced, not run):
-# publishing results into docs/ and recording where they came from. Needs DOCS (the docs folder).
+# Shared by the scripts that run studies and publish their records (sourced, not run):
+# scripts/paper_studies.sh, grain_shapes.sh, trust_studies.sh, velocity_convergence.sh.
+# record() needs DOCS (the docs folder).
 
 # Copies FILE to DEST through a temporary name (a reader never sees half a file).
 publish() {
@@ -15,4 +16,43 @@ record() {
   commit=$(git rev-parse --short HEAD 2>/dev/null || echo "?")
   { grep -v -F "| $files |" "$src" || true; printf '| %s | `%s` | %s | %s |\n' "$files" "$cmd" "$(date -u +%Y-%m-%d)" "$commit"; } > "$src.part"
   mv -f "$src.part" "$src"
+}
+
+# The small records of a finished study run (a case folder with summary.json): what is published
+# into docs/data and what a resumed study needs back to take the case as done.
+RUN_RECORDS=(case.toml cycles.csv summary.json)
+
+# restore_records DATA OUT: each published case of DATA back into OUT/<case>, unless that folder
+# has a summary.json of its own (the sweep then takes the case as done, and re-analyses it).
+restore_records() {
+  local data=$1 out=$2 d c f
+  [ -d "$data" ] || return 0
+  for d in "$data"/*/; do
+    [ -f "$d/summary.json" ] || continue
+    c=$(basename "$d")
+    [ -f "$out/$c/summary.json" ] && continue
+    mkdir -p "$out/$c"
+    for f in "${RUN_RECORDS[@]}"; do [ -f "$d/$f" ] && publish "$d/$f" "$out/$c/$f"; done
+  done
+  return 0
+}
+
+# save_records OUT DATA: each finished case of OUT into DATA/<case> (files that changed), then the
+# study's tables and its COMMAND; sets SAVED to the number of finished cases.
+save_records() {
+  local out=$1 data=$2 d c f
+  SAVED=0
+  [ -d "$out" ] || return 0
+  mkdir -p "$data"
+  for d in "$out"/*/; do
+    [ -f "$d/summary.json" ] || continue
+    c=$(basename "$d")
+    mkdir -p "$data/$c"
+    for f in "${RUN_RECORDS[@]}"; do
+      [ -f "$d/$f" ] && ! cmp -s "$d/$f" "$data/$c/$f" && publish "$d/$f" "$data/$c/$f"
+    done
+    SAVED=$((SAVED + 1))
+  done
+  for f in summary.csv summary_cases.csv COMMAND; do [ -f "$out/$f" ] && publish "$out/$f" "$data/$f"; done
+  return 0
 }
