@@ -4,9 +4,12 @@
 // 3 threads. The damper's systems (contacts, walls, motions): tests/physics/test_batch_damper.cpp.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <random>
+#include <thread>
 #include <vector>
 
+#include "dem/batch/batch_stepper.h"
 #include "dem/batch/batch_systems.h"
 #include "dem/world/world.h"
 
@@ -159,4 +162,45 @@ TEST(Batch, BondedMembranesUnderPressureGiveEachWorldsBits) {
         // The pressure and gravity did deform it: the centre sagged.
         EXPECT_LT(ref[0].particles.pos[6 * 12 + 6].z, -1e-5);
     }
+}
+
+// BatchStepper (lockstep runs): four runs in their own threads, each stepping its World through
+// one stepper for a different number of steps (so they leave at different times), one of them
+// joining late and one handing its state back mid-run (sync) to read it: each World ends with the
+// bits of stepping alone, whatever the threads' timing.
+TEST(Batch, LockstepRunsJoinAndLeaveAndKeepEachWorldsBits) {
+    std::vector<World> ref, mine;
+    ref.push_back(membrane(10, 120.0, 0.2, 1e3));
+    ref.push_back(free_flight(11, 80, 0.3, {0, 0, -9.81}));
+    ref.push_back(membrane(8, 0.0, 0.0, 2e3));
+    ref.push_back(free_flight(12, 40, 0.0, {0.5, 0, -3.0}));
+    mine = ref;
+    const int steps[] = {3000, 1200, 2500, 700};
+    for (std::size_t s = 0; s < ref.size(); ++s)
+        for (int k = 0; k < steps[s]; ++k) ref[s].step();
+    batch::BatchStepper stepper(2);
+    std::vector<Vec3> seen(ref.size());
+    const Vec3 start = mine[1].particles.pos[0];
+    std::vector<std::thread> runs;
+    for (std::size_t s = 0; s < mine.size(); ++s)
+        runs.emplace_back([&, s] {
+            if (s == 3) std::this_thread::sleep_for(std::chrono::milliseconds(20));  // joins late
+            for (int k = 0; k < steps[s]; ++k) {
+                stepper.compute_forces(mine[s]);
+                stepper.integrate(mine[s]);
+                if (k == steps[s] / 2) {
+                    stepper.sync(mine[s]);
+                    seen[s] = mine[s].particles.pos[0];
+                }
+            }
+            stepper.leave(mine[s]);
+        });
+    for (auto& t : runs) t.join();
+    for (std::size_t s = 0; s < ref.size(); ++s) {
+        expect_same(ref[s], mine[s]);
+        EXPECT_EQ(ref[s].steps, mine[s].steps);
+    }
+    EXPECT_GT(stepper.most_systems(), 1u);
+    // sync() handed the state back mid-run (without it World's arrays hold the start).
+    EXPECT_NE(seen[1], start);
 }
