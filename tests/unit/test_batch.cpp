@@ -166,8 +166,9 @@ TEST(Batch, BondedMembranesUnderPressureGiveEachWorldsBits) {
 
 // BatchStepper (lockstep runs): four runs in their own threads, each stepping its World through
 // one stepper for a different number of steps (so they leave at different times), one of them
-// joining late and one handing its state back mid-run (sync) to read it: each World ends with the
-// bits of stepping alone, whatever the threads' timing.
+// joining late, one handing its state back mid-run (sync) to read it, one leaving between the
+// halves of a step (as a run that threw there): each World ends with the bits of stepping alone,
+// whatever the threads' timing.
 TEST(Batch, LockstepRunsJoinAndLeaveAndKeepEachWorldsBits) {
     std::vector<World> ref, mine;
     ref.push_back(membrane(10, 120.0, 0.2, 1e3));
@@ -178,6 +179,8 @@ TEST(Batch, LockstepRunsJoinAndLeaveAndKeepEachWorldsBits) {
     const int steps[] = {3000, 1200, 2500, 700};
     for (std::size_t s = 0; s < ref.size(); ++s)
         for (int k = 0; k < steps[s]; ++k) ref[s].step();
+    // Run 2 leaves between the halves of its last step (as a run that threw there).
+    ref[2].compute_forces();
     batch::BatchStepper stepper(2);
     std::vector<Vec3> seen(ref.size());
     const Vec3 start = mine[1].particles.pos[0];
@@ -188,6 +191,10 @@ TEST(Batch, LockstepRunsJoinAndLeaveAndKeepEachWorldsBits) {
             for (int k = 0; k < steps[s]; ++k) {
                 stepper.compute_forces(mine[s]);
                 stepper.integrate(mine[s]);
+                if (s == 2 && k + 1 == steps[s]) {
+                    stepper.compute_forces(mine[s]);
+                    break;
+                }
                 if (k == steps[s] / 2) {
                     stepper.sync(mine[s]);
                     seen[s] = mine[s].particles.pos[0];
@@ -200,6 +207,7 @@ TEST(Batch, LockstepRunsJoinAndLeaveAndKeepEachWorldsBits) {
         expect_same(ref[s], mine[s]);
         EXPECT_EQ(ref[s].steps, mine[s].steps);
     }
+    for (std::size_t i = 0; i < ref[2].particles.size(); ++i) ASSERT_EQ(ref[2].particles.force[i], mine[2].particles.force[i]) << i;
     EXPECT_GT(stepper.most_systems(), 1u);
     // sync() handed the state back mid-run (without it World's arrays hold the start).
     EXPECT_NE(seen[1], start);

@@ -103,12 +103,19 @@ void BatchStepper::leave(World& world) noexcept {
     std::lock_guard<std::mutex> lk(mu_);
     const std::size_t s = index_of(world);
     if (s == SIZE_MAX) return;
-    // Between its steps (a member leaves after integrate() returned): the batch is at a forces half.
+    // Usually between its steps; mid-step (its run threw after compute_forces()) the others may
+    // be waiting at the motion half: it runs without this one.
     batch_.store(s);
     gone_[s] = true;
     --active_;
-    // The others may all be waiting for this one.
-    if (half_ == Half::kForces && arrived_ == active_ && (active_ > 0 || !joining_.empty())) run_half();
+    if (active_ == 0) {
+        // Nobody left mid-step: the next member starts a step afresh.
+        half_ = Half::kForces;
+        arrived_ = 0;
+        if (!joining_.empty()) run_half();
+        return;
+    }
+    if (arrived_ == active_) run_half();  // the others were all waiting for this one
 }
 
 }  // namespace dem::batch

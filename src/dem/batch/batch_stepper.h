@@ -31,7 +31,8 @@ public:
     void integrate(World& world);
     // World's particle arrays (state and forces) and bonds made current.
     void sync(World& world);
-    // Hands world back (as sync) and leaves the batch; no-op for a World not in it.
+    // Hands world back (as sync) and leaves the batch, between its steps or between the halves of
+    // one (a run that threw: the others go on); no-op for a World not in it.
     void leave(World& world) noexcept;
 
     uint64_t launches() const { return launches_; }        // batch half steps run so far
