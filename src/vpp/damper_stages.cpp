@@ -404,7 +404,10 @@ void DamperRun::stage_cycle(int upto) {
                     if (s == 0) st_.gas_work = 0.0;
                     st_.air.push_back(air_sample());
                 }
-                if (s == 0) record_start_of_cycling(smp);
+                if (s == 0) {
+                    if (batch) batch->sync(w_);  // it reads the sample's geometry
+                    record_start_of_cycling(smp);
+                }
             }
         }
         w_.profile().lap(dem::Phase::kOutput);
