@@ -135,7 +135,6 @@ void step_forces(BatchSystems& b, std::size_t sys) {
         for (int64_t i = 0; i < n; ++i) wd.particles.pos[std::size_t(i)] = b.x[base + i];
     wd.engine_begin_forces();
     ContactSet& c = wd.engine_contacts();
-    const BroadPhase& bp = wd.broad_phase();
     const WallState& walls = wd.wall_state();
     const uint32_t nplanes = uint32_t(wd.planes.size());
     const auto wall_now = [&](uint32_t k) {
@@ -156,10 +155,8 @@ void step_forces(BatchSystems& b, std::size_t sys) {
         return wl;
     };
     // Candidates without a contact that could have closed their gap since the rebuild, tested
-    // (ContactSet::find_new: the same reach and margin).
-    const double margin = 1e-9 * bp.skin;
-    const float pair_reach = float(2.0 * bp.max_disp + margin);
-    const float wall_reach = float(bp.max_disp + bp.wall_move + margin);
+    // (as ContactSet::find_new, with World's reach).
+    const auto [pair_reach, wall_reach] = wd.engine_reach();
     if (!c.pp.other.empty())
         for (int64_t i = 0; i < n; ++i)
             for (uint32_t k = c.pp.start[i]; k < c.pp.start[i + 1]; ++k) {

@@ -294,9 +294,7 @@ void World::lap(int tid, Phase phase) {
 }
 
 void World::open_contacts(int tid) {
-    // In parallel, over this thread's particles: candidates touching without a slot. The
-    // margin covers the rounding of the gaps and of the moves.
-    const double margin = 1e-9 * broad_.skin;
+    // In parallel, over this thread's particles: candidates touching without a slot.
     ContactSet::FindArgs find;
     find.p = &particles;
     find.packed = packed_.empty() ? nullptr : packed_.data();
@@ -305,8 +303,7 @@ void World::open_contacts(int tid) {
     find.facets = &facets;
     find.plane_point = &walls_now_.plane_point;
     find.facet_now = &walls_now_.facet_now;
-    find.pair_reach = float(2.0 * broad_.max_disp + margin);
-    find.wall_reach = float(broad_.max_disp + broad_.wall_move + margin);
+    std::tie(find.pair_reach, find.wall_reach) = engine_reach();
     find.blocks = &work_.particles[tid];
     contacts_.find_new(find);
     team_->barrier();
@@ -613,6 +610,12 @@ void World::engine_begin_forces() {
 void World::engine_end_forces() {
     wall_reactions();
     close_contacts();
+}
+
+std::pair<float, float> World::engine_reach() const {
+    // The margin covers the rounding of the gaps and of the moves.
+    const double margin = 1e-9 * broad_.skin;
+    return {float(2.0 * broad_.max_disp + margin), float(broad_.max_disp + broad_.wall_move + margin)};
 }
 
 void World::engine_activate() {

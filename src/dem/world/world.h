@@ -19,6 +19,7 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "dem/bonds/bond_list.h"
@@ -175,6 +176,9 @@ public:
     BondList& engine_bonds() { return bonds_; }
     const BroadPhase& broad_phase() const { return broad_; }
     const WallState& wall_state() const { return walls_now_; }
+    // The largest gaps [m] a candidate without a contact may have closed since the rebuild: of a
+    // particle pair, of a particle and a wall (the touch test skips candidates beyond them).
+    std::pair<float, float> engine_reach() const;
     void engine_activate();
     EnergyBook& engine_book() { return book_; }
     void engine_end_forces();
