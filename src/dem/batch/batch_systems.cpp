@@ -13,6 +13,11 @@
 
 namespace dem::batch {
 
+namespace {
+// The underpressure a system's foil carries [Pa]: World's, and none without pressure nodes.
+double world_underpressure(const World& wd) { return wd.pressure.nodes.empty() ? 0.0 : wd.pressure.dp; }
+}  // namespace
+
 std::size_t BatchSystems::add(World& wd) {
     const Particles& p = wd.particles;
     if (!wd.clumps().empty())
@@ -53,7 +58,7 @@ std::size_t BatchSystems::add(World& wd) {
         torque2.push_back(bl.torque2[k]);
     }
     bond_first.push_back(int64_t(bi.size()));
-    dp.push_back(wd.pressure.nodes.empty() ? 0.0 : wd.pressure.dp);
+    dp.push_back(world_underpressure(wd));
     for (const PressureNode& q : wd.pressure.nodes) {
         node.push_back(base + q.node);
         ring.push_back({base + q.ring[0], base + q.ring[1], base + q.ring[2], base + q.ring[3]});
@@ -96,14 +101,13 @@ template <int K> struct LaneSums {
     void add(int64_t e, const double* t) {
         for (int k = 0; k < K; ++k) lane[k][e % 8] += t[k];
     }
-    // The block's K sums into out, and a fresh start.
-    void flush(double* out) {
+    // The block's K sums into out (blocks_of starts each block with a fresh LaneSums).
+    void flush(double* out) const {
         for (int k = 0; k < K; ++k) {
             double sum = 0.0;
             for (int l = 0; l < 8; ++l) sum += lane[k][l];
             out[k] = sum;
         }
-        *this = LaneSums{};
     }
 };
 
@@ -252,7 +256,7 @@ void step_forces(BatchSystems& b, std::size_t sys) {
         if (track) std::copy(sum, sum + P, book.walls.data() + blk * P);
     }
     // The underpressure is World's (a driver may change it between steps: the air inside).
-    b.dp[s] = wd.pressure.nodes.empty() ? 0.0 : wd.pressure.dp;
+    b.dp[s] = world_underpressure(wd);
     const bool with_pressure = b.dp[s] != 0.0 && b.node_first[s + 1] > b.node_first[s];
     for (int64_t k = b.node_first[s]; k < b.node_first[s + 1]; ++k) {
         const auto& q = b.ring[k];
