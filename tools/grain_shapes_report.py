@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """docs/grains.md and its figure from the grain-shape study's records (issue 24, item 4).
 
-usage: grain_shapes_report.py DATA DOCS [--bench FILE] [--pressure DIR]
+usage: grain_shapes_report.py DATA DOCS [--bench FILE] [--pressure DIR] [--study FILE]
   DATA   the records of scripts/grain_shapes.sh (docs/data/grains/shapes: one folder per case,
          grains.shape=S_simulation.seed=K, with summary.json and cycles.csv)
   DOCS   where grains.md and grains_shapes.png go (docs)
@@ -9,6 +9,8 @@ usage: grain_shapes_report.py DATA DOCS [--bench FILE] [--pressure DIR]
   --pressure DIR  the paper's underpressure study (docs/data/paper/radius_underpressure): the
          effect of the confining pressure on W beside the effect of the shape (Athanassiadis et
          al. 2014: "confining pressure has the largest overall effect")
+  --study FILE  the study's plan (default studies/grains/shapes.toml): its shapes and seeds; while
+         runs of it are missing the page says so and calls its numbers provisional
 
 Per run: W of the stationary tail (summary.json W_settled; when the run did not become
 stationary, the mean of its last two cycles, flagged), the peak force and the friction and
@@ -21,6 +23,7 @@ import json
 import math
 import os
 import sys
+import tomllib
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from paired_velocity import interval, t_quantile  # noqa: E402  (one Student t for the tools)
@@ -29,7 +32,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(
 from vppdem.records import fail  # noqa: E402
 
 COMMAND = ("bash scripts/grain_shapes.sh, then /usr/bin/python3 tools/grain_shapes_report.py docs/data/grains/shapes docs "
-           "--pressure docs/data/paper/radius_underpressure")
+           "--pressure docs/data/paper/radius_underpressure --bench docs/data/grains/cost_per_step.md")
 ORDER = ["sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"]
 
 
@@ -66,11 +69,21 @@ def load(data):
             friction=sum(c["friction_dissipation"] for c in used) / diss if diss > 0 else math.nan,
             damping=sum(c["damping_dissipation"] for c in used) / diss if diss > 0 else math.nan,
             packing=s["start_of_cycling"]["packing_fraction"], grains=s["grains"], dt=s["dt"],
-            run_seconds=s["run_seconds"], velocity=s["inputs"]["process.velocity"],
+            velocity=s["inputs"]["process.velocity"],
             dp=s["inputs"]["process.underpressure"], radius=s["inputs"]["damper.radius"])
     if not runs:
         fail(f"{data}: no finished runs (case folders grains.shape=S_simulation.seed=K with summary.json)", 2)
     return runs
+
+
+def planned(study):
+    """(shapes, seeds) of the study file's grid, or None when there is no such file."""
+    if not study or not os.path.isfile(study):
+        return None
+    with open(study, "rb") as f:
+        t = tomllib.load(f)
+    shapes = t.get("grid", {}).get("grains.shape", [])
+    return list(shapes), int(t.get("seeds", 1))
 
 
 def pressure_effect(root, radius=0.0255):
@@ -166,11 +179,22 @@ def main(argv):
             fail("--pressure needs a DIR", 2)
         pressure = argv[i + 1]
         args = [a for a in args if a != pressure]
+    study = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "studies", "grains", "shapes.toml")
+    if "--study" in argv:
+        i = argv.index("--study")
+        if i + 1 >= len(argv) or not os.path.isfile(argv[i + 1]):
+            fail(f"--study needs a study FILE (got {argv[i + 1] if i + 1 < len(argv) else 'nothing'})", 2)
+        study = argv[i + 1]
+        args = [a for a in args if a != study]
     if len(args) != 2:
         fail(__doc__.strip().splitlines()[2], 2)
     data, docs = args
     runs = load(data)
+    plan = planned(study)
     shapes = [s for s in ORDER if any(k[0] == s for k in runs)]
+    pending = []
+    if plan:
+        pending = [(sh, k) for sh in plan[0] for k in range(1, plan[1] + 1) if (sh, k) not in runs]
     fig = figure(runs, shapes, docs)
     any_run = next(iter(runs.values()))
     L = []
@@ -184,6 +208,13 @@ def main(argv):
              "in different shapes by the same packing procedure (docs/damper.md, \"Grain shapes\"; the clumps: "
              "docs/scene.md#clumps). Each shape prepares its own samples, so shapes are compared unpaired.")
     L.append("")
+    if pending:
+        total = len(plan[0]) * plan[1]
+        L.append(f"**Provisional: {total - len(pending)} of the study's {total} runs have finished** "
+                 f"({os.path.relpath(study, os.getcwd())}); pending: "
+                 + ", ".join(f"{sh} seed {k}" for sh, k in pending)
+                 + ". The numbers below change as they finish; a shape with one run has no interval yet.")
+        L.append("")
     L.append("| shape | runs | grains | packing at cycling | W [J/m^2] | W - spheres' [%] | peak force [N] | friction share [%] | damping share [%] |")
     L.append("|---|---|---|---|---|---|---|---|---|")
     ref = [r["W"] for (s, _), r in runs.items() if s == "sphere"]
@@ -197,9 +228,12 @@ def main(argv):
             d, h = welch(ref, vals)
             rel = f"{100 * d / m_ref:+.0f} +- {100 * h / m_ref:.0f}" if math.isfinite(h) else f"{100 * d / m_ref:+.0f}"
         flag = "" if all(r["stationary"] for r in rs) else " (not all stationary)"
-        L.append(f"| {sh} | {len(rs)} | {ci([r['grains'] for r in rs])} | {ci([r['packing'] for r in rs], 3)} | "
+        count = f"{len(rs)} of {plan[1]}" if plan and sh in plan[0] else f"{len(rs)}"
+        L.append(f"| {sh} | {count} | {ci([r['grains'] for r in rs])} | {ci([r['packing'] for r in rs], 3)} | "
                  f"{ci(vals)}{flag} | {rel} | {ci([r['peak'] for r in rs])} | {ci([r['friction'] for r in rs], 1, 100)} | "
                  f"{ci([r['damping'] for r in rs], 1, 100)} |")
+    for sh in ([x for x in plan[0] if x not in shapes] if plan else []):
+        L.append(f"| {sh} | 0 of {plan[1]} | pending | | | | | | |")
     L.append("")
     L.append("Mean +- half width of the 95% interval over the seeds (Student's t); against the spheres the "
              "difference of the means with Welch's 95% interval, in % of the spheres' mean.")
@@ -208,12 +242,12 @@ def main(argv):
     L.append("")
     L.append("## The runs")
     L.append("")
-    L.append("| case | W [J/m^2] | cycles used | peak [N] | friction [%] | packing | dt [s] | run [h] |")
-    L.append("|---|---|---|---|---|---|---|---|")
+    L.append("| case | W [J/m^2] | cycles used | peak [N] | friction [%] | packing | dt [s] |")
+    L.append("|---|---|---|---|---|---|---|")
     for (sh, seed), r in sorted(runs.items(), key=lambda kv: (ORDER.index(kv[0][0]) if kv[0][0] in ORDER else 99, kv[0][1])):
         used = f"{r['cycles'][0]}-{r['cycles'][-1]} of {r['n_cycles']}" + ("" if r["stationary"] else " (last two: not stationary)")
         L.append(f"| {r['name']} | {r['W']:.0f} | {used} | {r['peak']:.0f} | {100 * r['friction']:.1f} | "
-                 f"{r['packing']:.3f} | {r['dt']:.3g} | {r['run_seconds'] / 3600:.2f} |")
+                 f"{r['packing']:.3f} | {r['dt']:.3g} |")
     L.append("")
     L.append("## Beside the experiment of Athanassiadis et al.")
     L.append("")
@@ -246,7 +280,7 @@ def main(argv):
         if math.isfinite(shape_max):
             verdict = ("reproduced: the pressure changes W more than the shape does" if m > shape_max
                        else f"not reproduced: in the model the shape changes W more than a {hi / lo:.0f}-fold pressure does")
-            L.append(f"- their first statement, {verdict} ({m:.2f} against {shape_max:.2f}).")
+            L.append(f"- their first statement, {'provisionally ' if pending else ''}{verdict} ({m:.2f} against {shape_max:.2f}).")
     L.append("")
     if bench:
         L.append("")

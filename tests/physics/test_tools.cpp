@@ -236,7 +236,9 @@ TEST(Tools, KillResumeEndsWithTheUninterruptedRecords) {
 // tools/grain_shapes_report.py by hand: spheres W = 100, 110, 120 and dimers 210, 220, 230 J/m^2
 // (3 seeds, sd 10 each): the dimers' difference is +110 (+100% of 110) with Welch's interval
 // t_{0.975,4} sqrt(100/3 + 100/3) = 2.7764 * 8.165 = 22.67 (20.6% of 110), printed "+100 +- 21";
-// the pressure study's W doubles from 0.02 to 0.08 MPa for every seed: 2.00 +- 0.00.
+// the pressure study's W doubles from 0.02 to 0.08 MPa for every seed: 2.00 +- 0.00. Against a
+// plan of spheres and dimers the page is final; against the repository's study (pellets too) it
+// says 6 of 9 runs and names the pending ones.
 TEST(Tools, GrainShapesReportByHand) {
     const fs::path d = scratch_path("tools", "shapes");
     fs::remove_all(d);
@@ -263,16 +265,27 @@ TEST(Tools, GrainShapesReportByHand) {
                        summary((dp > 50000 ? 2.0 : 1.0) * (100.0 + s), 500, dp));
     }
     fs::create_directories(d / "docs");
+    write_file(d / "plan.toml", "seeds = 3\n[grid]\n\"grains.shape\" = [\"sphere\", \"dimer\"]\n");
     const Outcome r = shell(kPython + (kSource / "tools/grain_shapes_report.py").string() + " " + (d / "data").string() +
-                            " " + (d / "docs").string() + " --pressure " + (d / "pressure").string());
+                            " " + (d / "docs").string() + " --pressure " + (d / "pressure").string() + " --study " +
+                            (d / "plan.toml").string());
     ASSERT_EQ(r.status, 0) << r.output;
     const std::string md = slurp(d / "docs" / "grains.md");
-    EXPECT_NE(md.find("| sphere | 3 |"), std::string::npos) << md;
+    EXPECT_EQ(md.find("Provisional"), std::string::npos) << md;
+    EXPECT_NE(md.find("| sphere | 3 of 3 |"), std::string::npos) << md;
     EXPECT_NE(md.find("| 110 +- 25 |"), std::string::npos) << md;  // t_{0.975,2} 10 / sqrt(3) = 24.8
     EXPECT_NE(md.find("| +100 +- 21 |"), std::string::npos) << md;
     EXPECT_NE(md.find("W at 0.08 MPa is 2.00 +- 0.00 times W at 0.02 MPa"), std::string::npos) << md;
     EXPECT_NE(md.find("friction share"), std::string::npos);
     EXPECT_TRUE(fs::exists(d / "docs" / "grains_shapes.png"));
+    // The repository's plan: pellets too, none run.
+    const Outcome part = shell(kPython + (kSource / "tools/grain_shapes_report.py").string() + " " + (d / "data").string() +
+                               " " + (d / "docs").string());
+    ASSERT_EQ(part.status, 0) << part.output;
+    const std::string pmd = slurp(d / "docs" / "grains.md");
+    EXPECT_NE(pmd.find("Provisional: 6 of the study's 9 runs"), std::string::npos) << pmd;
+    EXPECT_NE(pmd.find("pellet seed 1, pellet seed 2, pellet seed 3"), std::string::npos) << pmd;
+    EXPECT_NE(pmd.find("| pellet | 0 of 3 | pending"), std::string::npos) << pmd;
     // A folder without runs is refused naming it.
     fs::create_directories(d / "empty");
     const Outcome bad = shell(kPython + (kSource / "tools/grain_shapes_report.py").string() + " " + (d / "empty").string() +
