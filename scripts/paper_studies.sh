@@ -69,7 +69,13 @@ for study in "${studies[@]}"; do
   if [ "$s" = timestep ]; then
     # Paired by construction: the same prepared sample, only the time step's safety factor differs.
     for seed in 1 2; do
+      # The seed's 25.5 mm sample: the friction study's preparer, or the underpressure study's
+      # (the same bits: grain friction and dp act after the preparation, one pinned build).
       ckpt="$OUT/friction/grains.friction=0_simulation.seed=$seed/prepared.ckpt"
+      for c in "$OUT"/friction/*_simulation.seed=$seed/prepared.ckpt "$OUT"/radius_underpressure/damper.radius=0.0255_*_simulation.seed=$seed/prepared.ckpt; do
+        [ -f "$ckpt" ] && break
+        [ -f "$c" ] && ckpt=$c
+      done
       d="$OUT/timestep/simulation.dt-safety=0.25_simulation.seed=$seed"
       sets="--set simulation.dt_safety=0.25 --set process.underpressure=0.06e6 --set process.velocity=0.01 --set process.cycles=2 --set output.energy=false --set simulation.threads=1"
       cmd="$VPPDEM damper --from $ckpt --out $d --overwrite $sets --no-plot --quiet"
@@ -84,7 +90,7 @@ for study in "${studies[@]}"; do
         printf 'command = "%s"\n' "$cmd" > "$d/case.toml"
         $cmd || failed=1
       else
-        echo "paper_studies.sh: timestep needs $ckpt: run the friction study first" >&2
+        echo "paper_studies.sh: timestep needs the prepared sample of seed $seed at 25.5 mm ($ckpt, or a prepared.ckpt of the friction or underpressure study): run one of them first" >&2
         failed=1
       fi
     done
