@@ -134,7 +134,7 @@ def ci(vals, digits=0, scale=1.0):
     return f"{m:.{digits}f} +- {h:.{digits}f}"
 
 
-def figure(runs, shapes, docs):
+def figure(runs, shapes, docs, note=""):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -155,7 +155,7 @@ def figure(runs, shapes, docs):
         a.set_xticklabels(shapes)
         a.set_ylabel(label)
         a.grid(alpha=0.3, axis="y")
-    fig.suptitle("Grain shape at 0.06 MPa: mean and 95% interval over the seeds (dots: the seeds)", fontsize=10)
+    fig.suptitle("Grain shape at 0.06 MPa: mean and 95% interval over the seeds (dots: the seeds)" + note, fontsize=10)
     fig.tight_layout()
     p = os.path.join(docs, "grains_shapes.png")
     fig.savefig(p + ".part.png", dpi=110)
@@ -195,7 +195,7 @@ def main(argv):
     pending = []
     if plan:
         pending = [(sh, k) for sh in plan[0] for k in range(1, plan[1] + 1) if (sh, k) not in runs]
-    fig = figure(runs, shapes, docs)
+    fig = figure(runs, shapes, docs, f" - provisional: {len(runs)} of {len(plan[0]) * plan[1]} runs" if pending else "")
     any_run = next(iter(runs.values()))
     L = []
     L.append("# Grain shape under vacuum")
