@@ -414,7 +414,7 @@ namespace {
 void add_summary_warnings(DamperResult& r) {
     const double I = r.inertial_number;
     const bool quasi_static = I < kQuasiStaticInertialNumber;
-    char msg[640];
+    char msg[768];
     if (!quasi_static) {
         std::snprintf(msg, sizeof msg, "not quasi-static: inertial number %.2g >= %.2g: W is likely biased high "
                       "(8-45%% measured above it; docs/studies.md \"Velocity convergence\"); lower process.velocity", I,
@@ -434,7 +434,8 @@ void add_summary_warnings(DamperResult& r) {
         std::snprintf(msg, sizeof msg,
                       "W not stationary: fewer than %zu final cycles without a trend or jump beyond the per-cycle "
                       "scatter of %g%% (W per cycle: %s J/m^2; stationary tail: %s); run more cycles "
-                      "(process.cycles) or, if this damper scatters more, raise analysis.settle_tolerance",
+                      "(a larger process.cycles continues the run from its run.ckpt) or, if this damper scatters "
+                      "more, raise analysis.settle_tolerance",
                       kSettleMinCycles, 100.0 * r.settling.tolerance, w.c_str(), tail);
         r.warnings.push_back(msg);
     }

@@ -168,6 +168,13 @@ private:
     // Cycles until the end of cycle `upto` (of process.cycles; the run is bitwise the same
     // however the cycles are split into calls).
     void stage_cycle(int upto);
+    // The cap's and the top ring's knots of cycles k0 .. k1 - 1 and the end of cycle k1, from the
+    // start positions cap0, ring0 [m] (the knot at the start of cycle k0 too when first_knot).
+    void lay_out_cycles(dem::Motion& cap, dem::Motion& ring, double cap0, double ring0, int k0, int k1,
+                        bool first_knot) const;
+    // A resumed run given more cycles (process.cycles) than the `from` it started with: the
+    // further cycles' knots, and a finished run cycling again.
+    void extend_cycling(int from);
     void checkpoint(bool force);
     // The run settings (kRunKeys) of this run's config: what it applies, or has applied, to
     // its prepared sample.
@@ -231,6 +238,7 @@ private:
     double next_vtk_ = 0.0;
     std::vector<std::string> pending_warnings_;  // found before the checkpoint's state is loaded
     std::size_t ckpt_grains_ = 0;               // grains stored in the --from checkpoint (0: unknown)
+    int ckpt_cycles_ = 0;  // a resumed run's process.cycles when the command line raises it (0: not raised)
 
 public:
     const RunState& state() const { return st_; }

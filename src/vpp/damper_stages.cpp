@@ -304,10 +304,65 @@ void DamperRun::record_start_of_cycling(const Sample& first) {
     if (r.count("prepare.grain_top")) r["cycle.cap_travel"] = std::max(0.0, r.at("prepare.grain_top") - cap_z);
 }
 
+void DamperRun::lay_out_cycles(dem::Motion& cap, dem::Motion& ring, double cap0, double ring0, int k0, int k1,
+                               bool first_knot) const {
+    const double A = c_.process.amplitude, T = cycle_period(c_.process);
+    const bool sine = c_.process.waveform == 1;
+    const double sign = c_.process.compression_first ? -1.0 : 1.0;  // z direction of the first leg
+    // The sine as kSineKnots straight segments per cycle: within A (pi / kSineKnots)^2 / 4 =
+    // 2.5e-6 A of the curve, the speed within 1.6e-6 of its own.
+    constexpr int kSineKnots = 1000;
+    for (int k = k0; sine && k <= k1; ++k)
+        for (int j = 0; j < (k < k1 ? kSineKnots : 1); ++j) {
+            if (k == k0 && j == 0 && !first_knot) continue;  // the first knot is there
+            const double d = sign * A * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * j / kSineKnots));
+            const double t = st_.cycle_t0 + (k + double(j) / kSineKnots) * T;
+            cap.history.push_back({t, {0, 0, cap0 + d}});
+            ring.history.push_back({t, {0, 0, ring0 + d}});
+        }
+    for (int k = k0; !sine && k <= k1; ++k) {
+        if (k > k0 || first_knot) {
+            cap.history.push_back({st_.cycle_t0 + k * T, {0, 0, cap0}});
+            ring.history.push_back({st_.cycle_t0 + k * T, {0, 0, ring0}});
+        }
+        if (k < k1) {
+            cap.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, cap0 + sign * A}});
+            ring.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, ring0 + sign * A}});
+        }
+    }
+}
+
+void DamperRun::extend_cycling(int from) {
+    const int ncyc = int(c_.process.cycles);
+    if (ncyc <= from || (st_.samples.empty() && st_.window_n == 0 && st_.cycle_t0 == 0.0)) return;
+    // The motion ends on a knot at the cycling's start position: the end of cycle K, K = from + 1
+    // (stage_cycle lays out a cycle more than it runs; K = from in a checkpoint of a vppdem that
+    // did not). The knots of cycles K .. ncyc follow, those a run of ncyc cycles lays out.
+    dem::Motion& cap = w_.planes[kTopCap].motion;
+    dem::Motion& ring = w_.motions.at(std::size_t(w_.particles.motion.at(top_ring_.front())));
+    const double T = cycle_period(c_.process);
+    const int K = int(std::llround((cap.history.back().time - st_.cycle_t0) / T));
+    const double cap0 = cap.history.back().displacement.z, ring0 = ring.history.back().displacement.z;
+    lay_out_cycles(cap, ring, cap0, ring0, K, ncyc + 1, false);
+    if (K <= from)
+        warn("process.cycles raised on a checkpoint of an older vppdem: its last step held the cap where a run of " +
+             std::to_string(ncyc) + " cycles moves it on, so the record is a continuation, not bitwise that run's");
+    // Such a checkpoint kept no window for the next cycle's first sample either (see stage_cycle).
+    else if (st_.stage == Stage::Done && st_.window_n == 0 && c_.process.sample_window > w_.params.dt)
+        warn("process.cycles raised: the first sample of cycle " + std::to_string(from + 1) +
+             " averages a shorter window than process.sample_window");
+    if (st_.stage == Stage::Done) {
+        // Cycling again: the end of the run (next_stage(Done)) moved the displacements' origin to
+        // where the cap stood then; the cycling's is the start position, the motion's last knot.
+        st_.stage = Stage::Cycling;
+        st_.cap_d0 = cap0;
+    }
+    log("damper: process.cycles %d -> %d: the run continues with cycles %d-%d\n", from, ncyc, from + 1, ncyc);
+}
+
 void DamperRun::stage_cycle(int upto) {
     const double A = c_.process.amplitude, T = cycle_period(c_.process);
     const double v = c_.process.frequency > 0.0 ? 2.0 * A / T : c_.process.velocity;  // the offset move's speed
-    const bool sine = c_.process.waveform == 1;
     const int S = int(c_.process.samples_per_cycle), ncyc = int(c_.process.cycles);
     const double win = c_.process.sample_window;
     if (st_.samples.empty() && st_.window_n == 0 && st_.cycle_t0 == 0.0) {
@@ -316,32 +371,15 @@ void DamperRun::stage_cycle(int upto) {
         const double d0 = w_.planes[kTopCap].motion.displacement(w_.time).z;
         const double off = c_.process.start_offset;
         const double t_off = std::abs(off) / v;
-        const double sign = c_.process.compression_first ? -1.0 : 1.0;  // z direction of the first leg
         dem::Motion cap, ring;
         cap.history.push_back({w_.time, {0, 0, d0}});
         ring.history.push_back({w_.time, {0, 0, 0}});
         st_.cycle_t0 = w_.time + t_off;
-        // The sine as kSineKnots straight segments per cycle: within A (pi / kSineKnots)^2 / 4 =
-        // 2.5e-6 A of the curve, the speed within 1.6e-6 of its own.
-        constexpr int kSineKnots = 1000;
-        for (int k = 0; sine && k <= ncyc; ++k)
-            for (int j = 0; j < (k < ncyc ? kSineKnots : 1); ++j) {
-                if (k == 0 && j == 0 && t_off == 0) continue;  // the first knot is there
-                const double d = sign * A * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * j / kSineKnots));
-                const double t = st_.cycle_t0 + (k + double(j) / kSineKnots) * T;
-                cap.history.push_back({t, {0, 0, d0 - off + d}});
-                ring.history.push_back({t, {0, 0, -off + d}});
-            }
-        for (int k = 0; !sine && k <= ncyc; ++k) {
-            if (k > 0 || t_off > 0) {
-                cap.history.push_back({st_.cycle_t0 + k * T, {0, 0, d0 - off}});
-                ring.history.push_back({st_.cycle_t0 + k * T, {0, 0, -off}});
-            }
-            if (k < ncyc) {
-                cap.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, d0 - off + sign * A}});
-                ring.history.push_back({st_.cycle_t0 + (k + 0.5) * T, {0, 0, -off + sign * A}});
-            }
-        }
+        // One cycle more than the run cycles: the last step, which may end a fraction of a step
+        // past the last cycle's end, moves as a longer run's does; so a run given more cycles
+        // when it is resumed (extend_cycling) is that longer run, bit for bit. The run's records
+        // end with the sample before (the extra knots move nothing it records).
+        lay_out_cycles(cap, ring, d0 - off, -off, 0, ncyc + 1, t_off > 0);
         w_.planes[kTopCap].motion = cap;
         const uint32_t m = w_.add_motion(ring);
         for (uint32_t i : top_ring_) w_.set_prescribed(i, m);
@@ -381,14 +419,17 @@ void DamperRun::stage_cycle(int upto) {
         else w_.compute_forces();
         const std::size_t s = st_.samples.size();
         bool sampled = false;
-        if (s < std::size_t(ncyc) * S) {
+        // The window of the sample that would open the cycle after the last is kept too (it lies
+        // before the run's end; the sample is never taken): a run given more cycles when it is
+        // resumed (extend_cycling) takes that sample as a run of that many cycles does.
+        if (s <= std::size_t(ncyc) * S) {
             const double ts = sample_time(s);
             if (w_.time > ts - win - 0.5 * w_.params.dt) {
                 st_.window_grains += w_.wall_force(kTopCap).z;
                 st_.window_foil += top_ring_force_z();
                 ++st_.window_n;
             }
-            if (w_.time >= ts - 0.5 * w_.params.dt) {
+            if (s < std::size_t(ncyc) * S && w_.time >= ts - 0.5 * w_.params.dt) {
                 Sample smp;
                 smp.time = w_.time;
                 smp.displacement = st_.cap_d0 - w_.planes[kTopCap].motion.displacement(w_.time).z;

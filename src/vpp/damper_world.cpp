@@ -182,6 +182,10 @@ void DamperRun::setup() {
             throw std::runtime_error("checkpoint '" + o_.from + "' does not hold this damper's particles");
         st_.grains = n;
         st_.warnings.insert(st_.warnings.end(), pending_warnings_.begin(), pending_warnings_.end());
+        if (ckpt_cycles_ > 0) {
+            st_.settings["process.cycles"] = double(c_.process.cycles);  // what its checkpoints now say
+            extend_cycling(ckpt_cycles_);
+        }
         // Resuming continues the run whose run.ckpt lives in --out; anything else (a branch from
         // a prepared sample, even into its own folder) starts a new run there.
         std::error_code ec;
@@ -251,9 +255,16 @@ void DamperRun::adopt_checkpoint_settings() {
         // (the key's legacy value), e.g. process.pressure_model "constant".
         if (it == ck.settings.end() && !std::isfinite(k.legacy)) continue;
         const double stored = it != ck.settings.end() ? it->second : k.legacy;
+        // More cycles than the run started with: it goes on (extend_cycling); fewer would end a
+        // record that already holds them, or promise a run it is not.
+        if (std::string(k.key) == "process.cycles" && c_.given.count(k.key) && k.get(c_) > stored) {
+            ckpt_cycles_ = int(stored);
+            continue;
+        }
         if (c_.given.count(k.key) && !same_value(k.get(c_), stored))
             conflicts += (conflicts.empty() ? "" : ", ") + std::string(k.key) + " = " + show(k.key, stored) +
-                         " in the checkpoint, " + show(k.key, k.get(c_)) + " given";
+                         " in the checkpoint, " + show(k.key, k.get(c_)) + " given" +
+                         (std::string(k.key) == "process.cycles" ? " (more cycles continue the run, fewer cannot)" : "");
         else
             k.set(c_, stored);
     }

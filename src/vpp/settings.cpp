@@ -272,7 +272,7 @@ const std::vector<Setting>& table() {
          .set = [](Config& c, double v) { c.process.compression_first = v == 0.0; }},
         {.key = "process.cycles", .type = T::Integer, .unit = "", .def = 4, .check = C::AtLeast, .lo = 1,
          .allowed = "must be an integer >= 1", .acts = A::Process, .shares_preparation = true, .run = 15, .summary = 17,
-         .doc = "loading cycles", FIELD(process.cycles)},
+         .doc = "loading cycles (raised when resuming a run.ckpt, the run goes on with the further cycles)", FIELD(process.cycles)},
         {.key = "process.samples_per_cycle", .type = T::Integer, .unit = "", .def = 500, .check = C::AtLeast, .lo = 4,
          .allowed = "must be an integer >= 4", .acts = A::Process, .shares_preparation = true, .run = 16, .summary = 18,
          .doc = "rows of forces.csv per cycle", FIELD(process.samples_per_cycle)},

@@ -199,6 +199,44 @@ TEST_F(Damper, ResumeKeepsTheSettingsItStartedWith) {
     EXPECT_NE(summary.find("\"damper.radius\": 0.012,"), std::string::npos) << summary;
 }
 
+// A finished run given more cycles (process.cycles raised when resuming its run.ckpt) goes on
+// with them, and its records are those of a run of that many cycles, bit for bit: the motion is
+// laid out a cycle past the run's end, so the step that crosses it moves as in the longer run,
+// and the window of the next cycle's first sample is kept. Triangle, and a sine after an offset
+// move (two extensions). Fewer cycles are refused, naming the key and both values.
+TEST_F(Damper, MoreCyclesContinueAFinishedRunBitForBit) {
+    ASSERT_EQ(base_.status, 0) << base_.output;
+    const std::string from = " --from " + (scratch("dp060") / "prepared.ckpt").string() + " " + kSmall;
+    const fs::path d = scratch("extend");
+    ASSERT_EQ(run("damper --out " + d.string() + from + " --set process.cycles=1").status, 0);
+    ASSERT_EQ(data_rows(d / "cycles.csv"), 1u);
+    const std::string resume = "damper --out " + d.string() + " --from " + (d / "run.ckpt").string() + " " + kSmall;
+    const Outcome more = run(resume);  // kSmall: process.cycles = 2
+    ASSERT_EQ(more.status, 0) << more.output;
+    for (const char* f : {"forces.csv", "cycles.csv", "energy.csv"})
+        EXPECT_EQ(slurp(d / f), slurp(scratch("dp060") / f)) << f;
+    EXPECT_EQ(slurp(d / "summary.json").find("process.cycles raised"), std::string::npos);
+    // Fewer than the checkpoint's: refused, nothing changes.
+    const std::string forces = slurp(d / "forces.csv");
+    const Outcome fewer = run(resume + " --set process.cycles=1");
+    EXPECT_NE(fewer.status, 0);
+    EXPECT_NE(fewer.output.find("process.cycles = 2 in the checkpoint, 1 given (more cycles continue the run"),
+              std::string::npos) << fewer.output;
+    EXPECT_EQ(slurp(d / "forces.csv"), forces);
+
+    const std::string sine = from + " --set process.waveform=sine --set process.start_offset=0.0005";
+    const fs::path whole = scratch("extend_sine_whole"), parts = scratch("extend_sine_parts");
+    ASSERT_EQ(run("damper --out " + whole.string() + sine + " --set process.cycles=3").status, 0);
+    ASSERT_EQ(run("damper --out " + parts.string() + sine + " --set process.cycles=1").status, 0);
+    for (const char* n : {"2", "3"}) {
+        const Outcome r = run("damper --out " + parts.string() + " --from " + (parts / "run.ckpt").string() + " " + kSmall +
+                              " --set process.cycles=" + n);
+        ASSERT_EQ(r.status, 0) << r.output;
+    }
+    ASSERT_EQ(data_rows(parts / "cycles.csv"), 3u);
+    for (const char* f : {"forces.csv", "cycles.csv", "energy.csv"}) EXPECT_EQ(slurp(parts / f), slurp(whole / f)) << f;
+}
+
 TEST_F(Damper, OverwriteRemovesEveryFileOfThePreviousRun) {
     ASSERT_EQ(base_.status, 0) << base_.output;
     const fs::path d = scratch("overwrite");
