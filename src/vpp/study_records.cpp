@@ -79,11 +79,61 @@ std::string case_record(const Study& s, const StudyCase& c) {
     return os.str();
 }
 
-void check_case_folder(const fs::path& dir, const std::string& record) {
-    if (fs::exists(dir / "case.toml") && read_text(dir / "case.toml") != record)
-        throw std::runtime_error("folder '" + dir.string() +
-                                 "' holds a case run with other settings (see its case.toml); the study "
-                                 "changed: use another --out, or remove the folder");
+namespace {
+
+// A case record (case_record's text) as its lines before the overrides and the overrides' values
+// by key, the last of a key winning as in the config.
+struct ParsedRecord {
+    std::string head;
+    std::map<std::string, std::string> values;
+};
+
+ParsedRecord parse_record(const std::string& text) {
+    ParsedRecord r;
+    const std::size_t at = text.find("overrides = [\n");
+    r.head = text.substr(0, at);
+    if (at == std::string::npos) return r;
+    std::istringstream in(text.substr(at));
+    std::string line;
+    std::getline(in, line);  // overrides = [
+    while (std::getline(in, line) && line != "]") {
+        // '  "key=value",' with \" and \\ escaped
+        std::string o;
+        for (std::size_t k = 3; k + 2 < line.size(); ++k) {
+            if (line[k] == '\\' && k + 3 < line.size()) ++k;
+            o += line[k];
+        }
+        const std::size_t eq = o.find('=');
+        if (eq != std::string::npos) r.values[o.substr(0, eq)] = o.substr(eq + 1);
+    }
+    return r;
+}
+
+}  // namespace
+
+CaseFolder check_case_folder(const fs::path& dir, const std::string& record) {
+    if (!fs::exists(dir / "case.toml")) return CaseFolder::Same;
+    const std::string held = read_text(dir / "case.toml");
+    if (held == record) return CaseFolder::Same;
+    ParsedRecord a = parse_record(held), b = parse_record(record);
+    const auto ca = a.values.find("process.cycles"), cb = b.values.find("process.cycles");
+    if (a.head == b.head && ca != a.values.end() && cb != b.values.end()) {
+        double na = 0, nb = 0;
+        std::istringstream(ca->second) >> na;
+        std::istringstream(cb->second) >> nb;
+        a.values.erase("process.cycles");
+        b.values.erase("process.cycles");
+        if (a.values == b.values && nb > na) return CaseFolder::MoreCycles;
+    }
+    throw std::runtime_error("folder '" + dir.string() +
+                             "' holds a case run with other settings (see its case.toml); the study "
+                             "changed: use another --out, or remove the folder (a larger process.cycles alone "
+                             "continues the cases)");
+}
+
+std::size_t recorded_cycles(const fs::path& dir) {
+    if (!fs::exists(dir / "cycles.csv")) return 0;
+    return read_cycles_csv((dir / "cycles.csv").string()).size();
 }
 
 CaseOutcome read_case_outcome(const fs::path& dir, const Config& config) {

@@ -38,9 +38,16 @@ struct CaseOutcome {
 // What identifies a case's inputs: written to DIR/<case>/case.toml, compared on resume.
 std::string case_record(const Study& s, const StudyCase& c);
 
-// A case folder written for other settings (its case.toml differs from `record`): refused
-// (std::runtime_error) rather than mixing results of two studies.
-void check_case_folder(const std::filesystem::path& dir, const std::string& record);
+// How a case folder's case.toml relates to the study's `record` for it: the same case (or no
+// case.toml yet), or the same case but for a larger process.cycles (a study given more cycles:
+// the case continues from its run.ckpt, its record then that of a run of that many cycles). A
+// folder written for other settings is refused (std::runtime_error) rather than mixing results
+// of two studies.
+enum class CaseFolder { Same, MoreCycles };
+CaseFolder check_case_folder(const std::filesystem::path& dir, const std::string& record);
+
+// The cycles a case folder's cycles.csv holds (0 without one).
+std::size_t recorded_cycles(const std::filesystem::path& dir);
 
 // The outcome of a finished case folder: its last cycle (cycles.csv), the stationarity of its
 // cycles (the case's analysis.settle_tolerance applied to the W column, as the damper did), its

@@ -629,7 +629,7 @@ TEST_F(Study, CalibrationRecoversTheFrictionOfAnExperimentFromAnotherPacking) {
     const fs::path deadfile = scratch("dead_channel.csv");
     write_file(deadfile, dead);
     for (const std::string& args : {"--experiment " + deadfile.string(),
-                                    "--experiment " + expfile.string() + " --set process.cycles=3"}) {
+                                    "--experiment " + expfile.string() + " --set process.velocity=0.05"}) {
         SCOPED_TRACE(args);
         const Outcome failed =
             run("calibrate " + study.string() + " " + args + " --out " + out.string() + " --no-plot" + columns);
@@ -720,6 +720,55 @@ TEST_F(Study, MpiSweepWritesTheSameSummaryAsTheSerialOne) {
 // of the batch engine's host backend gives the files of --backend cpu byte for byte: three
 // underpressures branching from one preparation, two at a time (so the batch also takes a case
 // in and lets one go mid-run). --backend cuda is refused before anything is written.
+// A study given more cycles (process.cycles raised, here on the command line) continues its
+// finished cases from their run.ckpt: each case's records are then those of a sweep run with
+// that many cycles from the start, bit for bit; --report-only counts a case that has fewer
+// cycles than the study asks as not run. A folder without run.ckpt is refused, not rerun.
+TEST_F(Study, MoreCyclesContinueTheFinishedCases) {
+    std::string set = kSmallSet;
+    const std::string two = "\"process.cycles\" = 2\n";
+    set.replace(set.find(two), two.size(), "\"process.cycles\" = 1\n");
+    const fs::path one = scratch("more_cycles.toml"), whole_study = scratch("more_cycles_whole.toml");
+    const std::string grid = "[grid]\n\"process.underpressure\" = [0.04e6, 0.08e6]\n";
+    write_file(one, set + grid);
+    write_file(whole_study, kSmallSet + grid);
+    const fs::path out = scratch("more_cycles"), whole = scratch("more_cycles_whole");
+    ASSERT_EQ(run("sweep " + one.string() + " --out " + out.string() + " --jobs 1 --no-plot --quiet").status, 0);
+    // Asked for 2 before it ran them: both cases not run yet.
+    const Outcome before = run("sweep " + one.string() + " --out " + out.string() + " --report-only --set process.cycles=2");
+    ASSERT_EQ(before.status, 0) << before.output;
+    EXPECT_NE(before.output.find("0 of 2 cases finished"), std::string::npos) << before.output;
+    const Outcome more = run("sweep " + one.string() + " --out " + out.string() + " --jobs 1 --no-plot --set process.cycles=2");
+    ASSERT_EQ(more.status, 0) << more.output;
+    EXPECT_EQ(more.output.find("done earlier"), std::string::npos) << more.output;
+    ASSERT_EQ(run("sweep " + whole_study.string() + " --out " + whole.string() + " --jobs 1 --no-plot --quiet").status, 0);
+    int cases = 0;
+    for (const auto& e : fs::directory_iterator(whole)) {
+        if (!e.is_directory()) continue;
+        ++cases;
+        for (const char* f : {"forces.csv", "cycles.csv", "energy.csv"})
+            EXPECT_EQ(slurp(e.path() / f), slurp(out / e.path().filename() / f)) << e.path().filename() << "/" << f;
+    }
+    EXPECT_EQ(cases, 2);
+    const auto rows = table_of(out / "summary.csv"), ref = table_of(whole / "summary.csv");
+    ASSERT_EQ(rows.size(), 2u);
+    ASSERT_EQ(ref.size(), 2u);
+    for (std::size_t k = 0; k < 2; ++k) EXPECT_EQ(rows[k].at("W"), ref[k].at("W"));
+    // Again: finished now, nothing runs.
+    const Outcome again = run("sweep " + one.string() + " --out " + out.string() + " --jobs 1 --no-plot --set process.cycles=2");
+    ASSERT_EQ(again.status, 0) << again.output;
+    EXPECT_NE(again.output.find("done earlier"), std::string::npos) << again.output;
+    // Records without run.ckpt (published elsewhere): refused, nothing replaced.
+    const fs::path c = out / "process.underpressure=40000";
+    ASSERT_TRUE(fs::exists(c / "run.ckpt")) << entries(out).size();
+    fs::remove(c / "run.ckpt");
+    const std::string forces = slurp(c / "forces.csv");
+    const Outcome bare = run("sweep " + one.string() + " --out " + out.string() + " --jobs 1 --no-plot --set process.cycles=3");
+    EXPECT_NE(bare.status, 0);
+    EXPECT_NE(bare.output.find("no run.ckpt to continue from to 3"), std::string::npos) << bare.output;
+    EXPECT_EQ(slurp(c / "forces.csv"), forces);
+}
+
 TEST_F(Study, TheBatchBackendWritesTheCpuBackendsFiles) {
     std::string set = kSmallSet;
     const std::string two = "\"process.cycles\" = 2\n";
