@@ -127,14 +127,14 @@ def assemble(data, tmp, vppdem="build/vppdem"):
                 n += 1
         write_sources(os.path.join(tmp, s), sources)
         print(f"{s} {toml} {n}")
-    for name, sources in ASSEMBLIES.items():
+    for name, parts in ASSEMBLIES.items():
         toml = f"studies/paper/report/{name}.toml"
         cycles = study_cycles(toml)
         n = 0
-        sources = []
+        sources = []  # (case, the published run it is)
         for case in study_cases(vppdem, toml):
             want = parse_name(case)
-            for study, extra, only in sources:
+            for study, extra, only in parts:
                 src = os.path.join(data, study)
                 if not os.path.isdir(src):
                     continue
@@ -254,7 +254,8 @@ def settle_stats(report, raw):
         src = {r["case"]: r["source"] for r in read_csv(os.path.join(report, s, "sources.csv"))}
         for r in read_csv(os.path.join(report, s, "summary.csv")):
             where = src.get(r.get("case"))
-            if r.get("status") != "ok" or not where or where in seen:
+            # Each run as its own study analysed it (an assembly may hold its first cycles only).
+            if r.get("status") != "ok" or not where or where in seen or where.split("/")[0] != s:
                 continue
             rows = read_csv(os.path.join(raw, where, "cycles.csv"))
             if len(rows) < 5:

@@ -196,6 +196,12 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
     EXPECT_NE(page.find("12 of 12 finished 5-cycle runs are stationary"), std::string::npos) << page;
     EXPECT_NE(page.find("| C16 |"), std::string::npos);
     EXPECT_NE(page.find("open (runs pending)"), std::string::npos);  // friction: no runs
+    // The studies whose reference cases are another study's runs take them from it: the
+    // modulus study's 2.3 GPa is the underpressure study's 0.06 MPa (1510, 1526, 1542: t 16 /
+    // sqrt(3) = 39.7), the preparation study's re-fill its 0.02 MPa. (They stayed pending while
+    // the assembly's loop variable was shadowed.)
+    EXPECT_NE(page.find("2300 MPa: 1526 +- 40"), std::string::npos) << page;
+    EXPECT_NE(page.find("0.02 MPa: re-fill 520 +- 25"), std::string::npos) << page;
     EXPECT_TRUE(fs::exists(d / "paper_underpressure_radius.png"));
     const auto paired = rows_of(data / "report" / "radius_underpressure" / "summary_paired.csv");
     bool found = false;
