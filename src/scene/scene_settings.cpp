@@ -236,7 +236,10 @@ bool SceneSection::flag(const std::string& key) {
 dem::Vec3 SceneSection::vec3(const std::string& key) {
     const SceneSetting& r = row(key);
     const dem::Vec3 v = r.required ? s_.vec3(key) : s_.vec3(key, r.def3);
-    record(key, "[" + dem::json_double(v.x) + ", " + dem::json_double(v.y) + ", " + dem::json_double(v.z) + "]");
+    std::string text = "[";  // appended, not "[" + ...: GCC 12 warns falsely on the sum (its bug 105329)
+    text.append(dem::json_double(v.x)).append(", ").append(dem::json_double(v.y)).append(", ");
+    text.append(dem::json_double(v.z)).append("]");
+    record(key, text);
     return v;
 }
 

@@ -79,7 +79,10 @@ std::vector<const CycleColumn*> cycle_columns_of(const std::vector<CycleResult>&
 void write_cycles_csv(const std::string& path, const std::vector<CycleResult>& cycles) {
     const std::vector<const CycleColumn*> cols = cycle_columns_of(cycles);
     std::string header;
-    for (const CycleColumn* c : cols) header += (header.empty() ? "" : ",") + std::string(c->name);
+    for (const CycleColumn* c : cols) {
+        if (!header.empty()) header += ',';
+        header += c->name;
+    }
     // The cycle number and the flags are whole doubles: printed without a decimal point.
     dem::CsvWriter csv(path, header);
     std::vector<double> row;

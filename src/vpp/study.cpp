@@ -7,6 +7,7 @@
 #include <filesystem>
 #include <map>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include "dem/batch/batch_stepper.h"
@@ -48,13 +49,13 @@ SweepResult report_sweep(const Study& s, const SweepOptions& opt, SweepResult re
         try {
             // A case the study gives more cycles than it ran (or whose continuation was
             // interrupted) has not finished for this study.
-            if (check_case_folder(dir, case_record(s, c)) == CaseFolder::MoreCycles ||
-                recorded_cycles(dir) < std::size_t(c.config.process.cycles)) {
+            std::optional<CaseOutcome> done = finished_case(dir, case_record(s, c), c.config);
+            if (!done) {
                 o.not_run = true;
                 o.run_seconds = CaseOutcome::kNaN;
                 continue;
             }
-            o = read_case_outcome(dir, c.config);
+            o = std::move(*done);
             o.skipped = true;
             ++finished;
         } catch (const std::exception& e) {
@@ -182,21 +183,18 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
         try {
             fs::create_directories(dir);
             const std::string rec = case_record(s, c);
-            const CaseFolder held = check_case_folder(dir, rec);
-            if (fs::exists(dir / "summary.json")) {
-                const std::size_t have = recorded_cycles(dir), want = std::size_t(c.config.process.cycles);
-                if (held == CaseFolder::Same && have >= want) {
-                    o = read_case_outcome(dir, c.config);
-                    o.skipped = true;
-                    return o;
-                }
-                // More cycles than it has (the study's process.cycles raised): it continues
-                // from its run.ckpt (below), never from the sample, which would replace it.
-                if (!fs::exists(dir / "run.ckpt"))
-                    throw std::runtime_error("folder '" + dir.string() + "' holds " + std::to_string(have) +
-                                             " cycles of this case and no run.ckpt to continue from to " +
-                                             std::to_string(want) + ": give the sweep another --out");
+            if (std::optional<CaseOutcome> done = finished_case(dir, rec, c.config)) {
+                o = std::move(*done);
+                o.skipped = true;
+                return o;
             }
+            // Records of fewer cycles than the study's (its process.cycles raised): the case
+            // continues from its run.ckpt (below), never from the sample, which would replace it.
+            if (fs::exists(dir / "summary.json") && !fs::exists(dir / "run.ckpt"))
+                throw std::runtime_error("folder '" + dir.string() + "' holds " +
+                                         std::to_string(recorded_cycles(dir)) +
+                                         " cycles of this case and no run.ckpt to continue from to " +
+                                         std::to_string(c.config.process.cycles) + ": give the sweep another --out");
             dem::write_text_atomic((dir / "case.toml").string(), rec);
             DamperOptions d;
             d.out_dir = dir.string();

@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+#include <toml++/toml.h>
 
 #include "dem/io/csv.h"
 #include "vpp/damper.h"
@@ -81,65 +82,52 @@ std::string case_record(const Study& s, const StudyCase& c) {
 
 namespace {
 
-// A case record (case_record's text) as its lines before the overrides and the overrides' values
-// by key, the last of a key winning as in the config.
+// A case record (case_record's text, TOML) as its settings besides the overrides (base, base_hash)
+// and the overrides' values by key, the last of a key winning as in the config. False when the
+// text is not such a record.
 struct ParsedRecord {
-    std::string head;
-    std::map<std::string, std::string> values;
+    std::map<std::string, std::string> head, values;
 };
 
-ParsedRecord parse_record(const std::string& text) {
-    ParsedRecord r;
-    const std::size_t at = text.find("overrides = [\n");
-    r.head = text.substr(0, at);
-    if (at == std::string::npos) return r;
-    std::istringstream in(text.substr(at));
-    std::string line;
-    std::getline(in, line);  // overrides = [
-    while (std::getline(in, line) && line != "]") {
-        // '  "key=value",' with \" and \\ escaped
-        std::string o;
-        for (std::size_t k = 3; k + 2 < line.size(); ++k) {
-            if (line[k] == '\\' && k + 3 < line.size()) ++k;
-            o += line[k];
-        }
+bool parse_record(const std::string& text, ParsedRecord& r) {
+    toml::table t;
+    try {
+        t = toml::parse(text);
+    } catch (const toml::parse_error&) {
+        return false;
+    }
+    for (const auto& [key, node] : t) {
+        if (key.str() == "overrides") continue;
+        const auto* v = node.as_string();
+        if (!v) return false;
+        r.head[std::string(key.str())] = v->get();
+    }
+    const toml::array* overrides = t["overrides"].as_array();
+    if (!overrides) return false;
+    for (const toml::node& n : *overrides) {
+        const auto* v = n.as_string();
+        if (!v) return false;
+        const std::string& o = v->get();
         const std::size_t eq = o.find('=');
-        if (eq != std::string::npos) r.values[o.substr(0, eq)] = o.substr(eq + 1);
+        if (eq == std::string::npos) return false;
+        r.values[o.substr(0, eq)] = o.substr(eq + 1);
     }
-    return r;
+    return true;
 }
 
-}  // namespace
-
-CaseFolder check_case_folder(const fs::path& dir, const std::string& record) {
-    if (!fs::exists(dir / "case.toml")) return CaseFolder::Same;
-    const std::string held = read_text(dir / "case.toml");
-    if (held == record) return CaseFolder::Same;
-    ParsedRecord a = parse_record(held), b = parse_record(record);
-    const auto ca = a.values.find("process.cycles"), cb = b.values.find("process.cycles");
-    if (a.head == b.head && ca != a.values.end() && cb != b.values.end()) {
-        double na = 0, nb = 0;
-        std::istringstream(ca->second) >> na;
-        std::istringstream(cb->second) >> nb;
-        a.values.erase("process.cycles");
-        b.values.erase("process.cycles");
-        if (a.values == b.values && nb > na) return CaseFolder::MoreCycles;
-    }
-    throw std::runtime_error("folder '" + dir.string() +
-                             "' holds a case run with other settings (see its case.toml); the study "
-                             "changed: use another --out, or remove the folder (a larger process.cycles alone "
-                             "continues the cases)");
+// process.cycles of a record's overrides (0 where absent or not a number).
+double record_cycles(const ParsedRecord& r) {
+    const auto it = r.values.find("process.cycles");
+    double n = 0;
+    if (it != r.values.end()) std::istringstream(it->second) >> n;
+    return n;
 }
 
-std::size_t recorded_cycles(const fs::path& dir) {
-    if (!fs::exists(dir / "cycles.csv")) return 0;
-    return read_cycles_csv((dir / "cycles.csv").string()).size();
-}
-
-CaseOutcome read_case_outcome(const fs::path& dir, const Config& config) {
+// The outcome of a finished case folder from its cycles (read by the caller) and summary.json.
+CaseOutcome outcome_of(const fs::path& dir, const std::vector<CycleResult>& cycles, const Config& config) {
     CaseOutcome o;
     o.ok = true;
-    const std::vector<CycleResult> cycles = read_cycles_csv((dir / "cycles.csv").string());
+    if (cycles.empty()) throw std::runtime_error("'" + (dir / "cycles.csv").string() + "' holds no cycle");
     const CycleResult& last = cycles.back();
     o.W = last.W;
     o.dissipated_energy = last.dissipated_energy;
@@ -168,6 +156,43 @@ CaseOutcome read_case_outcome(const fs::path& dir, const Config& config) {
             o.warnings.push_back(w.get<std::string>());
         }
     return o;
+}
+
+}  // namespace
+
+CaseFolder check_case_folder(const fs::path& dir, const std::string& record) {
+    if (!fs::exists(dir / "case.toml")) return CaseFolder::Same;
+    const std::string held = read_text(dir / "case.toml");
+    if (held == record) return CaseFolder::Same;
+    ParsedRecord a, b;
+    if (parse_record(held, a) && parse_record(record, b) && a.head == b.head) {
+        const double na = record_cycles(a), nb = record_cycles(b);
+        a.values.erase("process.cycles");
+        b.values.erase("process.cycles");
+        if (na > 0 && nb > na && a.values == b.values) return CaseFolder::MoreCycles;
+    }
+    throw std::runtime_error("folder '" + dir.string() +
+                             "' holds a case run with other settings (see its case.toml); the study "
+                             "changed: use another --out, or remove the folder (a larger process.cycles alone "
+                             "continues the cases)");
+}
+
+std::size_t recorded_cycles(const fs::path& dir) {
+    if (!fs::exists(dir / "cycles.csv")) return 0;
+    return read_cycles_csv((dir / "cycles.csv").string()).size();
+}
+
+std::optional<CaseOutcome> finished_case(const fs::path& dir, const std::string& record, const Config& config) {
+    const CaseFolder held = check_case_folder(dir, record);
+    if (held != CaseFolder::Same || !fs::exists(dir / "summary.json") || !fs::exists(dir / "cycles.csv"))
+        return std::nullopt;
+    const std::vector<CycleResult> cycles = read_cycles_csv((dir / "cycles.csv").string());
+    if (cycles.size() < std::size_t(config.process.cycles)) return std::nullopt;
+    return outcome_of(dir, cycles, config);
+}
+
+CaseOutcome read_case_outcome(const fs::path& dir, const Config& config) {
+    return outcome_of(dir, read_cycles_csv((dir / "cycles.csv").string()), config);
 }
 
 std::string outcome_json(std::size_t index, const CaseOutcome& o) {
@@ -294,7 +319,7 @@ std::string cases_csv(const Study& s, const std::vector<StudyCase>& cases, const
             if (!names.empty()) names += ';';
             names += cases[i].name;
         }
-        out += "," + csv_field(names) + "\n";
+        out.append(",").append(csv_field(names)).append("\n");
     }
     return out;
 }

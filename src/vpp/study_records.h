@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,6 +49,14 @@ CaseFolder check_case_folder(const std::filesystem::path& dir, const std::string
 
 // The cycles a case folder's cycles.csv holds (0 without one).
 std::size_t recorded_cycles(const std::filesystem::path& dir);
+
+// The outcome of a case folder that finished for this study (nullopt: not yet; the caller runs
+// or continues it): the same record (check_case_folder, which refuses a folder of other
+// settings), a summary.json, and at least the config's process.cycles in cycles.csv (fewer: a
+// study given more cycles, or a continuation interrupted). The one answer to "is this case done"
+// for a sweep and its --report-only, reading cycles.csv once.
+std::optional<CaseOutcome> finished_case(const std::filesystem::path& dir, const std::string& record,
+                                         const Config& config);
 
 // The outcome of a finished case folder: its last cycle (cycles.csv), the stationarity of its
 // cycles (the case's analysis.settle_tolerance applied to the W column, as the damper did), its

@@ -36,7 +36,8 @@ protected:
         fs::remove_all(scratch(""));
         fs::create_directories(scratch(""));
         for (int seed : {1, 2}) {
-            const Outcome r = run("damper --out " + scratch("s" + std::to_string(seed)).string() + " " + damper_args(seed));
+            const std::string folder = scratch(std::string("s").append(std::to_string(seed))).string();
+            const Outcome r = run(std::string("damper --out ").append(folder).append(" ").append(damper_args(seed)));
             ok_ = ok_ && r.status == 0;
             if (r.status != 0) log_ += r.output;
         }
@@ -53,7 +54,8 @@ std::string BatchDamper::log_;
 // ledger started afresh (or off).
 World load(int seed, double dp, double mu, bool energy = true) {
     World w;
-    dem::load_checkpoint((scratch("s" + std::to_string(seed)) / "run.ckpt").string(), w);
+    const std::string folder = std::string("s").append(std::to_string(seed));
+    dem::load_checkpoint((scratch(folder) / "run.ckpt").string(), w);
     w.params.track_energy = energy;
     w.reset_energy();
     w.pressure.dp = dp;

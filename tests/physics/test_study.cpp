@@ -121,6 +121,56 @@ TEST(StudyUnits, RangesIncludeTheStopAndRoundCleanly) {
         EXPECT_THROW(vpp::parse_range("grains.friction", bad), cfg::ConfigError) << bad;
 }
 
+// A case folder's case.toml against the study's record for it (vpp/study_records.h): the same
+// record is the same case, a larger process.cycles alone continues it, anything else (fewer
+// cycles, another value, another key, another base, a record that is not TOML) is refused. Values
+// with quotes and backslashes round-trip through the record's escaping.
+TEST(StudyUnits, ACaseFolderAcceptsMoreCyclesAndRefusesAnyOtherChange) {
+    const fs::path dir = scratch("case_folder");
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    vpp::Study s;
+    vpp::StudyCase c;
+    c.overrides = {"process.cycles=5", "grains.friction=0.6", "output.note=\"a \\\"quoted\\\" path\\\\x\""};
+    const std::string held = vpp::case_record(s, c);
+    std::ofstream(dir / "case.toml") << held;
+    auto with = [&](std::vector<std::string> overrides, const std::string& base = "") {
+        vpp::Study t;
+        t.base = base;
+        vpp::StudyCase d;
+        d.overrides = std::move(overrides);
+        return vpp::case_record(t, d);
+    };
+    EXPECT_EQ(vpp::check_case_folder(dir, held), vpp::CaseFolder::Same);
+    std::vector<std::string> more = c.overrides;
+    more[0] = "process.cycles=8";
+    EXPECT_EQ(vpp::check_case_folder(dir, with(more)), vpp::CaseFolder::MoreCycles);
+    std::vector<std::string> fewer = c.overrides;
+    fewer[0] = "process.cycles=4";
+    EXPECT_THROW(vpp::check_case_folder(dir, with(fewer)), std::runtime_error);
+    std::vector<std::string> other = more;
+    other[1] = "grains.friction=0.8";
+    EXPECT_THROW(vpp::check_case_folder(dir, with(other)), std::runtime_error);
+    std::vector<std::string> note = more;
+    note[2] = "output.note=\"a quoted path\"";
+    EXPECT_THROW(vpp::check_case_folder(dir, with(note)), std::runtime_error);
+    std::vector<std::string> extra = more;
+    extra.push_back("grains.young=2.3e9");
+    EXPECT_THROW(vpp::check_case_folder(dir, with(extra)), std::runtime_error);
+    const fs::path base = dir / "base.toml";
+    std::ofstream(base) << "[grains]\nfriction = 0.6\n";
+    EXPECT_THROW(vpp::check_case_folder(dir, with(more, base.string())), std::runtime_error);
+    // The last of a key wins, as in the config: a repeated key before the final value is the same case.
+    std::vector<std::string> repeated = more;
+    repeated.insert(repeated.begin() + 1, "grains.friction=0.1");
+    EXPECT_EQ(vpp::check_case_folder(dir, with(repeated)), vpp::CaseFolder::MoreCycles);
+    std::ofstream(dir / "case.toml") << "overrides = [ not toml";
+    EXPECT_THROW(vpp::check_case_folder(dir, with(more)), std::runtime_error);
+    fs::remove(dir / "case.toml");
+    EXPECT_EQ(vpp::check_case_folder(dir, with(other)), vpp::CaseFolder::Same);  // none yet: a new case
+    fs::remove_all(dir);
+}
+
 TEST(StudyUnits, MisfitIsZeroForTheSameLoopAndGrowsWithTheDifference) {
     // A parallelogram-like loop, 3 cycles: up along F = 10 d + 2, down along F = 10 d - 2.
     vpp::LoopSeries a;

@@ -130,7 +130,7 @@ TEST(ClumpShape, RegularTetrahedronIsIsotropicAndBuiltInShapesHaveTheSphereVolum
 // Against a grid 4 times finer the default changes volume and moments by less than 1e-4
 // (measured: tetrahedron 1e-5, pellet 6.4e-5; 320 cells per radius: 1e-5 and 5e-5).
 TEST(ClumpShape, TripleOverlapsConvergeWithTheGrid) {
-    for (const std::string& name : {"tetrahedron", "pellet"}) {
+    for (const char* name : {"tetrahedron", "pellet"}) {
         const ClumpShape unit = builtin_clump_shape(name, 1.0);
         std::vector<ClumpMember> t = unit.members;
         const ClumpShape a = make_clump_shape(t, 40), b = make_clump_shape(t, 160);

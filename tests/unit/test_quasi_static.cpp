@@ -50,9 +50,12 @@ TEST(QuasiStatic, MarkSeparatesTheMeasuredBiases) {
         {3.44e-3, 0.254}, {6.87e-3, 0.472},
     };
     for (const Case& m : measured) {
-        if (m.inertial_number < vpp::kQuasiStaticInertialNumber)
+        if (m.inertial_number < vpp::kQuasiStaticInertialNumber) {
             EXPECT_LE(std::abs(m.bias), 0.08) << "I = " << m.inertial_number;
-        if (std::abs(m.bias) > 0.10) EXPECT_GE(m.inertial_number, vpp::kQuasiStaticInertialNumber) << "I = " << m.inertial_number;
+        }
+        if (std::abs(m.bias) > 0.10) {
+            EXPECT_GE(m.inertial_number, vpp::kQuasiStaticInertialNumber) << "I = " << m.inertial_number;
+        }
     }
     // The main job's velocity (scripts/main.sh, 0.02 m/s) is quasi-static by this mark; the
     // former 0.05 m/s is not.
