@@ -8,9 +8,10 @@
 #   STUDY: underpressure radius_underpressure friction damping young preparation foil_resolution
 #          timestep (default: all, in this order). underpressure is the radius study's 25.5 mm
 #          rows alone (run into the radius study's folder, so that they finish first). timestep
-#          branches the friction study's prepared samples (seeds 1 and 2, identical bit for bit
+#          branches the friction study's prepared samples (seeds 1-3, identical bit for bit
 #          to the radius study's 25.5 mm samples) with
-#          simulation.dt_safety = 0.25 for 2 cycles at 0.06 MPa.
+#          simulation.dt_safety = 0.25 for 2 cycles at 0.06 MPa (the issue asks 2 seeds; the
+#          third because the paired difference of two, -4 +- 19%, did not resolve a 3-5% effect).
 #   --publish-only: copy what has finished into docs/data/paper and stop (while runs go on).
 # Knobs (environment variables):
 #   VPPDEM  the binary (default pinned/vppdem: build once, copy it there, write its commit into
@@ -68,7 +69,7 @@ for study in "${studies[@]}"; do
   mkdir -p "$OUT/$s"
   if [ "$s" = timestep ]; then
     # Paired by construction: the same prepared sample, only the time step's safety factor differs.
-    for seed in 1 2; do
+    for seed in 1 2 3; do
       # The seed's 25.5 mm sample: the friction study's preparer, or the underpressure study's
       # (the same bits: grain friction and dp act after the preparation, one pinned build).
       ckpt="$OUT/friction/grains.friction=0_simulation.seed=$seed/prepared.ckpt"

@@ -24,6 +24,7 @@ import os
 import shutil
 import subprocess
 import sys
+import tomllib
 
 # The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
@@ -85,12 +86,20 @@ def study_cases(vppdem, toml):
     return [line.split()[3] for line in r.stdout.splitlines() if line.strip()]
 
 
+def read_study(toml):
+    with open(toml, "rb") as f:
+        return tomllib.load(f)
+
+
 def study_cycles(toml):
-    with open(toml) as f:
-        for line in f:
-            if line.strip().startswith('"process.cycles"'):
-                return int(float(line.split("=", 1)[1]))
-    return None
+    """A study file's [set] process.cycles (None: the damper's default)."""
+    v = read_study(toml).get("set", {}).get("process.cycles")
+    return None if v is None else int(v)
+
+
+def study_seeds(toml):
+    """A study file's seeds (its ensemble's size; 1 without one)."""
+    return int(read_study(toml).get("seeds", 1))
 
 
 def copy_case(src, dst, cycles=None):
@@ -233,6 +242,11 @@ def diff_text(p, digits=0, pct=True):
     if pct and rel is not None:
         s += f" ({100 * rel:+.0f}%)"
     return s, abs(d) > h
+
+
+def paired_n(p):
+    """Seeds paired in a summary_paired row (0 without one)."""
+    return int(float(p.get("n") or 0)) if p else 0
 
 
 def verdict(flags, yes="reproduced", no="not reproduced"):
@@ -488,6 +502,9 @@ def write(data, out_md, figdir, command):
     tdt, okdt = diff_text(ts.pair("simulation.dt_safety", 0.25))
     tdw, _ = diff_text(ts.pair("simulation.dt_safety", 0.25, "W"))
     tfo, okfo = diff_text(fo.pair("foil.particle_radius", 7.4125e-4, "W"))
+    nts = paired_n(ts.pair("simulation.dt_safety", 0.25, "W"))
+    # The designs' seeds (the assemblies' study files), for the lines that describe them.
+    sts, sfo = (study_seeds(f"studies/paper/report/{n}.toml") for n in ("timestep", "foil_resolution"))
 
     # ---- figures
     if any(fnum(c.get(f"{ru.q}_mean")) is not None for c in ru.cases):
@@ -524,7 +541,7 @@ def write(data, out_md, figdir, command):
         ("C4", "Frictionless pour to 54%, then the cap down to H_p (preparation)", "54% of pi r_p^2 H_p", c4, c4v),
         ("C5", "500 samples per cycle, step about 2e-6 s", "",
          f"dt 1.84e-6 s (safety 0.45), 500 samples per cycle; dt_safety 0.25 from the same samples, cycle 2 W "
-         f"{tdw} J/m2 (2 seeds, paired)", "reproduced" if okdt is not True else "partly (time step matters)"),
+         f"{tdw} J/m2 ({nts} seeds, paired)", "reproduced" if okdt is not True else "partly (time step matters)"),
         ("C6", "Forces on the cap (grains) and on the top ring (foil) recorded apart", "",
          "`force_grains`, `force_foil` in forces.csv", "reproduced (no split numbers compared)"),
         ("C7", "An empty envelope under underpressure folds with self-contact", "0.01 MPa",
@@ -605,9 +622,10 @@ def write(data, out_md, figdir, command):
     ]
     lines += [f"| {a} | {b} | {c} | {d} | {e} |" for a, b, c, d, e in rows]
     lines += ["", "## Numerical convergence (the studies' settings)", "",
-              f"- Time step: `simulation.dt_safety` 0.25 against 0.45 from the same samples (0.06 MPa, 2 seeds, 2 cycles): "
-              f"W_settled needs 3 cycles, so cycle 2's W: {tdw} J/m2.",
-              f"- Foil resolution: foil particles of r_k/4 against r_k/3 (other samples, 2 seeds, 2 cycles): cycle 2's W "
+              f"- Time step: `simulation.dt_safety` 0.25 against 0.45 from the same samples (0.06 MPa, {sts} seeds, 2 cycles): "
+              f"W_settled needs 3 cycles, so cycle 2's W: {tdw} J/m2"
+              f"{f' (paired over {nts} of the {sts} seeds so far)' if 0 < nts < sts else ''}.",
+              f"- Foil resolution: foil particles of r_k/4 against r_k/3 (other samples, {sfo} seeds, 2 cycles): cycle 2's W "
               f"{tfo} J/m2.", ""]
     if figs:
         lines += ["## Figures", ""]
