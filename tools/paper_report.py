@@ -602,7 +602,7 @@ def write(data, out_md, figdir, command):
         "",
         "## How the evidence was made",
         "- The paper's damper at 0.01 m/s (within 2% of 0.005 m/s and of the paper's 3.33e-4 m/s, C22), 5 cycles of",
-        "  10 mm, 3 seeds per case (2 for the numerical checks), one pinned build for every run"
+        f"  10 mm, 3 seeds per case ({sfo} for the foil resolution, {sts} for the time step, 2 cycles each), one pinned build for every run"
         + (f" ({', '.join(commits)}; `docs/data/SOURCES.md`)" if commits else "") + ": `bash scripts/paper_studies.sh`.",
         "- W is **W_settled**, the mean W over each run's stationary cycles (docs/damper.md, \"Stationary loops\": no",
         "  trend or jump beyond a 3% scatter at 95%), re-analysed by the current build (`vppdem sweep --report-only`),",
