@@ -446,6 +446,11 @@ def write(data, out_md, figdir, command):
         f"{mu:g} {f_d[mu][0]}" for mu in mus[1:])
     c16v = "open (runs pending)" if f_d[0.6][1] is None else ("reproduced" if f_d[0.6][1] else "not reproduced")
     t18, ok18 = diff_text(f06.pair("grains.friction", 1.0))
+    # C11: how far the measured friction's loops lie from the calibrated friction's (the
+    # experiment itself is not in our copy).
+    t11, ok11 = diff_text(f06.pair("grains.friction", 0.2))
+    c11 = (f"no measured loops in the repository; the model tells the two frictions apart: mu 0.6 -> 0.2, "
+           f"paired, {f06.qlabel} {t11} J/m2" + (" (resolved)" if ok11 else " (not resolved)" if ok11 is False else ""))
     t18e, _ = diff_text(f06.pair("grains.friction", 1.0, "dissipated_energy"), digits=3)
     c18 = f"mu 0.6 -> 1.0, paired: {f06.qlabel} {t18} J/m2, dissipated energy (cycle 5) {t18e} J"
     rel18 = fnum(f06.pair("grains.friction", 1.0)["rel_diff"]) if f06.pair("grains.friction", 1.0) else None
@@ -553,16 +558,16 @@ def write(data, out_md, figdir, command):
         ("C10", "The DEM foil strip matches the tension test", "E_f 122.18 MPa",
          "strip stiffness 122.16 MPa (-0.01%), docs/foil.md", "reproduced (against E_f)"),
         ("C11", "The measured grain friction (about 0.2) does not fit the experiment", "",
-         "no measured loops in the repository", "open (needs the experiment's loops)"),
+         c11, "not decidable here: needs the experiment's measured loops (the paper's figures, missing from our copy); `vppdem calibrate` takes them as a CSV"),
         ("C12", "Friction, grid-searched against 0.06 MPa, is 0.6", "grid 0-1",
          "calibration recovers a synthetic mu = 0.45 from another packing within one grid step (test "
-         "`Study.CalibrationRecoversTheFrictionOfAnExperimentFromAnotherPacking`)", "open (needs the experiment's loops)"),
+         "`Study.CalibrationRecoversTheFrictionOfAnExperimentFromAnotherPacking`)", "not decidable here: needs the experiment's measured loops (the paper's figures, missing from our copy); `vppdem calibrate` takes them as a CSV"),
         ("C13", "The calibrated loops agree well with the 0.06 MPa experiment", "", "no measured loops",
-         "open (needs the experiment's loops)"),
+         "not decidable here: needs the experiment's measured loops (the paper's figures, missing from our copy); `vppdem calibrate` takes them as a CSV"),
         ("C14", "Small mismatch at the start of compression (the pump)", "",
-         "vppdem holds dp exactly, as the paper's model does", "open (needs a pump model and the loops)"),
+         "vppdem holds dp exactly, as the paper's model does", "not decidable here: needs the measured loops and a model of the pump"),
         ("C15", "The calibrated model predicts 0.02, 0.04, 0.08 MPa", "", "`calibrate --predict` exists; no measured loops",
-         "open (needs the experiment's loops)"),
+         "not decidable here: needs the experiment's measured loops (the paper's figures, missing from our copy); `vppdem calibrate` takes them as a CSV"),
         ("C16", "Grain friction controls the loop", "0.06 MPa, mu 0-1", c16, c16v),
         ("C17", "The friction effect is strongly nonlinear, saturating", "", c17, c17v),
         ("C18", "mu 0.6 -> 1.0 changes the dissipated energy by a few per cent", "", c18, c18v),
