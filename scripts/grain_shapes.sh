@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Runs the grain-shape study (studies/grains/shapes.toml) with one pinned vppdem binary and keeps
 # every finished run's small records in the repository (docs/data/grains/shapes/<case>/:
-# case.toml, summary.json, cycles.csv; the study's summary.csv), so a new machine loses at most
-# the runs in flight.
+# case.toml, summary.json, cycles.csv; the study's summary.csv). They are published when the
+# sweep returns, or at any time with --publish-only (run it before a session ends: the runs
+# finished by then are kept, a new machine loses at most those in flight). A binary of another
+# pinned build than the published runs' (their COMMAND) is refused: one study, one build.
 # usage: scripts/grain_shapes.sh [--publish-only]
 # Knobs: VPPDEM (default pinned/vppdem), OUT (out/grains/shapes), JOBS (runs at once), DATA
 # (docs/data/grains/shapes). Resumable like scripts/paper_studies.sh: published records go back
@@ -22,6 +24,7 @@ restore_records "$DATA" "$OUT"
 failed=0
 if [ $publish_only -eq 0 ]; then
   [ -x "$VPPDEM" ] || { echo "grain_shapes.sh: no vppdem binary at $VPPDEM" >&2; exit 2; }
+  check_pinned "$DATA" "$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)" grain_shapes.sh
   cmd="$VPPDEM sweep studies/grains/shapes.toml --out $OUT ${JOBS:+--jobs $JOBS} --no-plot"
   printf '%s (pinned build %s)\n' "$cmd" "$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)" > "$OUT/COMMAND"
   $cmd || failed=1

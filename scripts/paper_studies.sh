@@ -65,6 +65,7 @@ failed=0
 for study in "${studies[@]}"; do
   s=$(folder "$study")
   if [ $publish_only -eq 1 ]; then save "$s"; continue; fi
+  check_pinned "$DATA/$s" "$pinned_commit" paper_studies.sh
   restore "$s"
   mkdir -p "$OUT/$s"
   if [ "$s" = timestep ]; then

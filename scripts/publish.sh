@@ -56,3 +56,19 @@ save_records() {
   for f in summary.csv summary_cases.csv COMMAND; do [ -f "$out/$f" ] && publish "$out/$f" "$data/$f"; done
   return 0
 }
+
+# check_pinned DATA COMMIT WHO: one study, one build. DATA/COMMAND names the pinned build of the
+# runs published there ("(pinned build <commit>)"); a binary of another commit would mix two
+# builds' results in one study, so it is refused (exit 2) before anything runs. No COMMAND yet:
+# nothing to compare.
+check_pinned() {
+  local data=$1 commit=$2 who=$3 held
+  [ -f "$data/COMMAND" ] || return 0
+  held=$(sed -n 's/.*(pinned build \([^)]*\)).*/\1/p' "$data/COMMAND" | head -n 1)
+  if [ -n "$held" ] && [ "$held" != "$commit" ]; then
+    echo "$who: the runs in $data came from the pinned build $held; this binary's pinned/COMMIT says $commit." >&2
+    echo "$who: one study, one build: rebuild $held and pin it (see the script's header), or give new DATA and OUT folders" >&2
+    exit 2
+  fi
+  return 0
+}

@@ -16,8 +16,10 @@ Per run: W of the stationary tail (summary.json W_settled; when the run did not 
 stationary, the mean of its last two cycles, flagged), the peak force and the friction and
 local-damping shares of the dissipation over the same cycles, the packing fraction at the start
 of the cycling. Per shape: mean and 95% interval over the seeds (Student's t); against the
-spheres the difference of the means with Welch's 95% interval (the shapes prepare their own
-samples: unpaired). Runs under /usr/bin/python3.
+spheres the ratio of the means with its 95% interval (the shapes prepare their own samples:
+unpaired; the delta method on ln R, Welch's degrees of freedom). Beside the experiment of
+Athanassiadis et al.: the pressure's and each shape's effect on W as |ln| of the ratio, their
+difference with its interval decides. Runs under /usr/bin/python3.
 """
 import json
 import math
@@ -64,7 +66,7 @@ def load(data):
         W = s["W_settled"] if stationary else sum(c["W"] for c in used) / len(used)
         diss = sum(c["friction_dissipation"] + c["damping_dissipation"] + c["viscous_dissipation"] for c in used)
         runs[k] = dict(
-            name=name, W=W, stationary=stationary, cycles=[c["cycle"] for c in used], n_cycles=len(cyc),
+            name=name, W=W, stationary=stationary, W_last=cyc[-1]["W"], W_prev=cyc[-2]["W"] if len(cyc) > 1 else math.nan, cycles=[c["cycle"] for c in used], n_cycles=len(cyc),
             peak=sum(c["peak_force"] for c in used) / len(used),
             friction=sum(c["friction_dissipation"] for c in used) / diss if diss > 0 else math.nan,
             damping=sum(c["damping_dissipation"] for c in used) / diss if diss > 0 else math.nan,
@@ -87,10 +89,23 @@ def planned(study):
 
 
 def pressure_effect(root, radius=0.0255):
-    """{dp [Pa]: {seed: W}} of the 25.5 mm rows of the paper's underpressure study (W as load())."""
-    out = {}
+    """The 25.5 mm rows of the paper's underpressure study: ({dp [Pa]: {seed: W}}, the runs'
+    velocity, cycles, and the cases not stationary). W as load(): the mean over the stationary
+    cycles, else the mean of the last two (flagged). Stationary by the current build's criterion,
+    the paper report's re-analysis (ROOT/../report/<study>/summary.csv, `vppdem sweep
+    --report-only`), because these runs were made by an older pinned build whose summary.json
+    used an earlier one; without that table, by the runs' own summary.json."""
+    out, info = {}, dict(velocity=None, cycles=set(), unsettled=[], criterion="the runs' own summary.json")
     if not os.path.isdir(root):
-        return out
+        return out, info
+    settled = None
+    table = os.path.join(os.path.dirname(os.path.normpath(root)), "report", os.path.basename(os.path.normpath(root)),
+                         "summary.csv")
+    if os.path.isfile(table):
+        import csv
+        with open(table, newline="") as f:
+            settled = {r["case"]: r.get("W_settled", "") for r in csv.DictReader(f)}
+        info["criterion"] = f"the current build's criterion ({os.path.relpath(table, os.getcwd())})"
     for name in sorted(os.listdir(root)):
         try:
             r = float(name.split("damper.radius=")[1].split("_")[0])
@@ -104,25 +119,50 @@ def pressure_effect(root, radius=0.0255):
         with open(path) as f:
             s = json.load(f)
         cyc = s["cycles"]
-        if s.get("W_settled") is not None:
-            W = s["W_settled"]
+        if not cyc:
+            continue
+        ws = (settled[name] or None) if settled is not None and name in settled else s.get("W_settled")
+        if ws is not None:
+            W = float(ws)
         else:
             W = sum(c["W"] for c in cyc[-2:]) / len(cyc[-2:])
+            info["unsettled"].append(name)
         out.setdefault(dp, {})[seed] = W
-    return out
+        info["velocity"] = s["inputs"]["process.velocity"]
+        info["cycles"].add(len(cyc))
+    return out, info
 
 
-def welch(a, b):
-    """(difference of the means b - a, half width of Welch's 95% interval)."""
+def ratio(a, b):
+    """b's mean over a's (unpaired samples) as (R, half width of its 95% interval, n_a, n_b):
+    the delta method, var(ln R) = sd_a^2 / (n_a m_a^2) + sd_b^2 / (n_b m_b^2), Welch-Satterthwaite
+    degrees of freedom, half width R t se (first order). NaN half width when a side has one run."""
+    na, ma, sa, _ = interval(a)
+    nb, mb, sb, _ = interval(b)
+    R = mb / ma
+    if na < 2 or nb < 2:
+        return R, math.nan, na, nb
+    va, vb = sa * sa / (na * ma * ma), sb * sb / (nb * mb * mb)
+    if va + vb == 0:
+        return R, 0.0, na, nb
+    dof = (va + vb) ** 2 / (va * va / (na - 1) + vb * vb / (nb - 1))
+    return R, R * t_quantile(0.975, dof) * math.sqrt(va + vb), na, nb
+
+
+def log_effect(a, b):
+    """ln(mean b / mean a) of unpaired samples with its standard error and Welch dof (None: a side
+    with fewer than 2 runs)."""
     na, ma, sa, _ = interval(a)
     nb, mb, sb, _ = interval(b)
     if na < 2 or nb < 2:
-        return mb - ma, math.nan
-    va, vb = sa * sa / na, sb * sb / nb
-    if va + vb == 0:
-        return mb - ma, 0.0
-    dof = (va + vb) ** 2 / (va * va / (na - 1) + vb * vb / (nb - 1))
-    return mb - ma, t_quantile(0.975, dof) * math.sqrt(va + vb)
+        return None
+    va, vb = sa * sa / (na * ma * ma), sb * sb / (nb * mb * mb)
+    dof = (va + vb) ** 2 / (va * va / (na - 1) + vb * vb / (nb - 1)) if va + vb > 0 else math.inf
+    return math.log(mb / ma), math.sqrt(va + vb), dof
+
+
+def ratio_text(R, h, n):
+    return f"{R:.2f} +- {h:.2f}" if math.isfinite(h) else f"{R:.2f} (no interval: {n} run{'s' if n != 1 else ''})"
 
 
 def ci(vals, digits=0, scale=1.0):
@@ -225,8 +265,8 @@ def main(argv):
         if sh == "sphere" or not ref:
             rel = "-"
         else:
-            d, h = welch(ref, vals)
-            rel = f"{100 * d / m_ref:+.0f} +- {100 * h / m_ref:.0f}" if math.isfinite(h) else f"{100 * d / m_ref:+.0f}"
+            R, h, _, nb = ratio(ref, vals)
+            rel = f"{100 * (R - 1):+.0f} +- {100 * h:.0f}" if math.isfinite(h) else f"{100 * (R - 1):+.0f} (n = {nb})"
         flag = "" if all(r["stationary"] for r in rs) else " (not all stationary)"
         count = f"{len(rs)} of {plan[1]}" if plan and sh in plan[0] else f"{len(rs)}"
         L.append(f"| {sh} | {count} | {ci([r['grains'] for r in rs])} | {ci([r['packing'] for r in rs], 3)} | "
@@ -236,7 +276,9 @@ def main(argv):
         L.append(f"| {sh} | 0 of {plan[1]} | pending | | | | | | |")
     L.append("")
     L.append("Mean +- half width of the 95% interval over the seeds (Student's t); against the spheres the "
-             "difference of the means with Welch's 95% interval, in % of the spheres' mean.")
+             "ratio of the means less 1, in %, with its 95% interval (the scatter of both shapes: the delta method "
+             "on ln R with Welch's degrees of freedom). (not all stationary): W of a run whose loops did not settle "
+             "is the mean of its last two cycles.")
     L.append("")
     L.append(f"![W, peak force, friction share and packing by shape]({fig})")
     L.append("")
@@ -251,36 +293,81 @@ def main(argv):
     L.append("")
     L.append("## Beside the experiment of Athanassiadis et al.")
     L.append("")
-    L.append("Athanassiadis et al. (Soft Matter 10, 48, 2014) jammed 3D-printed grains of many shapes in a "
-             "membrane by vacuum at four confining pressures and measured the effective modulus, the yield "
-             "stress and the energy lost per loading cycle. Only their abstract could be read for this page: "
-             "\"confining pressure has the largest overall effect\" on the mechanical response, while shape "
-             "\"controls the details\" and can tune stiffness and yielding. vppdem's runs against those two "
-             "statements:")
+    L.append("Athanassiadis et al. (Soft Matter 10, 48, 2014) jammed 3D-printed grains of many shapes by vacuum "
+             "at four confining pressures and measured the effective modulus, the yield stress and the energy "
+             "lost per loading cycle. Only their abstract could be read for this page: \"confining pressure has "
+             "the largest overall effect\" on the mechanical response, while shape \"controls the details\" and "
+             "can tune stiffness and yielding. vppdem's runs against those two statements, effects as ratios of "
+             "means with 95% intervals:")
     L.append("")
-    pe = pressure_effect(pressure) if pressure else {}
-    if ref:
-        for sh in [x for x in shapes if x != "sphere"]:
-            vals = [r["W"] for (s, _), r in runs.items() if s == sh]
-            _, m, _, _ = interval(vals)
-            pk = [r["peak"] for (s, _), r in runs.items() if s == sh]
-            pk_ref = [r["peak"] for (s, _), r in runs.items() if s == "sphere"]
-            L.append(f"- {sh}: W {m / m_ref:.2f} times the spheres', peak force {interval(pk)[1] / interval(pk_ref)[1]:.2f} "
-                     "times (the loop's stiffness and the load it yields at).")
+    pe, pinfo = pressure_effect(pressure) if pressure else ({}, {})
+    peff = None
     if len(pe) >= 2:
         lo, hi = min(pe), max(pe)
         seeds = sorted(set(pe[lo]) & set(pe[hi]))
+        logs = [math.log(pe[hi][k] / pe[lo][k]) for k in seeds]
+        n, m, sd, h = interval(logs)
         ratios = [pe[hi][k] / pe[lo][k] for k in seeds]
-        n, m, sd, h = interval(ratios)
-        L.append(f"- the confining pressure: W at {hi / 1e6:g} MPa is {m:.2f}"
-                 + (f" +- {h:.2f}" if math.isfinite(h) else "")
-                 + f" times W at {lo / 1e6:g} MPa (paired by seed, {n} seeds; {pressure}).")
-        shape_max = max((interval([r["W"] for (s, _), r in runs.items() if s == sh])[1] / m_ref
-                         for sh in shapes if sh != "sphere"), default=math.nan)
-        if math.isfinite(shape_max):
-            verdict = ("reproduced: the pressure changes W more than the shape does" if m > shape_max
-                       else f"not reproduced: in the model the shape changes W more than a {hi / lo:.0f}-fold pressure does")
-            L.append(f"- their first statement, {'provisionally ' if pending else ''}{verdict} ({m:.2f} against {shape_max:.2f}).")
+        _, mr, _, hr = interval(ratios)
+        uns = [c for c in pinfo["unsettled"] if any(f"process.underpressure={int(d)}_" in c for d in (lo, hi))]
+        L.append(f"- Confining pressure: W at {hi / 1e6:g} MPa is {ratio_text(mr, hr, n)} times W at {lo / 1e6:g} MPa "
+                 f"(the ratio per seed, paired, {n} seeds; 25.5 mm, {pinfo['velocity']:g} m/s, "
+                 f"{'/'.join(str(c) for c in sorted(pinfo['cycles']))} cycles: the paper's underpressure study, "
+                 f"{pressure}; stationary by {pinfo['criterion']}"
+                 + (f"; {len(uns)} of these {2 * n} runs not stationary: their last two cycles" if uns else "")
+                 + "). Its velocity is half the shape runs', within 1% in W (docs/paper_comparison.md, C22).")
+        if n >= 2:
+            peff = (m, sd / math.sqrt(n), n - 1)
+    verdicts = []
+    if ref:
+        for sh in [x for x in shapes if x != "sphere"]:
+            rs = [r for (s_, _), r in runs.items() if s_ == sh]
+            vals = [r["W"] for r in rs]
+            R, h, _, nb = ratio(ref, vals)
+            pk_ref = [r["peak"] for (s_, _), r in runs.items() if s_ == "sphere"]
+            P, ph, _, _ = ratio(pk_ref, [r["peak"] for r in rs])
+            uns = [r for r in rs if not r["stationary"]]
+            falling = [r for r in uns if r["W_last"] < r["W_prev"]]
+            flag = ""
+            if uns:
+                flag = (f"; {len(uns)} of its {len(rs)} runs not stationary (W of their last two cycles"
+                        + (f", {len(falling)} still falling: an upper bound of their stationary W" if falling else "")
+                        + ")")
+            pk_res = "" if not math.isfinite(ph) else (" (resolved)" if abs(P - 1) > ph else " (not resolved from 1)")
+            L.append(f"- {sh}: W {ratio_text(R, h, nb)} times the spheres'{flag}; peak force over the stroke "
+                     f"{ratio_text(P, ph, nb)} times{pk_res}.")
+            e = log_effect(ref, vals)
+            if peff is None or e is None:
+                verdicts.append((sh, None, None, None))
+                continue
+            # |ln| of both effects (a halving is as large as a doubling); their difference with
+            # the Welch-Satterthwaite interval of the two standard errors.
+            d = abs(peff[0]) - abs(e[0])
+            v1, v2 = peff[1] ** 2, e[1] ** 2
+            dof = (v1 + v2) ** 2 / (v1 * v1 / peff[2] + (v2 * v2 / e[2] if math.isfinite(e[2]) else 0))
+            verdicts.append((sh, d, t_quantile(0.975, dof) * math.sqrt(v1 + v2), math.exp(abs(e[0]))))
+    if verdicts and peff is not None:
+        parts, decided = [], []
+        for sh, d, h, _ in verdicts:
+            if d is None:
+                parts.append(f"{sh}: pending (fewer than 2 runs)")
+                decided.append(None)
+            else:
+                parts.append(f"{sh}: |ln| of the pressure's effect less the shape's {d:+.2f} +- {h:.2f}")
+                decided.append(True if d > h else False if d < -h else "undecided")
+        if any(x is None for x in decided):
+            v = "pending: a shape has fewer than 2 runs"
+        elif any(x is False for x in decided):
+            v = "not reproduced: in the model a shape changes W more than the pressure does, beyond the intervals"
+        elif all(x is True for x in decided):
+            v = "reproduced: the pressure changes W more than any shape does, beyond the intervals"
+        else:
+            v = "undecided: the pressure's and a shape's effects on W are equal within their intervals"
+        L.append(f"- Their first statement (pressure has the largest effect), on W: "
+                 f"{'provisionally ' if pending and not v.startswith('pending') else ''}"
+                 f"{v} ({'; '.join(parts)}).")
+        L.append("- Their second (shape tunes stiffness and yielding) is not tested as they measured it: the damper "
+                 "gives no separate modulus and yield stress; the peak force over the 10 mm stroke above mixes the two.")
     L.append("")
     if bench:
         L.append("")
