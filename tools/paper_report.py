@@ -508,6 +508,7 @@ def write(data, out_md, figdir, command):
     tdw, _ = diff_text(ts.pair("simulation.dt_safety", 0.25, "W"))
     tfo, okfo = diff_text(fo.pair("foil.particle_radius", 7.4125e-4, "W"))
     nts = paired_n(ts.pair("simulation.dt_safety", 0.25, "W"))
+    nfo = paired_n(fo.pair("foil.particle_radius", 7.4125e-4, "W"))
     # The designs' seeds (the assemblies' study files), for the lines that describe them.
     sts, sfo = (study_seeds(f"studies/paper/report/{n}.toml") for n in ("timestep", "foil_resolution"))
 
@@ -607,7 +608,9 @@ def write(data, out_md, figdir, command):
         "",
         "## How the evidence was made",
         "- The paper's damper at 0.01 m/s (within 2% of 0.005 m/s and of the paper's 3.33e-4 m/s, C22), 5 cycles of",
-        f"  10 mm, 3 seeds per case ({sfo} for the foil resolution, {sts} for the time step, 2 cycles each), one pinned build for every run"
+        f"  10 mm, 3 seeds per case ("
+        + (f"{sfo} for the foil resolution, {sts} for the time step, " if (sfo, sts) != (3, 3) else "")
+        + "the numerical checks 2 cycles), one pinned build for every run"
         + (f" ({', '.join(commits)}; `docs/data/SOURCES.md`)" if commits else "") + ": `bash scripts/paper_studies.sh`.",
         "- W is **W_settled**, the mean W over each run's stationary cycles (docs/damper.md, \"Stationary loops\": no",
         "  trend or jump beyond a 3% scatter at 95%), re-analysed by the current build (`vppdem sweep --report-only`),",
@@ -631,7 +634,8 @@ def write(data, out_md, figdir, command):
               f"W_settled needs 3 cycles, so cycle 2's W: {tdw} J/m2"
               f"{f' (paired over {nts} of the {sts} seeds so far)' if 0 < nts < sts else ''}.",
               f"- Foil resolution: foil particles of r_k/4 against r_k/3 (other samples, {sfo} seeds, 2 cycles): cycle 2's W "
-              f"{tfo} J/m2.", ""]
+              f"{tfo} J/m2"
+              f"{f' (paired over {nfo} of the {sfo} seeds so far)' if 0 < nfo < sfo else ''}.", ""]
     if figs:
         lines += ["## Figures", ""]
         lines += [f"![{t}]({f})\n\n{t}; made by `{command}`.\n" for f, t in figs]
