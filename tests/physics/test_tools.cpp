@@ -169,6 +169,27 @@ TEST(Tools, TrustStudiesScriptRunsAStudyAndPublishesIt) {
 // t_{0.975,2} 6 / sqrt(3) = 4.3027 * 3.4641 = 14.9 J/m^2 (the seeds' +-10 J/m^2 offsets cancel).
 // Every dp is higher than 0.02 MPa beyond its interval: C1 is reproduced. The page, its figure
 // and the published tables are written; the study without runs stays open.
+// tools/paper_report.py's verdicts against a tolerance (a fraction of the reference's mean), on
+// hand-made paired rows with a reference of 1000 J/m^2 and 5% (50 J/m^2): 10 +- 20 lies within,
+// 100 +- 20 beyond, 60 +- 40 is resolved but reaches inside, 30 +- 40 unresolved, one seed pending.
+// The planned runs come from the repository's study files (friction: 7 frictions x 3 seeds).
+TEST(Tools, PaperReportBandsADifferenceAgainstATolerance) {
+    const std::string code =
+        "import sys; sys.path.insert(0, 'tools'); import paper_report as p\n"
+        "row = lambda d, h, n=3: {'n': str(n), 'diff_mean': str(d), 'diff_ci95': str(h), 'ref_mean': '1000'}\n"
+        "print([p.band(row(10, 20), 0.05), p.band(row(100, 20), 0.05), p.band(row(60, 40), 0.05),\n"
+        "       p.band(row(30, 40), 0.05), p.band(row(10, 20, 1), 0.05), p.band(None, 0.05)])\n"
+        "print(p.rel_interval(row(45, 302)))\n"
+        "print(p.planned_runs('friction'), p.planned_runs('damping'), p.planned_runs('young'))\n";
+    write_file(scratch_path("tools", "band.py"), code);
+    const Outcome r = shell("cd " + kSource.string() + " && " + kPython + scratch_path("tools", "band.py").string());
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("['within', 'beyond', 'resolved', 'unresolved', None, None]"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("-26% to +35%"), std::string::npos) << r.output;  // (45 -+ 302) / 1000
+    EXPECT_NE(r.output.find("21 18 9"), std::string::npos) << r.output;
+    fs::remove(scratch_path("tools", "band.py"));
+}
+
 TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
     const fs::path d = scratch_path("tools", "paper_report");
     fs::remove_all(d);
