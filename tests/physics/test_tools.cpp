@@ -293,9 +293,12 @@ TEST(Tools, GrainShapesReportByHand) {
     }
     fs::create_directories(d / "docs");
     write_file(d / "plan.toml", "seeds = 3\n[grid]\n\"grains.shape\" = [\"sphere\", \"dimer\"]\n");
-    const Outcome r = shell(kPython + (kSource / "tools/grain_shapes_report.py").string() + " " + (d / "data").string() +
-                            " " + (d / "docs").string() + " --pressure " + (d / "pressure").string() + " --study " +
-                            (d / "plan.toml").string());
+    const auto report = [&](const std::string& args) {
+        return shell(kPython + (kSource / "tools/grain_shapes_report.py").string() + " " + (d / "data").string() + " " +
+                     (d / "docs").string() + args);
+    };
+    const std::string with_plan = " --pressure " + (d / "pressure").string() + " --study " + (d / "plan.toml").string();
+    const Outcome r = report(with_plan);
     ASSERT_EQ(r.status, 0) << r.output;
     const std::string md = slurp(d / "docs" / "grains.md");
     EXPECT_EQ(md.find("Provisional"), std::string::npos) << md;
@@ -317,16 +320,13 @@ TEST(Tools, GrainShapesReportByHand) {
     // and its ratio 227 / 101 = 2.2475; with 2 and 2 the mean ratio is 2.08.
     write_file(d / "report" / "pressure" / "summary.csv",
                "case,W_settled\ndamper.radius=0.0255_process.underpressure=80000_simulation.seed=1,\n");
-    const Outcome re = shell(kPython + (kSource / "tools/grain_shapes_report.py").string() + " " + (d / "data").string() +
-                             " " + (d / "docs").string() + " --pressure " + (d / "pressure").string() + " --study " +
-                             (d / "plan.toml").string());
+    const Outcome re = report(with_plan);
     ASSERT_EQ(re.status, 0) << re.output;
     const std::string rmd = slurp(d / "docs" / "grains.md");
     EXPECT_NE(rmd.find("W at 0.08 MPa is 2.08 +- "), std::string::npos) << rmd;
     EXPECT_NE(rmd.find("1 of these 6 runs not stationary"), std::string::npos) << rmd;
     // The repository's plan: pellets too, none run.
-    const Outcome part = shell(kPython + (kSource / "tools/grain_shapes_report.py").string() + " " + (d / "data").string() +
-                               " " + (d / "docs").string());
+    const Outcome part = report("");
     ASSERT_EQ(part.status, 0) << part.output;
     const std::string pmd = slurp(d / "docs" / "grains.md");
     EXPECT_NE(pmd.find("Provisional: 6 of the study's 9 runs"), std::string::npos) << pmd;
