@@ -65,7 +65,7 @@ failed=0
 for study in "${studies[@]}"; do
   s=$(folder "$study")
   if [ $publish_only -eq 1 ]; then save "$s"; continue; fi
-  check_pinned "$DATA/$s" "$pinned_commit" paper_studies.sh
+  check_pinned "$pinned_commit" paper_studies.sh "$DATA/$s" "$OUT/$s"
   restore "$s"
   mkdir -p "$OUT/$s"
   if [ "$s" = timestep ]; then
@@ -82,7 +82,16 @@ for study in "${studies[@]}"; do
       sets="--set simulation.dt_safety=0.25 --set process.underpressure=0.06e6 --set process.velocity=0.01 --set process.cycles=2 --set output.energy=false --set simulation.threads=1"
       cmd="$VPPDEM damper --from $ckpt --out $d --overwrite $sets --no-plot --quiet"
       echo "== timestep, seed $seed: $cmd"
-      if [ -f "$d/summary.json" ]; then echo "   done earlier"; continue; fi
+      if [ -f "$d/summary.json" ]; then
+        # Done for these settings only (its case.toml holds the command it ran).
+        if ! grep -qF -- "$sets" "$d/case.toml" 2>/dev/null; then
+          echo "paper_studies.sh: $d holds a time-step run of other settings (its case.toml); remove it, or give another OUT" >&2
+          failed=1
+        else
+          echo "   done earlier"
+        fi
+        continue
+      fi
       if [ -f "$d/run.ckpt" ]; then
         # The same settings again (a run.ckpt of the pinned build written before they were
         # applied does not carry them).
@@ -101,7 +110,12 @@ for study in "${studies[@]}"; do
     cmd="$VPPDEM sweep studies/paper/$study.toml --out $OUT/$s $jobs_arg --no-plot"
     echo "== $study: $cmd"
     # The radius study's COMMAND names the whole study (its 25.5 mm rows are the same cases).
-    [ "$study" = underpressure ] || printf '%s (pinned build %s)\n' "$cmd" "$pinned_commit" > "$OUT/$s/COMMAND"
+    if [ "$study" != underpressure ]; then
+      printf '%s (pinned build %s)\n' "$cmd" "$pinned_commit" > "$OUT/$s/COMMAND"
+    elif [ ! -f "$OUT/$s/COMMAND" ]; then
+      printf '%s (pinned build %s)\n' "$VPPDEM sweep studies/paper/radius_underpressure.toml --out $OUT/$s $jobs_arg --no-plot" \
+        "$pinned_commit" > "$OUT/$s/COMMAND"
+    fi
     $cmd || failed=1
   fi
   save "$s"

@@ -2,9 +2,12 @@
 # scripts/paper_studies.sh, grain_shapes.sh, trust_studies.sh, velocity_convergence.sh.
 # record() needs DOCS (the docs folder).
 
-# Copies FILE to DEST through a temporary name (a reader never sees half a file).
+# Copies FILE to DEST through a temporary name of its own (a reader never sees half a file, and
+# two scripts publishing at once do not share one).
 publish() {
-  cp "$1" "$2.part" && mv -f "$2.part" "$2"
+  local tmp
+  tmp=$(mktemp --suffix=.part "$2.XXXXXX") || return 1
+  cp "$1" "$tmp" && chmod 644 "$tmp" && mv -f "$tmp" "$2" || { rm -f "$tmp"; return 1; }
 }
 
 # Records in $DOCS/data/SOURCES.md that FILE(S) came from COMMAND (one row per file set; a new
@@ -38,7 +41,7 @@ restore_records() {
 }
 
 # save_records OUT DATA: each finished case of OUT into DATA/<case> (files that changed), then the
-# study's tables and its COMMAND; sets SAVED to the number of finished cases.
+# study's tables and its COMMAND; sets SAVED to the number of finished cases DATA holds then.
 save_records() {
   local out=$1 data=$2 d c f
   SAVED=0
@@ -46,29 +49,40 @@ save_records() {
   mkdir -p "$data"
   for d in "$out"/*/; do
     [ -f "$d/summary.json" ] || continue
+    # A case.toml newer than the summary: the case continues (a study given more cycles rewrites
+    # it first); its records are those of the shorter run until it finishes again.
+    [ "$d/case.toml" -nt "$d/summary.json" ] && continue
     c=$(basename "$d")
     mkdir -p "$data/$c"
     for f in "${RUN_RECORDS[@]}"; do
       [ -f "$d/$f" ] && ! cmp -s "$d/$f" "$data/$c/$f" && publish "$d/$f" "$data/$c/$f"
     done
-    SAVED=$((SAVED + 1))
   done
   for f in summary.csv summary_cases.csv COMMAND; do [ -f "$out/$f" ] && publish "$out/$f" "$data/$f"; done
+  for d in "$data"/*/; do [ -f "$d/summary.json" ] && SAVED=$((SAVED + 1)); done
   return 0
 }
 
-# check_pinned DATA COMMIT WHO: one study, one build. DATA/COMMAND names the pinned build of the
-# runs published there ("(pinned build <commit>)"); a binary of another commit would mix two
-# builds' results in one study, so it is refused (exit 2) before anything runs. No COMMAND yet:
-# nothing to compare.
+# check_pinned COMMIT WHO DIR...: one study, one build. A DIR/COMMAND (the published records'
+# and the run folder's) names the pinned build of the runs there ("(pinned build <commit>)"); a
+# binary of another commit would mix two builds' results in one study, so it is refused (exit 2)
+# before anything runs, as is a binary without the COMMIT file that names its build. A DIR
+# without COMMAND: nothing to compare.
 check_pinned() {
-  local data=$1 commit=$2 who=$3 held
-  [ -f "$data/COMMAND" ] || return 0
-  held=$(sed -n 's/.*(pinned build \([^)]*\)).*/\1/p' "$data/COMMAND" | head -n 1)
-  if [ -n "$held" ] && [ "$held" != "$commit" ]; then
-    echo "$who: the runs in $data came from the pinned build $held; this binary's pinned/COMMIT says $commit." >&2
-    echo "$who: one study, one build: rebuild $held and pin it (see the script's header), or give new DATA and OUT folders" >&2
+  local commit=$1 who=$2 dir held
+  shift 2
+  if [ -z "$commit" ] || [ "$commit" = unknown ]; then
+    echo "$who: no COMMIT file beside the binary: write the commit it was built from into it (see the script's header)" >&2
     exit 2
   fi
+  for dir in "$@"; do
+    [ -f "$dir/COMMAND" ] || continue
+    held=$(sed -n 's/.*(pinned build \([^)]*\)).*/\1/p' "$dir/COMMAND" | head -n 1)
+    if [ -n "$held" ] && [ "$held" != "$commit" ]; then
+      echo "$who: the runs in $dir came from the pinned build $held; this binary's COMMIT says $commit." >&2
+      echo "$who: one study, one build: rebuild $held and pin it (see the script's header), or give new DATA and OUT folders" >&2
+      exit 2
+    fi
+  done
   return 0
 }
