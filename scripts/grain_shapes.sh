@@ -24,9 +24,10 @@ restore_records "$DATA" "$OUT"
 failed=0
 if [ $publish_only -eq 0 ]; then
   [ -x "$VPPDEM" ] || { echo "grain_shapes.sh: no vppdem binary at $VPPDEM" >&2; exit 2; }
-  check_pinned "$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)" grain_shapes.sh "$DATA" "$OUT"
+  commit=$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)
+  check_pinned "$commit" grain_shapes.sh "$DATA" "$OUT"
   cmd="$VPPDEM sweep studies/grains/shapes.toml --out $OUT ${JOBS:+--jobs $JOBS} --no-plot"
-  printf '%s (pinned build %s)\n' "$cmd" "$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)" > "$OUT/COMMAND"
+  printf '%s (pinned build %s)\n' "$cmd" "$commit" > "$OUT/COMMAND"
   $cmd || failed=1
 fi
 save_records "$OUT" "$DATA"

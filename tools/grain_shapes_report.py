@@ -133,25 +133,10 @@ def pressure_effect(root, radius=0.0255):
     return out, info
 
 
-def ratio(a, b):
-    """b's mean over a's (unpaired samples) as (R, half width of its 95% interval, n_a, n_b):
-    the delta method, var(ln R) = sd_a^2 / (n_a m_a^2) + sd_b^2 / (n_b m_b^2), Welch-Satterthwaite
-    degrees of freedom, half width R t se (first order). NaN half width when a side has one run."""
-    na, ma, sa, _ = interval(a)
-    nb, mb, sb, _ = interval(b)
-    R = mb / ma
-    if na < 2 or nb < 2:
-        return R, math.nan, na, nb
-    va, vb = sa * sa / (na * ma * ma), sb * sb / (nb * mb * mb)
-    if va + vb == 0:
-        return R, 0.0, na, nb
-    dof = (va + vb) ** 2 / (va * va / (na - 1) + vb * vb / (nb - 1))
-    return R, R * t_quantile(0.975, dof) * math.sqrt(va + vb), na, nb
-
-
 def log_effect(a, b):
-    """ln(mean b / mean a) of unpaired samples with its standard error and Welch dof (None: a side
-    with fewer than 2 runs)."""
+    """ln(mean b / mean a) of unpaired samples with its standard error and Welch-Satterthwaite
+    degrees of freedom: the delta method, var(ln R) = sd_a^2 / (n_a m_a^2) + sd_b^2 / (n_b m_b^2).
+    None when a side has fewer than 2 runs."""
     na, ma, sa, _ = interval(a)
     nb, mb, sb, _ = interval(b)
     if na < 2 or nb < 2:
@@ -159,6 +144,16 @@ def log_effect(a, b):
     va, vb = sa * sa / (na * ma * ma), sb * sb / (nb * mb * mb)
     dof = (va + vb) ** 2 / (va * va / (na - 1) + vb * vb / (nb - 1)) if va + vb > 0 else math.inf
     return math.log(mb / ma), math.sqrt(va + vb), dof
+
+
+def ratio(a, b):
+    """b's mean over a's (unpaired samples) as (R, half width of its 95% interval, n_a, n_b): R t se
+    of log_effect (first order). NaN half width when a side has one run."""
+    (na, ma, _, _), (nb, mb, _, _) = interval(a), interval(b)
+    R, e = mb / ma, log_effect(a, b)
+    if e is None:
+        return R, math.nan, na, nb
+    return R, (R * t_quantile(0.975, e[2]) * e[1] if e[1] > 0 else 0.0), na, nb
 
 
 def ratio_text(R, h, n):

@@ -32,11 +32,7 @@ from vppdem.records import fail, read_table  # noqa: E402
 from vppdem.records import finite_number as fnum  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from paired_velocity import t_quantile  # noqa: E402  (one Student t for the tools)
-
-
-def t975(dof):
-    return t_quantile(0.975, dof)
+from paired_velocity import interval  # noqa: E402  (one Student t for the tools)
 
 SEED = "simulation.seed"
 STUDIES = ["radius_underpressure", "friction", "damping", "young", "preparation", "foil_resolution", "timestep"]
@@ -248,7 +244,7 @@ def ci_text(c, q="W", unit="", digits=0, scale=1.0):
 
 def diff_text(p, digits=0, pct=True):
     """Paired difference 'd +- ci (x%)' of a summary_paired row and whether 0 is outside."""
-    if p is None or int(float(p.get("n") or 0)) < 2:
+    if paired_n(p) < 2:
         return "pending", None
     d, h, rel = fnum(p["diff_mean"]), fnum(p["diff_ci95"]), fnum(p["rel_diff"])
     if d is None or h is None:
@@ -264,7 +260,7 @@ def band(p, tol):
     None (pending: fewer than 2 seeds), "within" (the whole 95% interval inside +-tol), "beyond"
     (the whole interval outside +-tol), "resolved" (0 outside the interval, which reaches inside
     +-tol), "unresolved" (0 inside, the interval reaching past +-tol)."""
-    if p is None or int(float(p.get("n") or 0)) < 2:
+    if paired_n(p) < 2:
         return None
     d, h, ref = fnum(p["diff_mean"]), fnum(p["diff_ci95"]), fnum(p["ref_mean"])
     if d is None or h is None or not ref:
@@ -487,13 +483,14 @@ def write(data, out_md, figdir, command):
         f"{y / 1e6:g} MPa {y_d[y][0]}" for y in (23e6, 230e6, 23e9))
     # Insensitive: W at 230 MPa and 23 GPa within 10% of 2.3 GPa's, the whole 95% interval.
     yb = {y: band(yg.pair("grains.young", y), 0.10) for y in (23e6, 230e6, 23e9)}
+    moved = {y: b in ("resolved", "beyond") for y, b in yb.items()}  # resolved from 2.3 GPa's W
     if any(v is None for v in yb.values()):
         c9v = "open (runs pending)"
     elif yb[230e6] == yb[23e9] == "within":
         c9v = "reproduced from 230 MPa to 23 GPa (W within 10% of 2.3 GPa's, at 95%)"
-    elif yb[230e6] in ("resolved", "beyond") or yb[23e9] in ("resolved", "beyond"):
+    elif moved[230e6] or moved[23e9]:
         c9v = "not reproduced (W at " + " and ".join(f"{y / 1e6:g} MPa" for y in (230e6, 23e9)
-                                                    if yb[y] in ("resolved", "beyond")) + " differs from 2.3 GPa's)"
+                                                    if moved[y]) + " differs from 2.3 GPa's)"
     else:
         c9v = "consistent, not established: no resolved difference from 2.3 GPa, but the intervals reach past 10%"
     # 23 -> 230 MPa matters (23 MPa lower, resolved), then saturates (230 MPa and 23 GPa within
@@ -502,17 +499,17 @@ def write(data, out_md, figdir, command):
     if any(v is None for v in yb.values()):
         c20v = "open (runs pending)"
     else:
-        lower = yb[23e6] in ("resolved", "beyond") and fnum(p23["diff_mean"]) < 0
-        higher = yb[23e6] in ("resolved", "beyond") and fnum(p23["diff_mean"]) > 0
+        lower = moved[23e6] and fnum(p23["diff_mean"]) < 0
+        higher = moved[23e6] and fnum(p23["diff_mean"]) > 0
         sat = yb[230e6] == yb[23e9] == "within"
-        unsat = yb[230e6] in ("resolved", "beyond") or yb[23e9] in ("resolved", "beyond")
+        unsat = moved[230e6] or moved[23e9]
         c20v = ("reproduced (23 MPa lower, resolved; 230 MPa to 23 GPa within 10%)" if lower and sat else
                 "not reproduced" + (" (23 MPa higher)" if higher else " (no saturation above 230 MPa)") if higher or unsat
                 else "partly: 23 MPa lower, resolved; the saturation above 230 MPa not established" if lower
                 else "consistent, not established (23 MPa not resolved from 2.3 GPa)")
     c21v = ("open (runs pending)" if c20v.startswith("open") else
             "consistent with C20: W falls where the grains are soft (no separate measure of rearrangement)"
-            if yb[23e6] in ("resolved", "beyond") and fnum(p23["diff_mean"]) < 0 else
+            if moved[23e6] and fnum(p23["diff_mean"]) < 0 else
             "not shown: W at 23 MPa is not resolved below 2.3 GPa's")
 
     # ---- C16-C19: friction
@@ -553,8 +550,7 @@ def write(data, out_md, figdir, command):
         if len(x) < 2:
             c17v = "open (runs pending)"
         else:
-            xm = sum(x) / len(x)
-            xh = t975(len(x) - 1) * math.sqrt(sum((v - xm) ** 2 for v in x) / (len(x) - 1) / len(x))
+            _, xm, _, xh = interval(x)
             c17 += (f"; slope of W over mu 0.6-1.0 over its slope over 0.1-0.6, per seed: {xm:.2f} +- {xh:.2f} "
                     f"({len(x)} seeds)")
             c17v = ("reproduced (saturating: the slope above 0.6 under half that below, at 95%)" if xm + xh < 0.5 else
