@@ -16,7 +16,12 @@ OUT=${OUT:-out/grains/shapes}
 JOBS=${JOBS:-}
 DATA=${DATA:-docs/data/grains/shapes}
 publish_only=0
-[ "${1:-}" = "--publish-only" ] && publish_only=1
+if [ $# -eq 1 ] && [ "$1" = --publish-only ]; then
+  publish_only=1
+elif [ $# -gt 0 ]; then
+  echo "grain_shapes.sh: unknown argument(s) '$*' (usage: scripts/grain_shapes.sh [--publish-only])" >&2
+  exit 2
+fi
 source scripts/publish.sh
 mkdir -p "$OUT" "$DATA"
 # Published records back into the run folders.
@@ -26,9 +31,10 @@ if [ $publish_only -eq 0 ]; then
   [ -x "$VPPDEM" ] || { echo "grain_shapes.sh: no vppdem binary at $VPPDEM" >&2; exit 2; }
   commit=$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)
   check_pinned "$commit" grain_shapes.sh "$DATA" "$OUT"
-  cmd="$VPPDEM sweep studies/grains/shapes.toml --out $OUT ${JOBS:+--jobs $JOBS} --no-plot"
-  printf '%s (pinned build %s)\n' "$cmd" "$commit" > "$OUT/COMMAND"
-  $cmd || failed=1
+  [ -z "$JOBS" ] || [[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "grain_shapes.sh: JOBS = '$JOBS': must be an integer >= 1" >&2; exit 2; }
+  cmd=("$VPPDEM" sweep studies/grains/shapes.toml --out "$OUT" ${JOBS:+--jobs "$JOBS"} --no-plot)
+  printf '%s (pinned build %s)\n' "${cmd[*]}" "$commit" > "$OUT/COMMAND"
+  "${cmd[@]}" || failed=1
 fi
 save_records "$OUT" "$DATA"
 echo "grain_shapes.sh: $SAVED finished runs in $DATA"

@@ -43,7 +43,8 @@ done
   exit 2
 }
 [ -z "$JOBS" ] || [[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "paper_studies.sh: JOBS = '$JOBS': must be an integer >= 1" >&2; exit 2; }
-jobs_arg=${JOBS:+--jobs $JOBS}
+jobs_arg=()
+[ -z "$JOBS" ] || jobs_arg=(--jobs "$JOBS")
 pinned_commit=$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)
 
 # publish FILE DEST (atomic copy), restore_records, save_records
@@ -79,12 +80,13 @@ for study in "${studies[@]}"; do
         [ -f "$c" ] && ckpt=$c
       done
       d="$OUT/timestep/simulation.dt-safety=0.25_simulation.seed=$seed"
-      sets="--set simulation.dt_safety=0.25 --set process.underpressure=0.06e6 --set process.velocity=0.01 --set process.cycles=2 --set output.energy=false --set simulation.threads=1"
-      cmd="$VPPDEM damper --from $ckpt --out $d --overwrite $sets --no-plot --quiet"
-      echo "== timestep, seed $seed: $cmd"
+      sets=(--set simulation.dt_safety=0.25 --set process.underpressure=0.06e6 --set process.velocity=0.01
+            --set process.cycles=2 --set output.energy=false --set simulation.threads=1)
+      cmd=("$VPPDEM" damper --from "$ckpt" --out "$d" --overwrite "${sets[@]}" --no-plot --quiet)
+      echo "== timestep, seed $seed: ${cmd[*]}"
       if [ -f "$d/summary.json" ]; then
         # Done for these settings only (its case.toml holds the command it ran).
-        if ! grep -qF -- "$sets" "$d/case.toml" 2>/dev/null; then
+        if ! grep -qF -- "${sets[*]}" "$d/case.toml" 2>/dev/null; then
           echo "paper_studies.sh: $d holds a time-step run of other settings (its case.toml); remove it, or give another OUT" >&2
           failed=1
         else
@@ -95,11 +97,11 @@ for study in "${studies[@]}"; do
       if [ -f "$d/run.ckpt" ]; then
         # The same settings again (a run.ckpt of the pinned build written before they were
         # applied does not carry them).
-        $VPPDEM damper --from "$d/run.ckpt" --out "$d" $sets --no-plot --quiet || failed=1
+        "$VPPDEM" damper --from "$d/run.ckpt" --out "$d" "${sets[@]}" --no-plot --quiet || failed=1
       elif [ -f "$ckpt" ]; then
         mkdir -p "$d"
-        printf 'command = "%s"\n' "$cmd" > "$d/case.toml"
-        $cmd || failed=1
+        printf 'command = "%s"\n' "${cmd[*]}" > "$d/case.toml"
+        "${cmd[@]}" || failed=1
       else
         echo "paper_studies.sh: timestep needs the prepared sample of seed $seed at 25.5 mm ($ckpt, or a prepared.ckpt of the friction or underpressure study): run one of them first" >&2
         failed=1
@@ -107,16 +109,16 @@ for study in "${studies[@]}"; do
     done
     printf '%s (pinned build %s)\n' "$VPPDEM damper --from <friction study's seed sample> --set simulation.dt_safety=0.25 ... (scripts/paper_studies.sh timestep)" "$pinned_commit" > "$OUT/$s/COMMAND"
   else
-    cmd="$VPPDEM sweep studies/paper/$study.toml --out $OUT/$s $jobs_arg --no-plot"
-    echo "== $study: $cmd"
+    cmd=("$VPPDEM" sweep "studies/paper/$study.toml" --out "$OUT/$s" "${jobs_arg[@]}" --no-plot)
+    echo "== $study: ${cmd[*]}"
     # The radius study's COMMAND names the whole study (its 25.5 mm rows are the same cases).
     if [ "$study" != underpressure ]; then
-      printf '%s (pinned build %s)\n' "$cmd" "$pinned_commit" > "$OUT/$s/COMMAND"
+      printf '%s (pinned build %s)\n' "${cmd[*]}" "$pinned_commit" > "$OUT/$s/COMMAND"
     elif [ ! -f "$OUT/$s/COMMAND" ]; then
-      printf '%s (pinned build %s)\n' "$VPPDEM sweep studies/paper/radius_underpressure.toml --out $OUT/$s $jobs_arg --no-plot" \
+      printf '%s (pinned build %s)\n' "$VPPDEM sweep studies/paper/radius_underpressure.toml --out $OUT/$s ${jobs_arg[*]} --no-plot" \
         "$pinned_commit" > "$OUT/$s/COMMAND"
     fi
-    $cmd || failed=1
+    "${cmd[@]}" || failed=1
   fi
   save "$s"
 done

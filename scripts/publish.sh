@@ -11,14 +11,19 @@ publish() {
 }
 
 # Records in $DOCS/data/SOURCES.md that FILE(S) came from COMMAND (one row per file set; a new
-# row for the same files replaces the old one).
+# row for the same files replaces the old one). Two scripts recording at once take turns (a lock
+# on the data folder), so that neither row is lost.
 record() {
-  local files=$1 cmd=$2 src="$DOCS/data/SOURCES.md"
+  local files=$1 cmd=$2 src="$DOCS/data/SOURCES.md" fd tmp commit
+  mkdir -p "$DOCS/data"
+  exec {fd}<"$DOCS/data"
+  flock "$fd"
   [ -f "$src" ] || printf '# Where the files in docs/ come from\n\nWritten by scripts/trust_studies.sh and scripts/velocity_convergence.sh; one line per file set: the files, the command, when, the vppdem commit.\n\n| files | command | date | commit |\n|---|---|---|---|\n' > "$src"
-  local commit
   commit=$(git rev-parse --short HEAD 2>/dev/null || echo "?")
-  { grep -v -F "| $files |" "$src" || true; printf '| %s | `%s` | %s | %s |\n' "$files" "$cmd" "$(date -u +%Y-%m-%d)" "$commit"; } > "$src.part"
-  mv -f "$src.part" "$src"
+  tmp=$(mktemp --suffix=.part "$src.XXXXXX")
+  { grep -v -F "| $files |" "$src" || true; printf '| %s | `%s` | %s | %s |\n' "$files" "$cmd" "$(date -u +%Y-%m-%d)" "$commit"; } > "$tmp"
+  chmod 644 "$tmp" && mv -f "$tmp" "$src"
+  exec {fd}<&-
 }
 
 # The small records of a finished study run (a case folder with summary.json): what is published
@@ -58,9 +63,23 @@ save_records() {
       [ -f "$d/$f" ] && ! cmp -s "$d/$f" "$data/$c/$f" && publish "$d/$f" "$data/$c/$f"
     done
   done
-  for f in summary.csv summary_cases.csv COMMAND; do [ -f "$out/$f" ] && publish "$out/$f" "$data/$f"; done
+  # The study's tables: those of the sweep that ran last here. A sweep of part of the study (the
+  # radius study's underpressure rows alone) or an older machine's run folders hold fewer finished
+  # cases than the published table: that table stays.
+  if [ -f "$out/summary.csv" ] && [ "$(ok_rows "$out/summary.csv")" -ge "$(ok_rows "$data/summary.csv")" ]; then
+    for f in summary.csv summary_cases.csv; do [ -f "$out/$f" ] && publish "$out/$f" "$data/$f"; done
+  fi
+  [ -f "$out/COMMAND" ] && publish "$out/COMMAND" "$data/COMMAND"
   for d in "$data"/*/; do [ -f "$d/summary.json" ] && SAVED=$((SAVED + 1)); done
   return 0
+}
+
+# ok_rows TABLE: the finished cases a sweep's summary.csv lists (rows whose status is "ok"; the
+# columns before status hold no comma); 0 for a missing table.
+ok_rows() {
+  [ -f "$1" ] || { echo 0; return 0; }
+  awk -F, 'NR == 1 { for (i = 1; i <= NF; ++i) if ($i == "status") col = i; next }
+           col && $col == "ok" { ++n } END { print n + 0 }' "$1"
 }
 
 # check_pinned COMMIT WHO DIR...: one study, one build. A DIR/COMMAND (the published records'

@@ -343,3 +343,73 @@ TEST(Tools, GrainShapesReportByHand) {
     EXPECT_NE(bad.output.find("no finished runs"), std::string::npos) << bad.output;
     fs::remove_all(d);
 }
+
+// scripts/publish.sh, the functions every study script keeps its records with, on hand-made run
+// folders (paths with a space, as a user's home may have). The published study has cases a, b, c
+// and a table of 3 finished rows; the run folder has a (again), d (finished), e (its case.toml
+// newer than its summary: continuing to more cycles) and a table of 2 rows (a sweep of part of
+// the study). Saving publishes d, not e, keeps the 3-row table, counts 4 cases; a table of 4
+// rows then replaces it. Restoring puts the 4 back; one study, one build (check_pinned).
+TEST(Tools, PublishedRecordsKeepTheLargerTableAndOneBuild) {
+    const fs::path d = scratch_path("tools", "publish records");
+    fs::remove_all(d);
+    const fs::path data = d / "data", out = d / "o ut";
+    const std::string head = "key,simulation.seed,W,status,case,warnings\n";
+    auto table = [&](int n) {
+        std::string t = head;
+        for (int k = 1; k <= n; ++k) t += "1," + std::to_string(k) + ",10," + "ok,c" + std::to_string(k) + ",\"x,ok,y\"\n";
+        return t + "1,9,,failed: no,c9,\n";
+    };
+    auto run = [](const fs::path& c, const std::string& w) {
+        fs::create_directories(c);
+        write_file(c / "case.toml", "seed = 1\n");
+        write_file(c / "cycles.csv", "cycle,W\n1," + w + "\n");
+        write_file(c / "summary.json", "{\"W\": " + w + "}\n");
+    };
+    for (const char* c : {"a", "b", "c"}) run(data / c, "1");
+    write_file(data / "summary.csv", table(3));
+    write_file(data / "COMMAND", "vppdem sweep x (pinned build abc)\n");
+    for (const char* c : {"a", "d", "e"}) run(out / c, "2");
+    write_file(out / "summary.csv", table(2));
+    write_file(out / "COMMAND", "vppdem sweep x (pinned build abc)\n");
+    // In bash (the scripts' shell), from the scratch folder.
+    auto in_bash = [&](const std::string& body) {
+        write_file(d / "t.sh", "set -euo pipefail\ncd \"$(dirname \"$0\")\"\nsource '" +
+                                   (kSource / "scripts/publish.sh").string() + "'\n" + body + "\n");
+        return shell("bash '" + (d / "t.sh").string() + "'");
+    };
+    ASSERT_EQ(in_bash("touch -d 2000-01-01 'o ut/e/summary.json'").status, 0);
+    Outcome r = in_bash("ok_rows data/summary.csv; ok_rows 'o ut/summary.csv'; ok_rows none.csv\n"
+                        "save_records 'o ut' data; echo SAVED=$SAVED");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("3\n2\n0\nSAVED=4"), std::string::npos) << r.output;
+    EXPECT_EQ(slurp(data / "summary.csv"), table(3));  // the part sweep's table did not replace it
+    EXPECT_EQ(slurp(data / "a" / "summary.json"), "{\"W\": 2}\n");  // a finished run's records do
+    EXPECT_TRUE(fs::exists(data / "d" / "cycles.csv"));
+    EXPECT_FALSE(fs::exists(data / "e"));  // continuing: published when it finishes again
+    write_file(out / "summary.csv", table(4));
+    r = in_bash("save_records 'o ut' data; echo SAVED=$SAVED");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(slurp(data / "summary.csv"), table(4));
+    EXPECT_NE(r.output.find("SAVED=4"), std::string::npos) << r.output;
+    for (const auto& e : fs::directory_iterator(data)) EXPECT_NE(e.path().extension(), ".part");  // no temporary left
+    const fs::path back = d / "back";
+    r = in_bash("restore_records data back; ls back");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(r.output, "a\nb\nc\nd\n");
+    // One study, one build: another commit, or none, is refused before anything runs.
+    r = in_bash("check_pinned abc me data 'o ut'; echo same");
+    EXPECT_EQ(r.status, 0);
+    EXPECT_NE(r.output.find("same"), std::string::npos);
+    r = in_bash("check_pinned def me data 'o ut'");
+    EXPECT_EQ(WEXITSTATUS(r.status), 2);
+    EXPECT_NE(r.output.find("came from the pinned build abc; this binary's COMMIT says def"), std::string::npos) << r.output;
+    r = in_bash("check_pinned unknown me data");
+    EXPECT_EQ(WEXITSTATUS(r.status), 2);
+    EXPECT_NE(r.output.find("no COMMIT file beside the binary"), std::string::npos) << r.output;
+    // An unknown argument is named, nothing run.
+    r = shell("bash '" + (kSource / "scripts/grain_shapes.sh").string() + "' --publish-onyl");
+    EXPECT_EQ(WEXITSTATUS(r.status), 2);
+    EXPECT_NE(r.output.find("unknown argument(s) '--publish-onyl'"), std::string::npos) << r.output;
+    fs::remove_all(d);
+}
