@@ -31,7 +31,7 @@ if [ $publish_only -eq 0 ]; then
   [ -x "$VPPDEM" ] || { echo "grain_shapes.sh: no vppdem binary at $VPPDEM" >&2; exit 2; }
   commit=$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)
   check_pinned "$commit" grain_shapes.sh "$DATA" "$OUT"
-  [ -z "$JOBS" ] || [[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "grain_shapes.sh: JOBS = '$JOBS': must be an integer >= 1" >&2; exit 2; }
+  [ -z "$JOBS" ] || whole_knobs grain_shapes.sh JOBS
   cmd=("$VPPDEM" sweep studies/grains/shapes.toml --out "$OUT" ${JOBS:+--jobs "$JOBS"} --no-plot)
   printf '%s (pinned build %s)\n' "${cmd[*]}" "$commit" > "$OUT/COMMAND"
   "${cmd[@]}" || failed=1

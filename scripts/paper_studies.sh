@@ -42,13 +42,12 @@ done
   echo "paper_studies.sh: no vppdem binary at $VPPDEM (build, then: mkdir -p pinned && cp build/vppdem pinned/ && git rev-parse HEAD > pinned/COMMIT)" >&2
   exit 2
 }
-[ -z "$JOBS" ] || [[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "paper_studies.sh: JOBS = '$JOBS': must be an integer >= 1" >&2; exit 2; }
+# publish FILE DEST (atomic copy), restore_records, save_records, check_pinned, whole_knobs
+source scripts/publish.sh
+[ -z "$JOBS" ] || whole_knobs paper_studies.sh JOBS
 jobs_arg=()
 [ -z "$JOBS" ] || jobs_arg=(--jobs "$JOBS")
 pinned_commit=$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)
-
-# publish FILE DEST (atomic copy), restore_records, save_records
-source scripts/publish.sh
 
 # restore STUDY: the published records back into the run folders; save STUDY: every finished
 # run's records and the study's tables into $DATA/STUDY (scripts/publish.sh).

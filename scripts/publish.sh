@@ -1,6 +1,16 @@
 # Shared by the scripts that run studies and publish their records (sourced, not run):
-# scripts/paper_studies.sh, grain_shapes.sh, trust_studies.sh, velocity_convergence.sh.
+# scripts/paper_studies.sh, grain_shapes.sh, trust_studies.sh, velocity_convergence.sh, settle_cycles.sh.
 # record() needs DOCS (the docs folder).
+
+# whole_knobs WHO NAME...: each named environment knob must be an integer >= 1; otherwise the
+# knob, its value and what is allowed are named, exit 2 (an optional knob: `[ -z "$JOBS" ] ||`).
+whole_knobs() {
+  local who=$1 v
+  shift
+  for v in "$@"; do
+    [[ ${!v:-} =~ ^[1-9][0-9]*$ ]] || { echo "$who: $v = '${!v:-}': must be an integer >= 1" >&2; exit 2; }
+  done
+}
 
 # Copies FILE to DEST through a temporary name of its own (a reader never sees half a file, and
 # two scripts publishing at once do not share one).

@@ -13,8 +13,8 @@ OUT=${OUT:-out/settle}
 DOCS=${DOCS:-docs}
 CYCLES=${CYCLES:-8}
 [ -x "$VPPDEM" ] || { echo "settle_cycles.sh: no vppdem binary at $VPPDEM (build it: bash scripts/build.sh)" >&2; exit 2; }
-[[ $CYCLES =~ ^[1-9][0-9]*$ ]] || { echo "settle_cycles.sh: CYCLES = '$CYCLES': must be an integer >= 1" >&2; exit 2; }
 source scripts/publish.sh
+whole_knobs settle_cycles.sh CYCLES
 
 cmd="$VPPDEM damper --out $OUT --no-plot --quiet --set process.velocity=0.02 --set process.cycles=$CYCLES"
 if [ -f "$OUT/summary.json" ]; then

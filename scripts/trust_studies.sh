@@ -40,11 +40,11 @@ PY=/usr/bin/python3  # Debian's, with matplotlib and numpy
 PLOT="env PYTHONPATH=src/python $PY -m vppdem.plot"
 
 [ -x "$VPPDEM" ] || { echo "trust_studies.sh: no vppdem binary at $VPPDEM (build it: bash scripts/build.sh)" >&2; exit 2; }
-for v in SEEDS CYCLES; do
-  [[ ${!v} =~ ^[1-9][0-9]*$ ]] || { echo "trust_studies.sh: $v = '${!v}': must be an integer >= 1" >&2; exit 2; }
-done
+# publish FILE DEST, record FILES COMMAND, whole_knobs WHO NAME...
+source scripts/publish.sh
+whole_knobs trust_studies.sh SEEDS CYCLES
 [[ $VELOCITY =~ ^[0-9.eE+-]+$ ]] || { echo "trust_studies.sh: VELOCITY = '$VELOCITY': must be a velocity in m/s" >&2; exit 2; }
-[ -z "$JOBS" ] || [[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "trust_studies.sh: JOBS = '$JOBS': must be an integer >= 1" >&2; exit 2; }
+[ -z "$JOBS" ] || whole_knobs trust_studies.sh JOBS
 jobs_arg=${JOBS:+--jobs $JOBS}
 mkdir -p "$OUT" "$DOCS/data"
 studies=("$@")
@@ -54,9 +54,6 @@ for s in "${studies[@]}"; do  # every name checked before anything runs
   [[ " ${all[*]} " == *" $s "* ]] || { echo "trust_studies.sh: unknown study '$s' (studies: ${all[*]})" >&2; exit 2; }
 done
 failed=0
-
-# publish FILE DEST, record FILES COMMAND
-source scripts/publish.sh
 
 # sweep NAME STUDY_FILE FIGURE_PREFIX [--set ...]: runs the study with the knobs, then publishes
 # its summaries and figures.

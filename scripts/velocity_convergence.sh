@@ -31,10 +31,10 @@ DOCS=${DOCS:-docs}
 PY=/usr/bin/python3  # Debian's, with matplotlib and numpy
 
 [ -x "$VPPDEM" ] || { echo "velocity_convergence.sh: no vppdem binary at $VPPDEM (build it: bash scripts/build.sh)" >&2; exit 2; }
-for v in SEEDS_QUICK SEEDS_SMALL SEEDS_PAPER; do
-  [[ ${!v} =~ ^[1-9][0-9]*$ ]] || { echo "velocity_convergence.sh: $v = '${!v}': must be an integer >= 1" >&2; exit 2; }
-done
-[ -z "$JOBS" ] || [[ $JOBS =~ ^[1-9][0-9]*$ ]] || { echo "velocity_convergence.sh: JOBS = '$JOBS': must be an integer >= 1" >&2; exit 2; }
+# publish FILE DEST, record FILES COMMAND, whole_knobs WHO NAME...
+source scripts/publish.sh
+whole_knobs velocity_convergence.sh SEEDS_QUICK SEEDS_SMALL SEEDS_PAPER
+[ -z "$JOBS" ] || whole_knobs velocity_convergence.sh JOBS
 jobs_arg=${JOBS:+--jobs $JOBS}
 parts=("$@")
 all=(quick small small_paper quick_slow quick_paper)
@@ -43,9 +43,6 @@ for s in "${parts[@]}"; do
   [[ " ${all[*]} " == *" $s "* ]] || { echo "velocity_convergence.sh: unknown part '$s' (parts: ${all[*]})" >&2; exit 2; }
 done
 mkdir -p "$OUT" "$DOCS/data"
-
-# publish FILE DEST, record FILES COMMAND
-source scripts/publish.sh
 
 analyse() {  # NAME SWEEP_DIR [--extra DIRS...]
   local name=$1 dir=$2
