@@ -12,10 +12,16 @@
 #          to the radius study's 25.5 mm samples) with
 #          simulation.dt_safety = 0.25 for 2 cycles at 0.06 MPa (the issue asks 2 seeds; the
 #          third because the paired difference of two, -4 +- 19%, did not resolve a 3-5% effect).
+#          friction_8 (named only, not in the default list): the friction study's second leg, its
+#          finished runs copied into OUT/friction_8 and continued from their run.ckpt to 8 cycles
+#          (studies/paper/friction_8.toml) by VPPDEM_LEG: raising process.cycles on a run.ckpt
+#          came after the pinned build.
 #   --publish-only: copy what has finished into docs/data/paper and stop (while runs go on).
 # Knobs (environment variables):
 #   VPPDEM  the binary (default pinned/vppdem: build once, copy it there, write its commit into
 #           pinned/COMMIT; every run of the studies uses it, docs/data/SOURCES.md names the commit)
+#   VPPDEM_LEG  the friction_8 leg's binary (default pinned/leg/vppdem, its commit in pinned/leg/COMMIT;
+#           one build for the whole leg, as for a study)
 #   OUT     run folders (default out/paper; checkpoints and full records, not in the repository)
 #   JOBS    runs at once (default: vppdem's choice, the free cores)
 #   DATA    where the records go (default docs/data/paper)
@@ -27,27 +33,35 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 
 VPPDEM=${VPPDEM:-pinned/vppdem}
+VPPDEM_LEG=${VPPDEM_LEG:-pinned/leg/vppdem}
 OUT=${OUT:-out/paper}
 JOBS=${JOBS:-}
 DATA=${DATA:-docs/data/paper}
 publish_only=0
 if [ "${1:-}" = "--publish-only" ]; then publish_only=1; shift; fi
 all=(underpressure radius_underpressure friction damping young preparation foil_resolution timestep)
+legs=(friction_8)  # second legs: run when named, after the study they continue
 studies=("$@")
 [ ${#studies[@]} -gt 0 ] || studies=("${all[@]}")
 for s in "${studies[@]}"; do
-  [[ " ${all[*]} " == *" $s "* ]] || { echo "paper_studies.sh: unknown study '$s' (studies: ${all[*]})" >&2; exit 2; }
+  [[ " ${all[*]} ${legs[*]} " == *" $s "* ]] || { echo "paper_studies.sh: unknown study '$s' (studies: ${all[*]}; second legs: ${legs[*]})" >&2; exit 2; }
 done
-[ $publish_only -eq 1 ] || [ -x "$VPPDEM" ] || {
-  echo "paper_studies.sh: no vppdem binary at $VPPDEM (build, then: mkdir -p pinned && cp build/vppdem pinned/ && git rev-parse HEAD > pinned/COMMIT)" >&2
-  exit 2
-}
-# publish FILE DEST (atomic copy), restore_records, save_records, check_pinned, whole_knobs
+# The binary that runs STUDY.
+binary() { if [ "$1" = friction_8 ]; then echo "$VPPDEM_LEG"; else echo "$VPPDEM"; fi; }
+for s in "${studies[@]}"; do
+  b=$(binary "$s")
+  [ $publish_only -eq 1 ] || [ -x "$b" ] || {
+    d=$(dirname "$b")
+    echo "paper_studies.sh: $s: no vppdem binary at $b (build, then: mkdir -p $d && cp build/vppdem $d/ && git rev-parse HEAD > $d/COMMIT)" >&2
+    exit 2
+  }
+done
+# publish FILE DEST (atomic copy), restore_records, save_records, check_pinned, whole_knobs, continue_runs
 source scripts/publish.sh
 [ -z "$JOBS" ] || whole_knobs paper_studies.sh JOBS
 jobs_arg=()
 [ -z "$JOBS" ] || jobs_arg=(--jobs "$JOBS")
-pinned_commit=$(cat "$(dirname "$VPPDEM")/COMMIT" 2>/dev/null || echo unknown)
+commit_of() { cat "$(dirname "$1")/COMMIT" 2>/dev/null || echo unknown; }
 
 # restore STUDY: the published records back into the run folders; save STUDY: every finished
 # run's records and the study's tables into $DATA/STUDY (scripts/publish.sh).
@@ -65,9 +79,13 @@ failed=0
 for study in "${studies[@]}"; do
   s=$(folder "$study")
   if [ $publish_only -eq 1 ]; then save "$s"; continue; fi
+  bin=$(binary "$study")
+  pinned_commit=$(commit_of "$bin")
   check_pinned "$pinned_commit" paper_studies.sh "$DATA/$s" "$OUT/$s"
   restore "$s"
   mkdir -p "$OUT/$s"
+  # A second leg continues the finished runs of its study in copies of their folders.
+  [ "$s" != friction_8 ] || continue_runs "$OUT/friction" "$OUT/$s" paper_studies.sh
   if [ "$s" = timestep ]; then
     # Paired by construction: the same prepared sample, only the time step's safety factor differs.
     for seed in 1 2 3; do
@@ -81,7 +99,7 @@ for study in "${studies[@]}"; do
       d="$OUT/timestep/simulation.dt-safety=0.25_simulation.seed=$seed"
       sets=(--set simulation.dt_safety=0.25 --set process.underpressure=0.06e6 --set process.velocity=0.01
             --set process.cycles=2 --set output.energy=false --set simulation.threads=1)
-      cmd=("$VPPDEM" damper --from "$ckpt" --out "$d" --overwrite "${sets[@]}" --no-plot --quiet)
+      cmd=("$bin" damper --from "$ckpt" --out "$d" --overwrite "${sets[@]}" --no-plot --quiet)
       echo "== timestep, seed $seed: ${cmd[*]}"
       if [ -f "$d/summary.json" ]; then
         # Done for these settings only (its case.toml holds the command it ran).
@@ -96,7 +114,7 @@ for study in "${studies[@]}"; do
       if [ -f "$d/run.ckpt" ]; then
         # The same settings again (a run.ckpt of the pinned build written before they were
         # applied does not carry them).
-        "$VPPDEM" damper --from "$d/run.ckpt" --out "$d" "${sets[@]}" --no-plot --quiet || failed=1
+        "$bin" damper --from "$d/run.ckpt" --out "$d" "${sets[@]}" --no-plot --quiet || failed=1
       elif [ -f "$ckpt" ]; then
         mkdir -p "$d"
         printf 'command = "%s"\n' "${cmd[*]}" > "$d/case.toml"
@@ -106,15 +124,15 @@ for study in "${studies[@]}"; do
         failed=1
       fi
     done
-    printf '%s (pinned build %s)\n' "$VPPDEM damper --from <friction study's seed sample> --set simulation.dt_safety=0.25 ... (scripts/paper_studies.sh timestep)" "$pinned_commit" > "$OUT/$s/COMMAND"
+    printf '%s (pinned build %s)\n' "$bin damper --from <friction study's seed sample> --set simulation.dt_safety=0.25 ... (scripts/paper_studies.sh timestep)" "$pinned_commit" > "$OUT/$s/COMMAND"
   else
-    cmd=("$VPPDEM" sweep "studies/paper/$study.toml" --out "$OUT/$s" "${jobs_arg[@]}" --no-plot)
+    cmd=("$bin" sweep "studies/paper/$study.toml" --out "$OUT/$s" "${jobs_arg[@]}" --no-plot)
     echo "== $study: ${cmd[*]}"
     # The radius study's COMMAND names the whole study (its 25.5 mm rows are the same cases).
     if [ "$study" != underpressure ]; then
       printf '%s (pinned build %s)\n' "${cmd[*]}" "$pinned_commit" > "$OUT/$s/COMMAND"
     elif [ ! -f "$OUT/$s/COMMAND" ]; then
-      printf '%s (pinned build %s)\n' "$VPPDEM sweep studies/paper/radius_underpressure.toml --out $OUT/$s ${jobs_arg[*]} --no-plot" \
+      printf '%s (pinned build %s)\n' "$bin sweep studies/paper/radius_underpressure.toml --out $OUT/$s ${jobs_arg[*]} --no-plot" \
         "$pinned_commit" > "$OUT/$s/COMMAND"
     fi
     "${cmd[@]}" || failed=1

@@ -115,3 +115,30 @@ check_pinned() {
   done
   return 0
 }
+
+# continue_runs SRC DST WHO: a second leg of a study (the same runs, more cycles): each finished run
+# of SRC (a case folder with summary.json) that DST lacks is copied into DST/<case> (through a
+# hidden temporary folder, renamed when whole), so that the leg's sweep continues it from its
+# run.ckpt while SRC keeps the first leg's records. A finished run whose run.ckpt is gone (records
+# restored on a new machine) cannot be continued: named, exit 2, nothing copied.
+continue_runs() {
+  local src=$1 dst=$2 who=$3 d c tmp missing=()
+  for d in "$src"/*/; do
+    [ -f "$d/summary.json" ] && [ ! -e "$dst/$(basename "$d")" ] && [ ! -f "$d/run.ckpt" ] && missing+=("$(basename "$d")")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    echo "$who: no run.ckpt to continue in $src for: ${missing[*]}; run those cases again with the study's pinned build into a fresh OUT (the same bits), then place their folders in $src" >&2
+    exit 2
+  fi
+  mkdir -p "$dst"
+  for d in "$src"/*/; do
+    c=$(basename "$d")
+    [ -f "$d/summary.json" ] && [ ! -e "$dst/$c" ] || continue
+    tmp=$(mktemp -d "$dst/.$c.XXXXXX")
+    # case.toml made newer than summary.json: the run continues (save_records publishes it when
+    # the leg's sweep has written its longer records).
+    cp -a "$d/." "$tmp/" && touch "$tmp/case.toml" && chmod 755 "$tmp" && mv "$tmp" "$dst/$c" ||
+      { rm -rf "$tmp"; echo "$who: could not copy $d into $dst" >&2; exit 1; }
+  done
+  return 0
+}

@@ -3,6 +3,7 @@
 // hand-computed answers or on the tests' small damper.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <map>
 #include <sstream>
@@ -411,5 +412,59 @@ TEST(Tools, PublishedRecordsKeepTheLargerTableAndOneBuild) {
     r = shell("bash '" + (kSource / "scripts/grain_shapes.sh").string() + "' --publish-onyl");
     EXPECT_EQ(WEXITSTATUS(r.status), 2);
     EXPECT_NE(r.output.find("unknown argument(s) '--publish-onyl'"), std::string::npos) << r.output;
+    fs::remove_all(d);
+}
+
+// The friction study's second leg (scripts/paper_studies.sh friction_8) on hand-made run folders
+// and a stand-in binary that prints its arguments: finished runs a, b of the first leg are copied
+// into the leg's folder (records and run.ckpt) and marked as continuing (case.toml newer than
+// summary.json: not published as the leg's records), the unfinished c is not; the leg's own
+// binary runs the leg's study file. A finished run without run.ckpt stops it before anything is
+// copied or run, naming the case; so does a missing leg binary.
+TEST(Tools, TheFrictionLegContinuesCopiesOfTheFinishedRuns) {
+    const fs::path d = scratch_path("tools", "friction leg");
+    fs::remove_all(d);
+    const fs::path bin = d / "b in", out = d / "out", first = out / "friction", leg = out / "friction_8";
+    fs::create_directories(bin);
+    write_file(bin / "vppdem", "#!/bin/sh\necho STAND-IN \"$@\"\n");
+    fs::permissions(bin / "vppdem", fs::perms::owner_all);
+    write_file(bin / "COMMIT", "abc\n");
+    for (const char* c : {"a", "b", "c"}) {
+        fs::create_directories(first / c);
+        write_file(first / c / "run.ckpt", std::string("ckpt ") + c);
+        if (std::string(c) == "c") continue;  // in flight: no summary
+        write_file(first / c / "case.toml", "cycles = 5\n");
+        write_file(first / c / "summary.json", "{}\n");
+        write_file(first / c / "cycles.csv", "cycle,W\n5,1\n");
+        // Finished an hour ago, as a first leg's runs are when their leg starts.
+        fs::last_write_time(first / c / "summary.json", fs::file_time_type::clock::now() - std::chrono::hours(1));
+    }
+    fs::remove(first / "b" / "run.ckpt");
+    const std::string script = "bash '" + (kSource / "scripts/paper_studies.sh").string() + "' friction_8";
+    const std::string env = "OUT='" + out.string() + "' DATA='" + (d / "data").string() + "' VPPDEM_LEG='" +
+                            (bin / "vppdem").string() + "' ";
+    Outcome r = shell(env + script);
+    EXPECT_EQ(WEXITSTATUS(r.status), 2);
+    EXPECT_NE(r.output.find("no run.ckpt to continue in " + first.string() + " for: b;"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("STAND-IN"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(leg / "a"));
+    write_file(first / "b" / "run.ckpt", "ckpt b");
+    r = shell(env + script);
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("STAND-IN sweep studies/paper/friction_8.toml --out " + leg.string() + " --no-plot"),
+              std::string::npos) << r.output;
+    for (const char* c : {"a", "b"}) {
+        EXPECT_EQ(slurp(leg / c / "run.ckpt"), std::string("ckpt ") + c);
+        EXPECT_EQ(slurp(leg / c / "cycles.csv"), "cycle,W\n5,1\n");
+        EXPECT_GT(fs::last_write_time(leg / c / "case.toml"), fs::last_write_time(leg / c / "summary.json"));
+        EXPECT_TRUE(fs::exists(first / c / "summary.json"));  // the first leg's records stay
+    }
+    EXPECT_FALSE(fs::exists(leg / "c"));
+    EXPECT_FALSE(fs::exists(d / "data" / "friction_8" / "a"));  // continuing: nothing of the leg's published
+    EXPECT_NE(slurp(d / "data" / "friction_8" / "COMMAND").find("(pinned build abc)"), std::string::npos);
+    r = shell("VPPDEM_LEG='" + (d / "none" / "vppdem").string() + "' " + script);
+    EXPECT_EQ(WEXITSTATUS(r.status), 2);
+    EXPECT_NE(r.output.find("friction_8: no vppdem binary at " + (d / "none" / "vppdem").string()), std::string::npos)
+        << r.output;
     fs::remove_all(d);
 }
