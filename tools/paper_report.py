@@ -35,7 +35,10 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from paired_velocity import interval  # noqa: E402  (one Student t for the tools)
 
 SEED = "simulation.seed"
-STUDIES = ["radius_underpressure", "friction", "damping", "young", "preparation", "foil_resolution", "timestep"]
+# Second legs (scripts/paper_studies.sh): a study's runs continued to more cycles, their own study
+# folder; the friction study's to 8 cycles (C17, C18 once all 21 runs are continued).
+LEGS = ["friction_8"]
+STUDIES = ["radius_underpressure", "friction", "damping", "young", "preparation", "foil_resolution", "timestep"] + LEGS
 # Report assemblies (studies/paper/report/NAME.toml): NAME -> sources. A source is (study, extra,
 # only): the study's cases give the assembly's case whose keys equal the source case's keys, with
 # `extra` supplying the keys the source study does not vary (its defaults or [set] values), and
@@ -54,6 +57,7 @@ ASSEMBLIES = {
     # The friction study again with 0.6 (the paper's calibrated value) as the reference of the
     # paired differences (C18: 0.6 -> 1.0).
     "friction_vs_0.6": [("friction", {}, {})],
+    "friction_8_vs_0.6": [("friction_8", {}, {})],
 }
 
 
@@ -314,6 +318,8 @@ def settle_stats(report, raw):
     firsts = []
     ss = dof = 0.0
     for s in sorted(os.listdir(report)) if os.path.isdir(report) else []:
+        if s in LEGS or s in ASSEMBLIES and all(p[0] in LEGS for p in ASSEMBLIES[s]):
+            continue  # a second leg: the same runs longer (C2 counts 5-cycle runs)
         src = {r["case"]: r["source"] for r in read_csv(os.path.join(report, s, "sources.csv"))}
         for r in read_csv(os.path.join(report, s, "summary.csv")):
             where = src.get(r.get("case"))
@@ -388,11 +394,52 @@ def series_of(study, xkey, q, group=None, scale_x=1.0):
     return [x[i] for i in order], [m[i] for i in order], [h[i] for i in order], dx, dy
 
 
+def friction_claims(fr, f06, cycles):
+    """C17 (saturation) and C18 (mu 0.6 -> 1.0) from a friction study of `cycles` cycles and its
+    assembly with mu 0.6 first: (c17 text, verdict, c18 text, verdict)."""
+    mus = [0.0, 0.1, 0.2, 0.4, 0.6, 0.8, 1.0]
+    t18, ok18 = diff_text(f06.pair("grains.friction", 1.0))
+    t18e, _ = diff_text(f06.pair("grains.friction", 1.0, "dissipated_energy"), digits=3)
+    c18 = f"mu 0.6 -> 1.0, paired: {f06.qlabel} {t18} J/m2, dissipated energy (cycle {cycles}) {t18e} J"
+    # "A few per cent": the whole 95% interval within +-10% of mu 0.6's W.
+    b18 = band(f06.pair("grains.friction", 1.0), 0.10)
+    c18v = {None: "open (runs pending)",
+            "within": "reproduced (the 95% interval within +-10%)",
+            "beyond": "not reproduced (more than 10%, resolved)",
+            "resolved": "partly: a resolved change, its interval reaching past 10%",
+            "unresolved": "consistent, not established: no resolved change, but the 95% interval ("
+                          + (rel_interval(f06.pair("grains.friction", 1.0)) if b18 else "") + ") reaches past 10%"}[b18]
+    m_lo = [fnum(fr.case(**{"grains.friction": mu}).get(f"{fr.q}_mean")) if fr.case(**{"grains.friction": mu})
+            else None for mu in mus]
+    if all(v is not None for v in m_lo):
+        c17 = (f"{fr.qlabel} relative to mu 1.0: " + ", ".join(f"{mu:g}: {v / m_lo[-1]:.2f}" for mu, v in zip(mus, m_lo)))
+        # Saturating: the slope of W over mu 0.6 -> 1.0 less than half that over 0.1 -> 0.6, per
+        # seed (the same samples), decided by the 95% interval of their ratio over the seeds.
+        by_seed = {}
+        for r in fr.runs:
+            if r.get("status") == "ok" and fnum(r.get(fr.q)) is not None:
+                by_seed.setdefault(r.get("simulation.seed"), {})[fnum(r.get("grains.friction"))] = fnum(r.get(fr.q))
+        x = [((w[1.0] - w[0.6]) / 0.4) / ((w[0.6] - w[0.1]) / 0.5) for w in by_seed.values()
+             if all(k in w for k in (0.1, 0.6, 1.0)) and w[0.6] != w[0.1]]
+        if len(x) < 2:
+            c17v = "open (runs pending)"
+        else:
+            _, xm, _, xh = interval(x)
+            c17 += (f"; slope of W over mu 0.6-1.0 over its slope over 0.1-0.6, per seed: {xm:.2f} +- {xh:.2f} "
+                    f"({len(x)} seeds)")
+            c17v = ("reproduced (saturating: the slope above 0.6 under half that below, at 95%)" if xm + xh < 0.5 else
+                    "not reproduced (no saturation: the slope above 0.6 over half that below, at 95%)" if xm - xh > 0.5
+                    else "consistent, not established: the 95% interval of the slopes' ratio includes 0.5")
+    else:
+        c17, c17v = "pending", "open (runs pending)"
+    return c17, c17v, c18, c18v
+
+
 def write(data, out_md, figdir, command):
-    S = {n: Study(data, n) for n in ["radius_underpressure", "friction", "damping", "young", "preparation",
-                                      "foil_resolution", "timestep", "friction_vs_0.6"]}
+    S = {n: Study(data, n) for n in STUDIES + list(ASSEMBLIES)}
     ru, fr, dm, yg, pr = S["radius_underpressure"], S["friction"], S["damping"], S["young"], S["preparation"]
     ts, fo, f06 = S["timestep"], S["foil_resolution"], S["friction_vs_0.6"]
+    f8, f86 = S["friction_8"], S["friction_8_vs_0.6"]
     figs = []
     caption = f"made by: {command}"
 
@@ -427,7 +474,7 @@ def write(data, out_md, figdir, command):
         c2v = ("reproduced: a short compaction phase, then stationary loops with a few % of scatter" if
                stat >= 0.7 * runs else "partly: the loops shrink fast for 2-3 cycles, as in the paper, but many runs "
                "still drift by a few % per cycle after 5 cycles (longer than the paper's 'short initial phase')")
-        own = [st.own() for n, st in S.items() if n != "friction_vs_0.6"]
+        own = [st.own() for n, st in S.items() if n in STUDIES and n not in LEGS]
         if sum(o[0] for o in own) < sum(o[1] for o in own):
             c2v += f" (provisional: {runs} runs so far)"
     else:
@@ -519,45 +566,21 @@ def write(data, out_md, figdir, command):
     c16 = f"{fr.qlabel} [J/m2] at 0.06 MPa by friction: {f_vals}; against mu 0 (same samples): " + "; ".join(
         f"{mu:g} {f_d[mu][0]}" for mu in mus[1:])
     c16v = "open (runs pending)" if f_d[0.6][1] is None else ("reproduced" if f_d[0.6][1] else "not reproduced")
-    t18, ok18 = diff_text(f06.pair("grains.friction", 1.0))
     # C11: how far the measured friction's loops lie from the calibrated friction's (the
     # experiment itself is not in our copy).
     t11, ok11 = diff_text(f06.pair("grains.friction", 0.2))
     c11 = (f"no measured loops in the repository; the model tells the two frictions apart: mu 0.6 -> 0.2, "
            f"paired, {f06.qlabel} {t11} J/m2" + (" (resolved)" if ok11 else " (not resolved)" if ok11 is False else ""))
-    t18e, _ = diff_text(f06.pair("grains.friction", 1.0, "dissipated_energy"), digits=3)
-    c18 = f"mu 0.6 -> 1.0, paired: {f06.qlabel} {t18} J/m2, dissipated energy (cycle 5) {t18e} J"
-    # "A few per cent": the whole 95% interval within +-10% of mu 0.6's W.
-    b18 = band(f06.pair("grains.friction", 1.0), 0.10)
-    c18v = {None: "open (runs pending)",
-            "within": "reproduced (the 95% interval within +-10%)",
-            "beyond": "not reproduced (more than 10%, resolved)",
-            "resolved": "partly: a resolved change, its interval reaching past 10%",
-            "unresolved": "consistent, not established: no resolved change, but the 95% interval ("
-                          + (rel_interval(f06.pair("grains.friction", 1.0)) if b18 else "") + ") reaches past 10%"}[b18]
-    m_lo = [fnum(fr.case(**{"grains.friction": mu}).get(f"{fr.q}_mean")) if fr.case(**{"grains.friction": mu})
-            else None for mu in mus]
-    if all(v is not None for v in m_lo):
-        c17 = (f"{fr.qlabel} relative to mu 1.0: " + ", ".join(f"{mu:g}: {v / m_lo[-1]:.2f}" for mu, v in zip(mus, m_lo)))
-        # Saturating: the slope of W over mu 0.6 -> 1.0 less than half that over 0.1 -> 0.6, per
-        # seed (the same samples), decided by the 95% interval of their ratio over the seeds.
-        by_seed = {}
-        for r in fr.runs:
-            if r.get("status") == "ok" and fnum(r.get(fr.q)) is not None:
-                by_seed.setdefault(r.get("simulation.seed"), {})[fnum(r.get("grains.friction"))] = fnum(r.get(fr.q))
-        x = [((w[1.0] - w[0.6]) / 0.4) / ((w[0.6] - w[0.1]) / 0.5) for w in by_seed.values()
-             if all(k in w for k in (0.1, 0.6, 1.0)) and w[0.6] != w[0.1]]
-        if len(x) < 2:
-            c17v = "open (runs pending)"
-        else:
-            _, xm, _, xh = interval(x)
-            c17 += (f"; slope of W over mu 0.6-1.0 over its slope over 0.1-0.6, per seed: {xm:.2f} +- {xh:.2f} "
-                    f"({len(x)} seeds)")
-            c17v = ("reproduced (saturating: the slope above 0.6 under half that below, at 95%)" if xm + xh < 0.5 else
-                    "not reproduced (no saturation: the slope above 0.6 over half that below, at 95%)" if xm - xh > 0.5
-                    else "consistent, not established: the 95% interval of the slopes' ratio includes 0.5")
+    # C17, C18 on the friction study's second leg (its runs continued to 8 cycles: the mu 1.0
+    # runs still drift at cycle 5) once every run of it has finished; until then on the 5-cycle runs.
+    leg_done, leg_all = f8.done()[0], planned_runs("friction_8")
+    if leg_done >= leg_all:
+        c17, c17v, c18, c18v = friction_claims(f8, f86, study_cycles("studies/paper/friction_8.toml"))
+        c17, c18 = (t + " (8 cycles: the friction study's runs continued, second leg)" for t in (c17, c18))
     else:
-        c17, c17v = "pending", "open (runs pending)"
+        c17, c17v, c18, c18v = friction_claims(fr, f06, study_cycles("studies/paper/friction.toml"))
+        if leg_done:
+            c17, c18 = (t + f"; second leg (8 cycles): {leg_done} of {leg_all} runs continued" for t in (c17, c18))
     z = fr.case(**{"grains.friction": 0.0})
     c19 = (f"mu 0: {fr.qlabel} {ci_text(z, fr.q)} J/m2, friction share {ci_text(z, 'friction_share', digits=2)}, local-damping "
            f"share {ci_text(z, 'damping_share', digits=2)} (cycle 5, energy ledger)")
@@ -637,8 +660,11 @@ def write(data, out_md, figdir, command):
         d, n, borrowed = study.own()
         return f"{d} of {n}" + (f" (+ {borrowed} reference runs of other studies)" if borrowed else "")
 
-    commits = sorted({s.command.split("pinned build ")[-1].rstrip(")") for s in S.values()
-                      if "pinned build" in s.command})
+    def built(names):
+        return sorted({S[n].command.split("pinned build ")[-1].rstrip(")") for n in names
+                       if "pinned build" in S[n].command})
+    commits = built(n for n in STUDIES if n not in LEGS)
+    leg_commits = built(LEGS)
     rows = [
         ("C1", "Larger underpressure, larger loops (experiment)", "dp 0.02-0.08 MPa, cycles 1-4", c1, c1v),
         ("C2", "Loops stabilise after a short initial phase (experiment)", "all dp, cycles 1-4", c2, c2v),
@@ -713,6 +739,12 @@ def write(data, out_md, figdir, command):
         + (f"{sfo} for the foil resolution, {sts} for the time step, " if (sfo, sts) != (3, 3) else "")
         + "the numerical checks 2 cycles), one pinned build for every run"
         + (f" ({', '.join(commits)}; `docs/data/SOURCES.md`)" if commits else "") + ": `bash scripts/paper_studies.sh`.",
+    ] + ([
+        f"- The friction study's second leg (C17, C18): its runs continued from cycle 5 to 8 by a later build "
+        f"({', '.join(leg_commits)}; raising process.cycles on a run.ckpt came after the studies' build), "
+        f"{leg_done} of {leg_all} runs: `VPPDEM_LEG=pinned/leg/vppdem bash scripts/paper_studies.sh friction_8`. "
+        "The older build's run.ckpt held the cap for its last step, so cycles 6-8 continue the same samples "
+        "without being bitwise 8-cycle runs."] if leg_commits else []) + [
         "- W is **W_settled**, the mean W over each run's stationary cycles (docs/damper.md, \"Stationary loops\": no",
         "  trend or jump beyond a 3% scatter at 95%), re-analysed by the current build (`vppdem sweep --report-only`),",
         "  where every run of a study is stationary after its 5 cycles; otherwise the study's claims use the last",
@@ -721,7 +753,7 @@ def write(data, out_md, figdir, command):
         "  where the cases of a seed branch from one prepared sample (underpressure, friction, time step) they are",
         "  **paired** and free of the packing's scatter; where the varied key changes the preparation (radius,",
         "  modulus, local damping, preparation, foil resolution) they are differences of independent samples.",
-        "- Runs finished: " + ", ".join(f"{n} {pending(s)}" for n, s in S.items() if n != "friction_vs_0.6") + ".",
+        "- Runs finished: " + ", ".join(f"{n} {pending(s)}" for n, s in S.items() if n in STUDIES) + ".",
         "  A claim whose runs are not all finished says `pending` and stays open.",
         "",
         "## Claims",

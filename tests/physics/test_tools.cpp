@@ -468,3 +468,66 @@ TEST(Tools, TheFrictionLegContinuesCopiesOfTheFinishedRuns) {
         << r.output;
     fs::remove_all(d);
 }
+
+// C17 and C18 move to the friction study's second leg (friction_8: the same runs continued to 8
+// cycles) once all of its 21 runs are there, and stay on the 5-cycle study until then. Hand-made
+// records, every cycle of a run at one W but for mu 1.0's cycles 6-8: W = B(mu) + 10 s with B =
+// 500, 800, 1000, 1300, 1500, 1550, 1600 for mu 0 ... 1; in the leg mu 1.0 falls to 1300 + 10 s +
+// 4 (s - 1) from cycle 6. 5 cycles: mu 0.6 -> 1.0 is +100 in every seed (+100 +- 0, 7% of mu
+// 0.6's 1520: within 10%). The leg: -200, -196, -192, mean -196, sd 4, 95% half width 4.303 * 4 /
+// sqrt(3) = 9.9 (-13% of 1520: beyond 10%, resolved).
+TEST(Tools, PaperReportTakesTheFrictionClaimsFromTheCompleteSecondLeg) {
+    const fs::path d = scratch_path("tools", "paper_report_leg");
+    fs::remove_all(d);
+    const fs::path data = d / "data";
+    const std::map<std::string, double> B = {{"0", 500},    {"0.1", 800},  {"0.2", 1000}, {"0.4", 1300},
+                                             {"0.6", 1500}, {"0.8", 1550}, {"1", 1600}};
+    auto runs = [&](const std::string& study, int cycles) {
+        for (const auto& [mu, b] : B)
+            for (int s = 1; s <= 3; ++s) {
+                const fs::path c = data / study / ("grains.friction=" + mu + "_simulation.seed=" + std::to_string(s));
+                fs::create_directories(c);
+                std::string csv = "cycle,dissipated_energy,W,peak_force,min_force\n";
+                for (int k = 1; k <= cycles; ++k) {
+                    const double W = mu == "1" && k > 5 ? 1300 + 10 * s + 4 * (s - 1) : b + 10 * s;
+                    csv += std::to_string(k) + ",1," + std::to_string(W) + ",100,0\n";
+                }
+                write_file(c / "cycles.csv", csv);
+                write_file(c / "summary.json", "{\"run_seconds\": 1, \"grains\": 1090}\n");
+            }
+        write_file(data / study / "COMMAND", "vppdem sweep (pinned build " + study + "-build)\n");
+    };
+    runs("friction", 5);
+    runs("friction_8", 8);
+    const fs::path held = d / "held";
+    fs::rename(data / "friction_8" / "grains.friction=0.4_simulation.seed=2", held);  // 20 of 21
+    const std::string report = "VPPDEM=" + kBinary + " DATA=" + data.string() + " DOCS=" + d.string() + " bash " +
+                               (kSource / "scripts/paper_report.sh").string();
+    auto row = [&](const std::string& page, const std::string& id) {
+        const std::size_t at = page.find("| " + id + " |");
+        return at == std::string::npos ? std::string() : page.substr(at, page.find('\n', at) - at);
+    };
+    Outcome r = shell(report);
+    ASSERT_EQ(r.status, 0) << r.output;
+    std::string page = slurp(d / "paper_comparison.md");
+    std::string c18 = row(page, "C18");
+    EXPECT_NE(c18.find("W_settled +100 +- 0 (+7%) J/m2, dissipated energy (cycle 5)"), std::string::npos) << c18;
+    EXPECT_NE(c18.find("second leg (8 cycles): 20 of 21 runs continued"), std::string::npos) << c18;
+    EXPECT_NE(c18.find("| reproduced (the 95% interval within +-10%) |"), std::string::npos) << c18;
+    EXPECT_NE(page.find("one pinned build for every run (friction-build;"), std::string::npos) << page;
+    EXPECT_NE(page.find("by a later build (friction_8-build;"), std::string::npos) << page;
+    EXPECT_NE(page.find("friction_8 20 of 21."), std::string::npos) << page;
+    fs::rename(held, data / "friction_8" / "grains.friction=0.4_simulation.seed=2");
+    r = shell(report);
+    ASSERT_EQ(r.status, 0) << r.output;
+    page = slurp(d / "paper_comparison.md");
+    c18 = row(page, "C18");
+    EXPECT_NE(c18.find("W_settled -196 +- 10 (-13%) J/m2, dissipated energy (cycle 8)"), std::string::npos) << c18;
+    EXPECT_NE(c18.find("(8 cycles: the friction study's runs continued, second leg)"), std::string::npos) << c18;
+    EXPECT_NE(c18.find("| not reproduced (more than 10%, resolved) |"), std::string::npos) << c18;
+    EXPECT_NE(row(page, "C17").find("-0.35 +- 0.02 (3 seeds) (8 cycles"), std::string::npos) << row(page, "C17");
+    // C16 and C2 stay on the 5-cycle runs: 21 runs (the leg's are the same runs longer).
+    EXPECT_NE(row(page, "C16").find("1: 1620 +- 25"), std::string::npos) << row(page, "C16");
+    EXPECT_NE(page.find("21 of 21 finished 5-cycle runs are stationary"), std::string::npos) << page;
+    fs::remove_all(d);
+}
