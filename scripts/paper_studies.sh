@@ -15,7 +15,8 @@
 #          friction_8 (named only, not in the default list): the friction study's second leg, its
 #          finished runs copied into OUT/friction_8 and continued from their run.ckpt to 8 cycles
 #          (studies/paper/friction_8.toml) by VPPDEM_LEG: raising process.cycles on a run.ckpt
-#          came after the pinned build.
+#          came after the pinned build. A run whose run.ckpt is gone runs all 8 cycles from its
+#          seed's 25.5 mm sample (OUT/radius_underpressure).
 #   --publish-only: copy what has finished into docs/data/paper and stop (while runs go on).
 # Knobs (environment variables):
 #   VPPDEM  the binary (default pinned/vppdem: build once, copy it there, write its commit into
@@ -72,6 +73,17 @@ save() {
   return 0
 }
 
+# The prepared sample a friction case started from: its seed's 25.5 mm sample (the radius study's
+# preparer, or a friction case's prepared.ckpt: the same bits), or nothing.
+friction_sample() {
+  local seed=${1##*_simulation.seed=} c
+  for c in "$OUT"/radius_underpressure/damper.radius=0.0255_*_simulation.seed="$seed"/prepared.ckpt \
+           "$OUT"/friction/*_simulation.seed="$seed"/prepared.ckpt; do
+    [ -f "$c" ] && { echo "$c"; return 0; }
+  done
+  return 0
+}
+
 # The folder a study runs into (underpressure: a part of the radius study).
 folder() { if [ "$1" = underpressure ]; then echo radius_underpressure; else echo "$1"; fi; }
 
@@ -84,8 +96,24 @@ for study in "${studies[@]}"; do
   check_pinned "$pinned_commit" paper_studies.sh "$DATA/$s" "$OUT/$s"
   restore "$s"
   mkdir -p "$OUT/$s"
-  # A second leg continues the finished runs of its study in copies of their folders.
-  [ "$s" != friction_8 ] || continue_runs "$OUT/friction" "$OUT/$s" paper_studies.sh
+  if [ "$s" = friction_8 ]; then
+    # A second leg continues every finished run of its study, in copies of their folders, by a
+    # later build than the study's (whose run.ckpt cannot be given more cycles by itself), and
+    # the runs in OUT/friction are that study's build's.
+    first=
+    [ ! -f "$DATA/friction/COMMAND" ] || first=$(sed -n 's/.*(pinned build \([^)]*\)).*/\1/p' "$DATA/friction/COMMAND" | head -n 1)
+    if [ -n "$first" ]; then
+      [ "$first" != "$pinned_commit" ] || {
+        echo "paper_studies.sh: friction_8: VPPDEM_LEG ($bin) is the friction study's own build $first, which cannot raise process.cycles on a run.ckpt: pin a later build (see the header)" >&2
+        exit 2
+      }
+      check_pinned "$first" paper_studies.sh "$OUT/friction"
+    fi
+    list=$("$bin" sweep "studies/paper/$study.toml" --out "$OUT/$s" --list)
+    mapfile -t cases < <(awk 'NF >= 4 { print $4 }' <<< "$list")
+    [ ${#cases[@]} -gt 0 ] || { echo "paper_studies.sh: friction_8: '$bin sweep studies/paper/$study.toml --list' listed no case" >&2; exit 2; }
+    continue_runs "$OUT/friction" "$OUT/$s" paper_studies.sh friction_sample "${cases[@]}"
+  fi
   if [ "$s" = timestep ]; then
     # Paired by construction: the same prepared sample, only the time step's safety factor differs.
     for seed in 1 2 3; do

@@ -116,29 +116,43 @@ check_pinned() {
   return 0
 }
 
-# continue_runs SRC DST WHO: a second leg of a study (the same runs, more cycles): each finished run
-# of SRC (a case folder with summary.json) that DST lacks is copied into DST/<case> (through a
-# hidden temporary folder, renamed when whole), so that the leg's sweep continues it from its
-# run.ckpt while SRC keeps the first leg's records. A finished run whose run.ckpt is gone (records
-# restored on a new machine) cannot be continued: named, exit 2, nothing copied.
+# continue_runs SRC DST WHO SAMPLE_FN CASE...: a second leg of a study (the same runs, more
+# cycles): each CASE that DST lacks is copied from SRC/<case> (through a hidden temporary folder,
+# renamed when whole), so that the leg's sweep continues it from its run.ckpt while SRC keeps the
+# first leg's records. A finished case whose run.ckpt is gone (its records restored on another
+# machine) runs again from the prepared sample it started from, for all the leg's cycles: the
+# function SAMPLE_FN CASE prints that sample's path, placed as DST/<case>/run.ckpt (a sample
+# takes the case's settings); its first cycles are then the first leg's where the leg's build
+# reproduces the first leg's bits (the report checks them). A case still running, never run, or
+# with neither run.ckpt nor sample would be run by the leg from scratch, so they are named and
+# nothing is copied (exit 2).
 continue_runs() {
-  local src=$1 dst=$2 who=$3 d c tmp missing=()
-  for d in "$src"/*/; do
-    [ -f "$d/summary.json" ] && [ ! -e "$dst/$(basename "$d")" ] && [ ! -f "$d/run.ckpt" ] && missing+=("$(basename "$d")")
+  local src=$1 dst=$2 who=$3 sample_fn=$4 c tmp sample missing=()
+  shift 4
+  for c in "$@"; do
+    [ -e "$dst/$c" ] && continue
+    if [ ! -f "$src/$c/summary.json" ]; then missing+=("$c (not finished)")
+    elif [ ! -f "$src/$c/run.ckpt" ] && [ ! -f "$("$sample_fn" "$c")" ]; then missing+=("$c (no run.ckpt, no sample)")
+    fi
   done
   if [ ${#missing[@]} -gt 0 ]; then
-    echo "$who: no run.ckpt to continue in $src for: ${missing[*]}; run those cases again with the study's pinned build into a fresh OUT (the same bits), then place their folders in $src" >&2
+    local IFS=,
+    echo "$who: the leg continues every run of $src, and cannot continue:${missing[*]/#/ }; finish the study first (or prepare the missing samples)" >&2
     exit 2
   fi
   mkdir -p "$dst"
-  for d in "$src"/*/; do
-    c=$(basename "$d")
-    [ -f "$d/summary.json" ] && [ ! -e "$dst/$c" ] || continue
+  for c in "$@"; do
+    [ -e "$dst/$c" ] && continue
+    rm -rf "$dst/.$c".??????  # the temporary of a copy that was killed
     tmp=$(mktemp -d "$dst/.$c.XXXXXX")
-    # case.toml made newer than summary.json: the run continues (save_records publishes it when
-    # the leg's sweep has written its longer records).
-    cp -a "$d/." "$tmp/" && touch "$tmp/case.toml" && chmod 755 "$tmp" && mv "$tmp" "$dst/$c" ||
-      { rm -rf "$tmp"; echo "$who: could not copy $d into $dst" >&2; exit 1; }
+    if [ -f "$src/$c/run.ckpt" ]; then
+      # case.toml made newer than summary.json: the run continues (save_records publishes it
+      # when the leg's sweep has written its longer records).
+      cp -a "$src/$c/." "$tmp/" && touch "$tmp/case.toml"
+    else
+      sample=$("$sample_fn" "$c") && cp "$sample" "$tmp/run.ckpt"
+    fi && chmod 755 "$tmp" && mv -T "$tmp" "$dst/$c" ||
+      { rm -rf "$tmp"; echo "$who: could not copy $src/$c into $dst" >&2; exit 1; }
   done
   return 0
 }

@@ -19,6 +19,7 @@ write: reads TMP-made tables published into DATA/<study>/ (summary.csv, summary_
   with 95% intervals, each run a dot). Claims without finished runs say how many are pending.
   Runs under Debian's /usr/bin/python3 (matplotlib, numpy).
 """
+import json
 import math
 import os
 import shutil
@@ -394,10 +395,36 @@ def series_of(study, xkey, q, group=None, scale_x=1.0):
     return [x[i] for i in order], [m[i] for i in order], [h[i] for i in order], dx, dy
 
 
-def friction_claims(fr, f06, cycles):
-    """C17 (saturation) and C18 (mu 0.6 -> 1.0) from a friction study of `cycles` cycles and its
-    assembly with mu 0.6 first: (c17 text, verdict, c18 text, verdict)."""
-    mus = [0.0, 0.1, 0.2, 0.4, 0.6, 0.8, 1.0]
+def grid_values(name, key):
+    """A study file's grid values of key, ascending (studies/paper/<name>.toml)."""
+    return sorted(float(v) for v in read_study(f"studies/paper/{name}.toml").get("grid", {}).get(key, []))
+
+
+def leg_origin(raw):
+    """The friction leg's finished runs (raw/friction_8/<case>/): how many continued a run.ckpt of
+    the friction study (their summary.json warns so), how many ran again from their samples (the
+    checkpoint was gone), and of those how many reproduce the friction study's W of cycles 1-5 bit
+    for bit (the same text in cycles.csv: the build and the sample are the first leg's)."""
+    cont = fresh = repeat = 0
+    d8 = os.path.join(raw, "friction_8")
+    for c in sorted(os.listdir(d8)) if os.path.isdir(d8) else []:
+        if not finished(os.path.join(d8, c)):
+            continue
+        with open(os.path.join(d8, c, "summary.json")) as f:
+            warnings = json.load(f).get("warnings") or []
+        if any("process.cycles raised on a checkpoint" in w for w in warnings):
+            cont += 1
+            continue
+        fresh += 1
+        w8 = [r.get("W") for r in read_csv(os.path.join(d8, c, "cycles.csv"))][:5]
+        w5 = [r.get("W") for r in read_csv(os.path.join(raw, "friction", c, "cycles.csv"))][:5]
+        repeat += len(w5) == 5 and w8 == w5
+    return cont, fresh, repeat
+
+
+def friction_claims(fr, f06, cycles, mus):
+    """C17 (saturation) and C18 (mu 0.6 -> 1.0) from a friction study of `cycles` cycles over the
+    frictions `mus` and its assembly with mu 0.6 first: (c17 text, verdict, c18 text, verdict)."""
     t18, ok18 = diff_text(f06.pair("grains.friction", 1.0))
     t18e, _ = diff_text(f06.pair("grains.friction", 1.0, "dissipated_energy"), digits=3)
     c18 = f"mu 0.6 -> 1.0, paired: {f06.qlabel} {t18} J/m2, dissipated energy (cycle {cycles}) {t18e} J"
@@ -574,13 +601,15 @@ def write(data, out_md, figdir, command):
     # C17, C18 on the friction study's second leg (its runs continued to 8 cycles: the mu 1.0
     # runs still drift at cycle 5) once every run of it has finished; until then on the 5-cycle runs.
     leg_done, leg_all = f8.done()[0], planned_runs("friction_8")
+    cont, fresh, repeat = leg_origin(os.path.dirname(os.path.normpath(data)))
     if leg_done >= leg_all:
-        c17, c17v, c18, c18v = friction_claims(f8, f86, study_cycles("studies/paper/friction_8.toml"))
-        c17, c18 = (t + " (8 cycles: the friction study's runs continued, second leg)" for t in (c17, c18))
+        c17, c17v, c18, c18v = friction_claims(f8, f86, study_cycles("studies/paper/friction_8.toml"),
+                                                 grid_values("friction_8", "grains.friction"))
+        c17, c18 = (t + " (8 cycles: the friction study's runs taken on, second leg)" for t in (c17, c18))
     else:
-        c17, c17v, c18, c18v = friction_claims(fr, f06, study_cycles("studies/paper/friction.toml"))
+        c17, c17v, c18, c18v = friction_claims(fr, f06, study_cycles("studies/paper/friction.toml"), mus)
         if leg_done:
-            c17, c18 = (t + f"; second leg (8 cycles): {leg_done} of {leg_all} runs continued" for t in (c17, c18))
+            c17, c18 = (t + f"; second leg (8 cycles): {leg_done} of {leg_all} runs finished" for t in (c17, c18))
     z = fr.case(**{"grains.friction": 0.0})
     c19 = (f"mu 0: {fr.qlabel} {ci_text(z, fr.q)} J/m2, friction share {ci_text(z, 'friction_share', digits=2)}, local-damping "
            f"share {ci_text(z, 'damping_share', digits=2)} (cycle 5, energy ledger)")
@@ -740,11 +769,13 @@ def write(data, out_md, figdir, command):
         + "the numerical checks 2 cycles), one pinned build for every run"
         + (f" ({', '.join(commits)}; `docs/data/SOURCES.md`)" if commits else "") + ": `bash scripts/paper_studies.sh`.",
     ] + ([
-        f"- The friction study's second leg (C17, C18): its runs continued from cycle 5 to 8 by a later build "
+        f"- The friction study's second leg (C17, C18; mu 0.1-1.0): its runs taken to 8 cycles by a later build "
         f"({', '.join(leg_commits)}; raising process.cycles on a run.ckpt came after the studies' build), "
         f"{leg_done} of {leg_all} runs: `VPPDEM_LEG=pinned/leg/vppdem bash scripts/paper_studies.sh friction_8`. "
-        "The older build's run.ckpt held the cap for its last step, so cycles 6-8 continue the same samples "
-        "without being bitwise 8-cycle runs."] if leg_commits else []) + [
+        f"{cont} continued from their cycle-5 checkpoint (the older build's checkpoint held the cap for its last "
+        "step, so cycles 6-8 continue the same samples without being bitwise 8-cycle runs); "
+        f"{fresh} ran again from their samples (their checkpoints were gone), and {repeat} of those {fresh} repeat "
+        "the friction study's W of cycles 1-5 bit for bit."] if leg_commits else []) + [
         "- W is **W_settled**, the mean W over each run's stationary cycles (docs/damper.md, \"Stationary loops\": no",
         "  trend or jump beyond a 3% scatter at 95%), re-analysed by the current build (`vppdem sweep --report-only`),",
         "  where every run of a study is stationary after its 5 cycles; otherwise the study's claims use the last",
