@@ -556,7 +556,10 @@ def write(data, out_md, figdir, command):
     c9 = f"{yg.qlabel} [J/m2] at 0.06 MPa: {y_vals}; against 2.3 GPa: " + "; ".join(
         f"{y / 1e6:g} MPa {y_d[y][0]}" for y in (23e6, 230e6, 23e9))
     # Insensitive: W at 230 MPa and 23 GPa within 10% of 2.3 GPa's, the whole 95% interval.
-    yb = {y: band(yg.pair("grains.young", y), 0.10) for y in (23e6, 230e6, 23e9)}
+    # Decided once every modulus has all its seeds (a verdict on 2 of 3 would change with the third).
+    y_seeds = study_seeds("studies/paper/young.toml")
+    yb = {y: band(yg.pair("grains.young", y), 0.10) if paired_n(yg.pair("grains.young", y)) >= y_seeds else None
+          for y in (23e6, 230e6, 23e9)}
     moved = {y: b in ("resolved", "beyond") for y, b in yb.items()}  # resolved from 2.3 GPa's W
     if any(v is None for v in yb.values()):
         c9v = "open (runs pending)"
@@ -565,8 +568,11 @@ def write(data, out_md, figdir, command):
     elif moved[230e6] or moved[23e9]:
         c9v = "not reproduced (W at " + " and ".join(f"{y / 1e6:g} MPa" for y in (230e6, 23e9)
                                                     if moved[y]) + " differs from 2.3 GPa's)"
-    else:
-        c9v = "consistent, not established: no resolved difference from 2.3 GPa, but the intervals reach past 10%"
+    else:  # each of 230 MPa and 23 GPa within 10% or unresolved, one at least unresolved
+        c9v = "consistent, not established: " + "; ".join(
+            f"{y / 1e6:g} MPa " + ("within 10% of 2.3 GPa's W" if yb[y] == "within" else
+                                   "not resolved from 2.3 GPa's W, its 95% interval reaching past 10%")
+            for y in (230e6, 23e9))
     # 23 -> 230 MPa matters (23 MPa lower, resolved), then saturates (230 MPa and 23 GPa within
     # 10% of 2.3 GPa).
     p23 = yg.pair("grains.young", 23e6)

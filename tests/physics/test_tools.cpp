@@ -235,6 +235,40 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
             EXPECT_NEAR(std::stod(p.at("diff_ci95")), 4.302652729911275 * 6.0 / std::sqrt(3.0), 1e-6);
         }
     EXPECT_TRUE(found);
+    // C9 (insensitive to E_k) is decided once every modulus has all 3 seeds. Against the 2.3 GPa
+    // runs above (1510, 1526, 1542): 23 MPa 800 + s (resolved, lower), 230 MPa 20 lower in every
+    // seed (-20 +- 0: within 10% of 1526), 23 GPa -100, +100, 0 (sd 100, half width 4.303 * 100 /
+    // sqrt(3) = 248 > 153: unresolved, reaching past 10%).
+    const double ref[3] = {1510, 1526, 1542}, off23g[3] = {-100, 100, 0};
+    auto young = [&](const std::string& e, int s, double W) {
+        const fs::path c = data / "young" / ("grains.young=" + e + "_simulation.seed=" + std::to_string(s));
+        fs::create_directories(c);
+        std::string csv = "cycle,dissipated_energy,W,peak_force,min_force\n";
+        for (int k = 1; k <= 5; ++k) csv += std::to_string(k) + ",1," + std::to_string(W) + ",100,0\n";
+        write_file(c / "cycles.csv", csv);
+        write_file(c / "summary.json", "{\"run_seconds\": 1, \"grains\": 1090}\n");
+    };
+    for (int s = 1; s <= 3; ++s) {
+        young("2.3e+07", s, 800 + s);
+        young("2.3e+08", s, ref[s - 1] - 20);
+        if (s < 3) young("2.3e+10", s, ref[s - 1] + off23g[s - 1]);
+    }
+    auto c9 = [&]() {
+        const Outcome rr = shell(env + "bash " + (kSource / "scripts/paper_report.sh").string());
+        EXPECT_EQ(rr.status, 0) << rr.output;
+        const std::string pg = slurp(d / "paper_comparison.md");
+        const std::size_t at = pg.find("| C9 |");
+        return at == std::string::npos ? std::string() : pg.substr(at, pg.find('\n', at) - at);
+    };
+    std::string v = c9();
+    EXPECT_NE(v.find("23000 MPa: 1518 +- 1372 (n 2)"), std::string::npos) << v;  // 1410, 1626: 12.71 * 152.7 / sqrt(2)
+    EXPECT_NE(v.find("| open (runs pending) |"), std::string::npos) << v;  // 23 GPa: 2 of 3 seeds
+    young("2.3e+10", 3, ref[2] + off23g[2]);
+    v = c9();
+    EXPECT_NE(v.find("| consistent, not established: 230 MPa within 10% of 2.3 GPa's W; 23000 MPa not resolved from "
+                     "2.3 GPa's W, its 95% interval reaching past 10% |"),
+              std::string::npos) << v;
+    EXPECT_NE(v.find("230 MPa -20 +- 0 (-1%)"), std::string::npos) << v;
     fs::remove_all(d);
 }
 
