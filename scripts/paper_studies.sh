@@ -73,16 +73,20 @@ save() {
   return 0
 }
 
-# The prepared sample a friction case started from: its seed's 25.5 mm sample (the radius study's
-# preparer, or a friction case's prepared.ckpt: the same bits), or nothing.
-friction_sample() {
-  local seed=${1##*_simulation.seed=} c
-  for c in "$OUT"/radius_underpressure/damper.radius=0.0255_*_simulation.seed="$seed"/prepared.ckpt \
-           "$OUT"/friction/*_simulation.seed="$seed"/prepared.ckpt; do
+# seed_sample SEED: the seed's 25.5 mm prepared sample, or nothing: a friction case's
+# prepared.ckpt (the friction study's preparer first) or the radius study's 25.5 mm preparer's
+# (the same bits: grain friction and dp act after the preparation, one pinned build).
+seed_sample() {
+  local c
+  for c in "$OUT/friction/grains.friction=0_simulation.seed=$1/prepared.ckpt" \
+           "$OUT"/friction/*_simulation.seed="$1"/prepared.ckpt \
+           "$OUT"/radius_underpressure/damper.radius=0.0255_*_simulation.seed="$1"/prepared.ckpt; do
     [ -f "$c" ] && { echo "$c"; return 0; }
   done
   return 0
 }
+# friction_sample CASE: the sample a friction case started from (its seed's).
+friction_sample() { seed_sample "${1##*_simulation.seed=}"; }
 
 # The folder a study runs into (underpressure: a part of the radius study).
 folder() { if [ "$1" = underpressure ]; then echo radius_underpressure; else echo "$1"; fi; }
@@ -100,8 +104,7 @@ for study in "${studies[@]}"; do
     # A second leg continues every finished run of its study, in copies of their folders, by a
     # later build than the study's (whose run.ckpt cannot be given more cycles by itself), and
     # the runs in OUT/friction are that study's build's.
-    first=
-    [ ! -f "$DATA/friction/COMMAND" ] || first=$(sed -n 's/.*(pinned build \([^)]*\)).*/\1/p' "$DATA/friction/COMMAND" | head -n 1)
+    first=$(pinned_of "$DATA/friction")
     if [ -n "$first" ]; then
       [ "$first" != "$pinned_commit" ] || {
         echo "paper_studies.sh: friction_8: VPPDEM_LEG ($bin) is the friction study's own build $first, which cannot raise process.cycles on a run.ckpt: pin a later build (see the header)" >&2
@@ -117,13 +120,9 @@ for study in "${studies[@]}"; do
   if [ "$s" = timestep ]; then
     # Paired by construction: the same prepared sample, only the time step's safety factor differs.
     for seed in 1 2 3; do
-      # The seed's 25.5 mm sample: the friction study's preparer, or the underpressure study's
-      # (the same bits: grain friction and dp act after the preparation, one pinned build).
-      ckpt="$OUT/friction/grains.friction=0_simulation.seed=$seed/prepared.ckpt"
-      for c in "$OUT"/friction/*_simulation.seed=$seed/prepared.ckpt "$OUT"/radius_underpressure/damper.radius=0.0255_*_simulation.seed=$seed/prepared.ckpt; do
-        [ -f "$ckpt" ] && break
-        [ -f "$c" ] && ckpt=$c
-      done
+      # The seed's 25.5 mm sample (named as the friction study's preparer's when there is none).
+      ckpt=$(seed_sample "$seed")
+      ckpt=${ckpt:-$OUT/friction/grains.friction=0_simulation.seed=$seed/prepared.ckpt}
       d="$OUT/timestep/simulation.dt-safety=0.25_simulation.seed=$seed"
       sets=(--set simulation.dt_safety=0.25 --set process.underpressure=0.06e6 --set process.velocity=0.01
             --set process.cycles=2 --set output.energy=false --set simulation.threads=1)

@@ -92,6 +92,12 @@ ok_rows() {
            col && $col == "ok" { ++n } END { print n + 0 }' "$1"
 }
 
+# pinned_of DIR: the pinned build DIR/COMMAND names ("(pinned build <commit>)"), or nothing.
+pinned_of() {
+  [ -f "$1/COMMAND" ] || return 0
+  sed -n 's/.*(pinned build \([^)]*\)).*/\1/p' "$1/COMMAND" | head -n 1
+}
+
 # check_pinned COMMIT WHO DIR...: one study, one build. A DIR/COMMAND (the published records'
 # and the run folder's) names the pinned build of the runs there ("(pinned build <commit>)"); a
 # binary of another commit would mix two builds' results in one study, so it is refused (exit 2)
@@ -105,8 +111,7 @@ check_pinned() {
     exit 2
   fi
   for dir in "$@"; do
-    [ -f "$dir/COMMAND" ] || continue
-    held=$(sed -n 's/.*(pinned build \([^)]*\)).*/\1/p' "$dir/COMMAND" | head -n 1)
+    held=$(pinned_of "$dir")
     if [ -n "$held" ] && [ "$held" != "$commit" ]; then
       echo "$who: the runs in $dir came from the pinned build $held; this binary's COMMIT says $commit." >&2
       echo "$who: one study, one build: rebuild $held and pin it (see the script's header), or give new DATA and OUT folders" >&2

@@ -612,7 +612,7 @@ def write(data, out_md, figdir, command):
     # C17, C18 on the friction study's second leg (its runs continued to 8 cycles: the mu 1.0
     # runs still drift at cycle 5) once every run of it has finished; until then on the 5-cycle runs.
     leg_done, leg_all = f8.done()[0], planned_runs("friction_8")
-    cont, fresh, repeat = leg_origin(os.path.dirname(os.path.normpath(data)))
+    cont, fresh, repeat = leg_origin(raw)
     if leg_done >= leg_all:
         c17, c17v, c18, c18v = friction_claims(f8, f86, study_cycles("studies/paper/friction_8.toml"),
                                                  grid_values("friction_8", "grains.friction"))
