@@ -248,7 +248,7 @@ def ci_text(c, q="W", unit="", digits=0, scale=1.0):
         return "pending"
     s = f"{m * scale:.{digits}f}"
     s += f" +- {h * scale:.{digits}f}" if h is not None else " (one run)"
-    return s + (f" {unit}" if unit else "") + (f" (n {n})" if n != 3 else "")
+    return s + (f" {unit}" if unit else "") + (f" (n {n})" if n not in (1, 3) else "")
 
 
 def diff_text(p, digits=0, pct=True):
