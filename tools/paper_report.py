@@ -310,6 +310,24 @@ def paired_n(p):
     return int(float(p.get("n") or 0)) if p else 0
 
 
+def side(p, ok):
+    """Where a paired difference lies (ok: diff_text's verdict): 'below' or 'above' zero when
+    resolved, 'unresolved', or None (pending)."""
+    return None if ok is None else ("below" if fnum(p["diff_mean"]) < 0 else "above") if ok else "unresolved"
+
+
+def radius_verdict(outcomes, paper, yes):
+    """A radius claim from each radius's sides against 25.5 mm over the dp (outcomes: {r: [side]}),
+    paper: {r: the side the claim puts r on}: open while any is pending, `yes` where every one
+    lies on the paper's side, else 'partly: ' and each radius's tally."""
+    got = [(o, paper[r]) for r in paper for o in outcomes.get(r, [])]
+    if not got or any(o is None for o, _ in got):
+        return "open (runs pending)"
+    if all(o == want for o, want in got):
+        return yes
+    return "partly: " + "; ".join(radius_tally(outcomes, r, paper[r]) for r in paper)
+
+
 def radius_tally(outcomes, r, paper_side):
     """'30.5 mm below 25.5 mm (the paper's direction) at 4 of 4 dp, against it at 0, not resolved
     at 0': a radius's paired outcomes against 25.5 mm over the dp ('below', 'above' resolved,
@@ -649,7 +667,7 @@ def write(data, out_md, figdir, command):
 
     # ---- C26, C28, C29: radius
     rad = [0.0205, 0.0255, 0.0305]
-    c26p, c26f, c26r, c28p, c28f, c28r = [], [], {}, [], [], {}
+    c26p, c26r, c28p, c28r, c28pairs = [], {}, [], {}, []
     for dp in dps:
         e = [ci_text(ru.case(**{"damper.radius": r, "process.underpressure": dp}), "dissipated_energy", digits=2)
              for r in rad]
@@ -657,37 +675,31 @@ def write(data, out_md, figdir, command):
         for r in (0.0205, 0.0305):
             pe = ru.pair("damper.radius", r, "dissipated_energy", group=f"process.underpressure={dp}")
             te, oke = diff_text(pe, digits=2)
-            c26f.append(None if oke is None else (oke and (fnum(pe["diff_mean"]) > 0) == (r > 0.0255)))
-            c26r.setdefault(r, []).append(None if oke is None else
-                                          ("below" if fnum(pe["diff_mean"]) < 0 else "above") if oke else "unresolved")
+            c26r.setdefault(r, []).append(side(pe, oke))
             pw = ru.pair("damper.radius", r, group=f"process.underpressure={dp}")
             tw, okw = diff_text(pw)
             c28p.append(f"{dp / 1e6:g} MPa, {r * 1e3:g} mm: {tw}")
-            c28f.append(None if okw is None else (okw and (fnum(pw["diff_mean"]) < 0) == (r > 0.0255)))
-            # Per radius: resolved below / resolved above 25.5 mm / not resolved.
-            c28r.setdefault(r, []).append(None if okw is None else
-                                          ("below" if fnum(pw["diff_mean"]) < 0 else "above") if okw else "unresolved")
+            c28r.setdefault(r, []).append(side(pw, okw))
+            c28pairs.append(pw)
     c26 = "loop energy (cycle 5) for r_p 20.5 / 25.5 / 30.5 mm: " + "; ".join(c26p) + " (different samples per radius)"
-    c26v = verdict(c26f, "reproduced at every dp (resolved against the seed scatter)", "partly")
-    if c26v == "partly":  # energy grows with the radius: 30.5 mm above 25.5 mm, 20.5 mm below
-        c26v = "partly: " + "; ".join((radius_tally(c26r, 0.0305, "above"), radius_tally(c26r, 0.0205, "below")))
+    # The energy grows with the radius: 30.5 mm above 25.5 mm, 20.5 mm below.
+    c26v = radius_verdict(c26r, {0.0305: "above", 0.0205: "below"},
+                          "reproduced at every dp (resolved against the seed scatter)")
     # The samples' packing fraction per radius (a radius's seed prepares one sample for every dp):
     # the re-fill adds grains until the cap rests on them, and the density it ends at differs
     # between the radii (measured: the 25.5 mm samples hold about 3% more grains per volume), and
     # W follows the density (C4) as well as the radius.
-    pack = [ci_text(ru.case(**{"damper.radius": r, "process.underpressure": dps[0]}), "packing_fraction", digits=3)
-            for r in rad]
+    samples = [ru.case(**{"damper.radius": r, "process.underpressure": dps[0]}) for r in rad]
+    pack = [ci_text(c, "packing_fraction", digits=3) for c in samples]
     c28 = (f"{ru.qlabel} [J/m2] against 25.5 mm, per-seed differences: " + "; ".join(c28p)
            + "; packing fraction of the samples (after the preparation) for r_p 20.5 / 25.5 / 30.5 mm: "
            + " / ".join(pack))
-    c28v = verdict(c28f, "reproduced at every dp", "partly")
-    if c28v == "partly":  # W falls with the radius: 30.5 mm below 25.5 mm, 20.5 mm above
-        c28v = "partly: " + "; ".join((radius_tally(c28r, 0.0305, "below"), radius_tally(c28r, 0.0205, "above")))
+    # W falls with the radius: 30.5 mm below 25.5 mm, 20.5 mm above.
+    c28v = radius_verdict(c28r, {0.0305: "below", 0.0205: "above"}, "reproduced at every dp")
+    if c28v.startswith("partly"):
         # Said only where the data say it: both other radii below 25.5 mm in the mean at every dp.
-        peak = all(fnum(ru.pair("damper.radius", r, group=f"process.underpressure={dp}")["diff_mean"]) < 0
-                   for r in (0.0205, 0.0305) for dp in dps)
-        dens = [fnum((ru.case(**{"damper.radius": r, "process.underpressure": dps[0]}) or {}).get("packing_fraction_mean"))
-                for r in rad]
+        peak = all(fnum(p["diff_mean"]) < 0 for p in c28pairs)
+        dens = [fnum((c or {}).get("packing_fraction_mean")) for c in samples]
         if peak:
             c28v += ". The mean W is largest at 25.5 mm at every dp" + (
                 ", whose samples are the densest (packing fraction above)"
