@@ -655,3 +655,91 @@ TEST(Tools, PaperReportTakesTheFrictionClaimsFromTheCompleteSecondLeg) {
     EXPECT_NE(page.find("21 of 21 finished 5-cycle runs are stationary"), std::string::npos) << page;
     fs::remove_all(d);
 }
+
+// C30 (how friction and the local damping share the dissipation) and C19 on hand-made records of
+// the damping study (lambda 0.1 / 0.4) beside the friction study's lambda 0.2, at mu 0 / 0.6 / 1,
+// 3 seeds, 5 flat cycles. W = base(mu) + 10 s + offset(lambda, mu, s): mu 0's offsets 30, -30, 0
+// (lambda 0.1: W 540, 490, 530, 520 +- 4.303 * 26.5 / sqrt(3) = 65.7) and 20, -20, 0 (lambda 0.4)
+// leave 0 +- 4.303 * 30 / sqrt(3) = 74.5 (and 49.7): not resolved; at mu 0.6 lambda 0.4 is
+// -200 - 10 s lower (W 1400 in every seed; -220 +- 24.8: resolved). Friction
+// shares (friction / (friction + damping) in the last cycle): 0.95 / 0.9 / 0.8 at mu 0.6 and
+// 0.75 / 0.7 / 0.6 at mu 1 for lambda 0.1 / 0.2 / 0.4. Open while a run is missing; the mu-0
+// sentence goes when its difference is resolved.
+TEST(Tools, PaperReportSharesTheDissipationByTheLocalDamping) {
+    const fs::path d = scratch_path("tools", "paper_report_damping");
+    fs::remove_all(d);
+    const fs::path data = d / "data";
+    const std::map<std::string, double> base = {{"0", 500}, {"0.6", 1600}, {"1", 1650}};
+    const std::map<std::string, std::map<std::string, double>> share = {
+        {"0", {{"0.1", 0}, {"0.2", 0}, {"0.4", 0}}},
+        {"0.6", {{"0.1", 0.95}, {"0.2", 0.9}, {"0.4", 0.8}}},
+        {"1", {{"0.1", 0.75}, {"0.2", 0.7}, {"0.4", 0.6}}}};
+    auto run = [&](const std::string& lam, const std::string& mu, int s, double mu0_lam01) {
+        const bool ref = lam == "0.2";
+        const fs::path c = data / (ref ? "friction" : "damping") /
+                           ((ref ? std::string() : "simulation.local-damping=" + lam + "_") + "grains.friction=" + mu +
+                            "_simulation.seed=" + std::to_string(s));
+        const double pm = (s == 1) - (s == 2);  // +1, -1, 0 over the seeds
+        double W = base.at(mu) + 10 * s;
+        if (mu == "0") W += lam == "0.1" ? mu0_lam01 * pm : lam == "0.4" ? 20 * pm : 0;
+        if (mu == "0.6" && lam == "0.4") W -= 200 + 10 * s;
+        const double f = share.at(mu).at(lam);
+        fs::create_directories(c);
+        std::string csv = "cycle,dissipated_energy,W,peak_force,min_force,friction_dissipation,damping_dissipation,"
+                          "viscous_dissipation,settled\n";
+        for (int k = 1; k <= 5; ++k)
+            csv += std::to_string(k) + ",1," + std::to_string(W) + ",100,0," + std::to_string(f) + "," +
+                   std::to_string(1 - f) + ",0,0\n";
+        write_file(c / "cycles.csv", csv);
+        write_file(c / "summary.json", "{\"run_seconds\": 1, \"grains\": 1090}\n");
+    };
+    auto all = [&](double mu0_lam01) {
+        for (const char* lam : {"0.1", "0.2", "0.4"})
+            for (const char* mu : {"0", "0.6", "1"})
+                for (int s = 1; s <= 3; ++s) run(lam, mu, s, mu0_lam01);
+    };
+    auto rows = [&]() {
+        const Outcome r = shell("VPPDEM=" + kBinary + " DATA=" + data.string() + " DOCS=" + d.string() + " bash " +
+                                (kSource / "scripts/paper_report.sh").string());
+        EXPECT_EQ(r.status, 0) << r.output;
+        const std::string page = slurp(d / "paper_comparison.md");
+        auto row = [&](const std::string& id) {
+            const std::size_t at = page.find("| " + id + " |");
+            return at == std::string::npos ? std::string() : page.substr(at, page.find('\n', at) - at);
+        };
+        return std::make_pair(row("C19"), row("C30"));
+    };
+    all(30);
+    fs::remove_all(data / "damping" / "simulation.local-damping=0.4_grains.friction=1_simulation.seed=3");
+    auto [c19, c30] = rows();
+    EXPECT_NE(c30.find("| open (runs pending) |"), std::string::npos) << c30;
+    EXPECT_NE(c30.find("W_settled [J/m2] and the friction share of the dissipation (energy ledger, cycle 5): mu 0: W 520 +- 66 / "
+                       "520 +- 25 / 520 +- 43"), std::string::npos) << c30;
+    all(30);
+    std::tie(c19, c30) = rows();
+    EXPECT_NE(c30.find("mu 0.6: W 1620 +- 25 / 1620 +- 25 / 1400 +- 0, friction share 0.95 +- 0.00 / "
+                       "0.90 +- 0.00 / 0.80 +- 0.00, W against lambda 0.2: lambda 0.1 +0 +- 0 (+0%), lambda 0.4 -220 "
+                       "+- 25 (-14%)"),
+              std::string::npos) << c30;
+    EXPECT_NE(c30.find("| answered in the model: with friction (mu 0.6-1.0) friction takes 0.60-0.95 of the dissipation "
+                       "for lambda 0.1-0.4, the local damping the rest; W moves beyond the seed scatter at mu 0.6, "
+                       "lambda 0.4, not at the other 5; at mu 0 the damping takes all of it, yet W does not follow its "
+                       "coefficient"),
+              std::string::npos) << c30;
+    EXPECT_NE(c19.find("and W at mu 0 is not resolved from lambda 0.2's at lambda 0.1 or 0.4 (C30) |"), std::string::npos)
+        << c19;
+    // mu 0, lambda 0.1 moved: 412, 424, 436 against 510, 520, 530 (-96 +- 5, resolved).
+    for (int s = 1; s <= 3; ++s) {
+        const fs::path c = data / "damping" / ("simulation.local-damping=0.1_grains.friction=0_simulation.seed=" +
+                                               std::to_string(s));
+        std::string csv = "cycle,dissipated_energy,W,peak_force,min_force,friction_dissipation,damping_dissipation,"
+                          "viscous_dissipation,settled\n";
+        for (int k = 1; k <= 5; ++k) csv += std::to_string(k) + ",1," + std::to_string(400 + 12 * s) + ",100,0,0,1,0,0\n";
+        write_file(c / "cycles.csv", csv);
+    }
+    std::tie(c19, c30) = rows();
+    EXPECT_NE(c30.find("W moves beyond the seed scatter at mu 0, lambda 0.1, mu 0.6, lambda 0.4, not at the other 4 |"),
+              std::string::npos) << c30;
+    EXPECT_NE(c19.find("changes with the damping coefficient (C30) |"), std::string::npos) << c19;
+    fs::remove_all(d);
+}
