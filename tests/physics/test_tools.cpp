@@ -187,7 +187,7 @@ TEST(Tools, PaperReportBandsADifferenceAgainstATolerance) {
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("['within', 'beyond', 'resolved', 'unresolved', None, None]"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("-26% to +35%"), std::string::npos) << r.output;  // (45 -+ 302) / 1000
-    EXPECT_NE(r.output.find("21 18 9"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("21 18 15"), std::string::npos) << r.output;
     fs::remove(scratch_path("tools", "band.py"));
 }
 
@@ -267,8 +267,11 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
     EXPECT_NE(v.find("23000 MPa +0 +- 1271 (+0%) (n 2)"), std::string::npos) << v;  // shown, not decided
     young("2.3e+10", 3, ref[2] + off23g[2]);
     v = c9();
+    // The repository's modulus and radius studies plan 5 seeds (seeds 4-5 added after the first
+    // 3): over 3 the verdicts are given, marked provisional.
+    const std::string prov = " (provisional: over the first 3 seeds; the added seeds are running) |";
     EXPECT_NE(v.find("| consistent, not established: 230 MPa within 10% of 2.3 GPa's W; 23000 MPa not resolved from "
-                     "2.3 GPa's W, its 95% interval reaching past 10% |"),
+                     "2.3 GPa's W, its 95% interval reaching past 10%" + prov),
               std::string::npos) << v;
     EXPECT_NE(v.find("230 MPa -20 +- 0 (-1%)"), std::string::npos) << v;
     // C28 (a wider damper has lower W) per radius against 25.5 mm, at each dp: 30.5 mm is
@@ -313,12 +316,39 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
     EXPECT_NE(v.find("0.06 MPa, 30.5 mm: -320 +- 25 ("), std::string::npos) << v;
     EXPECT_NE(v.find("0.06 MPa, 20.5 mm: -20 +- 124 ("), std::string::npos) << v;
     EXPECT_NE(v.find("20.5 / 25.5 / 30.5 mm: 0.610 +- 0.000 / 0.620 +- 0.000 / 0.600 +- 0.000"), std::string::npos) << v;
-    EXPECT_NE(v.find(tally + ", whose samples are the densest (packing fraction above) |"), std::string::npos) << v;
+    EXPECT_NE(v.find(tally + ", whose samples are the densest (packing fraction above)" + prov), std::string::npos) << v;
     EXPECT_NE(v.find("| partly: 30.5 mm above 25.5 mm (the paper's direction) at 0 of 4 dp, against it at 4, not resolved "
-                     "at 0; 20.5 mm below 25.5 mm (the paper's direction) at 0 of 4 dp, against it at 0, not resolved at 4 |"),
+                     "at 0; 20.5 mm below 25.5 mm (the paper's direction) at 0 of 4 dp, against it at 0, not resolved at 4" +
+                     prov),
               std::string::npos) << v;
     v = radius(0.63);  // the 20.5 mm samples the densest: W does not follow the packing here
-    EXPECT_NE(v.find(tally + " |"), std::string::npos) << v;
+    EXPECT_NE(v.find(tally + prov), std::string::npos) << v;
+    // Seeds 4 and 5 of the 25.5 mm rows: C1 is decided over all 5 (0.06 MPa from 0.02 MPa: 1000 +
+    // 6 (s - 1), mean 1012, sd 9.49, t_{0.975,4} 2.776 * 9.49 / sqrt(5) = 11.8; 0.02 MPa's mean 530),
+    // no longer provisional, while C28 (20.5 and 30.5 mm over 3) still is.
+    for (int dp : {20000, 40000, 60000, 80000})
+        for (int s = 4; s <= 5; ++s) {
+            const fs::path c = data / "radius_underpressure" /
+                               ("damper.radius=0.0255_process.underpressure=" + std::to_string(dp) +
+                                "_simulation.seed=" + std::to_string(s));
+            fs::create_directories(c);
+            const double W = 500 + 10 * s + 0.025 * (dp - 20000) + (dp > 20000 ? 6 * (s - 1) : 0);
+            std::string csv = "cycle,dissipated_energy,W,peak_force,min_force\n";
+            for (int k = 1; k <= 5; ++k) csv += std::to_string(k) + ",1," + std::to_string(W) + ",100,0\n";
+            write_file(c / "cycles.csv", csv);
+            write_file(c / "summary.json", "{\"run_seconds\": 1, \"grains\": 1090}\n");
+        }
+    {
+        const Outcome rr = shell(env + "bash " + (kSource / "scripts/paper_report.sh").string());
+        ASSERT_EQ(rr.status, 0) << rr.output;
+        const std::string pg = slurp(d / "paper_comparison.md");
+        const std::size_t at = pg.find("| C1 |");
+        const std::string c1 = at == std::string::npos ? std::string() : pg.substr(at, pg.find('\n', at) - at);
+        EXPECT_NE(c1.find("0.06: +1012 +- 12 (+191%);"), std::string::npos) << c1;
+        EXPECT_NE(c1.find("0.02 MPa: 530 +- 20 (n 5)"), std::string::npos) << c1;  // 510 ... 550: 2.776 * 15.8 / sqrt(5)
+        EXPECT_NE(c1.find("means increase) |"), std::string::npos) << c1;
+        EXPECT_NE(pg.find("not resolved at 4" + prov), std::string::npos) << pg;  // C26, over 3 seeds
+    }
     fs::remove_all(d);
 }
 
