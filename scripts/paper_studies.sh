@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Runs the paper's studies (issue 20: studies/paper/*.toml, 0.01 m/s, 3 seeds, 5 cycles) with one
+# Runs the paper's studies (issue 20: studies/paper/*.toml, 0.01 m/s, 3-5 seeds, 5 cycles) with one
 # pinned vppdem binary and keeps every finished run's small records in the repository
 # (docs/data/paper/<study>/<case>/: case.toml, summary.json, cycles.csv; and each study's
 # summary.csv / summary_cases.csv), so that a new machine loses at most the runs in flight.
@@ -124,7 +124,8 @@ for study in "${studies[@]}"; do
     ts_seeds=$(awk -F= '$1 ~ /^seeds *$/ { gsub(/ /, "", $2); print $2 }' studies/paper/report/timestep.toml)
     [[ "$ts_seeds" =~ ^[1-9][0-9]*$ ]] || { echo "paper_studies.sh: timestep: no 'seeds = N' in studies/paper/report/timestep.toml (found '$ts_seeds')" >&2; exit 2; }
     for seed in $(seq 1 "$ts_seeds"); do
-      # The seed's 25.5 mm sample (named as the friction study's preparer's when there is none).
+      # The seed's 25.5 mm sample (friction or radius study; when there is none, the friction
+      # study's preparer's name stands in the command shown, and the message names both studies).
       ckpt=$(seed_sample "$seed")
       ckpt=${ckpt:-$OUT/friction/grains.friction=0_simulation.seed=$seed/prepared.ckpt}
       d="$OUT/timestep/simulation.dt-safety=0.25_simulation.seed=$seed"
@@ -155,7 +156,7 @@ for study in "${studies[@]}"; do
         failed=1
       fi
     done
-    printf '%s (pinned build %s)\n' "$bin damper --from <friction study's seed sample> --set simulation.dt_safety=0.25 ... (scripts/paper_studies.sh timestep)" "$pinned_commit" > "$OUT/$s/COMMAND"
+    printf '%s (pinned build %s)\n' "$bin damper --from <the seed's 25.5 mm sample, friction or radius study> --set simulation.dt_safety=0.25 ... (scripts/paper_studies.sh timestep)" "$pinned_commit" > "$OUT/$s/COMMAND"
   else
     cmd=("$bin" sweep "studies/paper/$study.toml" --out "$OUT/$s" "${jobs_arg[@]}" --no-plot)
     echo "== $study: ${cmd[*]}"
