@@ -196,19 +196,22 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
     const fs::path d = scratch_path("tools", "paper_report");
     fs::remove_all(d);
     const fs::path data = d / "data";
-    for (int dp : {20000, 40000, 60000, 80000})
-        for (int s = 1; s <= 3; ++s) {
-            const fs::path c = data / "radius_underpressure" /
-                               ("damper.radius=0.0255_process.underpressure=" + std::to_string(dp) +
-                                "_simulation.seed=" + std::to_string(s));
-            fs::create_directories(c);
-            const double W = 500 + 10 * s + 0.025 * (dp - 20000) + (dp > 20000 ? 6 * (s - 1) : 0);
-            std::string csv = "cycle,dissipated_energy,W,peak_force,min_force\n";
-            for (int k = 1; k <= 5; ++k)
-                csv += std::to_string(k) + ",1," + std::to_string(W) + ",100,0\n";
-            std::ofstream(c / "cycles.csv") << csv;
-            std::ofstream(c / "summary.json") << "{\"run_seconds\": 1, \"grains\": 1090}\n";
-        }
+    // The 25.5 mm rows of seeds first..last (the formula above).
+    auto underpressure_rows = [&](int first, int last) {
+        for (int dp : {20000, 40000, 60000, 80000})
+            for (int s = first; s <= last; ++s) {
+                const fs::path c = data / "radius_underpressure" /
+                                   ("damper.radius=0.0255_process.underpressure=" + std::to_string(dp) +
+                                    "_simulation.seed=" + std::to_string(s));
+                fs::create_directories(c);
+                const double W = 500 + 10 * s + 0.025 * (dp - 20000) + (dp > 20000 ? 6 * (s - 1) : 0);
+                std::string csv = "cycle,dissipated_energy,W,peak_force,min_force\n";
+                for (int k = 1; k <= 5; ++k) csv += std::to_string(k) + ",1," + std::to_string(W) + ",100,0\n";
+                write_file(c / "cycles.csv", csv);
+                write_file(c / "summary.json", "{\"run_seconds\": 1, \"grains\": 1090}\n");
+            }
+    };
+    underpressure_rows(1, 3);
     const std::string env = "VPPDEM=" + kBinary + " DATA=" + data.string() + " DOCS=" + d.string() + " ";
     const Outcome r = shell(env + "bash " + (kSource / "scripts/paper_report.sh").string());
     ASSERT_EQ(r.status, 0) << r.output;
@@ -332,18 +335,7 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
     // seeds 1-5 against the radius study's 25.5 mm, 0.06 MPa runs (the friction study's mu 0.6,
     // its first reference, has none here): W 1494 + 16 s - 20 - s, paired -21 ... -25, mean -23,
     // sd 1.58, 2.776 * 1.58 / sqrt(5) = 2.0, within 5% of 1542: C5 reproduced over all 5.
-    for (int dp : {20000, 40000, 60000, 80000})
-        for (int s = 4; s <= 5; ++s) {
-            const fs::path c = data / "radius_underpressure" /
-                               ("damper.radius=0.0255_process.underpressure=" + std::to_string(dp) +
-                                "_simulation.seed=" + std::to_string(s));
-            fs::create_directories(c);
-            const double W = 500 + 10 * s + 0.025 * (dp - 20000) + (dp > 20000 ? 6 * (s - 1) : 0);
-            std::string csv = "cycle,dissipated_energy,W,peak_force,min_force\n";
-            for (int k = 1; k <= 5; ++k) csv += std::to_string(k) + ",1," + std::to_string(W) + ",100,0\n";
-            write_file(c / "cycles.csv", csv);
-            write_file(c / "summary.json", "{\"run_seconds\": 1, \"grains\": 1090}\n");
-        }
+    underpressure_rows(4, 5);
     for (int s = 1; s <= 5; ++s) {
         const fs::path c = data / "timestep" / ("simulation.dt-safety=0.25_simulation.seed=" + std::to_string(s));
         fs::create_directories(c);
