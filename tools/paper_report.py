@@ -257,7 +257,8 @@ class Study:
 
 def ci_text(c, q="W", unit="", digits=0, scale=1.0):
     """'mean +- ci' of a summary_cases row, with '(n k of N)' while fewer runs than the study's N
-    seeds have finished (Study.case; '(n k)' for a row without them where k is not 1 or 3)."""
+    seeds have finished (Study.case; '(n k)' for a row without them where k is not 1 or 3); one
+    run: 'mean (one run of N)'."""
     if c is None:
         return "pending"
     n = int(float(c.get(f"{q}_n") or 0))
@@ -265,8 +266,10 @@ def ci_text(c, q="W", unit="", digits=0, scale=1.0):
     if n == 0 or m is None:
         return "pending"
     s = f"{m * scale:.{digits}f}"
-    s += f" +- {h * scale:.{digits}f}" if h is not None else " (one run)"
     planned = c.get("planned_seeds")
+    if h is None:  # one run, no interval
+        return s + (f" {unit}" if unit else "") + (f" (one run of {planned})" if planned and planned > 1 else " (one run)")
+    s += f" +- {h * scale:.{digits}f}"
     if planned:
         tag = f" (n {n} of {planned})" if n < planned else ""
     else:

@@ -175,6 +175,7 @@ TEST(Tools, TrustStudiesScriptRunsAStudyAndPublishesIt) {
 // hand-made paired rows with a reference of 1000 J/m^2 and 5% (50 J/m^2): 10 +- 20 lies within,
 // 100 +- 20 beyond, 60 +- 40 is resolved but reaches inside, 30 +- 40 unresolved, one seed pending.
 // The planned runs come from the repository's study files (friction: 7 frictions x 3 seeds).
+// A mean says how many of the planned seeds it holds; one run has no interval.
 TEST(Tools, PaperReportBandsADifferenceAgainstATolerance) {
     const std::string code =
         "import sys; sys.path.insert(0, 'tools'); import paper_report as p\n"
@@ -182,13 +183,17 @@ TEST(Tools, PaperReportBandsADifferenceAgainstATolerance) {
         "print([p.band(row(10, 20), 0.05), p.band(row(100, 20), 0.05), p.band(row(60, 40), 0.05),\n"
         "       p.band(row(30, 40), 0.05), p.band(row(10, 20, 1), 0.05), p.band(None, 0.05)])\n"
         "print(p.rel_interval(row(45, 302)))\n"
-        "print(p.planned_runs('friction'), p.planned_runs('damping'), p.planned_runs('young'))\n";
+        "print(p.planned_runs('friction'), p.planned_runs('damping'), p.planned_runs('young'))\n"
+        "one = {'W_n': '1', 'W_mean': '1820', 'W_ci95': ''}\n"
+        "print(p.ci_text(dict(one, planned_seeds=3)) + ';' + p.ci_text(one, unit='J') + ';' +\n"
+        "      p.ci_text({'W_n': '2', 'W_mean': '10', 'W_ci95': '4', 'planned_seeds': 3}))\n";
     write_file(scratch_path("tools", "band.py"), code);
     const Outcome r = shell("cd " + kSource.string() + " && " + kPython + scratch_path("tools", "band.py").string());
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("['within', 'beyond', 'resolved', 'unresolved', None, None]"), std::string::npos) << r.output;
     EXPECT_NE(r.output.find("-26% to +35%"), std::string::npos) << r.output;  // (45 -+ 302) / 1000
     EXPECT_NE(r.output.find("21 18 15"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("1820 (one run of 3);1820 J (one run);10 +- 4 (n 2 of 3)"), std::string::npos) << r.output;
     fs::remove(scratch_path("tools", "band.py"));
 }
 
