@@ -708,14 +708,15 @@ def write(data, out_md, figdir, command):
     # ---- C30: shares, and W against the numerical damping. The lambdas of a seed are different
     # samples (the damping acts in the preparation too): their differences are seed for seed.
     lams, lam_mus = (0.1, 0.2, 0.4), (0.0, 0.6, 1.0)
-    sh, lam_ok, shares = [], {}, []
+    sh, lam_ok, shares, lam_pair = [], {}, [], {}
     for mu in lam_mus:
         cs = [dm.case(**{"simulation.local_damping": lam, "grains.friction": mu}) for lam in lams]
         if mu > 0:
             shares += [fnum(c.get("friction_share_mean")) if c else None for c in cs]
         d = []
         for lam in (0.1, 0.4):
-            t, lam_ok[mu, lam] = diff_text(dm.pair("simulation.local_damping", lam, group=f"grains.friction={mu:g}"))
+            lam_pair[mu, lam] = dm.pair("simulation.local_damping", lam, group=f"grains.friction={mu:g}")
+            t, lam_ok[mu, lam] = diff_text(lam_pair[mu, lam])
             d.append(f"lambda {lam:g} {t}")
         sh.append(f"mu {mu:g}: W " + " / ".join(ci_text(c, dm.q) for c in cs) + ", friction share "
                   + " / ".join(ci_text(c, "friction_share", digits=2) for c in cs) + ", W against lambda 0.2: "
@@ -735,7 +736,7 @@ def write(data, out_md, figdir, command):
         # (the whole 95% interval) when lambda is halved or doubled does not follow the coefficient:
         # the paper's hypothesis (the rearrangements release the energy, the damping takes it). A
         # difference that is merely not resolved shows nothing either way: its interval is given.
-        p0 = {lam: dm.pair("simulation.local_damping", lam, group="grains.friction=0") for lam in (0.1, 0.4)}
+        p0 = {lam: lam_pair[0.0, lam] for lam in (0.1, 0.4)}
         if all(band(p, 0.10) == "within" for p in p0.values()):
             c30v += ("; at mu 0 the damping takes all of it, yet W stays within 10% of lambda 0.2's when lambda is "
                      "halved or doubled: the rearrangements set the energy, the damping only takes it (the paper's "
@@ -807,7 +808,7 @@ def write(data, out_md, figdir, command):
                           + rel_interval(ts.pair("simulation.dt_safety", 0.25, "W")) + ") reaches past 5%"}[b5])
     c5v = mark(c5v, first_only(ts))
     # The designs' seeds (the assemblies' study files), for the lines that describe them.
-    sts, sfo = (study_seeds(f"studies/paper/report/{n}.toml") for n in ("timestep", "foil_resolution"))
+    sts, sfo = ts.seeds, fo.seeds
 
     # ---- figures
     if any(fnum(c.get(f"{ru.q}_mean")) is not None for c in ru.cases):
