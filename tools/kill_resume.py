@@ -4,7 +4,7 @@ resumed each time, must end with the records of an uninterrupted run (issue 25; 
 "Resuming").
 
 usage: kill_resume.py [--vppdem build/vppdem] [--out DIR] [--kills N] [--seed S]
-                      [--only sweep|damper]
+                      [--only sweep|damper|stages]
 
 sweep:  a small study (the tests' small damper: 2 frictions x 2 seeds, one preparation per seed,
         2 cycles) runs once without interruption (the reference), then again into another folder,
@@ -12,6 +12,12 @@ sweep:  a small study (the tests' small damper: 2 frictions x 2 seeds, one prepa
         repeat from an empty folder until N kills (default 20) have been survived.
 damper: the same for `vppdem damper` on the small damper: killed, then resumed from its
         run.ckpt (or, killed before the first one, started again with --overwrite).
+stages: the small damper once more, checkpointing only where a run must (at the start of each
+        stage and after each re-fill; --checkpoint-every far beyond the run), every version of its
+        run.ckpt kept as it appears; each is then resumed in a folder of its own. A random kill
+        seldom lands right after such a checkpoint (the next periodic one comes 0.05 s later), yet
+        these are the states a run changes by hand before its next step (grains added, the funnel
+        gone): the kill that lands there must resume too.
 Checkpoints every 0.05 s of wall clock (--checkpoint-every) so that kills land in checkpoint
 writes too; the reference keeps the default (60 s): checkpointing must not change a result.
 Each kill is classed by what the folder held at that moment: `preparation` (a started case
@@ -149,13 +155,58 @@ def run_killed(commands, folder, delay_max, rng, log, tally, single):
             log(f"  kill {kills:3d} after {delay:6.3f} s ({where})")
 
 
+def resume_every_checkpoint(vppdem, ref, out, base, log):
+    """Runs `base` (the damper's reference command) into out/watched with checkpoints only where
+    the run forces them, keeping each version of its run.ckpt as it appears; resumes each in a
+    folder of its own. Every one must end with the reference's records; returns how many."""
+    watched = os.path.join(out, "watched")
+    os.makedirs(out)
+    cmd = [c if c != ref else watched for c in base] + ["--checkpoint-every", "1e6"]
+    ck, seen, kept = os.path.join(watched, "run.ckpt"), set(), []
+    p = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE, start_new_session=True)
+    while True:
+        running = p.poll() is None
+        try:
+            # A checkpoint arrives by rename: the file opened is a whole one, old or new.
+            with open(ck, "rb") as f:
+                st = os.fstat(f.fileno())
+                key = (st.st_ino, st.st_mtime_ns, st.st_size)
+                if key not in seen:
+                    seen.add(key)
+                    kept.append(os.path.join(out, f"{len(kept) + 1:02d}.ckpt"))
+                    with open(kept[-1], "wb") as g:
+                        shutil.copyfileobj(f, g)
+        except FileNotFoundError:
+            pass
+        if not running:
+            break
+        time.sleep(0.002)
+    if p.wait() != 0:
+        fail(f"{' '.join(cmd)} failed ({p.returncode}): {p.stderr.read().decode()[-2000:]}")
+    compare(ref, watched, [])
+    log(f"stages: {len(kept)} checkpoints written where the run forces them")
+    for k, snap in enumerate(kept, 1):
+        folder = os.path.join(out, f"resumed_{k:02d}")
+        os.makedirs(folder)
+        shutil.copy(snap, os.path.join(folder, "run.ckpt"))
+        r = subprocess.run([vppdem, "damper", "--out", folder, "--from", os.path.join(folder, "run.ckpt"),
+                            "--no-plot", "--quiet"], capture_output=True)
+        if r.returncode != 0:
+            fail(f"resuming the run's checkpoint {k} of {len(kept)} ({snap}) failed ({r.returncode}): "
+                 f"{r.stderr.decode()[-2000:]}")
+        compare(ref, folder, [])
+        log(f"  checkpoint {k:2d}: resumed, records equal to the uninterrupted run")
+        shutil.rmtree(folder)
+    return len(kept)
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--vppdem", default="build/vppdem")
     ap.add_argument("--out", default="out/kill_resume")
     ap.add_argument("--kills", type=int, default=20)
     ap.add_argument("--seed", type=int, default=1)
-    ap.add_argument("--only", choices=["sweep", "damper"])
+    ap.add_argument("--only", choices=["sweep", "damper", "stages"])
     a = ap.parse_args()
     sys.stdout.reconfigure(line_buffering=True)
     if a.kills < 1:
@@ -170,13 +221,13 @@ def main():
     with open(study, "w") as f:
         f.write(STUDY)
     results = []
-    for what in ["sweep", "damper"] if a.only is None else [a.only]:
+    for what in ["sweep", "damper", "stages"] if a.only is None else [a.only]:
         if what == "sweep":
             def cmd(folder, every=True):
                 return [vppdem, "sweep", study, "--out", folder, "--jobs", "1", "--no-plot", "--quiet"] + (
                     ["--checkpoint-every", "0.05"] if every else [])
             names = TABLES
-        else:
+        else:  # damper, stages
             def cmd(folder, every=True):
                 base = [vppdem, "damper", "--out", folder, "--no-plot", "--quiet"] + SMALL + [
                     "--set", "process.cycles=2"] + (["--checkpoint-every", "0.05"] if every else [])
@@ -193,6 +244,10 @@ def main():
             fail(f"the reference {what} failed: {r.stderr.decode()[-2000:]}")
         t_ref = time.monotonic() - t0
         print(f"{what}: uninterrupted run {t_ref:.1f} s")
+        if what == "stages":
+            n = resume_every_checkpoint(vppdem, ref, os.path.join(a.out, "stages"), cmd(ref, every=False), print)
+            results.append((what, n, 1, {"stage start": n}, t_ref))
+            continue
         kills, rounds, tally = 0, 0, {}
         while kills < a.kills:
             rounds += 1
@@ -208,6 +263,9 @@ def main():
     print("\n| run | kills survived | rounds | at the kill: start / preparation / cycling / write | uninterrupted [s] |")
     print("|---|---|---|---|---|")
     for what, kills, rounds, tally, t_ref in results:
+        if what == "stages":
+            print(f"| stages | {kills} (one per forced checkpoint) | {rounds} | right after a forced checkpoint | {t_ref:.1f} |")
+            continue
         print(f"| {what} | {kills} | {rounds} | {tally.get('start', 0)} / {tally.get('preparation', 0)} / "
               f"{tally.get('cycling', 0)} / {tally.get('write', 0)} | {t_ref:.1f} |")
     print("every round ended with the records of the uninterrupted run (wall-clock fields aside)")

@@ -389,6 +389,27 @@ TEST(Tools, KillResumeEndsWithTheUninterruptedRecords) {
     fs::remove_all(d);
 }
 
+// tools/kill_resume.py --only stages: the small damper checkpointing only where it must (each
+// stage's start, each re-fill), each of those checkpoints resumed in a folder of its own, ends
+// with the uninterrupted run's records. The states saved there were changed by hand before the
+// next step (grains added, the funnel removed): a kill right after the re-fill's checkpoint once
+// left a run.ckpt that would not load ("candidate list of the wrong shape").
+TEST(Tools, KillResumeResumesEveryCheckpointARunForces) {
+    const fs::path d = scratch_path("tools", "kill_resume_stages");
+    fs::remove_all(d);
+    const Outcome r = shell(kPython + (kSource / "tools/kill_resume.py").string() + " --vppdem " + kBinary +
+                            " --out " + d.string() + " --only stages");
+    ASSERT_EQ(r.status, 0) << r.output;
+    // fill, at least one re-fill, compress, prepared, vacuum, cycle, done: at least 6 (measured: 7).
+    const std::size_t at = r.output.find(" checkpoints written where the run forces them");
+    ASSERT_NE(at, std::string::npos) << r.output;
+    const std::size_t line = r.output.rfind('\n', at) + 1;
+    EXPECT_GE(std::stoi(r.output.substr(line + std::string("stages: ").size())), 6) << r.output;
+    EXPECT_NE(r.output.find("every round ended with the records of the uninterrupted run"), std::string::npos)
+        << r.output;
+    fs::remove_all(d);
+}
+
 // tools/grain_shapes_report.py by hand: spheres W = 100, 110, 120 and dimers 210, 220, 230 J/m^2
 // (3 seeds, sd 10 each): the dimers' difference is +110 (+100% of 110) with Welch's interval
 // t_{0.975,4} sqrt(100/3 + 100/3) = 2.7764 * 8.165 = 22.67 (20.6% of 110), printed "+100 +- 21";

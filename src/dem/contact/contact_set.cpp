@@ -270,6 +270,33 @@ void ContactSet::drop_wall_contacts_from(uint32_t first_wall) {
             walls.cand[s] = kNoSlot;
             walls.force[s] = walls.torque2[s] = Vec3{};
         }
+    // The candidates with those walls go too; the others move down, and their live contacts
+    // follow them. (The next broad phase builds the lists anew: nothing here changes a result.)
+    if (pw.start.empty()) return;
+    const std::size_t n = pw.start.size() - 1;
+    uint32_t at = 0, begin = pw.start[0];
+    for (std::size_t i = 0; i < n; ++i) {
+        const uint32_t end = pw.start[i + 1];
+        pw.start[i] = at;
+        for (uint32_t k = begin; k < end; ++k) {
+            if (pw.other[k] >= first_wall) continue;
+            pw.other[at] = pw.other[k];
+            pw.slot[at] = pw.slot[k];
+            pw.gap[at] = pw.gap[k];
+            if (pw.slot[at] != kNoSlot) walls.cand[pw.slot[at]] = at;
+            ++at;
+        }
+        begin = end;
+    }
+    pw.start[n] = at;
+    pw.other.resize(at);
+    pw.slot.resize(at);
+    pw.gap.resize(at);
+}
+
+void ContactSet::cover_particles(std::size_t n) {
+    for (CandidateList* c : {&pp, &pw})
+        if (!c->start.empty() && c->start.size() < n + 1) c->start.resize(n + 1, c->start.back());
 }
 
 const char* ContactSet::broken_rule(std::size_t n, std::size_t nw) const {

@@ -76,8 +76,14 @@ struct ContactSet {
     // pair's new candidate, or dropped with its history when the pair is no longer a candidate
     // (its masks, bonds or fixity changed).
     void reattach();
-    // Drops the contacts with walls w >= first_wall (removed facets) and their history.
+    // Drops the contacts with walls w >= first_wall (removed facets), their history and their
+    // candidates: until the next broad phase the lists must name only walls that exist (a
+    // checkpoint may be taken in between, and its reader checks them).
     void drop_wall_contacts_from(uint32_t first_wall);
+    // Particles added since the last broad phase (up to n in all) get empty candidate ranges,
+    // so that the lists keep their shape, one range per particle, until the next step rebuilds
+    // them (a checkpoint taken right after a re-fill's grains were added must load).
+    void cover_particles(std::size_t n);
 
     std::size_t particle_live_count() const { return fric.live_count() + smooth.live_count(); }
     std::size_t live_count() const { return particle_live_count() + walls.live_count(); }

@@ -44,6 +44,7 @@ uint32_t World::add_sphere(const SphereDef& d) {
     p.motion.push_back(-1);
     if (!p.ref_pos.empty()) p.ref_pos.push_back(d.position);
     if (!clumps_.owner.empty()) clumps_.owner.push_back(-1);
+    contacts_.cover_particles(p.size());
     broad_.dirty = prescribed_dirty_ = true;
     return uint32_t(p.size() - 1);
 }
@@ -90,6 +91,7 @@ uint32_t World::add_clump(const ClumpShape& shape, const ClumpDef& d) {
     c.inertia.push_back(inertia);
     c.mass.push_back(m);
     c.inv_mass.push_back(1.0 / m);
+    contacts_.cover_particles(p.size());
     broad_.dirty = true;
     packed_valid_ = false;
     return k;
