@@ -544,7 +544,11 @@ PYBIND11_MODULE(_core, m) {
              py::arg("history") = std::vector<std::vector<double>>{})
         .def("set_particle_motion",
              [](dem::World& w, uint32_t i, const std::vector<double>& velocity, const std::vector<std::vector<double>>& history) {
-                 // from its current position (World::set_prescribed)
+                 // from its current position (World::set_prescribed); the particle checked before
+                 // the motion is added, so that a refused call leaves the world as it was
+                 if (i >= w.particles.size())
+                     throw std::invalid_argument("set_particle_motion: particle " + std::to_string(i) +
+                                                 " does not exist (" + std::to_string(w.particles.size()) + " particles)");
                  w.set_prescribed(i, w.add_motion(make_motion(velocity, history, w.time, {})));
              },
              py::arg("i"), py::arg("velocity") = std::vector<double>{}, py::arg("history") = std::vector<std::vector<double>>{})
@@ -557,7 +561,12 @@ PYBIND11_MODULE(_core, m) {
                       [](dem::World& w, double v) { w.params.local_damping = v; }, "[-] Yade's non-viscous damping")
         .def_property("threads", [](const dem::World& w) { return w.params.threads; },
                       [](dem::World& w, int v) { w.params.threads = v; })
-        .def_property("skin", [](const dem::World& w) { return w.params.skin; }, [](dem::World& w, double v) { w.params.skin = v; },
+        .def_property("skin", [](const dem::World& w) { return w.params.skin; }, [](dem::World& w, double v) {
+                // The candidate lists were built for the old skin: a new one takes effect with a
+                // rebuild at the next step (a checkpoint in between resumes the same way).
+                w.params.skin = v;
+                w.invalidate_candidates();
+            },
                       "[m] Verlet distance; 0: half the smallest radius")
         .def_property("track_energy", [](const dem::World& w) { return w.params.track_energy; },
                       [](dem::World& w, bool v) { w.params.track_energy = v; })

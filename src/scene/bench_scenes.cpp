@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <stdexcept>
 #include <string>
@@ -49,7 +48,6 @@ void configure(dem::World& w, int threads) {
     w.params.gravity = {0, 0, -9.81};
     w.params.local_damping = 0.2;
     w.params.threads = threads;
-    if (const char* e = std::getenv("VPPDEM_SKIN")) w.params.skin = std::atof(e);  // TEMP experiment
 }
 
 struct Timing {

@@ -123,6 +123,27 @@ def test_errors_are_python_exceptions():
         w.wall_force(3)
     with pytest.raises(RuntimeError, match="missing.stl"):
         w.add_stl("missing.stl")
+    # A particle that does not exist is named, nothing written past the arrays' end.
+    w.add_sphere([0, 0, 0], 0.01)
+    with pytest.raises(ValueError, match="particle 1 does not exist"):
+        w.set_fixed(1)
+    with pytest.raises(ValueError, match="particle 1 does not exist"):
+        w.set_particle_motion(1, velocity=[0, 0, 1])
+    assert len(w) == 1
+
+
+def test_a_new_skin_resumes_the_same_from_a_checkpoint(tmp_path):
+    # The candidate lists were built for the old skin: a new one must take effect with a rebuild at
+    # the next step, in the world that goes on and in one loaded from a checkpoint taken just then
+    # (the loaded world knows only the new skin).
+    w = _pile(1)
+    w.skin = 2.5e-3  # [m] (the default: half the smallest radius, 1 mm)
+    w.save(tmp_path / "s.ckpt")
+    r = vppdem.World.load(tmp_path / "s.ckpt")
+    w.step(3000)
+    r.step(3000)
+    assert np.array_equal(w.positions, r.positions)
+    assert np.array_equal(w.velocities, r.velocities)
 
 
 def _pile(threads):

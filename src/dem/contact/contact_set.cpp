@@ -294,6 +294,13 @@ void ContactSet::drop_wall_contacts_from(uint32_t first_wall) {
     pw.gap.resize(at);
 }
 
+void ContactSet::shift_walls_from(uint32_t first) {
+    for (uint32_t& j : walls.j)
+        if (j >= first) ++j;
+    for (uint32_t& w : pw.other)
+        if (w >= first) ++w;
+}
+
 void ContactSet::cover_particles(std::size_t n) {
     for (CandidateList* c : {&pp, &pw})
         if (!c->start.empty() && c->start.size() < n + 1) c->start.resize(n + 1, c->start.back());

@@ -84,6 +84,9 @@ struct ContactSet {
     // so that the lists keep their shape, one range per particle, until the next step rebuilds
     // them (a checkpoint taken right after a re-fill's grains were added must load).
     void cover_particles(std::size_t n);
+    // Walls w >= first move up by one (a plane inserted before the facets): the live contacts and
+    // the candidates with them follow, the lists stay ascending.
+    void shift_walls_from(uint32_t first);
 
     std::size_t particle_live_count() const { return fric.live_count() + smooth.live_count(); }
     std::size_t live_count() const { return particle_live_count() + walls.live_count(); }

@@ -25,6 +25,11 @@ uint32_t World::add_material(const Material& m) {
 uint32_t World::add_sphere(const SphereDef& d) {
     if (!(d.radius > 0.0)) throw std::invalid_argument("sphere radius must be > 0");
     if (d.material >= materials.size()) throw std::invalid_argument("sphere material index out of range");
+    // Those flags need their partner data (a motion, a clump) that only set_prescribed() and
+    // add_clump() give: a sphere with the flag alone would step into motions[-1].
+    if (d.flags & (kPrescribed | kClumpMember))
+        throw std::invalid_argument("add_sphere: flags kPrescribed and kClumpMember are set by set_prescribed() and "
+                                    "add_clump(), not by the sphere's definition");
     Particles& p = particles;
     const double m = materials[d.material].density * 4.0 / 3.0 * std::numbers::pi * d.radius * d.radius * d.radius;
     const bool free = !(d.flags & (kFixed | kPrescribed));
@@ -111,14 +116,25 @@ void World::reserve(std::size_t n) {
 }
 
 uint32_t World::add_plane(const Plane& pl) {
+    if (pl.material >= materials.size()) throw std::invalid_argument("plane material index out of range");
     Plane q = pl;
     q.normal = normalized(pl.normal);
+    // Walls are numbered planes first, then facets: a plane added after facets moves every facet
+    // up by one. Their live contacts, candidates and last reactions follow them, so that each
+    // facet keeps its own shear history (the next broad phase matches contacts by wall index).
+    const uint32_t k = uint32_t(planes.size());
+    if (!facets.empty()) {
+        contacts_.shift_walls_from(k);
+        for (std::vector<Vec3>* v : {&walls_now_.velocity, &walls_now_.force, &walls_now_.torque})
+            if (v->size() > k) v->insert(v->begin() + k, Vec3{});
+    }
     planes.push_back(q);
     broad_.dirty = true;
-    return uint32_t(planes.size() - 1);
+    return k;
 }
 
 uint32_t World::add_facet(const Facet& f) {
+    if (f.material >= materials.size()) throw std::invalid_argument("facet material index out of range");
     facets.push_back(f);
     broad_.dirty = true;
     return uint32_t(facets.size() - 1);
@@ -130,7 +146,10 @@ uint32_t World::add_motion(const Motion& m) {
 }
 
 void World::set_fixed(uint32_t i) {
-    if (i < particles.size() && (particles.flags[i] & kClumpMember))
+    if (i >= particles.size())
+        throw std::invalid_argument("set_fixed: particle " + std::to_string(i) + " does not exist (" +
+                                    std::to_string(particles.size()) + " particles)");
+    if (particles.flags[i] & kClumpMember)
         throw std::invalid_argument("set_fixed: particle " + std::to_string(i) + " is a clump member");
     Particles& p = particles;
     p.flags[i] = (p.flags[i] | kFixed) & ~uint32_t(kPrescribed);
@@ -142,7 +161,13 @@ void World::set_fixed(uint32_t i) {
 }
 
 void World::set_prescribed(uint32_t i, uint32_t motion) {
-    if (i < particles.size() && (particles.flags[i] & kClumpMember))
+    if (i >= particles.size())
+        throw std::invalid_argument("set_prescribed: particle " + std::to_string(i) + " does not exist (" +
+                                    std::to_string(particles.size()) + " particles)");
+    if (motion >= motions.size())
+        throw std::invalid_argument("set_prescribed: motion " + std::to_string(motion) + " does not exist (" +
+                                    std::to_string(motions.size()) + " motions)");
+    if (particles.flags[i] & kClumpMember)
         throw std::invalid_argument("set_prescribed: particle " + std::to_string(i) + " is a clump member");
     Particles& p = particles;
     p.flags[i] = (p.flags[i] | kPrescribed) & ~uint32_t(kFixed);
