@@ -546,9 +546,7 @@ PYBIND11_MODULE(_core, m) {
              [](dem::World& w, uint32_t i, const std::vector<double>& velocity, const std::vector<std::vector<double>>& history) {
                  // from its current position (World::set_prescribed); the particle checked before
                  // the motion is added, so that a refused call leaves the world as it was
-                 if (i >= w.particles.size())
-                     throw std::invalid_argument("set_particle_motion: particle " + std::to_string(i) +
-                                                 " does not exist (" + std::to_string(w.particles.size()) + " particles)");
+                 w.require_particle("set_particle_motion", i);
                  w.set_prescribed(i, w.add_motion(make_motion(velocity, history, w.time, {})));
              },
              py::arg("i"), py::arg("velocity") = std::vector<double>{}, py::arg("history") = std::vector<std::vector<double>>{})

@@ -366,14 +366,21 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
     fs::remove_all(d);
 }
 
+// tools/kill_resume.py into a fresh scratch folder `name` with the built binary and `args`.
+static Outcome kill_resume(const std::string& name, const std::string& args) {
+    const fs::path d = scratch_path("tools", name);
+    fs::remove_all(d);
+    const Outcome r = shell(kPython + (kSource / "tools/kill_resume.py").string() + " --vppdem " + kBinary +
+                            " --out " + d.string() + " " + args);
+    fs::remove_all(d);
+    return r;
+}
+
 // tools/kill_resume.py, shortened: the small damper killed (SIGKILL) at least 4 times at random
 // moments and resumed each time ends with the uninterrupted run's records, byte for byte but the
 // wall-clock fields (the full run: 20 kills each for a study and a damper, docs/studies.md).
 TEST(Tools, KillResumeEndsWithTheUninterruptedRecords) {
-    const fs::path d = scratch_path("tools", "kill_resume");
-    fs::remove_all(d);
-    const Outcome r = shell(kPython + (kSource / "tools/kill_resume.py").string() + " --vppdem " + kBinary +
-                            " --out " + d.string() + " --kills 4 --only damper --seed 3");
+    const Outcome r = kill_resume("kill_resume", "--kills 4 --only damper --seed 3");
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("every round ended with the records of the uninterrupted run"), std::string::npos)
         << r.output;
@@ -386,7 +393,6 @@ TEST(Tools, KillResumeEndsWithTheUninterruptedRecords) {
     const Outcome bad = shell(kPython + (kSource / "tools/kill_resume.py").string() + " --kills 0");
     EXPECT_NE(bad.status, 0);
     EXPECT_NE(bad.output.find("--kills = 0"), std::string::npos) << bad.output;
-    fs::remove_all(d);
 }
 
 // tools/kill_resume.py --only stages: the small damper checkpointing only where it must (each
@@ -395,10 +401,7 @@ TEST(Tools, KillResumeEndsWithTheUninterruptedRecords) {
 // next step (grains added, the funnel removed): a kill right after the re-fill's checkpoint once
 // left a run.ckpt that would not load ("candidate list of the wrong shape").
 TEST(Tools, KillResumeResumesEveryCheckpointARunForces) {
-    const fs::path d = scratch_path("tools", "kill_resume_stages");
-    fs::remove_all(d);
-    const Outcome r = shell(kPython + (kSource / "tools/kill_resume.py").string() + " --vppdem " + kBinary +
-                            " --out " + d.string() + " --only stages");
+    const Outcome r = kill_resume("kill_resume_stages", "--only stages");
     ASSERT_EQ(r.status, 0) << r.output;
     // fill, at least one re-fill, compress, prepared, vacuum, cycle, done: at least 6 (measured: 7).
     const std::size_t at = r.output.find(" checkpoints written where the run forces them");
@@ -407,7 +410,6 @@ TEST(Tools, KillResumeResumesEveryCheckpointARunForces) {
     EXPECT_GE(std::stoi(r.output.substr(line + std::string("stages: ").size())), 6) << r.output;
     EXPECT_NE(r.output.find("every round ended with the records of the uninterrupted run"), std::string::npos)
         << r.output;
-    fs::remove_all(d);
 }
 
 // tools/grain_shapes_report.py by hand: spheres W = 100, 110, 120 and dimers 210, 220, 230 J/m^2

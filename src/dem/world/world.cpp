@@ -145,10 +145,14 @@ uint32_t World::add_motion(const Motion& m) {
     return uint32_t(motions.size() - 1);
 }
 
-void World::set_fixed(uint32_t i) {
+void World::require_particle(const char* caller, uint32_t i) const {
     if (i >= particles.size())
-        throw std::invalid_argument("set_fixed: particle " + std::to_string(i) + " does not exist (" +
+        throw std::invalid_argument(std::string(caller) + ": particle " + std::to_string(i) + " does not exist (" +
                                     std::to_string(particles.size()) + " particles)");
+}
+
+void World::set_fixed(uint32_t i) {
+    require_particle("set_fixed", i);
     if (particles.flags[i] & kClumpMember)
         throw std::invalid_argument("set_fixed: particle " + std::to_string(i) + " is a clump member");
     Particles& p = particles;
@@ -161,9 +165,7 @@ void World::set_fixed(uint32_t i) {
 }
 
 void World::set_prescribed(uint32_t i, uint32_t motion) {
-    if (i >= particles.size())
-        throw std::invalid_argument("set_prescribed: particle " + std::to_string(i) + " does not exist (" +
-                                    std::to_string(particles.size()) + " particles)");
+    require_particle("set_prescribed", i);
     if (motion >= motions.size())
         throw std::invalid_argument("set_prescribed: motion " + std::to_string(motion) + " does not exist (" +
                                     std::to_string(motions.size()) + " motions)");

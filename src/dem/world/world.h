@@ -81,6 +81,9 @@ public:
     uint32_t add_plane(const Plane& p);
     uint32_t add_facet(const Facet& f);
     uint32_t add_motion(const Motion& m);
+    // Throws std::invalid_argument "<caller>: particle i does not exist (n particles)" unless
+    // particle i exists: the one check of a particle index given by a user (C++ or Python).
+    void require_particle(const char* caller, uint32_t i) const;
     // Blocks all six degrees of freedom of particle i from now on.
     void set_fixed(uint32_t i);
     // Particle i follows motions[motion] from its current position (no rotation).
