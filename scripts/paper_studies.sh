@@ -19,6 +19,9 @@
 #          (studies/paper/friction_8.toml) by VPPDEM_LEG: raising process.cycles on a run.ckpt
 #          came after the pinned build. A run whose run.ckpt is gone runs all 8 cycles from its
 #          seed's 25.5 mm sample (OUT/radius_underpressure).
+#          friction_8_seeds (named only): the leg's added seeds, mu 0.6 and 1.0 at seeds 4 and 5
+#          (studies/paper/friction_8_seeds.toml; C18's paired difference was not resolved over
+#          three), run by VPPDEM_LEG for all 8 cycles, each from its seed's 25.5 mm sample.
 #   --publish-only: copy what has finished into docs/data/paper and stop (while runs go on).
 # Knobs (environment variables):
 #   VPPDEM  the binary (default pinned/vppdem: build once, copy it there, write its commit into
@@ -43,14 +46,14 @@ DATA=${DATA:-docs/data/paper}
 publish_only=0
 if [ "${1:-}" = "--publish-only" ]; then publish_only=1; shift; fi
 all=(underpressure radius_underpressure friction damping young preparation foil_resolution timestep)
-legs=(friction_8)  # second legs: run when named, after the study they continue
+legs=(friction_8 friction_8_seeds)  # second legs: run when named, after the study they continue
 studies=("$@")
 [ ${#studies[@]} -gt 0 ] || studies=("${all[@]}")
 for s in "${studies[@]}"; do
   [[ " ${all[*]} ${legs[*]} " == *" $s "* ]] || { echo "paper_studies.sh: unknown study '$s' (studies: ${all[*]}; second legs: ${legs[*]})" >&2; exit 2; }
 done
 # The binary that runs STUDY.
-binary() { if [ "$1" = friction_8 ]; then echo "$VPPDEM_LEG"; else echo "$VPPDEM"; fi; }
+binary() { case "$1" in friction_8*) echo "$VPPDEM_LEG" ;; *) echo "$VPPDEM" ;; esac; }
 for s in "${studies[@]}"; do
   b=$(binary "$s")
   [ $publish_only -eq 1 ] || [ -x "$b" ] || {
@@ -59,7 +62,8 @@ for s in "${studies[@]}"; do
     exit 2
   }
 done
-# publish FILE DEST (atomic copy), restore_records, save_records, check_pinned, whole_knobs, continue_runs
+# publish FILE DEST (atomic copy), restore_records, save_records, check_pinned, whole_knobs, continue_runs,
+# start_from_samples
 source scripts/publish.sh
 [ -z "$JOBS" ] || whole_knobs paper_studies.sh JOBS
 jobs_arg=()
@@ -118,6 +122,14 @@ for study in "${studies[@]}"; do
     mapfile -t cases < <(awk 'NF >= 4 { print $4 }' <<< "$list")
     [ ${#cases[@]} -gt 0 ] || { echo "paper_studies.sh: friction_8: '$bin sweep studies/paper/$study.toml --list' listed no case" >&2; exit 2; }
     continue_runs "$OUT/friction" "$OUT/$s" paper_studies.sh friction_sample "${cases[@]}"
+  fi
+  if [ "$s" = friction_8_seeds ]; then
+    # Seeds the friction study has not: each case starts from its seed's 25.5 mm sample (as the
+    # friction study's did), placed as its run.ckpt; a case folder already there is left as it is.
+    list=$("$bin" sweep "studies/paper/$study.toml" --out "$OUT/$s" --list)
+    mapfile -t cases < <(awk 'NF >= 4 { print $4 }' <<< "$list")
+    [ ${#cases[@]} -gt 0 ] || { echo "paper_studies.sh: $s: '$bin sweep studies/paper/$study.toml --list' listed no case" >&2; exit 2; }
+    start_from_samples "$OUT/$s" paper_studies.sh friction_sample "${cases[@]}"
   fi
   if [ "$s" = timestep ]; then
     # Paired by construction: the same prepared sample, only the time step's safety factor differs.

@@ -161,3 +161,31 @@ continue_runs() {
   done
   return 0
 }
+
+# start_from_samples DST WHO SAMPLE_FN CASE...: runs of a study that start from samples another
+# study prepared (SAMPLE_FN CASE prints the path): each CASE that DST lacks gets its sample as
+# DST/<case>/run.ckpt (through a hidden temporary folder, renamed when whole), so that the sweep
+# runs it from there with the case's settings, as a branch does. A case whose sample is not there
+# would be prepared again by the sweep (another sample, not the one the other cases share), so
+# they are named and nothing is copied (exit 2).
+start_from_samples() {
+  local dst=$1 who=$2 sample_fn=$3 c tmp sample missing=()
+  shift 3
+  for c in "$@"; do
+    [ -e "$dst/$c" ] || [ -f "$("$sample_fn" "$c")" ] || missing+=("$c")
+  done
+  if [ ${#missing[@]} -gt 0 ]; then
+    local IFS=,
+    echo "$who: no prepared sample to start from for:${missing[*]/#/ }; run the study that prepares it first" >&2
+    exit 2
+  fi
+  mkdir -p "$dst"
+  for c in "$@"; do
+    [ -e "$dst/$c" ] && continue
+    rm -rf "$dst/.$c".??????  # the temporary of a copy that was killed
+    tmp=$(mktemp -d "$dst/.$c.XXXXXX")
+    sample=$("$sample_fn" "$c") && cp "$sample" "$tmp/run.ckpt" && chmod 755 "$tmp" && mv -T "$tmp" "$dst/$c" ||
+      { rm -rf "$tmp"; echo "$who: could not place the sample of $c in $dst" >&2; exit 1; }
+  done
+  return 0
+}
