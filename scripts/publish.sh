@@ -132,7 +132,7 @@ check_pinned() {
 # with neither run.ckpt nor sample would be run by the leg from scratch, so they are named and
 # nothing is copied (exit 2).
 continue_runs() {
-  local src=$1 dst=$2 who=$3 sample_fn=$4 c tmp sample missing=()
+  local src=$1 dst=$2 who=$3 sample_fn=$4 c missing=()
   shift 4
   for c in "$@"; do
     [ -e "$dst/$c" ] && continue
@@ -140,27 +140,46 @@ continue_runs() {
     elif [ ! -f "$src/$c/run.ckpt" ] && [ ! -f "$("$sample_fn" "$c")" ]; then missing+=("$c (no run.ckpt, no sample)")
     fi
   done
-  if [ ${#missing[@]} -gt 0 ]; then
-    local IFS=,
-    echo "$who: the leg continues every run of $src, and cannot continue:${missing[*]/#/ }; finish the study first (or prepare the missing samples)" >&2
-    exit 2
-  fi
+  refuse_missing "$who: the leg continues every run of $src, and cannot continue:" \
+    "; finish the study first (or prepare the missing samples)" "${missing[@]}"
   mkdir -p "$dst"
   for c in "$@"; do
     [ -e "$dst/$c" ] && continue
-    rm -rf "$dst/.$c".??????  # the temporary of a copy that was killed
-    tmp=$(mktemp -d "$dst/.$c.XXXXXX")
     if [ -f "$src/$c/run.ckpt" ]; then
-      # case.toml made newer than summary.json: the run continues (save_records publishes it
-      # when the leg's sweep has written its longer records).
-      cp -a "$src/$c/." "$tmp/" && touch "$tmp/case.toml"
+      stage_case "$dst" "$c" "$who" copy_continuing "$src/$c"
     else
-      sample=$("$sample_fn" "$c") && cp "$sample" "$tmp/run.ckpt"
-    fi && chmod 755 "$tmp" && mv -T "$tmp" "$dst/$c" ||
-      { rm -rf "$tmp"; echo "$who: could not copy $src/$c into $dst" >&2; exit 1; }
+      stage_case "$dst" "$c" "$who" copy_sample "$("$sample_fn" "$c")"
+    fi
   done
   return 0
 }
+
+# refuse_missing BEFORE AFTER ITEM...: with any ITEM, "BEFORE item, item...AFTER" on stderr and
+# exit 2 (nothing staged); without, nothing.
+refuse_missing() {
+  local before=$1 after=$2
+  shift 2
+  [ $# -eq 0 ] && return 0
+  local IFS=,
+  local items=("$@")
+  echo "$before${items[*]/#/ }$after" >&2
+  exit 2
+}
+# stage_case DST CASE WHO FILL ARG: DST/CASE made whole or not at all: `FILL ARG TMP` fills a
+# hidden temporary folder, renamed DST/CASE when it succeeded (the temporary of a copy that was
+# killed is removed first); on failure WHO names the case (exit 1).
+stage_case() {
+  local dst=$1 c=$2 who=$3 fill=$4 arg=$5 tmp
+  rm -rf "$dst/.$c".??????
+  tmp=$(mktemp -d "$dst/.$c.XXXXXX")
+  "$fill" "$arg" "$tmp" && chmod 755 "$tmp" && mv -T "$tmp" "$dst/$c" ||
+    { rm -rf "$tmp"; echo "$who: could not make $dst/$c from $arg" >&2; exit 1; }
+}
+# copy_continuing RUN TMP: a run's folder, case.toml made newer than summary.json: the run
+# continues (save_records publishes it when the leg's sweep has written its longer records).
+copy_continuing() { cp -a "$1/." "$2/" && touch "$2/case.toml"; }
+# copy_sample SAMPLE TMP: a prepared sample as the case's run.ckpt (it takes the case's settings).
+copy_sample() { [ -f "$1" ] && cp "$1" "$2/run.ckpt"; }
 
 # start_from_samples DST WHO SAMPLE_FN CASE...: runs of a study that start from samples another
 # study prepared (SAMPLE_FN CASE prints the path): each CASE that DST lacks gets its sample as
@@ -169,23 +188,15 @@ continue_runs() {
 # would be prepared again by the sweep (another sample, not the one the other cases share), so
 # they are named and nothing is copied (exit 2).
 start_from_samples() {
-  local dst=$1 who=$2 sample_fn=$3 c tmp sample missing=()
+  local dst=$1 who=$2 sample_fn=$3 c missing=()
   shift 3
   for c in "$@"; do
     [ -e "$dst/$c" ] || [ -f "$("$sample_fn" "$c")" ] || missing+=("$c")
   done
-  if [ ${#missing[@]} -gt 0 ]; then
-    local IFS=,
-    echo "$who: no prepared sample to start from for:${missing[*]/#/ }; run the study that prepares it first" >&2
-    exit 2
-  fi
+  refuse_missing "$who: no prepared sample to start from for:" "; run the study that prepares it first" "${missing[@]}"
   mkdir -p "$dst"
   for c in "$@"; do
-    [ -e "$dst/$c" ] && continue
-    rm -rf "$dst/.$c".??????  # the temporary of a copy that was killed
-    tmp=$(mktemp -d "$dst/.$c.XXXXXX")
-    sample=$("$sample_fn" "$c") && cp "$sample" "$tmp/run.ckpt" && chmod 755 "$tmp" && mv -T "$tmp" "$dst/$c" ||
-      { rm -rf "$tmp"; echo "$who: could not place the sample of $c in $dst" >&2; exit 1; }
+    [ -e "$dst/$c" ] || stage_case "$dst" "$c" "$who" copy_sample "$("$sample_fn" "$c")"
   done
   return 0
 }
