@@ -126,6 +126,8 @@ for study in "${studies[@]}"; do
   if [ "$s" = friction_8_seeds ]; then
     # Seeds the friction study has not: each case starts from its seed's 25.5 mm sample (as the
     # friction study's did), placed as its run.ckpt; a case folder already there is left as it is.
+    # The report pairs these with the leg's seeds 1-3 (C18): the leg's build only.
+    check_pinned "$pinned_commit" paper_studies.sh "$DATA/friction_8" "$OUT/friction_8"
     list=$("$bin" sweep "studies/paper/$study.toml" --out "$OUT/$s" --list)
     mapfile -t cases < <(awk 'NF >= 4 { print $4 }' <<< "$list")
     [ ${#cases[@]} -gt 0 ] || { echo "paper_studies.sh: $s: '$bin sweep studies/paper/$study.toml --list' listed no case" >&2; exit 2; }

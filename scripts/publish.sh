@@ -171,9 +171,9 @@ refuse_missing() {
 stage_case() {
   local dst=$1 c=$2 who=$3 fill=$4 arg=$5 tmp
   rm -rf "$dst/.$c".??????
-  tmp=$(mktemp -d "$dst/.$c.XXXXXX")
+  tmp=$(mktemp -d "$dst/.$c.XXXXXX") || { echo "$who: could not make a temporary folder in $dst" >&2; exit 1; }
   "$fill" "$arg" "$tmp" && chmod 755 "$tmp" && mv -T "$tmp" "$dst/$c" ||
-    { rm -rf "$tmp"; echo "$who: could not make $dst/$c from $arg" >&2; exit 1; }
+    { rm -rf "$tmp"; echo "$who: could not make $dst/$c from ${arg:-(no sample)}" >&2; exit 1; }
 }
 # copy_continuing RUN TMP: a run's folder, case.toml made newer than summary.json: the run
 # continues (save_records publishes it when the leg's sweep has written its longer records).
@@ -196,7 +196,7 @@ start_from_samples() {
   refuse_missing "$who: no prepared sample to start from for:" "; run the study that prepares it first" "${missing[@]}"
   mkdir -p "$dst"
   for c in "$@"; do
-    [ -e "$dst/$c" ] || stage_case "$dst" "$c" "$who" copy_sample "$("$sample_fn" "$c")"
+    if [ ! -e "$dst/$c" ]; then stage_case "$dst" "$c" "$who" copy_sample "$("$sample_fn" "$c")"; fi
   done
   return 0
 }

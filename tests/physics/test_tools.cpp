@@ -651,7 +651,8 @@ TEST(Tools, TheFrictionLegContinuesCopiesOfTheFinishedRuns) {
 // that lists cases of seeds 4 and 5 (a and b of seed 4, c of seed 5): each starts from its seed's
 // 25.5 mm sample (the radius study's prepared.ckpt), placed as its run.ckpt, and the leg's binary
 // runs the study file. With seed 5's sample missing the script names that case and copies and runs
-// nothing; a case folder already there (a run in flight) is left as it is.
+// nothing; a case folder already there (a run in flight) is left as it is; a binary of another build
+// than the leg's published runs is refused (the report pairs the two).
 TEST(Tools, TheFrictionLegsAddedSeedsStartFromTheirSeedsSamples) {
     const fs::path d = scratch_path("tools", "friction leg seeds");
     fs::remove_all(d);
@@ -692,6 +693,14 @@ TEST(Tools, TheFrictionLegsAddedSeedsStartFromTheirSeedsSamples) {
     EXPECT_FALSE(fs::exists(leg / a / "summary.json"));
     for (const auto& e : fs::directory_iterator(leg)) EXPECT_NE(e.path().filename().string()[0], '.');  // no temporary
     EXPECT_NE(slurp(data / "friction_8_seeds" / "COMMAND").find("(pinned build leg)"), std::string::npos);
+    // Paired with the leg's seeds 1-3 in the report: a binary of another build than the leg's is refused.
+    fs::create_directories(data / "friction_8");
+    write_file(data / "friction_8" / "COMMAND", "vppdem sweep friction_8 (pinned build other)\n");
+    r = shell(script);
+    EXPECT_EQ(WEXITSTATUS(r.status), 2);
+    EXPECT_NE(r.output.find("the runs in " + (data / "friction_8").string() + " came from the pinned build other"),
+              std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("STAND-IN"), std::string::npos) << r.output;
     fs::remove_all(d);
 }
 
