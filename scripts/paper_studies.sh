@@ -97,6 +97,15 @@ friction_sample() { seed_sample "${1##*_simulation.seed=}"; }
 # The folder a study runs into (underpressure: a part of the radius study).
 folder() { if [ "$1" = underpressure ]; then echo radius_underpressure; else echo "$1"; fi; }
 
+# list_cases BIN STUDY FOLDER: the study's case names, in the sweep's order, into the array
+# `cases` (exit 2 when the sweep lists none): a second leg stages its run folders by them.
+list_cases() {
+  local list
+  list=$("$1" sweep "studies/paper/$2.toml" --out "$OUT/$3" --list)
+  mapfile -t cases < <(awk 'NF >= 4 { print $4 }' <<< "$list")
+  [ ${#cases[@]} -gt 0 ] || { echo "paper_studies.sh: $2: '$1 sweep studies/paper/$2.toml --list' listed no case" >&2; exit 2; }
+}
+
 failed=0
 for study in "${studies[@]}"; do
   s=$(folder "$study")
@@ -118,9 +127,7 @@ for study in "${studies[@]}"; do
       }
       check_pinned "$first" paper_studies.sh "$OUT/friction"
     fi
-    list=$("$bin" sweep "studies/paper/$study.toml" --out "$OUT/$s" --list)
-    mapfile -t cases < <(awk 'NF >= 4 { print $4 }' <<< "$list")
-    [ ${#cases[@]} -gt 0 ] || { echo "paper_studies.sh: friction_8: '$bin sweep studies/paper/$study.toml --list' listed no case" >&2; exit 2; }
+    list_cases "$bin" "$study" "$s"
     continue_runs "$OUT/friction" "$OUT/$s" paper_studies.sh friction_sample "${cases[@]}"
   fi
   if [ "$s" = friction_8_seeds ]; then
@@ -128,9 +135,7 @@ for study in "${studies[@]}"; do
     # friction study's did), placed as its run.ckpt; a case folder already there is left as it is.
     # The report pairs these with the leg's seeds 1-3 (C18): the leg's build only.
     check_pinned "$pinned_commit" paper_studies.sh "$DATA/friction_8" "$OUT/friction_8"
-    list=$("$bin" sweep "studies/paper/$study.toml" --out "$OUT/$s" --list)
-    mapfile -t cases < <(awk 'NF >= 4 { print $4 }' <<< "$list")
-    [ ${#cases[@]} -gt 0 ] || { echo "paper_studies.sh: $s: '$bin sweep studies/paper/$study.toml --list' listed no case" >&2; exit 2; }
+    list_cases "$bin" "$study" "$s"
     start_from_samples "$OUT/$s" paper_studies.sh friction_sample "${cases[@]}"
   fi
   if [ "$s" = timestep ]; then

@@ -935,8 +935,9 @@ def write(data, out_md, figdir, command):
         f"{fresh} ran again from their samples (their checkpoints were gone), and {repeat} of those {fresh} repeat "
         "the friction study's W of cycles 1-5 bit for bit."
         + (f" C18's mu 0.6 and 1.0 got seeds 4 and 5 (over three seeds not resolved), all 8 cycles from their seeds' "
-           f"samples by {'the same build' if len(leg_commits) == 1 else 'the builds named'}, {seeds_done} of {seeds_all} runs: `VPPDEM_LEG=pinned/leg/vppdem bash "
-           "scripts/paper_studies.sh friction_8_seeds`." if seeds_done else "")] if leg_commits else []) + [
+           f"samples by {'the same build' if len(leg_commits) == 1 else 'the builds named'}, {seeds_done} of "
+           f"{seeds_all} runs: `VPPDEM_LEG=pinned/leg/vppdem bash scripts/paper_studies.sh friction_8_seeds`."
+           if seeds_done else "")] if leg_commits else []) + [
         "- W is **W_settled**, the mean W over each run's stationary cycles (docs/damper.md, \"Stationary loops\": no",
         "  trend or jump beyond a 3% scatter at 95%), re-analysed by the current build (`vppdem sweep --report-only`),",
         "  where every run of a study is stationary after its 5 cycles; otherwise the study's claims use the last",
