@@ -142,16 +142,22 @@ for study in "${studies[@]}"; do
     # Paired by construction: the same prepared sample, only the time step's safety factor differs.
     ts_seeds=$(awk -F= '$1 ~ /^seeds *$/ { gsub(/ /, "", $2); print $2 }' studies/paper/report/timestep.toml)
     [[ "$ts_seeds" =~ ^[1-9][0-9]*$ ]] || { echo "paper_studies.sh: timestep: no 'seeds = N' in studies/paper/report/timestep.toml (found '$ts_seeds')" >&2; exit 2; }
-    for seed in $(seq 1 "$ts_seeds"); do
+    # The levels below the default 0.45 (the grid of studies/paper/report/timestep.toml; the 0.45
+    # runs are the radius study's), or TS_LEVELS; the seeds 1..seeds, or TS_SEEDS: two instances
+    # with disjoint TS_SEEDS x TS_LEVELS keep two cores busy on one study.
+    ts_levels=${TS_LEVELS:-$(awk -F= '$1 ~ /simulation.dt_safety/ { gsub(/[][ ]/, "", $2); gsub(/,/, " ", $2); print $2 }' studies/paper/report/timestep.toml)}
+    for seed in ${TS_SEEDS:-$(seq 1 "$ts_seeds")}; do
+     for level in $ts_levels; do
+      [ "$level" != 0.45 ] || continue
       # The seed's 25.5 mm sample (friction or radius study; when there is none, the friction
       # study's preparer's name stands in the command shown, and the message names both studies).
       ckpt=$(seed_sample "$seed")
       ckpt=${ckpt:-$OUT/friction/grains.friction=0_simulation.seed=$seed/prepared.ckpt}
-      d="$OUT/timestep/simulation.dt-safety=0.25_simulation.seed=$seed"
-      sets=(--set simulation.dt_safety=0.25 --set process.underpressure=0.06e6 --set process.velocity=0.01
+      d="$OUT/timestep/simulation.dt-safety=${level}_simulation.seed=$seed"
+      sets=(--set simulation.dt_safety=$level --set process.underpressure=0.06e6 --set process.velocity=0.01
             --set process.cycles=2 --set output.energy=false --set simulation.threads=1)
       cmd=("$bin" damper --from "$ckpt" --out "$d" --overwrite "${sets[@]}" --no-plot --quiet)
-      echo "== timestep, seed $seed: ${cmd[*]}"
+      echo "== timestep, seed $seed, dt_safety $level: ${cmd[*]}"
       if [ -f "$d/summary.json" ]; then
         # Done for these settings only (its case.toml holds the command it ran).
         if ! grep -qF -- "${sets[*]}" "$d/case.toml" 2>/dev/null; then
@@ -174,8 +180,9 @@ for study in "${studies[@]}"; do
         echo "paper_studies.sh: timestep needs the prepared sample of seed $seed at 25.5 mm ($ckpt, or a prepared.ckpt of the friction or underpressure study): run one of them first" >&2
         failed=1
       fi
+     done
     done
-    printf '%s (pinned build %s)\n' "$bin damper --from <the seed's 25.5 mm sample, friction or radius study> --set simulation.dt_safety=0.25 ... (scripts/paper_studies.sh timestep)" "$pinned_commit" > "$OUT/$s/COMMAND"
+    printf '%s (pinned build %s)\n' "$bin damper --from <the seed's 25.5 mm sample, friction or radius study> --set simulation.dt_safety=LEVEL ... (scripts/paper_studies.sh timestep)" "$pinned_commit" > "$OUT/$s/COMMAND"
   else
     cmd=("$bin" sweep "studies/paper/$study.toml" --out "$OUT/$s" "${jobs_arg[@]}" --no-plot)
     echo "== $study: ${cmd[*]}"
