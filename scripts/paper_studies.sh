@@ -6,11 +6,13 @@
 #
 # usage: scripts/paper_studies.sh [--publish-only] [STUDY ...]
 #   STUDY: underpressure radius_underpressure friction damping young preparation foil_resolution
-#          timestep (default: all, in this order). underpressure is the radius study's 25.5 mm
+#          timestep radius_packing (default: all, in this order). radius_packing (issue 44) is the
+#          radius trend at one packing (studies/paper/radius_packing.toml), run by
+#          VPPDEM_PACKING. underpressure is the radius study's 25.5 mm
 #          rows alone (run into the radius study's folder, so that they finish first). timestep
 #          branches each seed's 25.5 mm prepared sample (the friction study's, identical bit for
 #          bit to the radius study's; seeds 4-5 the radius study's) with
-#          simulation.dt_safety = 0.25 for 2 cycles at 0.06 MPa, for the seeds of
+#          simulation.dt_safety = each level below 0.45 of its grid for 2 cycles at 0.06 MPa, for the seeds of
 #          studies/paper/report/timestep.toml (the issue asks 2; the third because the paired
 #          difference of two, -4 +- 19%, did not resolve a 3-5% effect, the fourth and fifth
 #          because three did not either, -10% to 0%).
@@ -26,6 +28,8 @@
 # Knobs (environment variables):
 #   VPPDEM  the binary (default pinned/vppdem: build once, copy it there, write its commit into
 #           pinned/COMMIT; every run of the studies uses it, docs/data/SOURCES.md names the commit)
+#   VPPDEM_PACKING  radius_packing's binary (default pinned/packing/vppdem, its commit in
+#           pinned/packing/COMMIT): the first build with damper.packing_target
 #   VPPDEM_LEG  the friction_8 leg's binary (default pinned/leg/vppdem, its commit in pinned/leg/COMMIT;
 #           one build for the whole leg, as for a study)
 #   OUT     run folders (default out/paper; checkpoints and full records, not in the repository)
@@ -40,12 +44,13 @@ cd "$(dirname "$0")/.."
 
 VPPDEM=${VPPDEM:-pinned/vppdem}
 VPPDEM_LEG=${VPPDEM_LEG:-pinned/leg/vppdem}
+VPPDEM_PACKING=${VPPDEM_PACKING:-pinned/packing/vppdem}
 OUT=${OUT:-out/paper}
 JOBS=${JOBS:-}
 DATA=${DATA:-docs/data/paper}
 publish_only=0
 if [ "${1:-}" = "--publish-only" ]; then publish_only=1; shift; fi
-all=(underpressure radius_underpressure friction damping young preparation foil_resolution timestep)
+all=(underpressure radius_underpressure friction damping young preparation foil_resolution timestep radius_packing)
 legs=(friction_8 friction_8_seeds)  # second legs: run when named, after the study they continue
 studies=("$@")
 [ ${#studies[@]} -gt 0 ] || studies=("${all[@]}")
@@ -53,7 +58,7 @@ for s in "${studies[@]}"; do
   [[ " ${all[*]} ${legs[*]} " == *" $s "* ]] || { echo "paper_studies.sh: unknown study '$s' (studies: ${all[*]}; second legs: ${legs[*]})" >&2; exit 2; }
 done
 # The binary that runs STUDY.
-binary() { case "$1" in friction_8*) echo "$VPPDEM_LEG" ;; *) echo "$VPPDEM" ;; esac; }
+binary() { case "$1" in friction_8*) echo "$VPPDEM_LEG" ;; radius_packing) echo "$VPPDEM_PACKING" ;; *) echo "$VPPDEM" ;; esac; }
 for s in "${studies[@]}"; do
   b=$(binary "$s")
   [ $publish_only -eq 1 ] || [ -x "$b" ] || {

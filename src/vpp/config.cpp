@@ -76,6 +76,9 @@ void read_table(const toml::table& root, CommandSet commands, Config& c) {
             const Setting& height = *find_setting("damper.height");
             if (c.damper.radius < 4.0 * c.foil.particle_radius) s.fail("radius", radius.allowed);
             if (c.damper.height < 4.0 * c.foil.particle_radius) s.fail("height", height.allowed);
+            // The target is reached by the re-fills: without them the pour's N stands.
+            if (c.damper.packing_target > 0.0 && !c.damper.refill)
+                s.fail("packing_target", "must be 0 when damper.refill = false (the re-fills reach the target)");
         }
         if (section == "grains") {
             if (c.grains.shape == 5 && c.grains.clump_template.empty())

@@ -50,6 +50,10 @@ struct DamperDef {
     // H_p (docs/damper.md, "Preparation"). false: exactly the grains of grains.volume_fraction,
     // poured once; the cap may end above them (warned).
     bool refill{};
+    // Packing target (0: off): the re-fills add grains until their volume is this fraction of the
+    // foil's interior up to H_p (pi r_in^2 H_p), instead of until their level reaches H_p, so that
+    // dampers of other radii are prepared at the same packing (docs/damper.md, "Preparation").
+    double packing_target{};      // [-] 0, or in (0, 0.74)
 };
 
 // dp is the atmosphere's pressure minus the pressure inside the foil: at most a perfect vacuum.

@@ -473,22 +473,49 @@ bool DamperRun::refill() {
     constexpr int kMaxRefills = 8;
     const double rk = c_.grains.radius, r_in = L_.radius - c_.foil.particle_radius;
     const double target = z_top_ + kRefillMargin * rk, level = fill_level();
-    if (level >= target) return false;
+    const double v_k = sizes_.mean_volume();
+    const double area = std::numbers::pi * r_in * r_in;
     const int done = st_.report.count("prepare.refills") ? int(st_.report.at("prepare.refills")) : 0;
     char msg[256];
+    // With damper.packing_target the grains' volume decides, not their level: the grains missing
+    // to the target (to the nearest grain), however high they then stand; the cap compresses them.
+    std::size_t add = 0;
+    if (c_.damper.packing_target > 0.0) {
+        const double v_now = packing_fraction(r_in, z_top_) * area * z_top_;  // [m^3] the grains' own volume
+        const double missing = std::round((c_.damper.packing_target * area * z_top_ - v_now) / v_k);
+        if (missing < 1.0) {
+            if (done == 0 && missing < -0.5) {
+                std::snprintf(msg, sizeof msg,
+                              "prepare: the pour alone fills %.4f of the foil's interior, above damper.packing_target "
+                              "= %.4g: lower grains.volume_fraction to reach the target",
+                              v_now / (area * z_top_), c_.damper.packing_target);
+                warn(msg);
+            }
+            return false;
+        }
+        add = std::size_t(missing);
+    } else if (level >= target) {
+        return false;
+    }
     if (done >= kMaxRefills) {
-        std::snprintf(msg, sizeof msg,
-                      "prepare: after %d re-fills the grains reach %.4g m, below the damper height %.4g m: the cap "
-                      "compresses less than the top layer", done, level, z_top_);
+        if (c_.damper.packing_target > 0.0)
+            std::snprintf(msg, sizeof msg,
+                          "prepare: after %d re-fills the grains fill %.4f of the foil's interior, below "
+                          "damper.packing_target = %.4g", done, packing_fraction(r_in, z_top_),
+                          c_.damper.packing_target);
+        else
+            std::snprintf(msg, sizeof msg,
+                          "prepare: after %d re-fills the grains reach %.4g m, below the damper height %.4g m: the "
+                          "cap compresses less than the top layer", done, level, z_top_);
         warn(msg);
         return false;
     }
-    // As many grains as fill the gap at the packing fraction of the bed below (the grains
-    // settle to about the same packing), one more so that every re-fill adds at least one.
-    const double v_k = sizes_.mean_volume();
-    const double area = std::numbers::pi * r_in * r_in;
-    const double phi_bed = double(grain_count_now()) * v_k / (area * level);
-    const std::size_t add = std::size_t(std::ceil(phi_bed * area * (target - level) / v_k)) + 1;
+    // Without a target: as many grains as fill the gap at the packing fraction of the bed below
+    // (the grains settle to about the same packing), one more so that every re-fill adds one.
+    if (add == 0) {
+        const double phi_bed = double(grain_count_now()) * v_k / (area * level);
+        add = std::size_t(std::ceil(phi_bed * area * (target - level) / v_k)) + 1;
+    }
     // Written by the fill; a checkpoint of the fill stage without it (an older vppdem's, or an
     // edited one) cannot be re-filled: say so rather than fail with a bare map lookup.
     const auto funnel = st_.report.find("prepare.funnel_height");
@@ -517,8 +544,13 @@ bool DamperRun::refill() {
         w_.params.dt = std::min(w_.params.dt, resolve_dt(c_.simulation, w_));
     st_.report["prepare.refills"] = done + 1;
     w_.invalidate_candidates();
-    log("[prepare] grains level %.4f m, below %.4f m: re-fill %d adds %zu grains (%u in all)\n", level, target,
-        done + 1, pos.size(), grain_count_now());
+    if (c_.damper.packing_target > 0.0)
+        log("[prepare] grains fill %.4f of the foil's interior, below the target %.4g: re-fill %d adds %zu grains (%u "
+            "in all)\n", packing_fraction(r_in, z_top_) - double(pos.size()) * v_k / (area * z_top_),
+            c_.damper.packing_target, done + 1, pos.size(), grain_count_now());
+    else
+        log("[prepare] grains level %.4f m, below %.4f m: re-fill %d adds %zu grains (%u in all)\n", level, target,
+            done + 1, pos.size(), grain_count_now());
     return true;
 }
 

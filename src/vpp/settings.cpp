@@ -224,6 +224,15 @@ const std::vector<Setting>& table() {
          .doc = "re-fill after the pour until the grains stand above H_p, so that the cap compresses them to H_p; "
                 "false: the pour's N only, the cap may end above the grains (warned)",
          FLAG(damper.refill), .legacy = 0.0},  // samples of an older vppdem were poured once
+        {.key = "damper.packing_target", .type = T::Real, .unit = "-", .def = 0.0, .check = C::Range, .lo = 0.0,
+         .hi = 0.74, .hi_open = true,
+         .allowed = "must be 0 (off: re-fill up to the damper height) or in (0, 0.74) (0.74 is the densest sphere "
+                    "packing)",
+         .acts = A::Geometry, .geometry = 15, .summary = 34,
+         .doc = "0: the re-fills stop when the grains stand at H_p; otherwise they add grains until these fill this "
+                "fraction of the foil's interior (pi r_in^2 H_p), the same packing in every geometry; needs "
+                "damper.refill (docs/damper.md)",
+         FIELD(damper.packing_target), .legacy = 0.0},  // samples of an older vppdem had no target
         // [process]
         {.key = "process.underpressure", .type = T::Real, .unit = "Pa", .def = 0.06e6, .def_foil = 0.01e6,
          .check = C::Range, .lo = 0.0, .hi = kAtmosphericPressure,

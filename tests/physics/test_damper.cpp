@@ -456,6 +456,51 @@ TEST(DamperPreparation, WithoutRefillTheCapEndsAboveTheGrainsAndSaysSo) {
     fs::remove_all(d);
 }
 
+// damper.packing_target: the re-fills stop at the grain count whose volume is the target
+// fraction of the foil's interior (pi r_in^2 H), to the nearest grain, whatever level the grains
+// then reach; the cap compresses them to H. A higher target gives more grains and a larger cap
+// force. The key is part of the sample: a branch with another target is refused.
+TEST(DamperPreparation, PackingTargetGivesThatPackingToTheNearestGrain) {
+    const fs::path d = scratch_path("damper_packing_target", "");
+    fs::remove_all(d);
+    struct Prepared { double grains, phi, half_grain, cap_force; };
+    auto prepare = [&](const std::string& name, double target) {
+        const Outcome r = run("damper --out " + (d / name).string() + " " + kSmall +
+                              " --set process.cycles=1 --set damper.packing_target=" + std::to_string(target));
+        EXPECT_EQ(r.status, 0) << r.output;
+        const std::string js = slurp(d / name / "summary.json");
+        const double rk = json_number(js, "grains.radius"), r_in = json_number(js, "inner_radius");
+        const double v_in = M_PI * r_in * r_in * json_number(js, "height");
+        const Prepared p{json_number(js, "grains"), json_number(js, "packing_fraction", "preparation"),
+                         0.5 * (4.0 / 3.0) * M_PI * rk * rk * rk / v_in, json_number(js, "cap_force", "preparation")};
+        EXPECT_NEAR(json_number(js, "damper.packing_target"), target, 1e-12) << js;
+        // Exact up to half a grain's share of the interior (about 0.005 here).
+        EXPECT_LE(std::abs(p.phi - target), p.half_grain * (1 + 1e-9)) << name << ": " << js;
+        return p;
+    };
+    const Prepared lo = prepare("t062", 0.62), hi = prepare("t066", 0.66);
+    EXPECT_GT(hi.grains, lo.grains + 2);
+    EXPECT_GT(hi.cap_force, lo.cap_force);
+    EXPECT_GT(hi.cap_force, 0.0);
+    // Another target on this sample: another sample, refused as a geometry key.
+    const Outcome b = run("damper --out " + (d / "branch").string() + " --from " + (d / "t062" / "prepared.ckpt").string() +
+                          " " + kSmall + " --set process.cycles=1 --set damper.packing_target=0.64");
+    EXPECT_EQ(WEXITSTATUS(b.status), 2) << b.output;
+    EXPECT_NE(b.output.find("damper.packing_target"), std::string::npos) << b.output;
+    // Out of range, and without the re-fills that reach it: refused, naming the key and the rule.
+    for (const char* bad : {"0.74", "-0.1", "0.9"}) {
+        const Outcome r = run("damper --out " + (d / "bad").string() + " " + kSmall + " --set damper.packing_target=" + bad);
+        EXPECT_EQ(WEXITSTATUS(r.status), 2) << bad << ": " << r.output;
+        EXPECT_NE(r.output.find("damper.packing_target"), std::string::npos) << r.output;
+        EXPECT_NE(r.output.find("0.74"), std::string::npos) << r.output;
+    }
+    const Outcome nr = run("damper --out " + (d / "bad").string() + " " + kSmall +
+                           " --set damper.packing_target=0.62 --set damper.refill=false");
+    EXPECT_EQ(WEXITSTATUS(nr.status), 2) << nr.output;
+    EXPECT_NE(nr.output.find("damper.refill = false"), std::string::npos) << nr.output;
+    fs::remove_all(d);
+}
+
 // What a study lets differ between the cases of one preparation (shares_preparation in the
 // settings table, src/vpp/settings.cpp) must not act before prepared.ckpt is written: the sample is then the
 // same, byte for byte. A key that acts in the fill (grain stiffness) gives another sample.

@@ -181,9 +181,9 @@ TEST(Settings, RecordedKeysAreNumberedWithoutGaps) {
     for (auto list : {geometry_settings(), run_settings(), summary_inputs()}) {
         EXPECT_FALSE(list.empty());
     }
-    EXPECT_EQ(geometry_settings().size(), 14u);
+    EXPECT_EQ(geometry_settings().size(), 15u);
     EXPECT_EQ(run_settings().size(), 31u);
-    EXPECT_EQ(summary_inputs().size(), 33u);
+    EXPECT_EQ(summary_inputs().size(), 34u);
     auto positions = [](int Setting::*p) {
         std::set<int> s;
         for (const Setting& r : settings())
@@ -200,7 +200,7 @@ TEST(Settings, RecordedKeysAreNumberedWithoutGaps) {
     // What a checkpoint stores keeps its first key (older checkpoints are read by name, any order).
     EXPECT_STREQ(geometry_settings().front().key, "grains.radius");
     EXPECT_STREQ(run_settings().front().key, "grains.friction");
-    EXPECT_STREQ(summary_inputs().back().key, "process.local_damping");  // the newest keys come last
+    EXPECT_STREQ(summary_inputs().back().key, "damper.packing_target");  // the newest keys come last
 }
 
 TEST(Settings, TheReferenceListsEveryKey) {
