@@ -237,10 +237,11 @@ def solve(a, b):
     """Gaussian elimination with partial pivoting: x with a x = b (a square, lists)."""
     n = len(a)
     m = [row[:] + [v] for row, v in zip(a, b)]
+    scale = [max(abs(row[i]) for row in a) or 1.0 for i in range(n)]
     for i in range(n):
         p = max(range(i, n), key=lambda r: abs(m[r][i]))
         m[i], m[p] = m[p], m[i]
-        if m[i][i] == 0:
+        if abs(m[i][i]) <= 1e-12 * scale[i]:  # a column a combination of the others
             raise ValueError("singular")
         for r in range(n):
             if r != i:
