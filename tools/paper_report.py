@@ -45,11 +45,10 @@ SEED = "simulation.seed"
 PLANNED = {"radius_underpressure": 3, "young": 3, "friction": 3, "damping": 3, "preparation": 3,
            "foil_resolution": 2, "timestep": 2, "friction_8": 3, "friction_8_c18": 3, "friction_vs_0.6": 3,
            "friction_8_vs_0.6": 3}
-# The decay ratio of W over the cycles pooled over the 8-cycle runs (rules.pooled_rate; set by write()).
+# The decay ratio of W over the cycles, pooled over every 5-cycle run (rules.pooled_rate; set_rate()).
 RATE = {}
-# Every study ran this many seeds first; where that left a difference unresolved, seeds were added
-# (the study file's `seeds`). While they run, a difference over the first ones decides
-# provisionally, and the claim's verdict says so.
+# The sweep's paired tables (shown in the vppdem column, over all seeds in): a difference over fewer
+# than FIRST_SEEDS seeds is shown with its n; the verdicts come from judge() over PLANNED seeds.
 FIRST_SEEDS = 3
 # Second legs (scripts/paper_studies.sh): a study's runs continued to more cycles, their own study
 # folder; the friction study's to 8 cycles (C17, C18 once all its runs are continued), and that
@@ -230,7 +229,7 @@ class Study:
         # the third); over FIRST_SEEDS or more, but fewer than planned, it decides provisionally.
         toml = [t for t in (f"studies/paper/report/{name}.toml", f"studies/paper/{name}.toml") if os.path.isfile(t)]
         self.seeds = study_seeds(toml[0]) if toml else 1
-        self.provisional = None  # the fewest seeds a provisional pair() gave since first_only(), or None
+        self.provisional = None  # the fewest seeds a provisional pair() gave (shown as '(n k of N)')
         self.raw = os.path.dirname(os.path.normpath(data))
         self._cycles = {}
         self.n_cycles = study_cycles(toml[0]) if toml else None
@@ -395,57 +394,6 @@ def planned_runs(name):
 def paired_n(p):
     """Seeds paired in a summary_paired row (0 without one)."""
     return int(float(p.get("n") or 0)) if p else 0
-
-
-def side(p, ok):
-    """Where a paired difference lies (ok: diff_text's verdict): 'below' or 'above' zero when
-    resolved, 'unresolved', or None (pending)."""
-    return None if ok is None else ("below" if fnum(p["diff_mean"]) < 0 else "above") if ok else "unresolved"
-
-
-def radius_verdict(outcomes, paper, yes):
-    """A radius claim from each radius's sides against 25.5 mm over the dp (outcomes: {r: [side]}),
-    paper: {r: the side the claim puts r on}: open while any is pending, `yes` where every one
-    lies on the paper's side, else 'partly: ' and each radius's tally."""
-    got = [(o, paper[r]) for r in paper for o in outcomes.get(r, [])]
-    if not got or any(o is None for o, _ in got):
-        return "open (runs pending)"
-    if all(o == want for o, want in got):
-        return yes
-    return "partly: " + "; ".join(radius_tally(outcomes, r, paper[r]) for r in paper)
-
-
-def radius_tally(outcomes, r, paper_side):
-    """'30.5 mm below 25.5 mm (the paper's direction) at 4 of 4 dp, against it at 0, not resolved
-    at 0': a radius's paired outcomes against 25.5 mm over the dp ('below', 'above' resolved,
-    'unresolved'), counted against the side the paper's claim puts it on."""
-    o = outcomes[r]
-    other = "above" if paper_side == "below" else "below"
-    return (f"{r * 1e3:g} mm {paper_side} 25.5 mm (the paper's direction) at {o.count(paper_side)} of {len(o)} dp, "
-            f"against it at {o.count(other)}, not resolved at {o.count('unresolved')}")
-
-
-def first_only(*studies):
-    """(seeds, planned) of the fewest-seed provisional difference the studies gave since the last
-    call (their added seeds still running; Study.pair), or None; clears them for the next claim."""
-    got = [(st.provisional, st.seeds) for st in studies if st.provisional]
-    for st in studies:
-        st.provisional = None
-    return min(got) if got else None
-
-
-def mark(v, prov):
-    """A verdict, noted as provisional where it rests on fewer seeds than planned (first_only's
-    (seeds, planned))."""
-    if prov and not v.startswith("open"):
-        return v + f" (provisional: over {prov[0]} of {prov[1]} seeds; the added seeds are running)"
-    return v
-
-
-def verdict(flags, yes="reproduced", no="not reproduced"):
-    if not flags or any(f is None for f in flags):
-        return "open (runs pending)"
-    return yes if all(flags) else no
 
 
 def settle_stats(report, raw):
@@ -827,6 +775,7 @@ def packing_section(S, figdir, caption):
     ru = S["radius_underpressure"]
     per = []
     fig = []
+    kept = {}  # radius -> its side of 25.5 mm at equal packing, per dp
     for dp in DPS:
         rows = [r for r in ru.runs if r.get("status") == "ok" and same(r.get("process.underpressure"), dp)
                 and fnum(r.get("packing_fraction")) is not None and fnum(r.get(ru.q)) is not None]
@@ -852,10 +801,14 @@ def packing_section(S, figdir, caption):
                    f"against 25.5 mm {dr[0.0205].text()} unadjusted, {da[0.0205].text()} at equal packing; 30.5 mm "
                    f"{dr[0.0305].text()} unadjusted, {da[0.0305].text()} at equal packing")
         fig.append((dp, g, x, y, b, coef))
+        for r in (0.0205, 0.0305):
+            kept.setdefault(r, []).append(rules.direction(da[r], -1))
     if per:
         lines.append("- Radius study, per dp (15 runs: 3 radii x 5 seeds; W of the last cycle on the packing with one "
                      "intercept per radius, the radii against 25.5 mm unadjusted by Welch, at equal packing by the fit's intervals): "
-                     + "; ".join(per) + ". Within a radius the seeds' packings span about "
+                     + "; ".join(per) + ". At equal packing " + "; ".join(
+                         f"{r * 1e3:g} mm lies below 25.5 mm, resolved, at {o.count('yes')} of {len(o)} dp (above at "
+                         f"{o.count('against')})" for r, o in kept.items()) + ". Within a radius the seeds' packings span about "
                      "0.01, so the slope is poorly determined and the adjustment is an extrapolation across the "
                      "radii's packing gap; whether the 25.5 mm peak is the packing's needs the runs at equal packing "
                      "(issue 44, item 3).")
@@ -970,9 +923,6 @@ def write(data, out_md, figdir, command):
         f"{100 * (b / a - 1):+.0f}%" for a, b in zip(means, means[1:]))
     c1 = (f"{ru.qlabel} [J/m2], 25.5 mm, mean +- 95% CI over the seeds: {c1_vals}{steps}; paired difference from "
           f"0.02 MPa (same samples): {'; '.join(c1_diffs)}")
-    c1v = verdict(c1_flags + [mono], "reproduced (every dp above 0.02 MPa higher, paired; means increase)",
-                  "partly (not every step resolved or increasing)")
-    c1v = mark(c1v, first_only(ru))
 
     # ---- C2: stationary loops
     runs, stat, firsts, scatter = settle_stats(data, os.path.dirname(os.path.normpath(data)))
@@ -1041,43 +991,6 @@ def write(data, out_md, figdir, command):
     y_d = {y: (compare(yg, "Wq", "Welch", "grains.young", 2.3e9, y, False).text(),) for y in (23e6, 230e6, 23e9)}
     c9 = f"{yg.qlabel} [J/m2] at 0.06 MPa: {y_vals}; against 2.3 GPa (Welch, all seeds): " + "; ".join(
         f"{y / 1e6:g} MPa {y_d[y][0]}" for y in (23e6, 230e6, 23e9))
-    # Insensitive: W at 230 MPa and 23 GPa within 10% of 2.3 GPa's, the whole 95% interval.
-    # (band: None until a modulus has FIRST_SEEDS seeds, provisional below its planned seeds, Study.pair)
-    yb = {y: band(yg.pair("grains.young", y), 0.10) for y in (23e6, 230e6, 23e9)}
-    moved = {y: b in ("resolved", "beyond") for y, b in yb.items()}  # resolved from 2.3 GPa's W
-    if any(v is None for v in yb.values()):
-        c9v = "open (runs pending)"
-    elif yb[230e6] == yb[23e9] == "within":
-        c9v = "reproduced from 230 MPa to 23 GPa (W within 10% of 2.3 GPa's, at 95%)"
-    elif moved[230e6] or moved[23e9]:
-        c9v = "not reproduced (W at " + " and ".join(f"{y / 1e6:g} MPa" for y in (230e6, 23e9)
-                                                    if moved[y]) + " differs from 2.3 GPa's)"
-    else:  # each of 230 MPa and 23 GPa within 10% or unresolved, one at least unresolved
-        c9v = "consistent, not established: " + "; ".join(
-            f"{y / 1e6:g} MPa " + ("within 10% of 2.3 GPa's W" if yb[y] == "within" else
-                                   "not resolved from 2.3 GPa's W, its 95% interval reaching past 10%")
-            for y in (230e6, 23e9))
-    # 23 -> 230 MPa matters (23 MPa lower, resolved), then saturates (230 MPa and 23 GPa within
-    # 10% of 2.3 GPa).
-    p23 = yg.pair("grains.young", 23e6)
-    if any(v is None for v in yb.values()):
-        c20v = "open (runs pending)"
-    else:
-        lower = moved[23e6] and fnum(p23["diff_mean"]) < 0
-        higher = moved[23e6] and fnum(p23["diff_mean"]) > 0
-        sat = yb[230e6] == yb[23e9] == "within"
-        unsat = moved[230e6] or moved[23e9]
-        c20v = ("reproduced (23 MPa lower, resolved; 230 MPa to 23 GPa within 10%)" if lower and sat else
-                "not reproduced" + (" (23 MPa higher)" if higher else " (no saturation above 230 MPa)") if higher or unsat
-                else "partly: 23 MPa lower, resolved; the saturation above 230 MPa not established" if lower
-                else "consistent, not established (23 MPa not resolved from 2.3 GPa)")
-    prov = first_only(yg)
-    c9v, c20v = mark(c9v, prov), mark(c20v, prov)
-    c21v = ("open (runs pending)" if c20v.startswith("open") else
-            "consistent with C20: W falls where the grains are soft (no separate measure of rearrangement)"
-            if moved[23e6] and fnum(p23["diff_mean"]) < 0 else
-            "not shown: W at 23 MPa is not resolved below 2.3 GPa's")
-    c21v = mark(c21v, prov)
 
     # ---- C16-C19: friction
     mus = [0.0, 0.1, 0.2, 0.4, 0.6, 0.8, 1.0]
@@ -1085,7 +998,6 @@ def write(data, out_md, figdir, command):
     f_d = {mu: diff_text(fr.pair("grains.friction", mu)) for mu in mus[1:]}
     c16 = f"{fr.qlabel} [J/m2] at 0.06 MPa by friction: {f_vals}; against mu 0 (same samples): " + "; ".join(
         f"{mu:g} {f_d[mu][0]}" for mu in mus[1:])
-    c16v = "open (runs pending)" if f_d[0.6][1] is None else ("reproduced" if f_d[0.6][1] else "not reproduced")
     # C11: how far the measured friction's loops lie from the calibrated friction's (the
     # experiment itself is not in our copy).
     t11, ok11 = diff_text(f06.pair("grains.friction", 0.2))
@@ -1097,12 +1009,11 @@ def write(data, out_md, figdir, command):
     cont, fresh, repeat = leg_origin(raw)
     if leg_done >= leg_all:
         # C18 over the leg's seeds and its added ones (provisional while those run).
-        c17, c17v, c18, c18v = friction_claims(f8, f8c, study_cycles("studies/paper/friction_8.toml"),
-                                                 grid_values("friction_8", "grains.friction"))
-        c18v = mark(c18v, first_only(f8c))
+        c17, _, c18, _ = friction_claims(f8, f8c, study_cycles("studies/paper/friction_8.toml"),
+                                         grid_values("friction_8", "grains.friction"))
         c17, c18 = (t + " (8 cycles: the friction study's runs taken on, second leg)" for t in (c17, c18))
     else:
-        c17, c17v, c18, c18v = friction_claims(fr, f06, study_cycles("studies/paper/friction.toml"), mus)
+        c17, _, c18, _ = friction_claims(fr, f06, study_cycles("studies/paper/friction.toml"), mus)
         if leg_done:
             c17, c18 = (t + f"; second leg (8 cycles): {leg_done} of {leg_all} runs finished" for t in (c17, c18))
     z = fr.case(**{"grains.friction": 0.0})
@@ -1162,26 +1073,16 @@ def write(data, out_md, figdir, command):
 
     # ---- C26, C28, C29: radius
     rad = [0.0205, 0.0255, 0.0305]
-    c26p, c26r, c28p, c28r, c28pairs = [], {}, [], {}, []
+    c26p, c28p = [], []
     for dp in dps:
         e = [ci_text(ru.case(**{"damper.radius": r, "process.underpressure": dp}), "dissipated_energy", digits=2)
              for r in rad]
         c26p.append(f"{dp / 1e6:g} MPa: " + " / ".join(e) + " J")
         for r in (0.0205, 0.0305):
-            pe = ru.pair("damper.radius", r, "dissipated_energy", group=f"process.underpressure={dp}")
-            te, oke = diff_text(pe, digits=2)
-            c26r.setdefault(r, []).append(side(pe, oke))
-            pw = ru.pair("damper.radius", r, group=f"process.underpressure={dp}")
-            tw, okw = diff_text(pw)
             c28p.append(f"{dp / 1e6:g} MPa, {r * 1e3:g} mm: "
                         + compare(ru, "Wq", "Welch", "damper.radius", 0.0255, r, False,
                                   **{"process.underpressure": dp}).text())
-            c28r.setdefault(r, []).append(side(pw, okw))
-            c28pairs.append(pw)
     c26 = "loop energy (cycle 5) for r_p 20.5 / 25.5 / 30.5 mm: " + "; ".join(c26p) + " (different samples per radius)"
-    # The energy grows with the radius: 30.5 mm above 25.5 mm, 20.5 mm below.
-    c26v = radius_verdict(c26r, {0.0305: "above", 0.0205: "below"},
-                          "reproduced at every dp (resolved against the seed scatter)")
     # The samples' packing fraction per radius (a radius's seed prepares one sample for every dp):
     # the re-fill adds grains until the cap rests on them, and the density it ends at differs
     # between the radii (measured: the 25.5 mm samples hold about 3% more grains per volume), and
@@ -1194,35 +1095,10 @@ def write(data, out_md, figdir, command):
            + "; against 25.5 mm (Welch, all seeds): " + "; ".join(c28p)
            + "; packing fraction of the samples (after the preparation) for r_p 20.5 / 25.5 / 30.5 mm: "
            + " / ".join(pack))
-    # W falls with the radius: 30.5 mm below 25.5 mm, 20.5 mm above.
-    c28v = radius_verdict(c28r, {0.0305: "below", 0.0205: "above"}, "reproduced at every dp")
-    if c28v.startswith("partly"):
-        # Said only where the data say it: both other radii below 25.5 mm in the mean at every dp.
-        peak = all(fnum(p["diff_mean"]) < 0 for p in c28pairs)
-        dens = [fnum((c or {}).get("packing_fraction_mean")) for c in samples]
-        if peak:
-            c28v += ". The mean W is largest at 25.5 mm at every dp" + (
-                ", whose samples are the densest (packing fraction above)"
-                if None not in dens and dens[1] == max(dens) else "")
-
-    prov = first_only(ru)
-    c26v, c28v = mark(c26v, prov), mark(c28v, prov)
 
     # ---- numerical convergence
     tdw, _ = diff_text(ts.pair("simulation.dt_safety", 0.25, "W"))
-    tfo, okfo = diff_text(fo.pair("foil.particle_radius", 7.4125e-4, "W"))
-    # Converged in the time step: the 95% interval of cycle 2's W within +-5% (the measured
-    # scatter of stationary loops is about 2.4%, C2), provisional below the planned seeds.
-    b5 = band(ts.pair("simulation.dt_safety", 0.25, "W"), 0.05)
-    c5v = ("open (runs pending)" if b5 is None else
-           {"within": "reproduced (dt_safety 0.25 moves W by less than 5%, at 95%)",
-            "beyond": "not reproduced: the time step moves W by more than 5% (a finding)",
-            "resolved": "partly: the time step moves W, resolved (a finding), the interval reaching past 5%",
-            "unresolved": "consistent, not established: no resolved change, but the 95% interval ("
-                          + rel_interval(ts.pair("simulation.dt_safety", 0.25, "W")) + ") reaches past 5%"}[b5])
-    c5v = mark(c5v, first_only(ts))
-    # The designs' seeds (the assemblies' study files), for the lines that describe them.
-    sts, sfo = ts.seeds, fo.seeds
+    sfo = fo.seeds  # the design's seeds (its assembly's study file)
 
     # The time step's levels (the assembly's grid; levels without published runs pending).
     ts_grid = sorted((float(v) for v in read_study("studies/paper/report/timestep.toml").get("grid", {})
@@ -1281,7 +1157,7 @@ def write(data, out_md, figdir, command):
 
     def wq(st):
         cyc = st.n_cycles or 5
-        return (f"W_settled (every run stationary)" if st.q == "W_settled" else f"W of cycle {cyc} (the last)")
+        return ("W_settled (every run stationary)" if st.q == "W_settled" else f"W of cycle {cyc} (the last)")
 
     def ruled(cid, study, extra=""):
         """The verdict of claim cid over the study's planned seeds, the added seeds' beside it."""
