@@ -1,0 +1,289 @@
+#!/usr/bin/env python3
+"""The decision rules of docs/paper_comparison.md (issue 44), written once and applied to every claim
+alike by tools/paper_report.py: one function per rule, on per-run values (one number per run, from
+the runs' cycles.csv), with no claim-specific arithmetic.
+
+Rules (the page's head states them in words, from RULES below):
+  difference   paired(): Student t on the per-seed differences where the cases of a seed branch from
+               one prepared sample (underpressure, friction, time step, loading velocity);
+               welch(): Welch's t with the Welch-Satterthwaite degrees of freedom where each case
+               prepares its own sample (radius, grain modulus, local damping, preparation, foil
+               resolution). 95% two-sided.
+  equivalence  band(): a difference whose whole 95% interval lies within +-MARGIN of the reference's
+               mean is "no effect" ("within"); one whose interval lies wholly beyond it, "beyond";
+               0 outside the interval, reaching inside the margin: "resolved"; 0 inside, reaching
+               past the margin: "unresolved".
+  saturation   saturation(): per seed, the later step's change as a fraction of the earlier step's
+               (per unit of the varied key where the steps differ in length); saturating where the
+               95% interval of the ratio lies below SATURATION, not saturating where above it.
+  W            which W a run gives: the last cycle's (a study's W_settled where all its runs are
+               stationary by the settle criterion); stationary(): a run's stationary W, its
+               W_settled where it settled, else extrapolated from its cycles (geometric decay with
+               a rate pooled over the 8-cycle runs), with an uncertainty.
+  seeds        the seeds fixed before a study ran decide (PLANNED in paper_report.py); seeds added
+               after a look are reported beside the verdict, never in it.
+"""
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from paired_velocity import t_quantile  # noqa: E402  (one Student t for the tools)
+
+LEVEL = 0.975       # two-sided 95%
+MARGIN = 0.10       # equivalence margin: a fraction of the reference's mean
+SATURATION = 0.5    # a later step's change under half the earlier one's: saturating
+
+VERDICTS = [
+    ("reproduced", "the claim's test passes at 95%: a difference in the paper's direction resolved from 0, "
+                   "or, for a claim of no effect, the whole 95% interval within the margin"),
+    ("consistent, not established", "vppdem's runs point the paper's way or are compatible with it, but "
+                                    "the 95% interval does not decide (0 inside it, or reaching past the margin), "
+                                    "or the evidence is a single run"),
+    ("not reproduced", "the claim's test fails at 95%: a difference the claim excludes is resolved (a trend "
+                       "reversed or a peak where the paper has a monotone trend), or an effect the claim says "
+                       "is absent lies beyond the margin"),
+    ("contradicted", "a statement about the mechanism that vppdem's energy ledger reverses, resolved at 95%"),
+    ("not decidable", "the repository lacks what would decide it (the experiment's measured loops)"),
+    ("open", "runs pending"),
+]
+
+
+def interval(xs):
+    """(n, mean, sd, half width of the 95% Student-t interval of the mean); NaN where undefined."""
+    xs = [x for x in xs if x is not None and math.isfinite(x)]
+    n = len(xs)
+    if n == 0:
+        return 0, math.nan, math.nan, math.nan
+    m = sum(xs) / n
+    if n < 2:
+        return n, m, math.nan, math.nan
+    sd = math.sqrt(sum((x - m) ** 2 for x in xs) / (n - 1))
+    return n, m, sd, t_quantile(LEVEL, n - 1) * sd / math.sqrt(n)
+
+
+def welch_dof(s1, n1, s2, n2):
+    """Welch-Satterthwaite degrees of freedom of the difference of two means (sample sds s1, s2 over
+    n1, n2 runs): (v1 + v2)^2 / (v1^2 / (n1 - 1) + v2^2 / (n2 - 1)) with v = s^2 / n."""
+    v1, v2 = s1 * s1 / n1, s2 * s2 / n2
+    den = v1 * v1 / (n1 - 1) + v2 * v2 / (n2 - 1)
+    return (v1 + v2) ** 2 / den if den > 0 else float(n1 + n2 - 2)
+
+
+class Diff:
+    """A difference b - a with its 95% half width: test ('paired' or 'Welch'), n (seeds paired, or
+    (n_a, n_b)), d, h, dof, ref (the mean of a)."""
+
+    def __init__(self, test, n, d, h, dof, ref):
+        self.test, self.n, self.d, self.h, self.dof, self.ref = test, n, d, h, dof, ref
+
+    @property
+    def ok(self):
+        return self.d is not None and self.h is not None and math.isfinite(self.d) and math.isfinite(self.h)
+
+    @property
+    def resolved(self):
+        return self.ok and abs(self.d) > self.h
+
+    @property
+    def rel(self):
+        return self.d / self.ref if self.ok and self.ref else math.nan
+
+    def text(self, digits=0, pct=True):
+        if not self.ok:
+            return "pending"
+        s = f"{self.d:+.{digits}f} +- {self.h:.{digits}f}"
+        if pct and self.ref:
+            s += f" ({100 * self.rel:+.0f}%)"
+        return s
+
+    def rel_interval(self):
+        return f"{100 * (self.d - self.h) / self.ref:+.0f}% to {100 * (self.d + self.h) / self.ref:+.0f}%"
+
+
+def paired(a, b):
+    """b - a seed for seed ({seed: value}; the seeds both have): Student t on the differences."""
+    seeds = sorted(s for s in a if s in b and a[s] is not None and b[s] is not None)
+    n, m, _, h = interval([b[s] - a[s] for s in seeds])
+    _, ref, _, _ = interval([a[s] for s in seeds])
+    return Diff("paired", n, m if n else None, h if n >= 2 else None, n - 1, ref)
+
+
+def welch(a, b):
+    """mean(b) - mean(a) of independent samples (lists, or {seed: value}): Welch's t, its degrees
+    of freedom by Welch-Satterthwaite."""
+    a = [x for x in (a.values() if isinstance(a, dict) else a) if x is not None]
+    b = [x for x in (b.values() if isinstance(b, dict) else b) if x is not None]
+    na, ma, sa, _ = interval(a)
+    nb, mb, sb, _ = interval(b)
+    if na < 2 or nb < 2:
+        return Diff("Welch", (na, nb), mb - ma if na and nb else None, None, None, ma)
+    dof = welch_dof(sa, na, sb, nb)
+    se = math.sqrt(sa * sa / na + sb * sb / nb)
+    return Diff("Welch", (na, nb), mb - ma, t_quantile(LEVEL, dof) * se if se > 0 else 0.0, dof, ma)
+
+
+def difference(test, a, b):
+    """The rule's test for a claim: 'paired' (shared samples) or 'Welch' (independent samples)."""
+    return paired(a, b) if test == "paired" else welch(a, b)
+
+
+def band(diff, margin=MARGIN):
+    """The equivalence rule: 'within' (the 95% interval inside +-margin of the reference's mean),
+    'beyond' (wholly outside it), 'resolved' (0 outside the interval, which reaches inside the
+    margin), 'unresolved' (0 inside, the interval reaching past the margin); None: pending."""
+    if diff is None or not diff.ok or not diff.ref:
+        return None
+    t = margin * abs(diff.ref)
+    if abs(diff.d) + diff.h <= t:
+        return "within"
+    if abs(diff.d) - diff.h > t:
+        return "beyond"
+    return "resolved" if abs(diff.d) > diff.h else "unresolved"
+
+
+def direction(diff, want):
+    """A difference against the direction a claim gives it (want: +1 higher, -1 lower):
+    'yes' (resolved that way), 'against' (resolved the other way), 'unresolved', None (pending)."""
+    if diff is None or not diff.ok:
+        return None
+    if not diff.resolved:
+        return "unresolved"
+    return "yes" if (diff.d > 0) == (want > 0) else "against"
+
+
+def saturation(later, earlier, threshold=SATURATION):
+    """The saturation rule: per seed the later step's change over the earlier step's (lists of
+    equal length, per unit of the varied key where the steps' lengths differ), the 95% interval of
+    the ratio over the seeds: (n, mean, half width, 'saturating' | 'not saturating' | 'undecided'
+    | None)."""
+    x = [lt / er for lt, er in zip(later, earlier) if er]
+    n, m, _, h = interval(x)
+    if n < 2:
+        return n, m, h, None
+    return n, m, h, ("saturating" if m + h < threshold else "not saturating" if m - h > threshold
+                     else "undecided")
+
+
+# ---------------------------------------------------------------------------------------------
+# Stationary W
+
+
+def geometric_fit(w, q, first=2):
+    """Least squares of W_n = W_inf + a q^n over the cycles n >= first (w[0] is cycle 1), q given:
+    (W_inf, its standard error from the residuals or None, residual sum of squares, points)."""
+    pts = [(n, v) for n, v in enumerate(w, 1) if n >= first and v is not None]
+    k = len(pts)
+    if k < 2:
+        return None, None, 0.0, k
+    xs = [q ** n for n, _ in pts]
+    ys = [v for _, v in pts]
+    mx, my = sum(xs) / k, sum(ys) / k
+    sxx = sum((x - mx) ** 2 for x in xs)
+    if sxx <= 0:
+        return my, None, sum((y - my) ** 2 for y in ys), k
+    a = sum((x - mx) * (y - my) for x, y in zip(xs, ys)) / sxx
+    w_inf = my - a * mx
+    rss = sum((y - w_inf - a * x) ** 2 for x, y in zip(xs, ys))
+    se = math.sqrt(rss / (k - 2) * (1.0 / k + mx * mx / sxx)) if k > 2 else None
+    return w_inf, se, rss, k
+
+
+def pooled_rate(runs, first=2, grid=None):
+    """The decay ratio q of W_n = W_inf + a q^n shared by the runs (lists of W per cycle): the q that
+    minimises the summed relative residuals over all runs, and its 95% range by the profile F test
+    (the q whose summed residuals exceed the least by less than F_{1, dof} times the residual
+    variance). (q, q_lo, q_hi, residual relative sd)."""
+    grid = grid or [i / 100 for i in range(5, 96)]
+    runs = [[v / w[-1] for v in w] for w in runs if len(w) >= first + 3 and w[-1]]  # relative to the last W
+
+    def total(q):
+        return sum(geometric_fit(w, q, first)[2] for w in runs)
+    if not runs:
+        return None, None, None, None
+    ss = {q: total(q) for q in grid}
+    qb = min(ss, key=ss.get)
+    dof = sum(len(w) - first + 1 - 2 for w in runs) - 1
+    var = ss[qb] / dof if dof > 0 else math.nan
+    # F_{1, dof} at 95% is t_{0.975, dof}^2
+    lim = ss[qb] + t_quantile(LEVEL, max(dof, 1)) ** 2 * var
+    inside = [q for q in grid if ss[q] <= lim]
+    return qb, min(inside), max(inside), math.sqrt(var)
+
+
+def stationary(w, q, settled_mean=None, rel_sd=None, first=2):
+    """A run's stationary W: (value, standard uncertainty, 'settled' | 'extrapolated'). Settled runs
+    (W_settled given): their W_settled, its uncertainty rel_sd / sqrt(cycles) not counted (0).
+    Otherwise W_inf of the fit with the pooled q over cycles >= first; its uncertainty from the pooled
+    residual scatter (rel_sd, relative) through the fit's leverage."""
+    if settled_mean is not None:
+        return settled_mean, 0.0, "settled"
+    w_inf, _, _, k = geometric_fit(w, q, first)
+    if w_inf is None:
+        return None, None, "extrapolated"
+    pts = [q ** n for n in range(first, len(w) + 1)]
+    mx = sum(pts) / len(pts)
+    sxx = sum((x - mx) ** 2 for x in pts)
+    lev = math.sqrt(1.0 / len(pts) + (mx * mx / sxx if sxx > 0 else 0.0))
+    u = abs(w[-1]) * rel_sd * lev if rel_sd is not None else None
+    return w_inf, u, "extrapolated"
+
+
+# ---------------------------------------------------------------------------------------------
+# Regression
+
+
+def solve(a, b):
+    """Gaussian elimination with partial pivoting: x with a x = b (a square, lists)."""
+    n = len(a)
+    m = [row[:] + [v] for row, v in zip(a, b)]
+    scale = [max(abs(row[i]) for row in a) or 1.0 for i in range(n)]
+    for i in range(n):
+        p = max(range(i, n), key=lambda r: abs(m[r][i]))
+        m[i], m[p] = m[p], m[i]
+        if abs(m[i][i]) <= 1e-12 * scale[i]:  # a column a combination of the others
+            raise ValueError("singular")
+        for r in range(n):
+            if r != i:
+                f = m[r][i] / m[i][i]
+                m[r] = [x - f * y for x, y in zip(m[r], m[i])]
+    return [m[i][n] / m[i][i] for i in range(n)]
+
+
+def inverse(a):
+    n = len(a)
+    cols = [solve(a, [1.0 if i == j else 0.0 for i in range(n)]) for j in range(n)]
+    return [[cols[j][i] for j in range(n)] for i in range(n)]
+
+
+def ols(x, y):
+    """Ordinary least squares y = X b (x: rows of regressors, the intercepts included by the caller):
+    (b, standard errors, residual dof, residual sd)."""
+    k = len(x[0])
+    xtx = [[sum(r[i] * r[j] for r in x) for j in range(k)] for i in range(k)]
+    xty = [sum(r[i] * v for r, v in zip(x, y)) for i in range(k)]
+    b = solve(xtx, xty)
+    res = [v - sum(bi * ri for bi, ri in zip(b, r)) for r, v in zip(x, y)]
+    dof = len(y) - k
+    s2 = sum(e * e for e in res) / dof if dof > 0 else math.nan
+    inv = inverse(xtx)
+    return b, [math.sqrt(s2 * inv[i][i]) for i in range(k)], dof, math.sqrt(s2)
+
+
+def factor_regression(groups, x, y, extra=None):
+    """y on x with one intercept per group (a factor), the slope of x shared, plus optional extra
+    regressors (lists of dicts name -> value per point): (slope, its 95% half width, dof, the other
+    coefficients {name: (b, half width)})."""
+    levels = sorted(set(groups))
+    names = [f"group {g}" for g in levels] + ["slope"] + (sorted(extra[0]) if extra else [])
+    rows = []
+    for i, (g, xv) in enumerate(zip(groups, x)):
+        r = [1.0 if g == lv else 0.0 for lv in levels] + [xv]
+        if extra:
+            r += [extra[i][k] for k in sorted(extra[0])]
+        rows.append(r)
+    b, se, dof, _ = ols(rows, y)
+    t = t_quantile(LEVEL, dof) if dof > 0 else math.nan
+    coef = {n: (bi, t * si) for n, bi, si in zip(names, b, se)}
+    s = coef.pop("slope")
+    return s[0], s[1], dof, coef
