@@ -56,3 +56,44 @@ def test_a_second_thread_is_refused_while_a_stage_runs():
     assert "called from within prepare() (its progress callback)" in from_callback[1]
     assert d.stage == "prepared"  # the run went on undisturbed, and the object is free again
     assert not os.path.exists("never.ckpt")
+
+
+def test_an_interrupted_cycle_is_kept_out_of_W_and_the_records(vacuumed, finished, tmp_path):
+    # Ctrl-C about a third into cycle 1: the partial loop (a third of the samples) used to be
+    # reported by d.W and written to cycles.csv and summary.json as cycle 1, with a W far from
+    # the cycle's. Now only finished cycles count; the partial one is named in the warnings, its
+    # samples stay in forces.csv, and cycle() continues it to the same bits as a run never
+    # interrupted.
+    d = vppdem.Damper.load(vacuumed, settings=SMALL)
+
+    def progress(stage, done, total, time):
+        if stage == "cycle" and done > 0.3 * total:
+            os.kill(os.getpid(), signal.SIGINT)  # as Ctrl-C would
+
+    with pytest.raises(KeyboardInterrupt):
+        d.cycle(progress=progress)
+    spc = SMALL["process.samples_per_cycle"]
+    assert 0 < d.displacement.shape[0] < spc  # the cycle had started
+    assert d.cycles_done == 0 and d.incomplete_cycle == 1
+    assert d.W.shape == (0,)
+    assert all(v.shape == (0,) for v in d.cycles().values())
+    s = d.summary()
+    assert s["cycles"] == []
+    assert any(w.startswith("cycle 1 incomplete") for w in s["warnings"]), s["warnings"]
+    d.write(tmp_path)
+    assert len((tmp_path / "cycles.csv").read_text().splitlines()) == 1  # the header only
+    assert json.loads((tmp_path / "summary.json").read_text())["cycles"] == []
+    assert len((tmp_path / "forces.csv").read_text().splitlines()) == 1 + d.displacement.shape[0]
+    # Cycle 1 done, cycle 2 interrupted the same way: cycle 1 alone is recorded.
+    d.cycle(1)
+    with pytest.raises(KeyboardInterrupt):
+        d.cycle(progress=progress)
+    assert d.cycles_done == 1 and d.incomplete_cycle == 2
+    np.testing.assert_array_equal(d.W, finished.W[:1])
+    assert [c["cycle"] for c in d.summary()["cycles"]] == [1]
+    assert any(w.startswith("cycle 2 incomplete") for w in d.summary()["warnings"])
+    d.cycle()
+    np.testing.assert_array_equal(d.force_total, finished.force_total)
+    np.testing.assert_array_equal(d.W, finished.W)
+    assert d.incomplete_cycle is None and finished.incomplete_cycle is None
+    assert not any("incomplete" in w for w in d.summary()["warnings"])

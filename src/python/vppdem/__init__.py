@@ -18,7 +18,10 @@ works for those; what runs the C++ (Damper, World, load_config, settings, sweep,
 raises ImportError.
 
 Stepping releases the interpreter lock; Ctrl-C stops a run with KeyboardInterrupt (checked every
-256 steps). ``progress``: None (quiet), True (a tqdm bar when tqdm is installed, else a line on
+256 steps): a cycle stopped part way is left out of W, cycles() and the records (summary.json's
+warnings name it, forces.csv keeps its samples) until ``cycle()`` finishes it. One Damper takes
+one call at a time: while a stage, save() or write() runs, a call on it from another thread
+raises RuntimeError (the progress callback, on the running thread, may read it). ``progress``: None (quiet), True (a tqdm bar when tqdm is installed, else a line on
 stderr now and then), or a callable ``f(stage, done, total, time)``.
 """
 
@@ -285,7 +288,16 @@ class Damper:
 
     @property
     def cycles_done(self):
+        """The cycles finished (a cycle stopped part way, by Ctrl-C, does not count)."""
         return self._d.cycles_done()
+
+    @property
+    def incomplete_cycle(self):
+        """The cycle stopped part way (Ctrl-C; a checkpoint written mid-cycle), whose samples are
+        in forces() but which W, cycles() and the records leave out; None when there is none."""
+        c = self.forces()["cycle"]
+        last = int(c[-1]) if c.shape[0] else 0
+        return last if last > self.cycles_done else None
 
     @property
     def time(self):
