@@ -97,3 +97,68 @@ def test_an_interrupted_cycle_is_kept_out_of_W_and_the_records(vacuumed, finishe
     np.testing.assert_array_equal(d.W, finished.W)
     assert d.incomplete_cycle is None and finished.incomplete_cycle is None
     assert not any("incomplete" in w for w in d.summary()["warnings"])
+
+
+@pytest.mark.parametrize("bad", [[("process.cycles", 2)], ["process.cycles=2"], "process.cycles=2"])
+def test_settings_must_be_a_dict(bad, tmp_path):
+    # A list (of pairs, or of "key=value" as sweep's `sets`) used to fail with AttributeError:
+    # 'list' object has no attribute 'items'.
+    for call in (lambda: vppdem.Damper(settings=bad), lambda: vppdem.load_config(settings=bad),
+                 lambda: vppdem.sweep(tmp_path / "never.toml", tmp_path / "out", settings=bad)):
+        with pytest.raises(TypeError, match=r"settings: a dict of dotted keys.*not (list|str)"):
+            call()
+
+
+def test_a_keyword_and_settings_may_not_disagree():
+    # process__cycles=1 used to beat {"process.cycles": 2} in settings without a word.
+    with pytest.raises(ValueError, match=r"'process.cycles' given twice with different values: 2 \(settings\) "
+                                         r"and 1 \(keyword process__cycles\)"):
+        vppdem.load_config(settings={"process.cycles": 2}, process__cycles=1)
+    with pytest.raises(ValueError, match=r"'process.cycles' given twice.*3 \(keyword process__cycles\) and 4 "
+                                         r"\(keyword process.cycles\)"):
+        vppdem.load_config(process__cycles=3, **{"process.cycles": 4})
+    with pytest.raises(ValueError, match="'process.cycles' given twice"):  # a nested table and a dotted key
+        vppdem.load_config(settings={"process": {"cycles": 2}, "process.cycles": 5})
+    with pytest.raises(ValueError, match="'grains.friction' given both in sets and in settings"):
+        vppdem.sweep("never.toml", "never", settings={"grains.friction": 0.3}, sets=["grains.friction=0.5"])
+    # The same value twice says one thing: accepted (2 and 2.0 are one number).
+    assert vppdem.Damper(settings={**SMALL, "process.cycles": 3}, process__cycles=3.0).summary()["inputs"][
+        "process.cycles"] == 3
+    with pytest.raises(ValueError, match="given twice"):  # a bool is not the number 1
+        vppdem.load_config(settings={"output.energy": True}, output__energy=1)
+
+
+def test_write_before_prepare_is_refused(tmp_path):
+    # write() before prepare() used to write records of nothing (forces.csv with a header only,
+    # summary.json without a preparation) that look like a run's.
+    d = vppdem.Damper(settings=SMALL)
+    with pytest.raises(RuntimeError, match=r"write\(\): nothing to write: the damper is at stage 'fill'"):
+        d.write(tmp_path / "out")
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("n,error,text", [
+    (-5, ValueError, r"cycle\(\): n = -5: a whole number >= 1"),
+    (0, ValueError, r"cycle\(\): n = 0: a whole number >= 1 .*or None for all that remain"),
+    (1.5, ValueError, r"cycle\(\): n = 1.5: a whole number"),
+    (True, TypeError, r"cycle\(\): n = True: .* not a bool"),
+    ("2", TypeError, r"cycle\(\): n = '2'"),
+])
+def test_cycle_counts_below_one_are_refused(finished, n, error, text):
+    # cycle(-5) used to run all the cycles that remain (the C++'s n < 0), cycle(1.5) one.
+    with pytest.raises(error, match=text):
+        finished.cycle(n)
+    with pytest.raises(ValueError, match=r"cycle\(\): n = -5"):  # the compiled module's own check
+        finished._d.cycle(-5)
+
+
+def test_sweep_jobs_below_zero_are_refused(tmp_path):
+    # sweep(jobs=-3) used to run; --jobs takes 0 (the free cores) or more.
+    study = tmp_path / "tiny.toml"
+    study.write_text(TINY)
+    for jobs, error in ((-3, ValueError), (1.5, ValueError), ("2", TypeError)):
+        with pytest.raises(error, match=f"jobs = {jobs!r}: a whole number >= 0"):
+            vppdem.sweep(study, tmp_path / "out", jobs=jobs)
+        with pytest.raises(error, match=f"jobs = {jobs!r}: a whole number >= 0"):
+            vppdem.calibrate(study, tmp_path / "exp.csv", tmp_path / "cal", jobs=jobs)
+    assert not (tmp_path / "out").exists() and not (tmp_path / "cal").exists()
