@@ -21,7 +21,7 @@ def test_a_second_thread_is_refused_while_a_stage_runs():
     # used to race it (a second cycle() crashed with a segfault or "double free or corruption").
     # Now it is refused with a RuntimeError saying why, and the running stage is not disturbed.
     d = vppdem.Damper(settings=SMALL)
-    started = threading.Event()
+    started, checked = threading.Event(), threading.Event()
     errors, from_callback = [], []
 
     def progress(stage, done, total, time):
@@ -34,6 +34,7 @@ def test_a_second_thread_is_refused_while_a_stage_runs():
             except RuntimeError as e:
                 from_callback.append(str(e))
             started.set()
+            checked.wait(60)  # the run holds here (the lock released) until the calls below are made
 
     def run():
         try:
@@ -50,6 +51,7 @@ def test_a_second_thread_is_refused_while_a_stage_runs():
             with pytest.raises(RuntimeError, match=r"running prepare\(\) in another thread; one call at a time"):
                 call()
     finally:
+        checked.set()
         t.join()
     assert not errors, errors
     assert from_callback[0] in ("fill", "compress")

@@ -124,7 +124,10 @@ def _same_value(a, b):
         return isinstance(a, bool) and isinstance(b, bool) and a == b
     if isinstance(a, (int, float, np.integer, np.floating)) and isinstance(b, (int, float, np.integer, np.floating)):
         return a == b or (math.isnan(a) and math.isnan(b))
-    return type(a) is type(b) and a == b
+    try:
+        return type(a) is type(b) and bool(a == b)
+    except (TypeError, ValueError):  # e.g. arrays (which no key takes): not the same
+        return False
 
 
 def _put(out, key, v, where, first):
