@@ -15,8 +15,8 @@ sample.save(f"{out}/prepared.ckpt")  # every dp starts from this sample
 with open(f"{out}/series.csv", "w") as f:
     f.write("underpressure,W_last,W_settled\n")
     for dp in [0.02e6, 0.04e6, 0.06e6, 0.08e6]:  # [Pa]
-        d = vppdem.Damper.load(f"{out}/prepared.ckpt", settings=settings,
-                               **{"process.underpressure": dp}).run()
+        # merged into settings: a keyword giving a key that settings give too is refused
+        d = vppdem.Damper.load(f"{out}/prepared.ckpt", settings={**settings, "process.underpressure": dp}).run()
         s = d.summary()
         f.write(f"{dp},{d.W[-1]},{s['W_settled']}\n")
         print(f"dp = {dp / 1e6:.2f} MPa: W = {d.W[-1]:.4g} J/m^2 (last cycle)")

@@ -16,6 +16,8 @@
 #include <chrono>
 #include <cstdint>
 #include <exception>
+#include <limits>
+#include <memory>
 #include <mutex>
 #include <stdexcept>
 #include <thread>
@@ -109,6 +111,59 @@ auto run_stoppable(const py::object& callback, Run run) {
     if (failure) std::rethrow_exception(failure);
     return result;
 }
+
+// vpp::Damper as Python holds it, with who is using it. A stage (prepare, vacuum, cycle) and
+// save/write run without the interpreter lock, so a second Python thread could otherwise call
+// into the same object meanwhile: a second cycle() replaced the progress hook under the running
+// one and both stepped one World (double free, segfault); a read (d.W) walked vectors being
+// grown. Such a call is refused with a RuntimeError rather than serialised behind a lock: the
+// wait would be the rest of a run (minutes to hours) with nothing saying why, and a lock would
+// deadlock the one legitimate nested call, a read from the run's own progress callback (which
+// runs on the running thread, between steps, where the state is consistent: allowed). The
+// fields are read and written only with the interpreter lock held, which orders them.
+struct PyDamper {
+    std::unique_ptr<vpp::Damper> d;
+    const char* running = nullptr;  // the call running without the lock, or nullptr
+    std::thread::id owner;          // the thread it runs on
+
+    [[noreturn]] void refuse(const char* what) const {
+        if (owner != std::this_thread::get_id())
+            throw std::runtime_error(std::string("Damper.") + what + "(): this Damper is running " + running +
+                                     "() in another thread; one call at a time per Damper: wait until it returns "
+                                     "(a progress callback sees the run between steps, on its own thread)");
+        throw std::runtime_error(std::string("Damper.") + what + "(): called from within " + running +
+                                 "() (its progress callback): a stage cannot start while another runs; "
+                                 "call it after " + running + "() returns");
+    }
+    // A call that keeps the lock: refused while another thread runs a call on this object.
+    const vpp::Damper& read(const char* what) const {
+        if (running && owner != std::this_thread::get_id()) refuse(what);
+        return *d;
+    }
+    // Marks a call that releases the lock for its duration. `stage`: it changes the run
+    // (prepare, vacuum, cycle), refused even from the running call's own progress callback;
+    // save and write only read, allowed there.
+    class Run {
+    public:
+        Run(PyDamper& p, const char* what, bool stage) : p_(p) {
+            if (p.running && (stage || p.owner != std::this_thread::get_id())) p.refuse(what);
+            if (!p.running) {
+                p.running = what;
+                p.owner = std::this_thread::get_id();
+                set_ = true;
+            }
+        }
+        ~Run() {
+            if (set_) p_.running = nullptr;  // the lock is held again here (declared before the release)
+        }
+        Run(const Run&) = delete;
+        Run& operator=(const Run&) = delete;
+
+    private:
+        PyDamper& p_;
+        bool set_ = false;
+    };
+};
 
 // n x 3 array of Vec3 [units of the source].
 py::array_t<double> vec3_array(const std::vector<dem::Vec3>& v) {
@@ -259,7 +314,9 @@ PYBIND11_MODULE(_core, m) {
     });
 
     // --- the damper -----------------------------------------------------------------------------
-    py::class_<vpp::Damper>(m, "Damper")
+    // Every method goes through PyDamper's guards (see there): while a stage runs without the
+    // interpreter lock, another thread's call on the same object is refused, not a data race.
+    py::class_<PyDamper>(m, "Damper")
         .def(py::init([](const vpp::Config& c, const std::string& out, const std::string& from, bool overwrite,
                          bool quiet) {
                  vpp::DamperOptions o;
@@ -268,34 +325,49 @@ PYBIND11_MODULE(_core, m) {
                  o.overwrite = overwrite;
                  o.quiet = quiet;
                  o.plot = false;
+                 auto p = std::make_unique<PyDamper>();
                  py::gil_scoped_release release;  // pours the grains (or loads the checkpoint); no step
-                 return std::make_unique<vpp::Damper>(c, o);
+                 p->d = std::make_unique<vpp::Damper>(c, o);
+                 return p;
              }),
              py::arg("config"), py::arg("out") = "", py::arg("from_checkpoint") = "", py::arg("overwrite") = false,
              py::arg("quiet") = true)
-        .def("prepare", [](vpp::Damper& d, py::object progress) {
-                 d.set_progress(python_hook(progress));  // replaced with the lock held: it holds a Python object
+        .def("prepare", [](PyDamper& p, py::object progress) {
+                 PyDamper::Run run(p, "prepare", true);
+                 p.d->set_progress(python_hook(progress));  // replaced with the lock held: it holds a Python object
                  py::gil_scoped_release release;
-                 d.prepare();
+                 p.d->prepare();
              }, py::arg("progress") = py::none())
-        .def("vacuum", [](vpp::Damper& d, py::object progress) {
-                 d.set_progress(python_hook(progress));
+        .def("vacuum", [](PyDamper& p, py::object progress) {
+                 PyDamper::Run run(p, "vacuum", true);
+                 p.d->set_progress(python_hook(progress));
                  py::gil_scoped_release release;
-                 d.vacuum();
+                 p.d->vacuum();
              }, py::arg("progress") = py::none())
-        .def("cycle", [](vpp::Damper& d, int n, py::object progress) {
-                 d.set_progress(python_hook(progress));
+        .def("cycle", [](PyDamper& p, int n, py::object progress) {
+                 // n < 0 is the C++ "all that remain"; only -1 means it here (vppdem.Damper.cycle
+                 // passes -1 for None), so that a negative count is not taken for "all".
+                 if (n < -1) throw std::invalid_argument("cycle(): n = " + std::to_string(n) + ": a count of cycles >= 1 (-1: all that remain)");
+                 PyDamper::Run run(p, "cycle", true);
+                 p.d->set_progress(python_hook(progress));
                  py::gil_scoped_release release;
-                 return d.cycle(n);
+                 return p.d->cycle(n);
              }, py::arg("n") = -1, py::arg("progress") = py::none())
-        .def("save", &vpp::Damper::save, py::arg("path"), py::call_guard<py::gil_scoped_release>())
-        .def("stage", &vpp::Damper::stage)
-        .def("cycles_done", &vpp::Damper::cycles_done)
-        .def("cycles_total", &vpp::Damper::cycles_total)
+        .def("save", [](PyDamper& p, const std::string& path) {
+                 PyDamper::Run run(p, "save", false);
+                 const vpp::Damper& d = *p.d;
+                 py::gil_scoped_release release;
+                 d.save(path);
+             }, py::arg("path"))
+        .def("stage", [](const PyDamper& p) { return p.read("stage").stage(); })
+        .def("cycles_done", [](const PyDamper& p) { return p.read("cycles_done").cycles_done(); })
+        .def("cycles_total", [](const PyDamper& p) { return p.read("cycles_total").cycles_total(); })
+        .def("busy", [](const PyDamper& p) { return p.running ? py::object(py::str(p.running)) : py::object(py::none()); },
+             "The stage call running now (\"prepare\", \"vacuum\", \"cycle\"), or None")
         .def("samples",
-             [](const vpp::Damper& d) {
+             [](const PyDamper& p) {
                  // (n, 4): time [s], displacement [m], grains [N], foil [N]
-                 const auto& s = d.samples();
+                 const auto& s = p.read("samples").samples();
                  py::array_t<double> a({py::ssize_t(s.size()), py::ssize_t(4)});
                  auto v = a.mutable_unchecked<2>();
                  for (std::size_t k = 0; k < s.size(); ++k) {
@@ -307,10 +379,10 @@ PYBIND11_MODULE(_core, m) {
                  return a;
              })
         .def("air",
-             [](const vpp::Damper& d) {
+             [](const PyDamper& p) {
                  // (n, 6): enclosed volume [m^3], gas volume [m^3], p_inside [Pa], dp [Pa], lid
                  // area [m^2], gas work [J]; (0, 6) unless the air is recorded
-                 const auto& s = d.air();
+                 const auto& s = p.read("air").air();
                  py::array_t<double> a({py::ssize_t(s.size()), py::ssize_t(6)});
                  auto v = a.mutable_unchecked<2>();
                  for (std::size_t k = 0; k < s.size(); ++k) {
@@ -320,8 +392,8 @@ PYBIND11_MODULE(_core, m) {
                  return a;
              })
         .def("energy",
-             [](const vpp::Damper& d) {
-                 const auto rows = d.energy();
+             [](const PyDamper& p) {
+                 const auto rows = p.read("energy").energy();
                  const std::size_t nc = vpp::Damper::energy_columns().size();
                  py::array_t<double> a({py::ssize_t(rows.size()), py::ssize_t(nc)});
                  auto v = a.mutable_unchecked<2>();
@@ -331,10 +403,10 @@ PYBIND11_MODULE(_core, m) {
              })
         .def_static("energy_columns", &vpp::Damper::energy_columns)
         .def("cycles",
-             [](const vpp::Damper& d) {
+             [](const PyDamper& p) {
                  // Per cycle, every column of the record's table (vpp/records.h): cycles.csv's and
                  // summary.json's, NaN where a cycle lacks the column's group (no energy ledger).
-                 const vpp::DamperResult r = d.result();
+                 const vpp::DamperResult r = p.read("cycles").result();
                  const double nan = std::numeric_limits<double>::quiet_NaN();
                  py::dict out;
                  for (const vpp::CycleColumn& col : vpp::cycle_columns()) {
@@ -345,10 +417,10 @@ PYBIND11_MODULE(_core, m) {
                  return out;
              })
         .def("forces",
-             [](const vpp::Damper& d) {
+             [](const PyDamper& p) {
                  // forces.csv's columns as arrays (vpp/records.h, sample_columns()), from the same
                  // rows the file is written from.
-                 const vpp::ForcesTable t = d.forces();
+                 const vpp::ForcesTable t = p.read("forces").forces();
                  py::dict out;
                  for (std::size_t j = 0; j < t.columns.size(); ++j) {
                      std::vector<double> v;
@@ -358,20 +430,22 @@ PYBIND11_MODULE(_core, m) {
                  }
                  return out;
              })
-        .def("summary_json", [](const vpp::Damper& d, const std::string& from) {
-                 return vpp::damper_summary_json(d.result(), from);
+        .def("summary_json", [](const PyDamper& p, const std::string& from) {
+                 return vpp::damper_summary_json(p.read("summary_json").result(), from);
              }, py::arg("from_checkpoint") = "")
-        .def("write", [](const vpp::Damper& d, const std::string& out, const std::string& from) {
+        .def("write", [](PyDamper& p, const std::string& out, const std::string& from) {
+                 PyDamper::Run run(p, "write", false);
+                 const vpp::Damper& d = *p.d;
                  vpp::DamperOptions o;
                  o.out_dir = out;
                  o.from = from;
                  py::gil_scoped_release release;
                  vpp::write_damper_outputs(d, o);
              }, py::arg("out"), py::arg("from_checkpoint") = "")
-        .def("config", &vpp::Damper::config, py::return_value_policy::copy)
-        .def("positions", [](const vpp::Damper& d) { return vec3_array(d.world().particles.pos); })
-        .def("radii", [](const vpp::Damper& d) { return double_array(d.world().particles.radius); })
-        .def("time", [](const vpp::Damper& d) { return d.world().time; });
+        .def("config", [](const PyDamper& p) { return p.read("config").config(); })
+        .def("positions", [](const PyDamper& p) { return vec3_array(p.read("positions").world().particles.pos); })
+        .def("radii", [](const PyDamper& p) { return double_array(p.read("radii").world().particles.radius); })
+        .def("time", [](const PyDamper& p) { return p.read("time").world().time; });
 
     // --- the generic World -----------------------------------------------------------------------
     py::class_<dem::World>(m, "World")

@@ -1,5 +1,6 @@
 // The damper run's record: the checkpoint's state (RunState), forces.csv, energy.csv, VTK
 // frames, the result and summary.json, the report on the terminal; run_damper().
+#include <algorithm>
 #include <charconv>
 #include <chrono>
 #include <cmath>
@@ -351,7 +352,18 @@ DamperResult DamperRun::result() const {
     r.inertial_number = inertial_number(c_, z_top_);
     LoopSeries ls;
     const int S = int(c_.process.samples_per_cycle);
-    for (std::size_t k = 0; k < st_.samples.size(); ++k) {
+    // Only the cycles the run finished are analysed: a cycle stopped part way (Ctrl-C in Python,
+    // a run.ckpt written mid-cycle and loaded) has a loop cut short, whose area is not the
+    // cycle's W (77 J/m^2 for 25 of 80 samples where the full cycle gives 388). Its samples stay
+    // in forces.csv (they are data); cycles.csv and summary.json leave it out and say so.
+    const std::size_t complete = std::min(st_.samples.size(), std::size_t(cycles_done()) * std::size_t(S));
+    std::string incomplete;
+    if (complete < st_.samples.size())
+        incomplete = "cycle " + std::to_string(cycles_done() + 1) + " incomplete: the run stopped part way (interrupted, or a "
+                     "checkpoint written mid-cycle), after " + std::to_string(st_.samples.size() - complete) + " of its " +
+                     std::to_string(S) + " samples; left out of W, cycles.csv and summary.json's cycles (forces.csv "
+                     "holds its samples); cycle() continues it";
+    for (std::size_t k = 0; k < complete; ++k) {
         ls.time.push_back(st_.samples[k].time);
         ls.displacement.push_back(st_.samples[k].displacement);
         ls.force.push_back(st_.samples[k].grains + st_.samples[k].foil);
@@ -377,10 +389,10 @@ DamperResult DamperRun::result() const {
         }
     }
     r.settling = mark_settled(r.cycles, c_.analysis.settle_tolerance);
-    if (air_complete(st_)) {
+    if (air_complete(st_) && !ls.force.empty()) {
         // The machine's loop: forces.csv's force_machine_zeroed through the same analysis.
         const double m0 = ls.force[0] - st_.air[0].dp * st_.air[0].lid_area;
-        for (std::size_t k = 0; k < st_.air.size(); ++k) ls.force[k] += -st_.air[k].dp * st_.air[k].lid_area - m0;
+        for (std::size_t k = 0; k < ls.force.size(); ++k) ls.force[k] += -st_.air[k].dp * st_.air[k].lid_area - m0;
         for (const CycleResult& m : analyze_cycles(ls, c_.damper.radius)) {
             AirCycle a;
             a.cycle = m.cycle;
@@ -389,7 +401,7 @@ DamperResult DamperRun::result() const {
             a.min_force_machine = m.min_force;
             a.underpressure_min = a.gas_volume_min = std::numeric_limits<double>::infinity();
             a.underpressure_max = a.gas_volume_max = -std::numeric_limits<double>::infinity();
-            for (std::size_t k = 0; k < st_.air.size(); ++k) {
+            for (std::size_t k = 0; k < ls.cycle.size(); ++k) {
                 if (ls.cycle[k] != m.cycle) continue;
                 a.underpressure_min = std::min(a.underpressure_min, st_.air[k].dp);
                 a.underpressure_max = std::max(a.underpressure_max, st_.air[k].dp);
@@ -401,6 +413,7 @@ DamperResult DamperRun::result() const {
     }
     r.report = st_.report;
     r.warnings = st_.warnings;
+    if (!incomplete.empty()) r.warnings.push_back(incomplete);
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     r.config = c_;
     return r;

@@ -170,10 +170,14 @@ def test_config_errors_carry_the_command_message(key, value, text, tmp_path):
 def test_config_from_file_and_keywords(tmp_path):
     cfg = tmp_path / "c.toml"
     cfg.write_text('[process]\nunderpressure = 0.05e6\ncycles = 3\n')
-    d = vppdem.Damper(cfg, settings=SMALL, process__cycles=1)
+    d = vppdem.Damper(cfg, settings=SMALL)
     s = d.summary()["inputs"]
     assert s["process.underpressure"] == 0.05e6   # from the file
-    assert s["process.cycles"] == 1               # the keyword wins over settings and the file
+    assert s["process.cycles"] == 2               # settings override the file
+    rest = {k: v for k, v in SMALL.items() if k != "process.cycles"}
+    s = vppdem.Damper(cfg, settings=rest, process__cycles=1).summary()["inputs"]
+    assert s["process.cycles"] == 1               # and so does a keyword (one that settings do
+    # not give: the two disagreeing is refused, tests/python/test_safety.py)
     d2 = vppdem.Damper({"process": {"underpressure": 0.04e6}}, **{"damper.radius": 0.012, "damper.height": 0.03})
     assert d2.summary()["inputs"]["process.underpressure"] == 0.04e6
     with pytest.raises(FileNotFoundError if False else vppdem.ConfigError):

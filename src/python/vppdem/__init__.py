@@ -3,12 +3,16 @@
 The same C++ as the ``vppdem`` command runs underneath, so a damper run from here writes the
 same forces.csv as ``vppdem damper`` with the same settings, seed and thread count.
 
-Settings are the damper config's dotted keys (docs/config.md), given three ways, later ones
-winning:
-  * ``config``: a TOML file's path, or a dict (nested tables or dotted keys);
+Settings are the damper config's dotted keys (docs/config.md), given three ways:
+  * ``config``: a TOML file's path, or a dict (nested tables or dotted keys): the base, which
+    the other two override, as ``--set`` overrides the command's config file;
   * ``settings``: a dict of dotted keys, e.g. ``{"process.underpressure": 0.06e6}``;
   * keyword arguments, with ``__`` for the dot: ``process__underpressure=0.06e6`` (or
     ``**{"process.underpressure": 0.06e6}``).
+A key given twice among ``settings`` and the keywords (or twice within one of them, as a
+nested table and a dotted key) with two different values is refused (ValueError naming the key
+and both values): neither is more deliberate than the other. To override a dict's value, merge
+it first: ``settings={**base, "process.underpressure": dp}``.
 A bad key or value raises ``vppdem.ConfigError`` (a ValueError) with the command's message.
 
 Plots of output folders (no compiled module needed): ``vppdem.plot.damper(dir)``, ``.sweep(dir)``,
@@ -18,7 +22,10 @@ works for those; what runs the C++ (Damper, World, load_config, settings, sweep,
 raises ImportError.
 
 Stepping releases the interpreter lock; Ctrl-C stops a run with KeyboardInterrupt (checked every
-256 steps). ``progress``: None (quiet), True (a tqdm bar when tqdm is installed, else a line on
+256 steps): a cycle stopped part way is left out of W, cycles() and the records (summary.json's
+warnings name it, forces.csv keeps its samples) until ``cycle()`` finishes it. One Damper takes
+one call at a time: while a stage, save() or write() runs, a call on it from another thread
+raises RuntimeError (the progress callback, on the running thread, may read it). ``progress``: None (quiet), True (a tqdm bar when tqdm is installed, else a line on
 stderr now and then), or a callable ``f(stage, done, total, time)``.
 """
 
@@ -110,31 +117,75 @@ def _literal(key, v):
     raise ConfigError(f"config key '{key}': cannot use a value of type {type(v).__name__} ({v!r})")
 
 
-def _flatten(d, prefix=""):
-    out = {}
+def _same_value(a, b):
+    """Whether two values of one key say the same: equal numbers (2 and 2.0), or the same
+    literal (True is not 1 here: the readers tell a boolean from an integer)."""
+    if isinstance(a, bool) or isinstance(b, bool):
+        return isinstance(a, bool) and isinstance(b, bool) and a == b
+    if isinstance(a, (int, float, np.integer, np.floating)) and isinstance(b, (int, float, np.integer, np.floating)):
+        return a == b or (math.isnan(a) and math.isnan(b))
+    try:
+        return type(a) is type(b) and bool(a == b)
+    except (TypeError, ValueError):  # e.g. arrays (which no key takes): not the same
+        return False
+
+
+def _put(out, key, v, where, first):
+    """out[key] = v, refusing a second, different value of the key (`where` names the source of
+    v, `first` that of the value already there)."""
+    if key in out and not _same_value(out[key], v):
+        raise ValueError(f"config key '{key}' given twice with different values: {out[key]!r} ({first[key]}) and "
+                         f"{v!r} ({where}); give it once (to override a dict's value, merge it first: "
+                         f"settings={{**base, '{key}': value}})")
+    if key not in out:
+        out[key] = v
+        first[key] = where
+
+
+def _flatten(d, prefix="", where="settings", out=None, first=None):
+    """A dict of nested tables and dotted keys as {dotted key: value}; the same key twice (a
+    nested table and a dotted key) is refused unless the values agree."""
+    out = {} if out is None else out
+    first = {} if first is None else first
     for k, v in d.items():
         key = f"{prefix}.{k}" if prefix else str(k)
         if isinstance(v, dict):
-            out.update(_flatten(v, key))
+            _flatten(v, key, where, out, first)
         else:
-            out[key] = v
+            _put(out, key, v, where, first)
     return out
 
 
+def _dict_argument(name, d):
+    """The settings dict `name`, or a TypeError naming what it is instead (a list of pairs or of
+    "key=value" strings used to fail with AttributeError: 'list' object has no attribute 'items')."""
+    if d is None:
+        return {}
+    if not isinstance(d, dict):
+        raise TypeError(f"{name}: a dict of dotted keys, e.g. {{\"process.underpressure\": 0.06e6}}, not "
+                        f"{type(d).__name__} ({d!r:.80})")
+    return d
+
+
 def _sets(config, settings, kwargs):
-    """(path of the TOML file or "", the key=value overrides in order)."""
-    path, values = "", {}
+    """(path of the TOML file or "", the key=value overrides in order). `config` (a file or a
+    dict) is the base; `settings` and the keywords override it, and may not disagree with each
+    other (a keyword used to beat the same key in `settings` without a word)."""
+    path, base = "", {}
     if config is None:
         pass
     elif isinstance(config, (str, os.PathLike)):
         path = os.fspath(config)
     elif isinstance(config, dict):
-        values.update(_flatten(config))
+        base = _flatten(config, where="config")
     else:
         raise TypeError(f"config: a TOML file's path or a dict, not {type(config).__name__}")
-    values.update(_flatten(settings or {}))
-    values.update({k.replace("__", "."): v for k, v in kwargs.items()})
-    return path, [f"{k}={_literal(k, v)}" for k, v in values.items()]
+    values, first = {}, {}
+    _flatten(_dict_argument("settings", settings), out=values, first=first)
+    for k, v in kwargs.items():
+        _put(values, k.replace("__", "."), v, f"keyword {k}", first)
+    base.update(values)
+    return path, [f"{k}={_literal(k, v)}" for k, v in base.items()]
 
 
 def load_config(config=None, settings=None, **kwargs):
@@ -210,6 +261,27 @@ class _CaseProgress(_Bar):
         print(f"[{done}/{total}] {case}", file=sys.stderr)
 
 
+def _count(name, v, low, high=None, also=""):
+    """v as an int, refusing a bool, a non-integer (1.5; int() would cut it) and a value outside
+    [low, high], with a message naming `name`, v and what is allowed (`also`: what else is)."""
+    import operator
+
+    allowed = f"a whole number >= {low}" + ("" if high is None else f" and <= {high}") + also
+    if isinstance(v, bool):
+        raise TypeError(f"{name} = {v!r}: {allowed}, not a bool")
+    try:
+        i = operator.index(v)
+    except TypeError:
+        if isinstance(v, (float, np.floating)) and math.isfinite(v) and float(v).is_integer():
+            i = int(v)  # 3.0 is three
+        else:
+            raise (ValueError if isinstance(v, (float, np.floating)) else TypeError)(
+                f"{name} = {v!r}: {allowed}") from None
+    if i < low or (high is not None and i > high):
+        raise ValueError(f"{name} = {i}: {allowed}")
+    return i
+
+
 def _run(call, progress, *args, callback=_Progress, **kwargs):
     """call(*args, hook, **kwargs): hook a `callback` made from progress (None when progress is
     None or False), closed (its bar) however the call ends."""
@@ -255,8 +327,11 @@ class Damper:
         return self
 
     def cycle(self, n=None, progress=None):
-        """Run n more cycles (None: all of process.cycles that remain); returns the cycles done."""
-        return _run(self._d.cycle, progress, -1 if n is None else int(n))
+        """Run n more cycles (None: all of process.cycles that remain); returns the cycles done.
+        n is a whole number >= 1: cycle(-5) used to run all the cycles that remain, and
+        int() turned 1.5 into 1."""
+        return _run(self._d.cycle, progress, -1 if n is None else _count("cycle(): n", n, 1, 2**31 - 1,
+                                                                       ", or None for all that remain"))
 
     def run(self, progress=None):
         """All stages: prepare, vacuum, every cycle."""
@@ -274,6 +349,13 @@ class Damper:
         out = os.fspath(out) if out is not None else self._out
         if not out:
             raise ValueError("write(): no folder: give out here or to Damper(out=...)")
+        # Before the sample is prepared there is nothing to record: the files would be empty
+        # records that look like a run's (forces.csv with a header only, summary.json without a
+        # preparation).
+        stage = self.stage
+        if stage in ("fill", "compress"):
+            raise RuntimeError(f"write(): nothing to write: the damper is at stage '{stage}', before its sample is "
+                               "prepared; run prepare(), vacuum(), cycle() or run() first")
         os.makedirs(out, exist_ok=True)
         self._d.write(out, self._from)
 
@@ -285,7 +367,16 @@ class Damper:
 
     @property
     def cycles_done(self):
+        """The cycles finished (a cycle stopped part way, by Ctrl-C, does not count)."""
         return self._d.cycles_done()
+
+    @property
+    def incomplete_cycle(self):
+        """The cycle stopped part way (Ctrl-C; a checkpoint written mid-cycle), whose samples are
+        in forces() but which W, cycles() and the records leave out; None when there is none."""
+        c = self.forces()["cycle"]
+        last = int(c[-1]) if c.shape[0] else 0
+        return last if last > self.cycles_done else None
 
     @property
     def time(self):
@@ -391,17 +482,36 @@ class Damper:
         return self._d.radii()
 
 
+def _study_sets(sets, settings):
+    """The fixed overrides of a study: `sets` ("key=value" strings, as --set) and `settings` (a
+    dict); a key in both is refused (which one would win is not what either says)."""
+    if sets is None:
+        sets = []
+    if not isinstance(sets, (str, bytes, dict)):
+        sets = list(sets)
+    if isinstance(sets, (str, bytes, dict)) or not all(isinstance(s, str) for s in sets):
+        raise TypeError(f"sets: a list of \"key=value\" strings, as --set takes, not {sets!r:.80}")
+    extra = _sets(None, settings, {})[1]
+    given = {s.split("=", 1)[0].strip() for s in sets}
+    for s in extra:
+        key = s.split("=", 1)[0]
+        if key in given:
+            raise ValueError(f"config key '{key}' given both in sets and in settings; give it once")
+    return list(sets) + extra
+
+
 def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None, progress=None, backend="cpu"):
     """`vppdem sweep STUDY --out OUT`: runs (or resumes) the study; returns the failed cases'
     count. sets: ["key=value", ...] or `settings` (a dict) fixed for every case.
     backend: "cpu", "batch" or "cuda", as the command's --backend (docs/studies.md, docs/gpu.md).
+    jobs: cases at once, as --jobs (0: the free cores / threads per case; >= 0).
     progress: None, True (a tqdm bar over the cases, else a line per case on stderr) or a
     callable progress(done, total, case) called after each finished case. Ctrl-C, or an
     exception of the callable, stops the sweep and is raised; finished cases stay, and the
     same call resumes it."""
-    extra = list(sets or []) + _sets(None, settings, {})[1]
-    return _run(_core.sweep, progress, os.fspath(study_path), os.fspath(out), extra, int(seeds), int(jobs),
-                bool(quiet), callback=_CaseProgress, backend=str(backend))
+    extra = _study_sets(sets, settings)
+    return _run(_core.sweep, progress, os.fspath(study_path), os.fspath(out), extra, int(seeds),
+                _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), callback=_CaseProgress, backend=str(backend))
 
 
 def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None,
@@ -414,9 +524,9 @@ def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=Tru
     progress and Ctrl-C as in sweep()."""
     if displacement_unit not in ("m", "mm") or force_unit not in ("N", "kN"):
         raise ValueError("displacement_unit: 'm' or 'mm'; force_unit: 'N' or 'kN'")
-    extra = list(sets or []) + _sets(None, settings, {})[1]
+    extra = _study_sets(sets, settings)
     rc = _run(_core.calibrate, progress, os.fspath(study_path), os.fspath(experiment), os.fspath(out), extra,
-              int(seeds), int(jobs), bool(quiet), 1e-3 if displacement_unit == "mm" else 1.0,
+              int(seeds), _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), 1e-3 if displacement_unit == "mm" else 1.0,
               1e3 if force_unit == "kN" else 1.0, bool(compression_negative), simulated_force,
               int(points), bool(plot), time_column, displacement_column, force_column, callback=_CaseProgress)
     path = os.path.join(os.fspath(out), "calibration.json")
