@@ -926,6 +926,20 @@ def timestep_figure(figdir, caption, grid, runs, complete, fit):
     return name
 
 
+def ref_runs(ts):
+    """Which published runs give the time step's reference level (the assembly's sources.csv): 'the
+    friction study's runs (seeds 1-3) and the radius_underpressure study's runs (seeds 4-5)'."""
+    by = {}
+    for r in ts.runs:
+        if r.get("status") == "ok" and same(r.get(TS_KEY), TS_STUDIES):
+            study = ts.sources.get(r.get("case"), "timestep").split("/")[0]
+            by.setdefault(study, []).append(int(float(r[SEED])))
+    if not by:
+        return "pending (no runs)"
+    return " and ".join(f"the {st} study's runs (seed{'s' if len(v) > 1 else ''} {', '.join(map(str, sorted(v)))})"
+                        for st, v in sorted(by.items(), key=lambda x: min(x[1])))
+
+
 def timestep_section(S, figdir, caption):
     """Issue 44, item 2: W of cycle 2 per seed at every dt_safety of the grid, its Richardson
     extrapolation to a zero step over the seeds with every level (rules.richardson: W0_i + a_i s^p, p
@@ -938,8 +952,8 @@ def timestep_section(S, figdir, caption):
     pct = rules.CONVERGED * 100
     lines = [f"Paired runs: each seed's levels of `{TS_KEY}` branch from one prepared sample (0.06 MPa, 0.01 m/s, "
              f"2 cycles; studies/paper/report/timestep.toml: {', '.join(f'{s:g}' for s in grid)}, {planned} seeds); "
-             f"{TS_STUDIES:g}, the studies' value, is the friction study's mu 0.6 runs (seeds 1-3) and the radius "
-             "study's 25.5 mm, 0.06 MPa runs (seeds 4-5). dt is proportional to s = dt_safety. W of cycle 2 [J/m2]:", ""]
+             f"{TS_STUDIES:g}, the studies' value, is {ref_runs(ts)}. dt is proportional to s = dt_safety. "
+             "W of cycle 2 [J/m2]:", ""]
     seeds = sorted(runs)
     lines += ["| seed | " + " | ".join(f"{s:g}" for s in grid) + " |", "|---" * (len(grid) + 1) + "|"]
     for i in seeds:
@@ -966,8 +980,8 @@ def timestep_section(S, figdir, caption):
                  f"{len(complete) * len(grid)} points)" + prov + ".")
     lines.append(f"- Order: p = {fit['p']:.2f} (95% range {fit['p_lo']:.2f}-{fit['p_hi']:.2f}, profile F test as for the "
                  f"stationary W's q, {fit['dof']} dof{edge}); the fit's residual sd {fit['sd']:.1f} J/m2; summed squared "
-                 f"residuals at p = 1: {fit['rss'][1]:.0f}, at p = 2: {fit['rss'][2]:.0f}, at p = {fit['p']:.2f}: "
-                 f"{fit['rss'][fit['p']]:.0f} (" + (" and ".join(f"p = {p}" for p in inside) + " inside the range"
+                 f"residuals at p = 1: {fit['rss'][1]:.0f}, at p = 2: {fit['rss'][2]:.0f}"
+                 + ("" if fit["p"] in (1.0, 2.0) else f", at p = {fit['p']:.2f}: {fit['rss'][fit['p']]:.0f}") + " (" + (" and ".join(f"p = {p}" for p in inside) + " inside the range"
                                                     if inside else "neither p = 1 nor p = 2 inside the range") + ").")
     lines.append("- Converged W (s -> 0), per seed: " + ", ".join(f"{i}: {fit['w0'][i]:.0f}" for i in complete)
                  + f"; mean **{m:.0f} +- {h:.0f} J/m2** (95% Student t over the {n} seeds, sd {sd:.0f}: the samples' "
