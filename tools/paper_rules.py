@@ -210,13 +210,24 @@ def pooled_rate(runs, first=2, grid=None):
     if not runs:
         return None, None, None, None
     ss = {q: total(q) for q in grid}
-    qb = min(ss, key=ss.get)
     dof = sum(len(w) - first + 1 - 2 for w in runs) - 1
-    var = ss[qb] / dof if dof > 0 else math.nan
-    # F_{1, dof} at 95% is t_{0.975, dof}^2
-    lim = ss[qb] + t_quantile(LEVEL, max(dof, 1)) ** 2 * var
-    inside = [q for q in grid if ss[q] <= lim]
-    return qb, min(inside), max(inside), math.sqrt(var)
+    qb, lo, hi, var = profile_range(ss, dof)
+    return qb, lo, hi, math.sqrt(var)
+
+
+def profile_range(ss, dof):
+    """One parameter's profile least squares: ss {value: summed squared residuals with the other
+    parameters fitted}, dof the residual degrees of freedom at the best value. (best, lowest and
+    largest value inside the 95% range, residual variance): the range holds the values whose summed
+    residuals exceed the least by less than F_{1, dof} (= t_{0.975, dof}^2) times the residual
+    variance; without dof it is the whole grid (variance NaN)."""
+    best = min(ss, key=ss.get)
+    if dof <= 0:
+        return best, min(ss), max(ss), math.nan
+    var = ss[best] / dof
+    lim = ss[best] + t_quantile(LEVEL, dof) ** 2 * var
+    inside = [v for v in ss if ss[v] <= lim]
+    return best, min(inside), max(inside), var
 
 
 def stationary(w, q, settled_mean=None, rel_sd=None, first=2):
@@ -335,16 +346,13 @@ def richardson(runs, grid=None):
     def w0s(p):
         return {i: power_fit(list(w), list(w.values()), p)[:2] for i, w in runs.items()}
     ss = {p: total(p) for p in grid}
-    pb = min(ss, key=ss.get)
     dof = sum(len(w) - 2 for w in runs.values()) - 1
-    var = ss[pb] / dof if dof > 0 else math.nan
-    lim = ss[pb] + t_quantile(LEVEL, max(dof, 1)) ** 2 * var if dof > 0 else math.inf
-    inside = [p for p in grid if ss[p] <= lim]
+    pb, lo, hi, var = profile_range(ss, dof)  # as the stationary W's decay ratio (pooled_rate)
+    inside = [p for p in grid if lo <= p <= hi]
     ends = [e for e, x in (("low", grid[0]), ("high", grid[-1])) if x in inside]
     fit = w0s(pb)
     means = [interval([v[0] for v in w0s(p).values()])[1] for p in inside]
-    return {"p": pb, "p_lo": min(inside), "p_hi": max(inside), "open": " and ".join(ends), "dof": dof,
-            "sd": math.sqrt(var) if dof > 0 else math.nan, "rss": {1: total(1.0), 2: total(2.0), pb: ss[pb]},
+    return {"p": pb, "p_lo": lo, "p_hi": hi, "open": " and ".join(ends), "dof": dof, "sd": math.sqrt(var), "rss": {1: total(1.0), 2: total(2.0), pb: ss[pb]},
             "seeds": sorted(runs), "w0": {i: v[0] for i, v in fit.items()}, "a": {i: v[1] for i, v in fit.items()},
             "mean": interval([v[0] for v in fit.values()]), "mean_range": (min(means), max(means))}
 
