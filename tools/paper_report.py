@@ -22,6 +22,7 @@ write: reads TMP-made tables published into DATA/<study>/ (summary.csv, summary_
 import json
 import math
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -843,6 +844,182 @@ def packing_section(S, figdir, caption):
     return lines, name
 
 
+def current_default(key, path="src/vpp/settings.cpp"):
+    """The default of a setting as src/vpp/settings.cpp declares it ({.key = "KEY", ... .def = X});
+    None where the file or the key is not there."""
+    try:
+        with open(path) as f:
+            text = f.read()
+    except OSError:
+        return None
+    m = re.search(r'\.key\s*=\s*"' + re.escape(key) + r'"[^}]*?\.def\s*=\s*([-+0-9.eE]+)', text)
+    return float(m.group(1)) if m else None
+
+
+TS_KEY = "simulation.dt_safety"
+TS_STUDIES = 0.45  # the studies' dt_safety (every study of studies/paper/ ran at it)
+
+
+def timestep_runs(ts):
+    """The time-step study's grid (studies/paper/report/timestep.toml, descending), its planned seeds,
+    and W of cycle 2 (the 2-cycle assembly's last) per seed and level: (grid, seeds, {seed: {s: W}})."""
+    t = read_study("studies/paper/report/timestep.toml")
+    grid = sorted((float(v) for v in t.get("grid", {}).get(TS_KEY, [])), reverse=True)
+    runs = {}
+    for s in grid:
+        for seed, w in ts.vals("W", None, **{TS_KEY: s}).items():
+            runs.setdefault(seed, {})[s] = w
+    return grid, int(t.get("seeds", 1)), runs
+
+
+def timestep_figure(figdir, caption, grid, runs, complete, fit):
+    """FIGDIR/paper_timestep.png: W of cycle 2 against dt_safety, each seed a line; with a fit
+    (rules.richardson over the seeds `complete`) the mean of those seeds per level with its 95%
+    interval, the fitted mean curve W0 + a s^p and W0 at s = 0 with its interval. Returns its name."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    f, axes = plt.subplots(1, 2 if fit else 1, figsize=(11.0 if fit else 6.2, 4.4), squeeze=False)
+    ax = axes[0][0]
+    for i in sorted(runs):
+        xs = [s for s in grid if s in runs[i]]
+        ax.plot(xs, [runs[i][s] for s in xs], "-o", ms=3, lw=0.8, alpha=0.45, label=f"seed {i}")
+    if fit:
+        n, m, _, h = fit["mean"]
+        iv = [rules.interval([runs[i][s] for i in complete]) for s in grid]
+        ax.errorbar(grid, [v[1] for v in iv], yerr=[v[3] for v in iv], fmt="ks", capsize=4,
+                    label=f"mean, 95% CI ({n} seeds)")
+        ma = sum(fit["a"][i] for i in complete) / n
+        xx = [max(grid) * k / 100 for k in range(101)]
+        ax.plot(xx, [m + ma * x ** fit["p"] for x in xx], "k--", lw=1.2, label=f"fit W0 + a s^{fit['p']:.2f}")
+        ax.errorbar([0.0], [m], yerr=[h], fmt="r*", ms=10, capsize=5, label=f"W0 {m:.0f} +- {h:.0f}")
+        title = "Time step: W against dt_safety, Richardson extrapolation"
+        bias = rules.level_bias({i: runs[i] for i in complete}, fit["w0"])
+        bx = axes[0][1]
+        tol = 100 * rules.CONVERGED
+        bx.axhspan(-tol, tol, color="g", alpha=0.12, label=f"+-{tol:g}% of W0")
+        bx.errorbar(grid, [100 * bias[s][1] for s in grid], yerr=[100 * bias[s][3] for s in grid], fmt="ks",
+                    capsize=4, label="mean bias, 95% CI (paired)")
+        bx.plot(xx, [100 * ma * x ** fit["p"] / m for x in xx], "k--", lw=1.2, label="fit")
+        bx.axhline(0, color="k", lw=0.6)
+        bx.set_xlabel("dt_safety s")
+        bx.set_ylabel("bias (W(s) - W0) / W0 [%]")
+        bx.set_xlim(-0.02, max(grid) + 0.03)
+        bx.set_title("Bias of each level against the converged W", fontsize=10)
+        bx.grid(alpha=0.3)
+        bx.legend(fontsize=7)
+    else:
+        title = "Time step: W against dt_safety (levels pending: no extrapolation yet)"
+    ax.set_xlabel("dt_safety s (dt proportional to s)")
+    ax.set_ylabel("W of cycle 2 [J/m$^2$]")
+    ax.set_xlim(-0.02, max(grid) + 0.03)
+    ax.set_title(title, fontsize=10)
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=7, ncol=2)
+    f.text(0.01, 0.005, caption, fontsize=7, va="bottom")
+    f.tight_layout(rect=(0, 0.04, 1, 1))
+    name = "paper_timestep.png"
+    path = os.path.join(figdir, name)
+    f.savefig(path + ".part.png", dpi=110)
+    os.replace(path + ".part.png", path)
+    plt.close(f)
+    return name
+
+
+def ref_runs(ts):
+    """Which published runs give the time step's reference level (the assembly's sources.csv): 'the
+    friction study's runs (seeds 1-3) and the radius_underpressure study's runs (seeds 4-5)'."""
+    by = {}
+    for r in ts.runs:
+        if r.get("status") == "ok" and same(r.get(TS_KEY), TS_STUDIES):
+            study = ts.sources.get(r.get("case"), "timestep").split("/")[0]
+            by.setdefault(study, []).append(int(float(r[SEED])))
+    if not by:
+        return "pending (no runs)"
+    return " and ".join(f"the {st} study's runs (seed{'s' if len(v) > 1 else ''} {', '.join(map(str, sorted(v)))})"
+                        for st, v in sorted(by.items(), key=lambda x: min(x[1])))
+
+
+def timestep_section(S, figdir, caption):
+    """Issue 44, item 2: W of cycle 2 per seed at every dt_safety of the grid, its Richardson
+    extrapolation to a zero step over the seeds with every level (rules.richardson: W0_i + a_i s^p, p
+    shared), each level's bias against it (rules.level_bias, paired), and the default rule
+    (rules.converged_level: the largest level within 2%). Levels without runs are named pending and
+    nothing is extrapolated until two seeds have every level. Returns (lines, figure or None, a
+    sentence for C5 or None)."""
+    ts = S["timestep"]
+    grid, planned, runs = timestep_runs(ts)
+    pct = rules.CONVERGED * 100
+    lines = [f"Paired runs: each seed's levels of `{TS_KEY}` branch from one prepared sample (0.06 MPa, 0.01 m/s, "
+             f"2 cycles; studies/paper/report/timestep.toml: {', '.join(f'{s:g}' for s in grid)}, {planned} seeds); "
+             f"{TS_STUDIES:g}, the studies' value, is {ref_runs(ts)}. dt is proportional to s = dt_safety. "
+             "W of cycle 2 [J/m2]:", ""]
+    seeds = sorted(runs)
+    lines += ["| seed | " + " | ".join(f"{s:g}" for s in grid) + " |", "|---" * (len(grid) + 1) + "|"]
+    for i in seeds:
+        lines.append(f"| {i} | " + " | ".join(f"{runs[i][s]:.0f}" if s in runs[i] else "-" for s in grid) + " |")
+    count = {s: sum(1 for i in seeds if s in runs[i]) for s in grid}
+    lines.append("| seeds in | " + " | ".join(f"{count[s]} of {planned}" for s in grid) + " |")
+    lines.append("")
+    pending = [s for s in grid if count[s] < planned]
+    if pending:
+        lines.append("- Pending: " + ", ".join(f"{s:g} ({count[s]} of {planned} seeds)" for s in pending) + ".")
+    complete = [i for i in seeds if all(s in runs[i] for s in grid)]
+    if len(grid) < 3 or len(complete) < 2:
+        lines.append(f"- Converged W, order, biases and the default: pending (the extrapolation takes the seeds with "
+                     f"every level of the grid, at least 2; {len(complete)} so far).")
+        return lines, timestep_figure(figdir, caption, grid, runs, complete, None) if runs else None, None
+    fit = rules.richardson({i: runs[i] for i in complete})
+    n, m, sd, h = fit["mean"]
+    prov = f" (provisional: {n} of {planned} planned seeds)" if n < planned else ""
+    edge = f"; the range reaches the grid's {fit['open']} end, so p is not bounded there" if fit["open"] else ""
+    inside = [p for p in (1, 2) if fit["p_lo"] <= p <= fit["p_hi"]]
+    lines.append(f"- Model (Richardson extrapolation): W_i(s) = W0_i + a_i s^p for seed i, W0_i and a_i per seed, the "
+                 f"order p shared, fitted by profile least squares over p = {rules.P_GRID[0]:g}-{rules.P_GRID[-1]:g} "
+                 f"(step 0.01) over the {n} seeds with every level ({', '.join(map(str, complete))}; "
+                 f"{len(complete) * len(grid)} points)" + prov + ".")
+    lines.append(f"- Order: p = {fit['p']:.2f} (95% range {fit['p_lo']:.2f}-{fit['p_hi']:.2f}, profile F test as for the "
+                 f"stationary W's q, {fit['dof']} dof{edge}); the fit's residual sd {fit['sd']:.1f} J/m2; summed squared "
+                 f"residuals at p = 1: {fit['rss'][1]:.0f}, at p = 2: {fit['rss'][2]:.0f}"
+                 + ("" if fit["p"] in (1.0, 2.0) else f", at p = {fit['p']:.2f}: {fit['rss'][fit['p']]:.0f}") + " (" + (" and ".join(f"p = {p}" for p in inside) + " inside the range"
+                                                    if inside else "neither p = 1 nor p = 2 inside the range") + ").")
+    lines.append("- Converged W (s -> 0), per seed: " + ", ".join(f"{i}: {fit['w0'][i]:.0f}" for i in complete)
+                 + f"; mean **{m:.0f} +- {h:.0f} J/m2** (95% Student t over the {n} seeds, sd {sd:.0f}: the samples' "
+                 f"scatter); over p's 95% range the mean lies at {fit['mean_range'][0]:.0f}-{fit['mean_range'][1]:.0f}.")
+    bias = rules.level_bias({i: runs[i] for i in complete}, fit["w0"])
+
+    def btxt(s):
+        bn, bm, _, bh = bias[s]
+        return f"{100 * bm:+.1f}% +- {100 * bh:.1f}% ({100 * (bm - bh):+.1f}% to {100 * (bm + bh):+.1f}%)"
+    lines.append("- Bias of each level, (W_i(s) - W0_i) / W0_i paired over the seeds (mean +- 95% half width): "
+                 + "; ".join(f"{s:g}: {btxt(s)}" for s in grid) + ".")
+    if TS_STUDIES in bias:
+        lines.append(f"- The studies' time step ({TS_STUDIES:g}) lies {btxt(TS_STUDIES)} from the converged W: every W of "
+                     "the studies carries this bias; their differences, taken at one step, carry it only as far as it "
+                     "differs between the cases.")
+    chosen, tight, finer = rules.converged_level(bias)
+    default = current_default(TS_KEY)
+    if chosen is None:
+        rule = (f"no level of the grid has its mean bias within {pct:g}% (the finest, {min(grid):g}, "
+                f"{btxt(min(grid))}): a finer level is needed before a default can be chosen")
+    else:
+        rule = (f"the largest dt_safety whose mean bias lies within {pct:g}% of the converged W: **{chosen:g}** (its 95% "
+                f"interval {'lies' if tight else 'does not lie'} within +-{pct:g}%)")
+        if finer:
+            rule += "; a finer level's mean lies outside it: " + ", ".join(f"{s:g}" for s in finer)
+        if default is not None and not same(default, chosen):
+            rule += f". The current default is {default:g} (src/vpp/settings.cpp): **default to change to {chosen:g}**"
+        elif default is not None:
+            rule += f". The current default ({default:g}, src/vpp/settings.cpp) is that level: it stays"
+    lines.append(f"- Default rule (issue 44): {rule}{prov}.")
+    c5 = (f"converged W (Richardson over {n} seeds, section 'Time step converged'): {m:.0f} +- {h:.0f} J/m2; "
+          f"dt_safety {TS_STUDIES:g} biased {btxt(TS_STUDIES)}" if TS_STUDIES in bias else
+          f"converged W (Richardson over {n} seeds): {m:.0f} +- {h:.0f} J/m2")
+    c5 += "; default rule: " + (f"{chosen:g}" if chosen is not None else "none of the grid") + prov
+
+    return lines, timestep_figure(figdir, caption, grid, runs, complete, fit), c5
+
+
 def share_section(S, raw):
     """C33: the friction share of the dissipation (energy ledger: friction / (friction + damping +
     viscous) of the last cycle) against the local damping (the damping study: each lambda its own
@@ -1113,6 +1290,7 @@ def write(data, out_md, figdir, command):
         ts_levels.append(f"{lv:g}: " + (f"{x.text()} (n {x.n})" if x.ok else
                                         f"{x.d:+.0f} (one seed)" if x.n == 1 else "pending"))
     tfo = compare(fo, "Wq", "Welch", "foil.particle_radius", 9.883333333333333e-4, 7.4125e-4, False).text()
+    ts_lines, ts_fig, ts_c5 = timestep_section(S, figdir, caption)
 
     # ---- figures
     if any(fnum(c.get(f"{ru.q}_mean")) is not None for c in ru.cases):
@@ -1250,7 +1428,8 @@ def write(data, out_md, figdir, command):
         ("C4", "Frictionless pour to 54%, then the cap down to H_p (preparation)", "54% of pi r_p^2 H_p", c4, c4v),
         ("C5", "500 samples per cycle, step about 2e-6 s", "",
          f"dt 1.84e-6 s (safety 0.45), 500 samples per cycle; dt_safety 0.25 from the same samples, cycle 2 W "
-         f"[J/m2], paired: {tdw}", c5v),
+         f"[J/m2], paired: {tdw}" + (f"; {ts_c5}" if ts_c5 else "; converged W: pending (section 'Time step converged')"),
+         c5v),
         ("C6", "Forces on the cap (grains) and on the top ring (foil) recorded apart", "",
          "`force_grains`, `force_foil` in forces.csv", "reproduced (no split numbers compared)"),
         ("C7", "An empty envelope under underpressure folds with self-contact", "0.01 MPa",
@@ -1339,6 +1518,11 @@ def write(data, out_md, figdir, command):
         f"- **Saturation** (C17, C20): per seed, the later step's change as a fraction of the earlier step's (per unit "
         f"of the varied key where the steps differ in length); saturating where the 95% interval of that ratio lies "
         f"below {rules.SATURATION:g}, not saturating where it lies above.",
+        f"- **Convergence** (time step, section 'Time step converged'): W_i(s) = W0_i + a_i s^p in the numerical "
+        f"parameter s per seed i, the order p shared by the seeds (profile least squares over p = "
+        f"{rules.P_GRID[0]:g}-{rules.P_GRID[-1]:g}, its 95% range by the profile F test), the converged W the mean "
+        f"of the W0_i with its 95% Student-t interval over the seeds; a level's bias (W_i(s) - W0_i) / W0_i paired "
+        f"over the seeds; the default the largest level whose mean bias lies within {100 * rules.CONVERGED:g}%.",
         "- **Which W**: a run's W of its last cycle (cycle 5; 8 for the friction leg; 2 for the numerical checks), or "
         "its study's W_settled where every run of the study is stationary by the settle criterion (docs/damper.md). "
         "Every W verdict is recomputed on each run's stationary W (W_settled, or extrapolated: section 'Stationary "
@@ -1424,6 +1608,11 @@ def write(data, out_md, figdir, command):
               "without runs pending): " + "; ".join(ts_levels) + ".",
               f"- Foil resolution: foil particles of r_k/4 against r_k/3 (other samples, {sfo} seeds, 2 cycles): cycle 2's W "
               f"[J/m2], Welch: {tfo}.", ""]
+    lines += ["## Time step converged (issue 44, item 2)", ""] + ts_lines + [""]
+    if ts_fig:
+        figs.append((ts_fig, "Time step: W of cycle 2 against dt_safety, each seed a line" + (
+            "; the mean with its 95% interval, the Richardson fit and the converged W0 with its interval" if ts_c5
+            else " (levels pending: no extrapolation yet)")))
     if figs:
         lines += ["## Figures", ""]
         lines += [f"![{t}]({f})\n\n{t}; made by `{command}`.\n" for f, t in figs]

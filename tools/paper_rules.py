@@ -22,6 +22,12 @@ Rules (the page's head states them in words, from RULES below):
                a rate pooled over the 8-cycle runs), with an uncertainty.
   seeds        the seeds fixed before a study ran decide (PLANNED in paper_report.py); seeds added
                after a look are reported beside the verdict, never in it.
+  convergence  richardson(): W(s) = W0_i + a_i s^p per seed i in a numerical parameter s (the time
+               step's safety factor), the order p shared by the seeds, by profile least squares over
+               P_GRID, its 95% range by the profile F test (as pooled_rate's q); the converged W the
+               mean of the W0_i with its Student-t interval over the seeds; level_bias(): each
+               level's relative bias (W_i(s) - W0_i) / W0_i paired over the seeds; converged_level():
+               the largest level whose mean bias lies within CONVERGED.
 """
 import math
 import os
@@ -33,6 +39,8 @@ from paired_velocity import t_quantile  # noqa: E402  (one Student t for the too
 LEVEL = 0.975       # two-sided 95%
 MARGIN = 0.10       # equivalence margin: a fraction of the reference's mean
 SATURATION = 0.5    # a later step's change under half the earlier one's: saturating
+CONVERGED = 0.02    # a numerical level whose mean bias lies within 2% of the converged W
+P_GRID = [0.5 + i / 100 for i in range(251)]  # the orders p a convergence fit tries: 0.5 ... 3.0
 
 VERDICTS = [
     ("reproduced", "the claim's test passes at 95%: a difference in the paper's direction resolved from 0, "
@@ -202,13 +210,24 @@ def pooled_rate(runs, first=2, grid=None):
     if not runs:
         return None, None, None, None
     ss = {q: total(q) for q in grid}
-    qb = min(ss, key=ss.get)
     dof = sum(len(w) - first + 1 - 2 for w in runs) - 1
-    var = ss[qb] / dof if dof > 0 else math.nan
-    # F_{1, dof} at 95% is t_{0.975, dof}^2
-    lim = ss[qb] + t_quantile(LEVEL, max(dof, 1)) ** 2 * var
-    inside = [q for q in grid if ss[q] <= lim]
-    return qb, min(inside), max(inside), math.sqrt(var)
+    qb, lo, hi, var = profile_range(ss, dof)
+    return qb, lo, hi, math.sqrt(var)
+
+
+def profile_range(ss, dof):
+    """One parameter's profile least squares: ss {value: summed squared residuals with the other
+    parameters fitted}, dof the residual degrees of freedom at the best value. (best, lowest and
+    largest value inside the 95% range, residual variance): the range holds the values whose summed
+    residuals exceed the least by less than F_{1, dof} (= t_{0.975, dof}^2) times the residual
+    variance; without dof it is the whole grid (variance NaN)."""
+    best = min(ss, key=ss.get)
+    if dof <= 0:
+        return best, min(ss), max(ss), math.nan
+    var = ss[best] / dof
+    lim = ss[best] + t_quantile(LEVEL, dof) ** 2 * var
+    inside = [v for v in ss if ss[v] <= lim]
+    return best, min(inside), max(inside), var
 
 
 def stationary(w, q, settled_mean=None, rel_sd=None, first=2):
@@ -287,3 +306,72 @@ def factor_regression(groups, x, y, extra=None):
     coef = {n: (bi, t * si) for n, bi, si in zip(names, b, se)}
     s = coef.pop("slope")
     return s[0], s[1], dof, coef
+
+
+# ---------------------------------------------------------------------------------------------
+# Convergence in a numerical parameter (Richardson extrapolation)
+
+
+def power_fit(xs, ys, p):
+    """Least squares of y = y0 + a x^p, p given: (y0, a, residual sum of squares)."""
+    k = len(xs)
+    u = [x ** p for x in xs]
+    mu, my = sum(u) / k, sum(ys) / k
+    suu = sum((v - mu) ** 2 for v in u)
+    if suu <= 0:
+        return my, 0.0, sum((y - my) ** 2 for y in ys)
+    a = sum((v - mu) * (y - my) for v, y in zip(u, ys)) / suu
+    y0 = my - a * mu
+    return y0, a, sum((y - y0 - a * v) ** 2 for v, y in zip(u, ys))
+
+
+def richardson(runs, grid=None):
+    """Richardson extrapolation of W to a zero step over the seeds: runs {seed: {level s: W}} (each seed
+    at 3 levels or more; a seed's levels share its sample), W_i(s) = W0_i + a_i s^p with W0_i and a_i per
+    seed and the order p shared. p: the grid value (P_GRID) that minimises the summed residuals; its 95%
+    range the p whose summed residuals exceed the least by less than F_{1, dof} times the residual
+    variance (dof = points - 2 seeds - 1), flagged where it reaches an end of the grid. Returns a dict:
+    p, p_lo, p_hi, open (the ends the range reaches: '' / 'low' / 'high' / 'low and high'), dof, sd
+    (residual sd), rss {p: summed residuals} at 1 and 2, seeds, w0 {seed: W0_i}, a {seed: a_i}, mean
+    (n, mean, sd, half width of the 95% Student-t interval of the W0_i over the seeds), mean_range
+    (the least and largest mean W0 over p's range); None with fewer than 2 seeds or 3 levels a seed."""
+    grid = grid or P_GRID
+    runs = {i: dict(sorted(w.items())) for i, w in runs.items() if len(w) >= 3}
+    if len(runs) < 2:
+        return None
+
+    def total(p):
+        return sum(power_fit(list(w), list(w.values()), p)[2] for w in runs.values())
+
+    def w0s(p):
+        return {i: power_fit(list(w), list(w.values()), p)[:2] for i, w in runs.items()}
+    ss = {p: total(p) for p in grid}
+    dof = sum(len(w) - 2 for w in runs.values()) - 1
+    pb, lo, hi, var = profile_range(ss, dof)  # as the stationary W's decay ratio (pooled_rate)
+    inside = [p for p in grid if lo <= p <= hi]
+    ends = [e for e, x in (("low", grid[0]), ("high", grid[-1])) if x in inside]
+    fit = w0s(pb)
+    means = [interval([v[0] for v in w0s(p).values()])[1] for p in inside]
+    return {"p": pb, "p_lo": lo, "p_hi": hi, "open": " and ".join(ends), "dof": dof, "sd": math.sqrt(var), "rss": {1: total(1.0), 2: total(2.0), pb: ss[pb]},
+            "seeds": sorted(runs), "w0": {i: v[0] for i, v in fit.items()}, "a": {i: v[1] for i, v in fit.items()},
+            "mean": interval([v[0] for v in fit.values()]), "mean_range": (min(means), max(means))}
+
+
+def level_bias(runs, w0):
+    """Each level's relative bias against the converged W, paired over the seeds: runs {seed: {s: W}},
+    w0 {seed: W0_i}; {s: (n, mean, sd, half width of the 95% Student-t interval)} of (W_i(s) - W0_i) / W0_i."""
+    levels = sorted({s for w in runs.values() for s in w})
+    return {s: interval([(runs[i][s] - w0[i]) / w0[i] for i in w0 if i in runs and s in runs[i] and w0[i]])
+            for s in levels}
+
+
+def converged_level(bias, tol=CONVERGED):
+    """The default rule: the largest level whose mean bias lies within +-tol (bias: level_bias()).
+    (level or None, its 95% interval within +-tol, the finer levels whose mean bias lies outside)."""
+    ok = [s for s, b in bias.items() if b[0] and abs(b[1]) <= tol]
+    if not ok:
+        return None, False, []
+    s = max(ok)
+    n, m, _, h = bias[s]
+    finer = [x for x, b in bias.items() if x < s and not (b[0] and abs(b[1]) <= tol)]
+    return s, bool(n >= 2 and math.isfinite(h) and abs(m) + h <= tol), sorted(finer)
