@@ -131,6 +131,27 @@ def welch(a, b):
     return Diff("Welch", (na, nb), mb - ma, t_quantile(LEVEL, dof) * se if se > 0 else 0.0, dof, ma)
 
 
+def contrast(groups, ref=None):
+    """sum c_k mean(x_k) over independent samples (groups: (c_k, list or {seed: value})), its 95% half
+    width by the Welch-Satterthwaite degrees of freedom of the sum, (sum c_k^2 s_k^2 / n_k)^2 /
+    sum (c_k^2 s_k^2 / n_k)^2 / (n_k - 1): welch() is the contrast (-1, a), (+1, b). Used for a
+    difference of differences (the radius effect at equal packing against the unadjusted one)."""
+    stats = []
+    for c, x in groups:
+        x = [v for v in (x.values() if isinstance(x, dict) else x) if v is not None]
+        stats.append((c, interval(x)))
+    ns = tuple(st[0] for _, st in stats)
+    if any(n == 0 for n in ns):
+        return Diff("Welch", ns, None, None, None, ref)
+    d = sum(c * st[1] for c, st in stats)
+    if any(n < 2 for n in ns):
+        return Diff("Welch", ns, d, None, None, ref)
+    v = [c * c * st[2] ** 2 / st[0] for c, st in stats]
+    den = sum(vk * vk / (st[0] - 1) for vk, (_, st) in zip(v, stats))
+    dof = sum(v) ** 2 / den if den > 0 else float(sum(ns) - len(ns))
+    return Diff("Welch", ns, d, t_quantile(LEVEL, dof) * math.sqrt(sum(v)), dof, ref)
+
+
 def difference(test, a, b):
     """The rule's test for a claim: 'paired' (shared samples) or 'Welch' (independent samples)."""
     return paired(a, b) if test == "paired" else welch(a, b)
