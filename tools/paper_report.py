@@ -45,7 +45,7 @@ SEED = "simulation.seed"
 # C18 (3 -> 5, friction_8_seeds, ee67f46). A study not named plans its study file's seeds.
 PLANNED = {"radius_underpressure": 3, "young": 3, "friction": 3, "damping": 3, "preparation": 3,
            "foil_resolution": 2, "timestep": 2, "friction_8": 3, "friction_8_c18": 3, "friction_vs_0.6": 3,
-           "friction_8_vs_0.6": 3}
+           "friction_8_vs_0.6": 3, "radius_packing": 5}
 # The decay ratio of W over the cycles, pooled over every 5-cycle run (rules.pooled_rate; set_rate()).
 RATE = {}
 # The sweep's paired tables (shown in the vppdem column, over all seeds in): a difference over fewer
@@ -55,7 +55,14 @@ FIRST_SEEDS = 3
 # folder; the friction study's to 8 cycles (C17, C18 once all its runs are continued), and that
 # leg's added seeds (mu 0.6 and 1.0 at seeds 4-5, 8 cycles from their samples: C18).
 LEGS = ["friction_8", "friction_8_seeds"]
-STUDIES = ["radius_underpressure", "friction", "damping", "young", "preparation", "foil_resolution", "timestep"] + LEGS
+# The radius trend at one packing (issue 44, item 3; studies/paper/radius_packing.toml, its own pinned
+# build): its section 'Radius at equal packing' and C26/C28. Kept apart from the claims that pool
+# the 5-cycle runs (C2, the stationary W's decay ratio, the packing regression), so that a study
+# still running moves none of them.
+RP = "radius_packing"
+APART = [RP]
+STUDIES = ["radius_underpressure", "friction", "damping", "young", "preparation", "foil_resolution", "timestep"] + LEGS \
+    + APART
 # Report assemblies (studies/paper/report/NAME.toml): NAME -> sources. A source is (study, extra,
 # only): the study's cases give the assembly's case whose keys equal the source case's keys, with
 # `extra` supplying the keys the source study does not vary (its defaults or [set] values), and
@@ -411,6 +418,8 @@ def settle_stats(report, raw):
     for s in sorted(os.listdir(report)) if os.path.isdir(report) else []:
         if s in LEGS or s in ASSEMBLIES and all(p[0] in LEGS for p in ASSEMBLIES[s]):
             continue  # a second leg: the same runs longer (C2 counts 5-cycle runs)
+        if s in APART:
+            continue  # its own section (radius at equal packing)
         src = {r["case"]: r["source"] for r in read_csv(os.path.join(report, s, "sources.csv"))}
         for r in read_csv(os.path.join(report, s, "summary.csv")):
             where = src.get(r.get("case"))
@@ -653,6 +662,8 @@ def judge(S, q, planned=True):
                 outs.append(o)
                 txt.append(f"{dp / 1e6:g} MPa {r * 1e3:g} mm {x.text(2 if qq == 'dissipated_energy' else 0)} [{o}]")
         out[cid] = (v_direction(outs), "; ".join(txt))
+    for cid, v in radius_claims(S[RP], q, planned).items():
+        out[cid] = v[:2]
     d = {dp: compare(pr, q, "Welch", "damper.refill", "true", "false", planned, **{"process.underpressure": dp})
          for dp in (20000, 60000)}
     out["C4"] = ("a choice, measured", "; ".join(f"{dp / 1e6:g} MPa pour alone against re-fill {x.text()}"
@@ -725,7 +736,7 @@ def stationary_section(S):
                      f"({q8[1]:.2f}-{q8[2]:.2f}). So a run's stationary W is known to about 5% either way: the "
                      "extrapolation removes the last cycle's upward bias, not its scatter. The per-seed values "
                      "carry that scatter into each claim's 95% interval.")
-    own = own_runs(S, FIVE + LEGS)
+    own = own_runs(S, FIVE + LEGS + APART)
     settled = {}
     for st, r, w in own:
         k = st.name
@@ -813,8 +824,8 @@ def packing_section(S, figdir, caption):
                          f"{r * 1e3:g} mm lies below 25.5 mm, resolved, at {o.count('yes')} of {len(o)} dp (above at "
                          f"{o.count('against')})" for r, o in kept.items()) + ". Within a radius the seeds' packings span about "
                      "0.01, so the slope is poorly determined and the adjustment is an extrapolation across the "
-                     "radii's packing gap; whether the 25.5 mm peak is the packing's needs the runs at equal packing "
-                     "(issue 44, item 3).")
+                     "radii's packing gap; whether the 25.5 mm peak is the packing's is measured directly at equal "
+                     "packing (section 'Radius at equal packing').")
     name = None
     if fig:
         import matplotlib
@@ -842,6 +853,185 @@ def packing_section(S, figdir, caption):
         os.replace(path + ".part.png", path)
         plt.close(f)
     return lines, name
+
+
+# ---------------------------------------------------------------------------------------------
+# Radius at equal packing (issue 44, item 3): studies/paper/radius_packing.toml, every sample
+# prepared to one packing fraction of the foil's interior (damper.packing_target).
+
+RP_REF = 0.0255  # the radius the others are compared with (the radius study's peak)
+# claim -> (quantity: None for the study's W ('Which W'), the direction the paper gives each radius
+# against 25.5 mm): C26 the loop energy grows with the radius, C28 W falls with it.
+RP_WANT = {"C26": ("dissipated_energy", {0.0205: -1, 0.0305: +1}), "C28": (None, {0.0205: +1, 0.0305: -1})}
+
+
+def rp_design():
+    """(packing target, radii, dps, seeds) of studies/paper/radius_packing.toml (ascending); None
+    without the file."""
+    path = f"studies/paper/{RP}.toml"
+    if not os.path.isfile(path):
+        return None
+    t = read_study(path)
+    g = t.get("grid", {})
+    return (fnum(t.get("set", {}).get("damper.packing_target")), sorted(float(v) for v in g.get("damper.radius", [])),
+            sorted(float(v) for v in g.get("process.underpressure", [])), int(t.get("seeds", 1)))
+
+
+def peak_of(lo, hi):
+    """The shape of W over the radii at one dp from the Welch differences lo = 20.5 - 25.5 mm and
+    hi = 30.5 - 25.5 mm: 'peak' (both below 25.5 mm, resolved), 'falls' (20.5 above, 30.5 below:
+    the paper's trend), 'rises', 'trough', 'unresolved' (either difference not resolved), None
+    (pending)."""
+    if lo is None or hi is None or not lo.ok or not hi.ok:
+        return None
+    if not (lo.resolved and hi.resolved):
+        return "unresolved"
+    return {(False, False): "peak", (True, False): "falls", (False, True): "rises", (True, True): "trough"}[
+        (lo.d > 0, hi.d > 0)]
+
+
+def radius_claims(rp, q, planned=True):
+    """C26 and C28 on the equal-packing runs by the rules (Welch: each radius its own samples;
+    direction at every dp of the study): {'C26 at equal packing': (verdict, evidence, {dp: shape of
+    W or energy over the radii (peak_of)})}; over the planned seeds (pending until all are in), or
+    over the seeds in (planned=False)."""
+    design = rp_design()
+    if design is None:
+        return {}
+    _, radii, dps, _ = design
+    out = {}
+    for cid, (qq, want) in RP_WANT.items():
+        outs, txt, shapes = [], [], {}
+        for dp in dps:
+            x = {r: compare(rp, qq or q, "Welch", "damper.radius", RP_REF, r, planned, **{"process.underpressure": dp})
+                 for r in want}
+            for r, wnt in want.items():
+                o = rules.direction(x[r], wnt)
+                outs.append(o)
+                txt.append(f"{dp / 1e6:g} MPa {r * 1e3:g} mm {x[r].text(2 if qq else 0)} [{o}]")
+            shapes[dp] = peak_of(x.get(0.0205), x.get(0.0305))
+        out[f"{cid} at equal packing"] = (v_direction(outs), "; ".join(txt), shapes)
+    return out
+
+
+def mean_text(v, seeds, digits=0):
+    """'mean +- half width' of {seed: value}, '(n k of N)' while fewer than the N planned seeds."""
+    n, m, _, h = rules.interval(list(v.values()))
+    if n == 0:
+        return "pending"
+    if n == 1:
+        return f"{m:.{digits}f} (one run of {seeds})"
+    return f"{m:.{digits}f} +- {h:.{digits}f}" + (f" (n {n} of {seeds})" if n < seeds else "")
+
+
+def radius_packing_section(S):
+    """The page's section 'Radius at equal packing (C26, C28)': per dp W ('Which W') per radius, the
+    samples' packing per radius (and whether it is the target within half a grain), the Welch
+    differences 20.5 - 25.5 and 30.5 - 25.5 mm, whether W peaks at 25.5 mm, the loop energy (C26),
+    and each radius's W against the radius study's (unadjusted packing) at the same dp. Partial
+    results over the seeds in, marked provisional. Returns (lines, {'C26': note, 'C28': note} for the
+    claims' verdicts, complete)."""
+    rp, ru = S[RP], S["radius_underpressure"]
+    design = rp_design()
+    if design is None:
+        return ["- No study file studies/paper/radius_packing.toml."], {}, False
+    target, radii, dps, seeds = design
+    done, total, _ = rp.own()
+    complete = done >= total
+    build = rp.command.split("pinned build ")[-1].rstrip(")") if "pinned build" in rp.command else None
+    lines = [f"The radius study's samples differ in packing (section 'W and the packing'). Here every sample is prepared "
+             f"to one packing fraction of the foil's interior, `damper.packing_target = {target:g}` "
+             f"(studies/paper/radius_packing.toml; docs/damper.md, 'Preparation'): r_p "
+             + " / ".join(f"{r * 1e3:g}" for r in radii) + " mm x dp " + " / ".join(f"{dp / 1e6:g}" for dp in dps)
+             + f" MPa, {seeds} seeds fixed before the study ran, otherwise as the radius study (5 cycles of 10 mm at "
+             "0.01 m/s). Each radius prepares its own samples (Welch), the dp of a seed branch from its sample: "
+             "`bash scripts/paper_studies.sh radius_packing`" + (f" (pinned build {build})" if build else "") + ".", "",
+             f"- Runs finished: {done} of {total}" + ("." if complete else " (pending)." if done == 0 else
+                                                     " (the rest pending; results over the seeds in are provisional).")]
+    if done == 0:
+        lines.append("- W per radius, the differences and the answer: pending (no run finished).")
+        return lines, {c: f"pending ({done} of {total})" for c in RP_WANT}, False
+    q = rp.q
+    qc = "W_settled" if q == ru.q == "W_settled" else "W"  # like with like against the radius study
+    lab = {"W_settled": "W_settled", "W": "W of the last cycle"}
+
+    # The samples: one per radius and seed (its dp branch from it).
+    pk = []
+    for r in radii:
+        pf = rp.vals("packing_fraction", None, **{"damper.radius": r})
+        ng = rp.vals("grains", None, **{"damper.radius": r})
+        half = {s: 0.5 * pf[s] / ng[s] for s in pf if ng.get(s)}
+        txt = f"{r * 1e3:g} mm {mean_text(pf, seeds, 3)}"
+        if target is not None and half:
+            ok = sum(1 for s in half if abs(pf[s] - target) <= half[s] * (1 + 1e-9))
+            lo, hi = f"{min(half.values()):.5f}", f"{max(half.values()):.5f}"
+            txt += (f", {ok} of {len(half)} samples within half a grain of {target:g} (half a grain "
+                    + (lo if lo == hi else f"{lo}-{hi}") + ")")
+        pk.append(txt)
+    upk = [mean_text(ru.vals("packing_fraction", None, **{"damper.radius": r}), ru.seeds, 3) for r in radii]
+    lines.append("- Packing fraction of the samples after the preparation (summary.json 'preparation'): " + "; ".join(pk)
+                 + ". The radius study's samples: " + " / ".join(upk) + " for " + " / ".join(f"{r * 1e3:g}" for r in radii)
+                 + " mm.")
+    shapes = {}
+    for dp in dps:
+        w = {r: rp.vals("Wq", None, **{"damper.radius": r, "process.underpressure": dp}) for r in radii}
+        e = {r: rp.vals("dissipated_energy", None, **{"damper.radius": r, "process.underpressure": dp}) for r in radii}
+        n_min = min(len(v) for v in w.values())
+        tag = f" (provisional: {n_min} of {seeds} seeds)" if 2 <= n_min < seeds else ""
+        ref = w.get(RP_REF, {})
+        d = {r: rules.welch(ref, w[r]) for r in radii if r != RP_REF}
+        de = {r: rules.welch(e.get(RP_REF, {}), e[r]) for r in radii if r != RP_REF}
+        shape = peak_of(d.get(0.0205), d.get(0.0305)) if n_min >= 2 else None
+        shapes[dp] = shape
+        answer = {None: "pending (a radius with fewer than 2 runs)", "peak": "W peaks at 25.5 mm (both below it, resolved)",
+                  "falls": "W falls with the radius (the paper's trend, resolved)",
+                  "rises": "W rises with the radius (resolved)", "trough": "W is lowest at 25.5 mm (resolved)",
+                  "unresolved": "no shape resolved (0 inside an interval)"}[shape]
+        lines.append(f"- {dp / 1e6:g} MPa{tag}: {rp.qlabel} [J/m2] by r_p " + " / ".join(f"{r * 1e3:g}" for r in radii)
+                     + " mm: " + " / ".join(mean_text(w[r], seeds) for r in radii) + "; Welch: "
+                     + "; ".join(f"{r * 1e3:g} - 25.5 mm {d[r].text()}" for r in d) + f": {answer}. Loop energy (C26) [J]: "
+                     + " / ".join(mean_text(e[r], seeds, 2) for r in radii) + "; Welch: "
+                     + "; ".join(f"{r * 1e3:g} - 25.5 mm {de[r].text(2)}" for r in de) + ".")
+        # Against the radius study at the same dp: each radius's W at equal packing minus its W on the
+        # radius study's samples (all their seeds, Welch), and the radius effects side by side with the
+        # change between them (a contrast of the four groups' means, Welch-Satterthwaite).
+        u = {r: ru.vals(qc, None, **{"damper.radius": r, "process.underpressure": dp}) for r in radii}
+        wc = {r: rp.vals(qc, None, **{"damper.radius": r, "process.underpressure": dp}) for r in radii}
+        if all(len(v) >= 2 for v in u.values()):
+            per = "; ".join(f"{r * 1e3:g} mm {rules.welch(u[r], wc[r]).text()}" for r in radii)
+            eff = []
+            for r in radii:
+                if r == RP_REF:
+                    continue
+                du, dq = rules.welch(u[RP_REF], u[r]), rules.welch(wc[RP_REF], wc[r])
+                ch = rules.contrast([(+1, wc[r]), (-1, wc[RP_REF]), (-1, u[r]), (+1, u[RP_REF])])
+                # the packing's part of the unadjusted effect: (unadjusted - equal packing) / unadjusted
+                eff.append(f"{r * 1e3:g} - 25.5 mm {du.text()} unadjusted, {dq.text()} at equal packing, change "
+                           f"{ch.text(pct=False)}" + (f" (the packing's part: {-100 * ch.d / du.d:.0f}% of the unadjusted "
+                                                      "effect)" if ch.ok and du.resolved else ""))
+            lines.append(f"  Against the radius study's samples at {dp / 1e6:g} MPa ({lab[qc]}, Welch, all seeds of "
+                         f"both; equal packing minus unadjusted): {per}. Radius effects: " + "; ".join(eff) + ".")
+        else:
+            lines.append(f"  Against the radius study's samples at {dp / 1e6:g} MPa: pending (its runs at this dp).")
+    J_all = radius_claims(rp, "Wq", False)
+    decided = [s for s in shapes.values() if s is not None]
+    n_peak = sum(1 for s in decided if s == "peak")
+    prov = "" if complete else f"Provisional ({done} of {total} runs): "
+    if len(decided) < len(dps):
+        lines.append(f"- {prov}Does W still peak at 25.5 mm at equal packing? Pending (" +
+                     ", ".join(f"{dp / 1e6:g} MPa" for dp, s in shapes.items() if s is None) + ").")
+    else:
+        lines.append(f"- {prov}Does W still peak at 25.5 mm at equal packing? "
+                     + ("Yes" if n_peak == len(dps) else "No" if n_peak == 0 else "In part")
+                     + f": at {n_peak} of {len(dps)} dp both neighbours lie below 25.5 mm, resolved at 95% by Welch ("
+                     + ", ".join(f"{dp / 1e6:g} MPa: {s}" for dp, s in shapes.items()) + "). By the rules (direction "
+                     "at every dp, Welch): C28 at equal packing " + J_all["C28 at equal packing"][0] + ", C26 (the loop "
+                     "energy) " + J_all["C26 at equal packing"][0] + ".")
+    notes = {}
+    for c in RP_WANT:
+        if not complete:
+            notes[c] = f"pending ({done} of {total})"
+    return lines, notes, complete
 
 
 def current_default(key, path="src/vpp/settings.cpp"):
@@ -1115,7 +1305,7 @@ def write(data, out_md, figdir, command):
         c2v = ("reproduced: a short compaction phase, then stationary loops with a few % of scatter" if
                stat >= 0.7 * runs else "consistent, not established: the loops shrink fast for 2-3 cycles, as in the paper, but many runs "
                "still drift by a few % per cycle after 5 cycles (longer than the paper's 'short initial phase')")
-        own = [st.own() for n, st in S.items() if n in STUDIES and n not in LEGS + ["timestep", "foil_resolution"]]
+        own = [st.own() for n, st in S.items() if n in STUDIES and n not in LEGS + APART + ["timestep", "foil_resolution"]]
         if sum(o[0] for o in own) < sum(o[1] for o in own):
             c2v += f" (provisional: {runs} runs so far)"
     else:
@@ -1319,7 +1509,7 @@ def write(data, out_md, figdir, command):
     def built(names):
         return sorted({S[n].command.split("pinned build ")[-1].rstrip(")") for n in names
                        if "pinned build" in S[n].command})
-    commits = built(n for n in STUDIES if n not in LEGS)
+    commits = built(n for n in STUDIES if n not in LEGS + APART)
     # The studies' seeds (their study files; seeds were added where 3 left a difference unresolved).
     by_seeds = {}
     for n, words in (("radius_underpressure", "radius x underpressure"), ("friction", "friction"),
@@ -1367,9 +1557,9 @@ def write(data, out_md, figdir, command):
         "C20": f"Welch t (23 MPa below 2.3 GPa) and saturation (230 MPa -> 2.3 GPa and -> 23 GPa over 23 -> 230 MPa, "
                f"per seed, below {rules.SATURATION:g}); {wq(yg)}; {yg.planned} planned seeds",
         "C26": f"Welch t (each radius prepares its own samples); direction at every dp; loop energy of cycle 5; "
-               f"{ru.planned} planned seeds",
+               f"{ru.planned} planned seeds; at equal packing the same over {S[RP].planned} planned seeds",
         "C28": f"Welch t (each radius prepares its own samples); direction at every dp; {wq(ru)}; "
-               f"{ru.planned} planned seeds",
+               f"{ru.planned} planned seeds; at equal packing the same, {wq(S[RP])}, {S[RP].planned} planned seeds",
         "C22": "paired (one sample per seed); one seed, one cycle at the paper's velocity",
         "C33": "the friction share's 95% interval (energy ledger, last cycle) against 0.5; Welch (local damping), "
                "paired slope (velocity)",
@@ -1401,8 +1591,26 @@ def write(data, out_md, figdir, command):
                                                                       for c in samples)
                  + " for 20.5 / 25.5 / 30.5 mm, summary.json 'preparation')"
                  + (", and W peaks with it" if peak(ru.q) and dens_peak else "") + " (section 'W and the packing')")
-    c29v = "not reproduced (as C28)" if c28v.startswith("not reproduced") else \
-        ("open (runs pending)" if c28v.startswith("open") else "as C28")
+    # C26, C28 at equal packing (issue 44, item 3): decided there once all its runs are in (the radius
+    # study's samples differ in packing), the radius study's result after it; pending (k of N) before.
+    rp_lines, rp_notes, rp_done = radius_packing_section(S)
+    rp_design_ = rp_design()
+    rc = radius_claims(S[RP], "Wq", True)
+
+    def at_equal(cid, old):
+        key = f"{cid} at equal packing"
+        if not rp_done or key not in rc:
+            return old + f"; at equal packing (section 'Radius at equal packing'): {rp_notes.get(cid, 'pending')}"
+        v, t, shapes = rc[key]
+        n_peak = sum(1 for x in shapes.values() if x == "peak")
+        what = "W" if cid == "C28" else "the loop energy"
+        return (f"{v} at equal packing (damper.packing_target {rp_design_[0]:g}, {S[RP].planned} planned seeds; section "
+                f"'Radius at equal packing'): {t}; {what} peaks at 25.5 mm, resolved, at {n_peak} of {len(shapes)} dp. "
+                f"On the radius study's samples (their packing differs by radius): {old}")
+    c26v, c28v = at_equal("C26", c26v), at_equal("C28", c28v)
+    c28_lead = rc["C28 at equal packing"][0] if rp_done and "C28 at equal packing" in rc else J["C28"][0]
+    c29v = ("open (runs pending)" if c28_lead.startswith("open") else
+            f"{c28_lead} (as C28{', at equal packing' if rp_done else ''})")
     c21v = ("consistent, not established: W falls where the grains are soft (C20); vppdem has no separate measure of "
             "rearrangement" if J["C20"][0] != "open (runs pending)" else "open (runs pending)")
     c22v = ("consistent, not established: one seed and one (compaction) cycle at the paper's 3.33e-4 m/s; the paired "
@@ -1590,7 +1798,7 @@ def write(data, out_md, figdir, command):
         for (cid, planned), ch in sorted(st_changes.items()):
             lines.append(f"  - {cid} ({'planned seeds' if planned else 'all seeds'}): {J[cid][0] if planned else Jall[cid][0]} "
                          "-> " + "; ".join(f"{v} at {tag} {q:.2f} ({t})" for tag, q, v, t in ch))
-        unchanged = sorted({c for c in J} - {c for c, _ in st_changes})
+        unchanged = sorted({c for c in J if not J[c][0].startswith("open")} - {c for c, _ in st_changes})
         lines.append("- Unchanged at every q of the range, planned and all seeds: " + ", ".join(unchanged) + ".")
     else:
         lines.append("- No verdict changes on the stationary W.")
@@ -1599,6 +1807,7 @@ def write(data, out_md, figdir, command):
               "The radii's samples differ in packing (C28); W may follow the packing rather than the radius. The "
               "packing fraction is the sample's after the preparation (summary.json 'preparation').", ""]
     lines += pk_lines
+    lines += ["", "## Radius at equal packing (C26, C28)", ""] + rp_lines
     if pk_fig:
         figs.append((pk_fig, "C28: W of the radius study against the samples' packing fraction, per dp, one intercept "
                              "per radius and a common slope"))
