@@ -1604,7 +1604,8 @@ def write(data, out_md, figdir, command):
         v, t, shapes = rc[key]
         n_peak = sum(1 for x in shapes.values() if x == "peak")
         what = "W" if cid == "C28" else "the loop energy"
-        return (f"{v} at equal packing (damper.packing_target {rp_design_[0]:g}, {S[RP].planned} planned seeds; section "
+        tgt = f"damper.packing_target {rp_design_[0]:g}, " if rp_design_[0] is not None else ""
+        return (f"{v} at equal packing ({tgt}{S[RP].planned} planned seeds; section "
                 f"'Radius at equal packing'): {t}; {what} peaks at 25.5 mm, resolved, at {n_peak} of {len(shapes)} dp. "
                 f"On the radius study's samples (their packing differs by radius): {old}")
     c26v, c28v = at_equal("C26", c26v), at_equal("C28", c28v)
