@@ -139,6 +139,15 @@ private:
     void setup();
     void adopt_checkpoint_settings();
     void check_grains_fit(std::size_t n);
+    // The process against the built foil (its height z_top_): refuses a stroke the sample cannot
+    // take and a pump-down that would not end; returns the warnings of values that are accepted
+    // but do not do what they seem to (docs/config.md, "Limits from the physics").
+    std::vector<std::string> check_process() const;
+    // The sampling against the time step (known once the world is built): warnings; with
+    // `refuse`, sampling faster than the time step is refused (a fresh run, before writing).
+    std::vector<std::string> check_sampling(bool refuse) const;
+    // Warns what is not yet among the run's warnings (a resumed run has its first start's).
+    void warn_once(const std::vector<std::string>& what);
     // n radii from the size distribution's stream `stream` (0: the pour, k: re-fill k).
     std::vector<double> draw_radii(std::size_t n, uint64_t stream) const;
     // The drawn radii's statistics into the preparation's report (size distributions only).
