@@ -189,9 +189,23 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
     const fs::path out(opt.sweep.out_dir);
     // Fail fast on a bad experiment or prediction request, before any simulation.
     bool compression_first = true;  // every case loads in compression first (the mean force check)
-    for (const StudyCase& c : expand_study(s)) compression_first = compression_first && c.config.process.compression_first;
+    double amplitude = 0;           // [m] the largest stroke of the cases
+    for (const StudyCase& c : expand_study(s)) {
+        compression_first = compression_first && c.config.process.compression_first;
+        amplitude = std::max(amplitude, c.config.process.amplitude);
+    }
     const LoopSeries exp = read_experiment(opt.experiment, opt.format);
     check_experiment_orientation(exp, opt.experiment, opt.format.compression_negative, compression_first);
+    // A unit slip of the displacement (--displacement-unit m on data in mm is a factor of 1000)
+    // shows before anything runs: the measured stroke against the cases' process.amplitude.
+    if (const double stroke = *std::max_element(exp.displacement.begin(), exp.displacement.end());
+        amplitude > 0 && stroke > 0 && (stroke > 10.0 * amplitude || stroke < 0.1 * amplitude)) {
+        char msg[400];
+        std::snprintf(msg, sizeof msg, "experiment '%s': implausible units: its stroke %.4g m is %.3g times the "
+                      "study's process.amplitude %.4g m: check --displacement-unit (now %s)", opt.experiment.c_str(),
+                      stroke, stroke / amplitude, amplitude, opt.format.disp_scale == 1.0 ? "m" : "mm");
+        throw cfg::ConfigError(msg);
+    }
     GridAxis pred;
     std::vector<LoopSeries> pred_exp;
     if (!opt.predict.empty()) {

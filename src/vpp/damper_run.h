@@ -246,6 +246,9 @@ private:
     int vtk_count_ = 0;
     double next_vtk_ = 0.0;
     std::vector<std::string> pending_warnings_;  // found before the checkpoint's state is loaded
+    // The process's and the sampling's warnings (check_process, check_sampling): given from the
+    // vacuum on, so that prepared.ckpt, which cases of other process settings share, holds none.
+    std::vector<std::string> process_warnings_;
     std::size_t ckpt_grains_ = 0;               // grains stored in the --from checkpoint (0: unknown)
     int ckpt_cycles_ = 0;  // a resumed run's process.cycles when the command line raises it (0: not raised)
 

@@ -138,8 +138,7 @@ void DamperRun::setup() {
     if (clumps() && (c_.grains.shape != 5 || !c_.grains.clump_template.empty())) shape_ = grain_shape(c_);
     build();
     // Before anything is written or removed (--overwrite): a refused process leaves the folder.
-    std::vector<std::string> process_warnings = check_process();
-    if (!sizes_.sieve_note.empty()) process_warnings.push_back("grains.sieve_curve: " + sizes_.sieve_note);
+    process_warnings_ = check_process();
     const std::size_t n_foil = L_.particles.size();
     // The pour's grains; a checkpoint holds those and its re-fills' (an older one: the pour's).
     const std::size_t n = ckpt_grains_ > 0 ? ckpt_grains_ : grain_count(c_);
@@ -227,8 +226,9 @@ void DamperRun::setup() {
         }
     }
     w_.params.threads = c_.simulation.threads;
-    warn_once(process_warnings);
-    warn_once(check_sampling(false));
+    for (const std::string& w : check_sampling(false)) process_warnings_.push_back(w);
+    // The sample's own: with it, in prepared.ckpt too.
+    if (!sizes_.sieve_note.empty()) warn_once({"grains.sieve_curve: " + sizes_.sieve_note});
 }
 
 void DamperRun::warn_once(const std::vector<std::string>& what) {
@@ -294,12 +294,12 @@ std::vector<std::string> DamperRun::check_process() const {
                            (c_.process.local_damping >= 0.0 ? "process" : "simulation") + ".local_damping) is above 0.5: "
                            "it holds the grains back, and W is then largely the damping's (cycles.csv "
                            "damping_dissipation)");
-    // A frequency sets the period: the velocity is then not the cap's speed (it moves the
-    // start offset only).
+    // A frequency sets the period and the start offset's speed (2 A f): the velocity is then
+    // not used at all.
     if (p.frequency > 0.0 && c_.given.count("process.velocity"))
         warnings.push_back("process.velocity = " + show("", p.velocity) + " m/s is not the cap's speed: process.frequency = " +
                            show("", p.frequency) + " Hz sets the period (peak speed " +
-                           fmt("%.4g", peak_speed(p)) + " m/s); the velocity moves only the start offset");
+                           fmt("%.4g", peak_speed(p)) + " m/s) and the start offset's speed: the velocity is not used");
     // A pump-down runs until the pump has drawn the gas down: time constant V / S, the stage
     // waiting five of them. The gas volume is at most the foil's interior less the poured grains.
     if (p.pressure_model != 0 && p.pump_down && p.pump_speed > 0.0) {
@@ -535,7 +535,9 @@ void DamperRun::warn(const std::string& what) {
     st_.warnings.push_back(w);
     // On stderr with --quiet too: a value that does not do what it seems must not go unseen
     // (summary.json keeps it as well).
-    std::fprintf(stderr, "damper: warning: %s\n", w.c_str());
+    // A study's cases run quietly side by side: each names its folder.
+    if (o_.quiet && !o_.out_dir.empty()) std::fprintf(stderr, "damper %s: warning: %s\n", o_.out_dir.c_str(), w.c_str());
+    else std::fprintf(stderr, "damper: warning: %s\n", w.c_str());
 }
 
 double DamperRun::highest_grain_top() const {

@@ -575,7 +575,7 @@ std::string limits_markdown() {
            "- **process.sample_window** longer than the samples' spacing (period / samples_per_cycle):\n"
            "  warned, each force is averaged over the spacing only.\n"
            "- **process.velocity** given with `process.frequency` > 0: warned, the frequency sets the\n"
-           "  period and the velocity moves only the start offset.\n"
+           "  period and the start offset's speed, the velocity is not used.\n"
            "- **Pump model**: a pump-down (`process.pump_down`) whose 5 V / S (gas volume over\n"
            "  `process.pump_speed`) exceeds 60 s of simulated time is refused with the estimate; a cycle\n"
            "  whose dp falls below half `process.underpressure` is warned.\n";

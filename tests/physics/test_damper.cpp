@@ -543,6 +543,9 @@ TEST_F(Damper, PhysicallyImpossibleValuesAreRefusedNamingTheKey) {
         {"--set simulation.local_damping=0.95", "'simulation.local_damping' = 0.95", "[0, 0.9]"},
         {"--set damper.radius=1e300", "'damper.radius'", "10 million foil particles"},
         {"--set grains.radius=1e300", "grains.radius / 3", "foil.particle_radius"},
+        // A refused branch names the shapes, not the numbers the checkpoint keeps (it said 0 and 1).
+        {"--from " + prepared + " --set grains.shape=dimer", "grains.shape = \"sphere\" (the config asks for \"dimer\")",
+         "prepared with another geometry"},
     };
     for (const Case& c : cases) {
         const fs::path d = scratch("impossible");
