@@ -1,5 +1,7 @@
 #include "scene/config.h"
 
+#include <charconv>
+
 #include <cmath>
 #include <sstream>
 
@@ -11,6 +13,15 @@ std::string describe(const toml::node& n) {
         std::string out = "[";
         for (std::size_t k = 0; k < a->size(); ++k) out += (k ? ", " : "") + describe(*a->get(k));
         return out + "]";
+    }
+    // A float in its shortest form that reads back (0.7, not toml++'s 0.69999999999999996), a
+    // ".0" kept on a whole number so that it still reads as a float.
+    if (const auto* f = n.as_floating_point()) {
+        char buf[40];
+        const auto r = std::to_chars(buf, buf + sizeof buf, f->get());
+        std::string out(buf, r.ptr);
+        if (out.find_first_of(".eEn") == std::string::npos) out += ".0";  // not 1e+300, nan, inf
+        return out;
     }
     std::ostringstream os;
     n.visit([&](const auto& v) { os << v; });

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 
@@ -163,6 +164,14 @@ SizeDistribution SizeDistribution::sieve_curve(const std::string& path) {
     // What passes the smallest sieve (the pan) has no size in the curve: the curve is taken from
     // the smallest sieve up, normalised to 0 ... 1.
     for (double& p : d.sieve_passing) p = (p - p0) / (p1 - p0);
+    // Not silent: the mass below the smallest sieve and above the largest is not drawn.
+    if (p0 > 1e-9 || p1 < 1.0 - 1e-9) {
+        char b[320];
+        std::snprintf(b, sizeof b, "sieve curve '%s' runs from %.4g%% to %.4g%% passing, not 0 to 100%%: the %.4g%% "
+                      "below its smallest sieve and the %.4g%% above its largest are left out, the rest renormalised",
+                      path.c_str(), 100.0 * p0, 100.0 * p1, 100.0 * p0, 100.0 * (1.0 - p1));
+        d.sieve_note = b;
+    }
     d.radius = d.mean_radius();
     return d;
 }

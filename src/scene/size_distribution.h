@@ -26,6 +26,9 @@ struct SizeDistribution {
     double spread = 0;                    // [-] Uniform: half-width over mean; Lognormal: sd of ln r
     std::vector<double> sieve_radius;     // [m] Sieve: half the sieve openings, ascending
     std::vector<double> sieve_passing;    // [-] Sieve: mass fraction finer, ascending (normalised to 0 ... 1)
+    // Sieve: what the normalisation left out (a curve not from 0 to 100%), as a warning; empty
+    // when the curve spans 0 ... 100%.
+    std::string sieve_note;
 
     double min_radius() const;            // [m] smallest radius that can be drawn
     double max_radius() const;            // [m] largest

@@ -127,6 +127,9 @@ LoopSeries read_loop_csv(const std::string& path, const std::string& time_col,
     std::vector<std::string> header;
     while (std::getline(in, line)) {
         ++lineno;
+        // A UTF-8 byte order mark (spreadsheet exports write one) is no part of the first column's
+        // name: kept, "time" would not be found, with a message showing no visible difference.
+        if (lineno == 1 && line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3);
         const std::string_view t = trim(line);
         if (t.empty() || t[0] == '#') continue;
         for (auto c : split(line)) header.emplace_back(c);
@@ -175,7 +178,14 @@ LoopSeries read_loop_csv(const std::string& path, const std::string& time_col,
                                          "'");
             return v;
         };
-        s.time.push_back(ct >= 0 ? num(ct) : double(s.time.size()));
+        const double time = ct >= 0 ? num(ct) : double(s.time.size());
+        // The cycles and the loop's order follow the rows: a time running backwards is rows out
+        // of order (a merged or sorted-by-another-column file), whose loops would be wrong.
+        if (!s.time.empty() && time < s.time.back())
+            throw std::runtime_error(where() + ": column '" + time_col + "' = " + std::string(cells[std::size_t(ct)]) +
+                                     " is earlier than the row before (" + dem::csv_number(s.time.back()) +
+                                     "): the rows must be in time order");
+        s.time.push_back(time);
         s.displacement.push_back(num(cd));
         s.force.push_back(num(cf));
         if (cc >= 0) cyc.push_back(num(cc));

@@ -189,9 +189,23 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
     const fs::path out(opt.sweep.out_dir);
     // Fail fast on a bad experiment or prediction request, before any simulation.
     bool compression_first = true;  // every case loads in compression first (the mean force check)
-    for (const StudyCase& c : expand_study(s)) compression_first = compression_first && c.config.process.compression_first;
+    double amplitude = 0;           // [m] the largest stroke of the cases
+    for (const StudyCase& c : expand_study(s)) {
+        compression_first = compression_first && c.config.process.compression_first;
+        amplitude = std::max(amplitude, c.config.process.amplitude);
+    }
     const LoopSeries exp = read_experiment(opt.experiment, opt.format);
     check_experiment_orientation(exp, opt.experiment, opt.format.compression_negative, compression_first);
+    // A unit slip of the displacement (--displacement-unit m on data in mm is a factor of 1000)
+    // shows before anything runs: the measured stroke against the cases' process.amplitude.
+    if (const double stroke = *std::max_element(exp.displacement.begin(), exp.displacement.end());
+        amplitude > 0 && stroke > 0 && (stroke > 10.0 * amplitude || stroke < 0.1 * amplitude)) {
+        char msg[400];
+        std::snprintf(msg, sizeof msg, "experiment '%s': implausible units: its stroke %.4g m is %.3g times the "
+                      "study's process.amplitude %.4g m: check --displacement-unit (now %s)", opt.experiment.c_str(),
+                      stroke, stroke / amplitude, amplitude, opt.format.disp_scale == 1.0 ? "m" : "mm");
+        throw cfg::ConfigError(msg);
+    }
     GridAxis pred;
     std::vector<LoopSeries> pred_exp;
     if (!opt.predict.empty()) {
@@ -351,8 +365,53 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             preds.push_back(q);
         }
     }
-    const bool ok = !r.failed && !pred_failed && best != SIZE_MAX &&
+    // The best run against the experiment in scale: the stroke and the peak force. A stroke off
+    // by more than 10% makes the comparison meaningless (warned). Off by more than a factor of
+    // 10 either is not a fit at all: a unit slip (--force-unit kN on data in N is a factor of
+    // 1000, mm for m the same) is the likely cause, and a calibration in the wrong unit must not
+    // replace a good calibration.json: the run counts as failed (calibration_failed.json).
+    std::vector<std::string> warnings;
+    bool implausible = false;
+    if (best != SIZE_MAX) {
+        try {
+            const LoopSeries sim = read_simulated((out / cases[best_run].name / "forces.csv").string(), opt.force_column);
+            auto peak = [](const std::vector<double>& v) {
+                double m = 0;
+                for (double x : v) m = std::max(m, std::abs(x));
+                return m;
+            };
+            const double rs = *std::max_element(sim.displacement.begin(), sim.displacement.end());
+            const double re = *std::max_element(exp.displacement.begin(), exp.displacement.end());
+            const double fs_ = peak(sim.force), fe = peak(exp.force);
+            char msg[512];
+            constexpr double kUnitSlip = 10.0;  // [-] a ratio no fit explains; a unit slip is 1000
+            if (re > 0 && rs > 0 && (rs / re > kUnitSlip || re / rs > kUnitSlip)) {
+                implausible = true;
+                std::snprintf(msg, sizeof msg, "implausible units: the measured stroke %.4g m is %.3g times the "
+                              "simulated %.4g m: check --displacement-unit (now %s)", re, re / rs, rs,
+                              opt.format.disp_scale == 1.0 ? "m" : "mm");
+                warnings.push_back(msg);
+            } else if (std::abs(rs - re) > 0.1 * re) {
+                std::snprintf(msg, sizeof msg, "simulated stroke %.4g mm, measured %.4g mm: set process.amplitude to "
+                              "the experiment's", rs * 1e3, re * 1e3);
+                warnings.push_back(msg);
+            }
+            if (fe > 0 && fs_ > 0 && (fe / fs_ > kUnitSlip || fs_ / fe > kUnitSlip)) {
+                implausible = true;
+                std::snprintf(msg, sizeof msg, "implausible units: the measured peak force %.4g N is %.3g times the "
+                              "best simulated %.4g N: check --force-unit (now %s)", fe, fe / fs_, fs_,
+                              opt.format.force_scale == 1.0 ? "N" : "kN");
+                warnings.push_back(msg);
+            }
+        } catch (const std::exception& e) {
+            warnings.push_back(std::string("the best case's forces could not be read for the scale checks: ") + e.what());
+        }
+    }
+    const bool ok = !r.failed && !pred_failed && best != SIZE_MAX && !implausible &&
                     std::all_of(points.begin(), points.end(), [](const Point& p) { return p.status == "ok"; });
+    // On stderr whatever --quiet says, and in the json below.
+    if (root)
+        for (const std::string& w : warnings) std::fprintf(stderr, "WARNING: calibrate: %s\n", w.c_str());
     if (!root) return ok ? 0 : 1;
     // A calibration that failed (a case failed or could not be compared, a prediction failed)
     // writes its results under other names: a good calibration.json and misfit.csv from an
@@ -492,6 +551,7 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
         }
         j.raw("predictions", pj + "]");
     }
+    j.raw("warnings", dem::json_string_array(warnings));
     dem::write_text_atomic((out / json_name).string(), j.text());
     if (ok) {  // no stale failure report beside a good result
         fs::remove(out / "misfit_failed.csv");
@@ -516,13 +576,6 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
             std::fprintf(stderr, "  predicted %s = %s: W = %.5g J/m^2%s\n", pred.key.c_str(), q.label.c_str(), q.W.mean,
                          std::isfinite(q.misfit.mean) ? (", misfit " + std::to_string(q.misfit.mean)).c_str() : "");
         if (best != SIZE_MAX) {
-            // A stroke that differs from the experiment's makes the comparison meaningless: warn.
-            const LoopSeries sim = read_simulated((out / cases[best_run].name / "forces.csv").string(), opt.force_column);
-            const double rs = *std::max_element(sim.displacement.begin(), sim.displacement.end());
-            const double re = *std::max_element(exp.displacement.begin(), exp.displacement.end());
-            if (std::abs(rs - re) > 0.1 * re)
-                std::fprintf(stderr, "WARNING: simulated stroke %.4g mm, measured %.4g mm: set process.amplitude to "
-                                     "the experiment's\n", rs * 1e3, re * 1e3);
             std::string range;
             for (std::size_t k = 0; k < s.grid.size(); ++k) {
                 if (int(k) == seed) continue;
@@ -540,8 +593,9 @@ int run_calibration(Study s, const CalibrateOptions& opt) {
                          json_name.c_str());
         }
         if (!ok)
-            std::fprintf(stderr, "calibration FAILED (%d case(s) failed%s): results in %s; %s\n", r.failed,
-                         pred_failed ? ", predictions failed" : "", json_name.c_str(),
+            std::fprintf(stderr, "calibration FAILED (%d case(s) failed%s%s): results in %s; %s\n", r.failed,
+                         pred_failed ? ", predictions failed" : "", implausible ? ", implausible units" : "",
+                         json_name.c_str(),
                          fs::exists(out / "calibration.json") ? "the earlier calibration.json is kept"
                                                               : "no calibration.json written");
     }

@@ -74,8 +74,28 @@ void read_table(const toml::table& root, CommandSet commands, Config& c) {
             // The foil must close around at least a few of its own particles.
             const Setting& radius = *find_setting("damper.radius");
             const Setting& height = *find_setting("damper.height");
-            if (c.damper.radius < 4.0 * c.foil.particle_radius) s.fail("radius", radius.allowed);
-            if (c.damper.height < 4.0 * c.foil.particle_radius) s.fail("height", height.allowed);
+            // Say where the foil's radius comes from: by default grains.radius / 3, so a huge
+            // grains.radius refuses damper.radius, which must then name the key behind it.
+            const std::string rf_text = " (4 x foil.particle_radius = " + cfg::number_text(4.0 * c.foil.particle_radius) +
+                                        " m" + (c.given.count("foil.particle_radius") ? "" : "; foil.particle_radius is grains.radius / 3 unless given") + ")";
+            if (c.damper.radius < 4.0 * c.foil.particle_radius) s.fail("radius", radius.allowed + rf_text);
+            if (c.damper.height < 4.0 * c.foil.particle_radius) s.fail("height", height.allowed + rf_text);
+            // Largest: the foil's particles are counted in int and held in memory. A radius of
+            // 1e300 m overflowed the column count and the refusal then blamed grains.radius; a
+            // limit of its own names the key (10 million foil particles: gigabytes, days a step).
+            constexpr double kMaxFoil = 1e7;  // [-] foil particles
+            const double rf = c.foil.particle_radius;
+            const double cols = std::numbers::pi * c.damper.radius / rf, rows = c.damper.height / (2.0 * rf);
+            auto too_big = [&](const char* key, double limit) {
+                s.fail(key, "must give at most 10 million foil particles (columns pi r_p / r_f times rows H_p / "
+                            "(2 r_f), r_f = foil.particle_radius " + cfg::number_text(rf) + " m): at most " +
+                            cfg::number_text(limit) + " m here");
+            };
+            if (cols > kMaxFoil) too_big("radius", kMaxFoil * rf / std::numbers::pi);
+            if (rows > kMaxFoil) too_big("height", kMaxFoil * 2.0 * rf);
+            if (cols * rows > kMaxFoil)
+                too_big(cols >= rows ? "radius" : "height",
+                        cols >= rows ? kMaxFoil / rows * rf / std::numbers::pi : kMaxFoil / cols * 2.0 * rf);
             // The target is reached by the re-fills: without them the pour's N stands.
             if (c.damper.packing_target > 0.0 && !c.damper.refill)
                 s.fail("packing_target", "must be 0 when damper.refill = false (the re-fills reach the target)");

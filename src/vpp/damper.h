@@ -44,6 +44,12 @@ struct DamperOptions {
     // --backend batch, docs/gpu.md); nullptr: the run steps its World itself. The results are the
     // same bits.
     dem::batch::BatchStepper* batch = nullptr;
+    // From a prepared.ckpt: refuse it when a key that acts during the preparation
+    // (preparation_settings(): stiffnesses, foil, damping, time step) differs from the config's.
+    // A study's branches set it: a case must not branch from a sample its settings did not
+    // prepare (an earlier sweep into the same folder). By hand (--from) a sample may be cycled
+    // with other settings on purpose (the time-step study), so it is off there.
+    bool check_preparation = false;
 };
 
 // The air over one cycle (pump model or output.air; summary.json "air"): what the testing
@@ -80,6 +86,10 @@ struct DamperResult {
     std::map<std::string, double> report;
     // Every warning of the run, the preparation's included (summary.json "warnings").
     std::vector<std::string> warnings;
+    // The run stepped through every cycle asked but recorded fewer complete ones (samples fell
+    // behind the time step, a period shorter than a few steps): warned in summary.json, and
+    // `vppdem damper` exits 1, a study's case fails (summary.json "cycles" holds what ran).
+    bool incomplete = false;
     double run_seconds = 0;
     Config config;  // the settings the run used: a run from a checkpoint takes some of its values
 };

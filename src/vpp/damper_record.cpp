@@ -11,6 +11,7 @@
 #include <stdexcept>
 
 #include "scene/scene_runner.h"
+#include "dem/detect/cell_grid.h"
 #include "dem/io/archive.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
@@ -414,6 +415,30 @@ DamperResult DamperRun::result() const {
     r.report = st_.report;
     r.warnings = st_.warnings;
     if (!incomplete.empty()) r.warnings.push_back(incomplete);
+    const std::size_t asked = std::size_t(c_.process.cycles) * std::size_t(S);
+    if (st_.stage == Stage::Done && st_.samples.size() < asked) {
+        r.incomplete = true;
+        r.warnings.push_back("incomplete: " + std::to_string(st_.samples.size() / std::size_t(S)) + " of process.cycles = " +
+                             std::to_string(c_.process.cycles) + " cycles recorded (" +
+                             std::to_string(st_.samples.size()) + " of " + std::to_string(asked) +
+                             " samples): the samples fell behind the time step; lower process.samples_per_cycle or "
+                             "the frequency (process.frequency, process.velocity)");
+    }
+    // The pump model's dp follows the gas: a leak that outruns the pump lets it fall far below
+    // the set value, and the run is then not one at process.underpressure.
+    if (c_.process.pressure_model != 0)
+        for (const AirCycle& a : r.air)
+            if (a.underpressure_min < 0.5 * c_.process.underpressure) {
+                char msg[400];
+                std::snprintf(msg, sizeof msg,
+                              "pump model: dp fell to %.4g Pa in cycle %d, below half the set process.underpressure "
+                              "%.4g Pa: the leak (process.leak_rate %.3g m^3/s) or the stroke outruns the pump "
+                              "(process.pump_speed %.3g m^3/s); this is not a run at the set underpressure",
+                              a.underpressure_min, a.cycle, c_.process.underpressure, c_.process.leak_rate,
+                              c_.process.pump_speed);
+                r.warnings.push_back(msg);
+                break;
+            }
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     r.config = c_;
     return r;
@@ -468,8 +493,18 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
     const bool quasi_static = I < kQuasiStaticInertialNumber;
     const std::string cycles = cycles_json(r.cycles);
     dem::JsonObject inputs;
-    for (const Setting& k : summary_inputs())
-        k.type == SettingType::Boolean ? (void)inputs.boolean(k.key, k.get(c) != 0.0) : (void)inputs.num(k.key, k.get(c));
+    std::vector<Setting> keys = summary_inputs();
+    // Every key the run was given, too: a record must hold every value that was set (the
+    // time-step study's simulation.dt_safety was in case.toml only). In the table's order after
+    // the fixed ones; numbers as the table keeps them, a file key as its path.
+    for (const Setting& k : settings())
+        if (k.summary == 0 && c.given.count(k.key)) keys.push_back(k);
+    for (const Setting& k : keys) {
+        if (k.type == SettingType::Boolean) inputs.boolean(k.key, k.get(c) != 0.0);
+        else if (std::string(k.key) == "grains.sieve_curve") inputs.str(k.key, c.grains.sieve_curve);
+        else if (std::string(k.key) == "grains.clump_template") inputs.str(k.key, c.grains.clump_template);
+        else inputs.num(k.key, k.get(c));
+    }
     const std::string in = inputs.value();
     // The report's entries with this prefix, without it (absent ones are left out: a sample of
     // an older vppdem did not measure them).
@@ -539,10 +574,30 @@ DamperResult write_damper_outputs(const Damper& d, const DamperOptions& opt) {
 
 DamperResult run_damper(const Config& config, const DamperOptions& opt) {
     Damper d(config, opt);
-    d.prepare();
-    d.vacuum();
-    d.cycle();
+    try {
+        d.prepare();
+        d.vacuum();
+        d.cycle();
+    } catch (const dem::SimulationUnstable& e) {
+        // Name the settings that size the step, and their values (a diverged run failed with
+        // "cannot create std::vector larger than max_size()").
+        const Config& c = d.config();
+        char dt[32];
+        std::snprintf(dt, sizeof dt, "%g", c.simulation.dt);
+        char msg[512];
+        std::snprintf(msg, sizeof msg,
+                      "%s; stage '%s', time step %.4g s (simulation.dt = %s, simulation.dt_safety = %g); lower "
+                      "simulation.dt_safety (default 0.45) or check the stiffnesses (grains.young, foil.young, "
+                      "*.stiffness_ratio)",
+                      e.what(), d.stage().c_str(), d.world().params.dt,
+                      c.simulation.dt_auto ? "\"auto\"" : dt, c.simulation.dt_safety);
+        throw std::runtime_error(msg);
+    }
     const DamperResult r = write_damper_outputs(d, opt);
+    // Said whatever --quiet says: the caller then fails (exit 1, a failed case).
+    if (r.incomplete)
+        for (const std::string& w : r.warnings)
+            if (w.starts_with("incomplete: ")) std::fprintf(stderr, "vppdem: error: %s\n", w.c_str());
     const Config& c = r.config;
     const double I = r.inertial_number;
     const bool quasi_static = I < kQuasiStaticInertialNumber;

@@ -139,6 +139,15 @@ private:
     void setup();
     void adopt_checkpoint_settings();
     void check_grains_fit(std::size_t n);
+    // The process against the built foil (its height z_top_): refuses a stroke the sample cannot
+    // take and a pump-down that would not end; returns the warnings of values that are accepted
+    // but do not do what they seem to (docs/config.md, "Limits from the physics").
+    std::vector<std::string> check_process() const;
+    // The sampling against the time step (known once the world is built): warnings; with
+    // `refuse`, sampling faster than the time step is refused (a fresh run, before writing).
+    std::vector<std::string> check_sampling(bool refuse) const;
+    // Warns what is not yet among the run's warnings (a resumed run has its first start's).
+    void warn_once(const std::vector<std::string>& what);
     // n radii from the size distribution's stream `stream` (0: the pour, k: re-fill k).
     std::vector<double> draw_radii(std::size_t n, uint64_t stream) const;
     // The drawn radii's statistics into the preparation's report (size distributions only).
@@ -237,6 +246,9 @@ private:
     int vtk_count_ = 0;
     double next_vtk_ = 0.0;
     std::vector<std::string> pending_warnings_;  // found before the checkpoint's state is loaded
+    // The process's and the sampling's warnings (check_process, check_sampling): given from the
+    // vacuum on, so that prepared.ckpt, which cases of other process settings share, holds none.
+    std::vector<std::string> process_warnings_;
     std::size_t ckpt_grains_ = 0;               // grains stored in the --from checkpoint (0: unknown)
     int ckpt_cycles_ = 0;  // a resumed run's process.cycles when the command line raises it (0: not raised)
 

@@ -494,6 +494,7 @@ void DamperRun::prepare() {
 
 void DamperRun::vacuum() {
     prepare();
+    warn_once(process_warnings_);  // after prepared.ckpt (see process_warnings_); once on a resume
     if (st_.stage == Stage::Prepared) next_stage(Stage::Vacuum);
     if (st_.stage == Stage::Vacuum) {
         stage_vacuum();

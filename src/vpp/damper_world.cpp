@@ -35,6 +35,10 @@ const std::vector<StoredKey> kGeometryKeys = geometry_settings();
 // Not here: simulation.threads (results do not depend on it), output.vtk_interval (frames only).
 const std::vector<StoredKey> kRunKeys = run_settings();
 
+// What else acted during the preparation: recorded beside the geometry (not checked by a run
+// --from a sample by hand; checked for a study's branch, DamperOptions::check_preparation).
+const std::vector<StoredKey> kPreparationKeys = preparation_settings();
+
 std::map<std::string, double> values_of(const Config& c, const auto& keys) {
     std::map<std::string, double> m;
     for (const StoredKey& k : keys) m[k.key] = k.get(c);
@@ -51,6 +55,15 @@ std::string show(const std::string& key, double v) {
     if (key == "output.energy" || key == "damper.refill") return v != 0.0 ? "true" : "false";
     if (key == "simulation.dt" && v == 0.0) return "\"auto\"";
     if (key == "damper.cap_friction" && v < 0.0) return "(unset: the grains' friction)";
+    // Words, not the numbers the checkpoint keeps for them (a refusal said "grains.shape = 5").
+    if (key == "grains.shape") {
+        const char* const names[] = {"\"sphere\"", "\"dimer\"", "\"trimer\"", "\"tetrahedron\"", "\"pellet\"", "\"template\""};
+        if (v >= 0 && v < 6 && v == std::floor(v)) return names[int(v)];
+    }
+    if (key == "grains.radius_distribution") {
+        const char* const names[] = {"\"single\"", "\"uniform\"", "\"lognormal\"", "\"sieve\""};
+        if (v >= 0 && v < 4 && v == std::floor(v)) return names[int(v)];
+    }
     std::string out;
     dem::append_number(out, v);
     return out;
@@ -124,12 +137,22 @@ void DamperRun::setup() {
     // in the fill stage needs it).
     if (clumps() && (c_.grains.shape != 5 || !c_.grains.clump_template.empty())) shape_ = grain_shape(c_);
     build();
+    // Before anything is written or removed (--overwrite): a refused process leaves the folder.
+    process_warnings_ = check_process();
     const std::size_t n_foil = L_.particles.size();
     // The pour's grains; a checkpoint holds those and its re-fills' (an older one: the pour's).
     const std::size_t n = ckpt_grains_ > 0 ? ckpt_grains_ : grain_count(c_);
     g0_ = uint32_t(n_foil);
     g1_ = uint32_t(n_foil + n * (clumps() ? shape_.members.size() : 1));
     if (o_.from.empty()) check_grains_fit(n);  // a checkpoint's sample was checked when it was prepared
+    // The preparation is frictionless and has no dashpot: local damping is its only dissipation.
+    // Without it the pour never comes to rest and the step diverged ("cannot create std::vector
+    // larger than max_size()"). From a prepared sample 0 is a dynamic run (docs/damper.md).
+    if (o_.from.empty() && c_.simulation.local_damping == 0.0)
+        throw std::runtime_error("config key 'simulation.local_damping' = 0: the preparation (frictionless, no "
+                                 "dashpot) then dissipates nothing and the poured grains never come to rest; allowed "
+                                 "here: in (0, 0.9] (default 0.2). For an undamped run give process.local_damping = 0: "
+                                 "the preparation keeps simulation.local_damping, the vacuum and cycling have none");
 
     if (o_.from.empty()) {
         // Materials in fixed order: grain (frictionless while filling), cap, funnel.
@@ -164,10 +187,12 @@ void DamperRun::setup() {
             w_.add_facet(f);
         }
         st_.geometry = values_of(c_, kGeometryKeys);
+        for (const auto& [k, v] : values_of(c_, kPreparationKeys)) st_.geometry[k] = v;
         st_.grains = grain_count_now();
         st_.report["prepare.grains_poured"] = double(grain_count_now());
         st_.report["prepare.funnel_height"] = funnel_h;
         w_.params.dt = resolve_dt(c_.simulation, w_);
+        check_sampling(true);     // refuses sampling faster than the time step
         start_output_dir(false);  // only now: bad input writes nothing
         log("damper: %zu grains (r_k = %.4g m), foil %d x %d = %zu particles (radius %.5g m), height %.5g m, "
             "dt = %.4g s, %d thread(s)\n", n, c_.grains.radius, L_.cols, L_.rows, n_foil, L_.radius, z_top_,
@@ -201,6 +226,123 @@ void DamperRun::setup() {
         }
     }
     w_.params.threads = c_.simulation.threads;
+    for (const std::string& w : check_sampling(false)) process_warnings_.push_back(w);
+    // The sample's own: with it, in prepared.ckpt too.
+    if (!sizes_.sieve_note.empty()) warn_once({"grains.sieve_curve: " + sizes_.sieve_note});
+}
+
+void DamperRun::warn_once(const std::vector<std::string>& what) {
+    for (const std::string& w : what)
+        if (std::find(st_.warnings.begin(), st_.warnings.end(), w) == st_.warnings.end()) warn(w);
+}
+
+namespace {
+
+std::string fmt(const char* f, double v) {
+    char b[64];
+    std::snprintf(b, sizeof b, f, v);
+    return b;
+}
+
+}  // namespace
+
+std::vector<std::string> DamperRun::check_process() const {
+    std::vector<std::string> warnings;
+    const ProcessDef& p = c_.process;
+    const double H = z_top_, A = p.amplitude, off = p.start_offset;
+    // The stroke against the sample's height H. A poured packing (about 0.6) reaches the densest
+    // packing of spheres (0.74) at a compression of 1 - 0.6 / 0.74 = 19% of its height: beyond
+    // about 20% the grains themselves must deform, i.e. the contact model's overlaps carry the
+    // stroke (warned). At half the height they would overlap by about their own size, and the
+    // linear contact law means nothing (refused; start_offset 0.02 on a 30 mm damper gave W
+    // -440, amplitude 0.035 gave W 9.7e6). Upwards the foil is stretched by the same fraction
+    // of its height: beyond 50% a polymer foil tears (tension.strain is limited to 0.5 too).
+    constexpr double kWarnStrain = 0.2, kMaxStrain = 0.5;  // [-] of the damper height
+    const double down = off + (p.compression_first ? A : 0.0);  // [m] the cap's lowest point below its start
+    const double up = -off + (p.compression_first ? 0.0 : A);   // [m] its highest above
+    auto blame = [&](bool downward) {
+        const bool stroke = downward ? p.compression_first : !p.compression_first;
+        const double offset_part = downward ? off : -off;
+        if (stroke && offset_part <= 0.0) return std::string("process.amplitude' = ") + show("", A);
+        if (!stroke) return std::string("process.start_offset' = ") + show("", off);
+        return std::string("process.start_offset' = ") + show("", off) + " with 'process.amplitude' = " + show("", A);
+    };
+    auto refuse = [&](bool downward, double d) {
+        throw std::runtime_error(
+            "config key '" + blame(downward) + ": the cap would move " + fmt("%.4g", 1e3 * d) + " mm " +
+            (downward ? "down" : "up") + ", " + fmt("%.0f", 100.0 * d / H) + "% of the sample's height " +
+            fmt("%.4g", 1e3 * H) + " mm (damper.height); allowed: less than " + fmt("%.0f", 100.0 * kMaxStrain) +
+            "% of the height (" + fmt("%.4g", 1e3 * kMaxStrain * H) + " mm here): " +
+            (downward ? "beyond, the grains would overlap by about their own size (a crushed sample, not a damper)"
+                      : "beyond, the foil would be stretched past tearing"));
+    };
+    if (down >= kMaxStrain * H) refuse(true, down);
+    if (up >= kMaxStrain * H) refuse(false, up);
+    if (down > kWarnStrain * H)
+        warnings.push_back("process: the cap moves " + fmt("%.4g", 1e3 * down) + " mm down, " +
+                           fmt("%.0f", 100.0 * down / H) + "% of the sample's height: beyond about 20% a poured "
+                           "packing is past the densest packing and the grains' overlaps carry the stroke; W measures "
+                           "the contact model, not the damper (docs/config.md, \"Limits from the physics\")");
+    if (up > kWarnStrain * H)
+        warnings.push_back("process: the cap moves " + fmt("%.4g", 1e3 * up) + " mm up, " +
+                           fmt("%.0f", 100.0 * up / H) + "% of the sample's height: the foil is stretched by about as "
+                           "much (docs/config.md, \"Limits from the physics\")");
+    // Local damping above 0.5: an oscillation already loses most of its amplitude each half
+    // period; more holds the grains back, and the loop's area is then largely the damping's.
+    if (cycling_local_damping(c_) > 0.5)
+        warnings.push_back("local damping " + show("", cycling_local_damping(c_)) + " from the vacuum on (" +
+                           (c_.process.local_damping >= 0.0 ? "process" : "simulation") + ".local_damping) is above 0.5: "
+                           "it holds the grains back, and W is then largely the damping's (cycles.csv "
+                           "damping_dissipation)");
+    // A frequency sets the period and the start offset's speed (2 A f): the velocity is then
+    // not used at all.
+    if (p.frequency > 0.0 && c_.given.count("process.velocity"))
+        warnings.push_back("process.velocity = " + show("", p.velocity) + " m/s is not the cap's speed: process.frequency = " +
+                           show("", p.frequency) + " Hz sets the period (peak speed " +
+                           fmt("%.4g", peak_speed(p)) + " m/s) and the start offset's speed: the velocity is not used");
+    // A pump-down runs until the pump has drawn the gas down: time constant V / S, the stage
+    // waiting five of them. The gas volume is at most the foil's interior less the poured grains.
+    if (p.pressure_model != 0 && p.pump_down && p.pump_speed > 0.0) {
+        constexpr double kMaxPumpDown = 60.0;  // [s] of simulated time: a minute (2 m^3/h on the paper's damper: 0.7 s)
+        const double r_in = L_.radius - c_.foil.particle_radius;
+        const double gas = std::numbers::pi * r_in * r_in * H * (1.0 - c_.grains.volume_fraction);
+        const double t = 5.0 * gas / p.pump_speed;
+        if (t > kMaxPumpDown)
+            throw std::runtime_error(
+                "config key 'process.pump_speed' = " + show("", p.pump_speed) + ": the pump-down (process.pump_down) "
+                "would take about " + fmt("%.3g", t) + " s (" + fmt("%.3g", t / 3600.0) + " h) of simulated time to "
+                "draw the gas (about " + fmt("%.3g", gas * 1e3) + " L) down (5 V / S); allowed: at most " +
+                fmt("%g", kMaxPumpDown) + " s, i.e. process.pump_speed >= " + fmt("%.3g", 5.0 * gas / kMaxPumpDown) +
+                " m^3/s here, or process.pump_down = false");
+    }
+    return warnings;
+}
+
+std::vector<std::string> DamperRun::check_sampling(bool refuse) const {
+    std::vector<std::string> warnings;
+    const ProcessDef& p = c_.process;
+    const double T = cycle_period(p), dt = w_.params.dt;
+    if (!(dt > 0.0)) return warnings;
+    const double spacing = T / double(p.samples_per_cycle);  // [s] between two samples
+    // One sample per step at most: more samples per cycle than steps fall behind, and the run
+    // ends with fewer cycles recorded than asked.
+    if (spacing < dt && refuse)
+        throw std::runtime_error("config key 'process.samples_per_cycle' = " + std::to_string(p.samples_per_cycle) +
+                                 ": a sample every " + fmt("%.3g", spacing) + " s (the period " + fmt("%.4g", T) +
+                                 " s / samples_per_cycle) is less than the time step " + fmt("%.3g", dt) +
+                                 " s; allowed: at most " + fmt("%.0f", std::floor(T / dt)) +
+                                 " here (one sample per step), or a longer period");
+    if (spacing < dt)
+        warnings.push_back("process.samples_per_cycle = " + std::to_string(p.samples_per_cycle) + " asks for a sample every " +
+                           fmt("%.3g", spacing) + " s, less than the time step " + fmt("%.3g", dt) +
+                           " s: at most one sample is taken per step, so at most " +
+                           fmt("%.0f", std::floor(T / dt)) + " per cycle are taken and the last cycles go unrecorded");
+    // Each sample averages the forces since the previous one at most: a longer window is cut.
+    if (p.sample_window > spacing)
+        warnings.push_back("process.sample_window = " + show("", p.sample_window) + " s is longer than the samples' "
+                           "spacing " + fmt("%.3g", spacing) + " s (period / process.samples_per_cycle): each force is "
+                           "averaged over the spacing only");
+    return warnings;
 }
 
 void DamperRun::log(const char* fmt, ...) const {
@@ -224,12 +366,30 @@ void DamperRun::adopt_checkpoint_settings() {
         const double value = k.get(c_);
         if (it != geometry.end() && !c_.given.count(k.key)) {
             k.set(c_, it->second);
+        } else if (it != geometry.end() && (std::string(k.key) == "grains.sieve_curve" ||
+                                            std::string(k.key) == "grains.clump_template") &&
+                   !same_value(it->second, value)) {
+            const std::string& file = std::string(k.key) == "grains.sieve_curve" ? c_.grains.sieve_curve
+                                                                                 : c_.grains.clump_template;
+            diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + ": the sample was drawn from " +
+                     (it->second == 0.0 ? std::string("none") : std::string("a file with other numbers")) +
+                     " (the config asks for " + (file.empty() ? std::string("none") : "'" + file + "'") + ")";
         } else if (it == geometry.end() || !same_value(it->second, value)) {
             diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + " = " +
                      (it == geometry.end() ? std::string("?") : show(k.key, it->second)) +
                      " (the config asks for " + show(k.key, value) + ")";
         }
     }
+    // A study's branch: the keys that acted during the preparation must be the case's too, or
+    // the case would cycle a sample its settings did not make (a stiffer grain settles into
+    // another packing). A checkpoint of an older vppdem did not record them: not checked.
+    if (o_.check_preparation && ck.stage == Stage::Prepared)
+        for (const StoredKey& k : kPreparationKeys) {
+            const auto it = ck.geometry.find(k.key);
+            if (it != ck.geometry.end() && !same_value(it->second, k.get(c_)))
+                diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + " = " + show(k.key, it->second) +
+                         " (the config asks for " + show(k.key, k.get(c_)) + "; it acts during the preparation)";
+        }
     ckpt_grains_ = ck.grains;
     if (!diffs.empty())
         throw std::runtime_error("checkpoint '" + o_.from + "' was prepared with another geometry: " + diffs +
@@ -309,6 +469,18 @@ void DamperRun::check_grains_fit(std::size_t n) {
         throw std::runtime_error(what + " for the damper; at most a third of the foil's inner radius (" +
                                  show("", r_in / 3.0) + " m)");
     }
+    // A clump reaches further than its volume-equivalent radius: one whose members span more
+    // than half the foil's inner radius from its centre cannot turn inside the foil, and a
+    // template reaching the foil's inner radius itself was accepted (issue 48) where a sphere of
+    // a third of it is refused.
+    if (clumps() && grain_reach(rk) > 0.5 * r_in) {
+        const char* const shapes[] = {"sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"};
+        const std::string what = c_.grains.shape == 5 ? "config key 'grains.clump_template' = '" + c_.grains.clump_template + "'"
+                                                      : std::string("config key 'grains.shape' = \"") + shapes[c_.grains.shape] + "\"";
+        throw std::runtime_error(what + ": its grains reach " + show("", grain_reach(rk)) + " m from their centre (at "
+                                 "grains.radius " + show("", rk) + " m); at most half the foil's inner radius (" +
+                                 show("", 0.5 * r_in) + " m), so that a grain can turn inside the foil");
+    }
     // Fewest grains: one layer across the foil. A VPP damper is a packing that the vacuum
     // jams; grains that do not even cover the bottom once lie loose on the lower cap, the
     // cap never loads them and the "loop" is the foil's alone (0 grains gave a negative W).
@@ -361,7 +533,11 @@ void DamperRun::warn(const std::string& what) {
     for (char& ch : w)
         if (ch == '\n' || ch == '\r') ch = ' ';
     st_.warnings.push_back(w);
-    log("damper: warning: %s\n", w.c_str());
+    // On stderr with --quiet too: a value that does not do what it seems must not go unseen
+    // (summary.json keeps it as well).
+    // A study's cases run quietly side by side: each names its folder.
+    if (o_.quiet && !o_.out_dir.empty()) std::fprintf(stderr, "damper %s: warning: %s\n", o_.out_dir.c_str(), w.c_str());
+    else std::fprintf(stderr, "damper: warning: %s\n", w.c_str());
 }
 
 double DamperRun::highest_grain_top() const {

@@ -164,7 +164,11 @@ const std::vector<Setting>& table() {
         {.key = "grains.friction", .type = T::Real, .unit = "-", .def = 0.6, .check = C::NonNegative,
          .acts = A::ContactPhysics, .shares_preparation = true, .run = 1, .summary = 4,
          .doc = "mu_k, grain-grain Coulomb friction (the preparation is frictionless)", FIELD(grains.friction)},
-        {.key = "grains.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::NonNegative,
+        // At most 1: ks/kn of elastic spheres is 2 (1 - nu) / (2 - nu), 0.67 to 1 for Poisson ratios
+        // 0.5 to 0; and the time step is sized on the normal stiffness, so a stiffer tangential
+        // spring outruns it (1.5 blew the run up).
+        {.key = "grains.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::Range, .lo = 0.0,
+         .hi = 1.0, .allowed = "must be in [0, 1] (ks/kn of elastic spheres is at most 1; the time step is sized on kn)",
          .acts = A::ContactPhysics, .run = 3, .summary = 5, .doc = "ks/kn of grain contacts", FIELD(grains.stiffness_ratio)},
         {.key = "grains.volume_fraction", .type = T::Real, .unit = "-", .def = 0.54, .check = C::Range, .lo = 0.0,
          .hi = 0.74, .lo_open = true, .hi_open = true,
@@ -199,7 +203,8 @@ const std::vector<Setting>& table() {
          .acts = A::Geometry, .geometry = 5, .summary = 10, .doc = "density of the foil particles", FIELD(foil.density)},
         {.key = "foil.friction", .type = T::Real, .unit = "-", .def = 0.0, .check = C::NonNegative,
          .acts = A::ContactPhysics, .run = 6, .summary = 11, .doc = "friction of foil contacts", FIELD(foil.friction)},
-        {.key = "foil.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::NonNegative,
+        {.key = "foil.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::Range, .lo = 0.0,
+         .hi = 1.0, .allowed = "must be in [0, 1] (ks/kn of elastic spheres is at most 1; the time step is sized on kn)",
          .acts = A::ContactPhysics, .run = 7, .doc = "ks/kn of bonds and foil contacts", FIELD(foil.stiffness_ratio)},
         // [damper]; radius and height are also checked against the foil (vpp/config.cpp).
         {.key = "damper.radius", .type = T::Real, .unit = "m", .def = 0.0255, .check = C::Positive,
@@ -279,11 +284,14 @@ const std::vector<Setting>& table() {
          },
          .get = [](const Config& c) { return c.process.compression_first ? 0.0 : 1.0; },
          .set = [](Config& c, double v) { c.process.compression_first = v == 0.0; }},
-        {.key = "process.cycles", .type = T::Integer, .unit = "", .def = 4, .check = C::AtLeast, .lo = 1,
-         .allowed = "must be an integer >= 1", .acts = A::Process, .shares_preparation = true, .run = 15, .summary = 17,
+        // Bounded: the run counts cycles and samples in int, and a value past 2^31 wrapped round
+        // (2147483648 ran 0 cycles, 4294967297 one, samples_per_cycle 4294967300 four rows).
+        // A million cycles or samples per cycle is far past any run (4 cycles take hours).
+        {.key = "process.cycles", .type = T::Integer, .unit = "", .def = 4, .check = C::Range, .lo = 1, .hi = 1e6,
+         .allowed = "must be an integer in 1..1000000", .acts = A::Process, .shares_preparation = true, .run = 15, .summary = 17,
          .doc = "loading cycles (raised when resuming a run.ckpt, the run goes on with the further cycles)", FIELD(process.cycles)},
-        {.key = "process.samples_per_cycle", .type = T::Integer, .unit = "", .def = 500, .check = C::AtLeast, .lo = 4,
-         .allowed = "must be an integer >= 4", .acts = A::Process, .shares_preparation = true, .run = 16, .summary = 18,
+        {.key = "process.samples_per_cycle", .type = T::Integer, .unit = "", .def = 500, .check = C::Range, .lo = 4,
+         .hi = 1e6, .allowed = "must be an integer in 4..1000000 (and a sample at most every time step)", .acts = A::Process, .shares_preparation = true, .run = 16, .summary = 18,
          .doc = "rows of forces.csv per cycle", FIELD(process.samples_per_cycle)},
         {.key = "process.sample_window", .type = T::Real, .unit = "s", .def = 2e-4, .check = C::Positive,
          .acts = A::Process, .shares_preparation = true, .run = 17, .summary = 19,
@@ -343,7 +351,8 @@ const std::vector<Setting>& table() {
          FIELD(process.frequency), .legacy = 0.0},
         {.key = "process.local_damping", .type = T::RealOrAuto, .unit = "-", .def = Setting::kUnset,
          .default_text = "\"auto\"", .check = C::Custom,
-         .allowed = "must be in [0, 1) or \"auto\" (simulation.local_damping)", .acts = A::Process,
+         .allowed = "must be in [0, 0.9] or \"auto\" (simulation.local_damping; above 0.9 the damping, not the grains, "
+                    "dissipates)", .acts = A::Process,
          .shares_preparation = true, .run = 31, .summary = 33,
          .doc = "local damping from the vacuum on; \"auto\": simulation.local_damping throughout. 0 with "
                 "grains.restitution: a dynamic run from the usual preparation (docs/damper.md, \"Waveforms and "
@@ -354,7 +363,7 @@ const std::vector<Setting>& table() {
              if (const toml::node* n = s.node(k)) {
                  if (auto str = n->as_string()) {
                      if (str->get() != "auto") s.fail(k, r.allowed);
-                 } else if (auto v = n->value<double>(); v && *v >= 0.0 && *v < 1.0) {
+                 } else if (auto v = n->value<double>(); v && *v >= 0.0 && *v <= 0.9) {
                      c.process.local_damping = *v;
                  } else {
                      s.fail(k, r.allowed);
@@ -402,8 +411,12 @@ const std::vector<Setting>& table() {
              c.simulation.dt_auto = v == 0.0;
              c.simulation.dt = v;
          }},
+        // At most 0.5: sqrt(m/k) is one spring's critical step; a grain with several contacts and
+        // the foil's bonds need less (0.7 diverged on the tests' small damper, "cannot create
+        // std::vector larger than max_size()"; 0.6 ran with W 24% off 0.45's).
         {.key = "simulation.dt_safety", .type = T::Real, .unit = "-", .def = 0.45, .def_foil = 0.3, .check = C::Range,
-         .lo = 0.0, .hi = 1.0, .lo_open = true, .allowed = "must be in (0, 1]", .acts = A::Simulation, .run = 20,
+         .lo = 0.0, .hi = 0.5, .lo_open = true,
+         .allowed = "must be in (0, 0.5] (sqrt(m/k) is one contact's critical step; several contacts need less)", .acts = A::Simulation, .run = 20,
          .doc = "dt = safety * min sqrt(m/k) when simulation.dt is \"auto\"",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet commands) {
              const std::string k = short_key(r);
@@ -411,8 +424,12 @@ const std::vector<Setting>& table() {
              if (!(c.simulation.dt_safety > r.lo && c.simulation.dt_safety <= r.hi)) s.fail(k, r.allowed);
          },
          FIELD(simulation.dt_safety)},
+        // At most 0.9: the damping removes the fraction lambda of each force's power; near 1 it
+        // holds the grains back instead of damping them (process.local_damping = 0.999999 gave
+        // W 125,099 J/m^2 against 388). Above 0.5 is warned (vpp/damper_world.cpp).
         {.key = "simulation.local_damping", .type = T::Real, .unit = "-", .def = 0.2, .check = C::Range, .lo = 0.0,
-         .hi = 1.0, .hi_open = true, .allowed = "must be in [0, 1)", .acts = A::Simulation, .run = 18, .summary = 20,
+         .hi = 0.9, .allowed = "must be in [0, 0.9] (above, the damping, not the grains, dissipates; 0 only from a "
+                               "prepared sample: the preparation needs it)", .acts = A::Simulation, .run = 18, .summary = 20,
          .doc = "Yade-style non-viscous damping: the preparation's, and the run's unless process.local_damping "
                 "is given", FIELD(simulation.local_damping)},
         {.key = "simulation.threads", .type = T::Integer, .unit = "", .def = 0, .def_foil = 1, .check = C::Custom,
@@ -496,6 +513,16 @@ const Setting* find_setting(std::string_view key) {
 std::vector<Setting> geometry_settings() { return ordered_by(&Setting::geometry); }
 std::vector<Setting> run_settings() { return ordered_by(&Setting::run); }
 std::vector<Setting> summary_inputs() { return ordered_by(&Setting::summary); }
+std::vector<Setting> preparation_settings() {
+    std::vector<Setting> out;
+    for (const Setting& s : table()) {
+        const std::string sec = section_of(s.key);
+        if (s.geometry == 0 && !s.shares_preparation &&
+            (sec == "grains" || sec == "foil" || sec == "damper" || sec == "simulation"))
+            out.push_back(s);
+    }
+    return out;
+}
 
 bool may_share_preparation(const std::string& key) {
     if (const Setting* s = find_setting(key)) return s->shares_preparation;
@@ -521,6 +548,46 @@ const char* acts_name(Acts a) {
     case Acts::Simulation: return "simulation";
     }
     return "?";
+}
+
+// The checks that weigh keys against each other and against the built damper (vpp/damper_world.cpp,
+// check_process and check_sampling; vpp/damper_record.cpp), which a single key's range cannot say.
+std::string limits_markdown() {
+    return "### Limits from the physics\n\n"
+           "A value inside its key's range may still ask for something the damper cannot do. These are\n"
+           "refused (exit 2, naming the key, its value and the limit) or run with a warning (on stderr, also\n"
+           "with `--quiet`, and in summary.json `warnings`):\n\n"
+           "- **Stroke** (`process.amplitude`, `process.start_offset`, `process.direction`), against the\n"
+           "  sample's height H: a poured packing (about 0.6) reaches the densest packing of spheres (0.74)\n"
+           "  at a compression of 1 - 0.6/0.74 = 19% of its height. A cap moving more than 20% of H below\n"
+           "  its start is warned (the grains' overlaps, not the packing, carry the stroke); 50% of H or\n"
+           "  more is refused (the grains would overlap by about their own size). Upwards the foil is\n"
+           "  stretched by the same fraction: warned above 20%, refused from 50% (a torn foil).\n"
+           "- **Local damping** (`simulation.local_damping`, `process.local_damping`): Yade's local\n"
+           "  damping removes the fraction lambda of each force's power; at lambda = 0.5 an oscillation\n"
+           "  already loses most of its amplitude each half period, beyond that more damping only holds\n"
+           "  the grains back (0.999999 gave W 125,099 J/m^2 against 388, all of it damping). Allowed:\n"
+           "  [0, 0.9]; above 0.5 is warned. The preparation is frictionless and has no dashpot, so\n"
+           "  `simulation.local_damping` = 0 is refused for a new sample (it never comes to rest; the step\n"
+           "  diverged); from a prepared sample it is a dynamic run, as `process.local_damping` = 0.\n"
+           "- **Time step** (`simulation.dt_safety`): the critical step sqrt(m/k) is that of one contact; a\n"
+           "  grain with several contacts, and the foil's bonds, need a smaller one: allowed (0, 0.5] (0.7\n"
+           "  diverged on the small damper). A run whose positions stop being finite numbers ends with an\n"
+           "  error naming the step and these keys.\n"
+           "- **Tangential stiffness** (`grains.stiffness_ratio`, `foil.stiffness_ratio`): ks/kn of elastic\n"
+           "  spheres is 2(1 - nu)/(2 - nu), 0.67 to 1 for Poisson ratios 0.5 to 0, and the step is sized on\n"
+           "  kn: allowed [0, 1].\n"
+           "- **Counts** (`process.cycles`, `process.samples_per_cycle`): at most 1,000,000 (larger values\n"
+           "  wrapped round in the run's counters). A sample every time step at most: more samples per cycle\n"
+           "  than the cycle has steps is refused (a run from a checkpoint: warned). A run that still records\n"
+           "  fewer cycles than asked says so in `warnings` and exits 1 (a study's case fails).\n"
+           "- **process.sample_window** longer than the samples' spacing (period / samples_per_cycle):\n"
+           "  warned, each force is averaged over the spacing only.\n"
+           "- **process.velocity** given with `process.frequency` > 0: warned, the frequency sets the\n"
+           "  period and the start offset's speed, the velocity is not used.\n"
+           "- **Pump model**: a pump-down (`process.pump_down`) whose 5 V / S (gas volume over\n"
+           "  `process.pump_speed`) exceeds 60 s of simulated time is refused with the estimate; a cycle\n"
+           "  whose dp falls below half `process.underpressure` is warned.\n";
 }
 
 std::string config_reference_markdown() {
@@ -561,6 +628,7 @@ std::string config_reference_markdown() {
               acts_name(s.acts) + " | " + (s.shares_preparation ? "yes" : "no") + " | " + recorded + " | " +
               cfg::markdown_cell(s.doc) + " |\n";
     }
+    md += "\n" + limits_markdown();
     // The study file's keys (vpp/study_file.cpp), then the generic scene runner's, each from its
     // own table (scene/scene_settings.cpp).
     md += "\n" + study_reference_markdown();

@@ -73,6 +73,11 @@ const Setting* find_setting(std::string_view key);
 std::vector<Setting> geometry_settings();
 std::vector<Setting> run_settings();
 std::vector<Setting> summary_inputs();
+// Keys that act while the sample is prepared but are no geometry key: the stiffnesses, the foil,
+// the damping and the time step (every key of grains, foil, damper and simulation that may not
+// share a preparation and has no geometry position). A prepared sample records them; a study's
+// branch must match them (DamperOptions::check_preparation).
+std::vector<Setting> preparation_settings();
 
 // Whether cases that differ in this key may share a preparation. A key not in the table is
 // treated like its section when every key of the section may share (process, output, analysis).

@@ -202,6 +202,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             d.plot = false;
             d.overwrite = true;  // the folder holds case.toml, perhaps leftovers of a killed start
             d.checkpoint_every = opt.checkpoint_every;
+            d.check_preparation = true;  // never a branch from a sample of other settings
             d.batch = c.config.grains.shape == 0 ? batch.get() : nullptr;  // clumps: not in the batch yet
             if (opt.progress)
                 d.progress = [&](const char*, uint64_t, uint64_t, double) {
@@ -212,6 +213,9 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             else if (c.preparer != i && !self_prepare) d.from = (out / cases[c.preparer].name / "prepared.ckpt").string();
             const DamperResult r = run_damper(c.config, d);
             if (r.cycles.empty()) throw std::runtime_error("the run recorded no complete cycle");
+            if (r.incomplete)
+                for (const std::string& w : r.warnings)
+                    if (w.starts_with("incomplete: ")) throw std::runtime_error(w);
             // From the records the run wrote, as for a case finished earlier: one place fills
             // an outcome, so a resumed sweep's tables are those of an uninterrupted one.
             o = read_case_outcome(dir, c.config);

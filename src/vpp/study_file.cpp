@@ -58,8 +58,10 @@ bool scalar_literal(const toml::node& n, std::string& literal, std::string& labe
         return true;
     }
     if (auto f = n.as_floating_point()) {
-        const double v = f->get();
+        double v = f->get();
         if (!std::isfinite(v)) return false;
+        // -0.0 is the value 0: one case, one label (else "0" and "-0" were two cases of one run).
+        if (v == 0.0) v = 0.0;
         label.clear();
         dem::append_number(label, v);
         literal = label;
@@ -214,6 +216,11 @@ Study load_study(const std::string& path, const std::vector<std::string>& extra_
             if (!scalar_literal(*e.node, lit, label))
                 throw ConfigError(where + "[set] key '" + e.key + "' = " + cfg::describe(*e.node) +
                                   ": must be a number, string or boolean");
+            // A key written twice, quoted ("grains.friction" = ...) and bare (grains.friction =
+            // ...), is two TOML keys but one config key: the later would silently win.
+            if (seen.count(e.key))
+                throw ConfigError(where + "[set] key '" + e.key + "' is given twice (quoted and as a dotted key are "
+                                          "the same config key): keep one");
             s.set.push_back(e.key + "=" + lit);
             seen.insert(e.key);
         }

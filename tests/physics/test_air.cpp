@@ -352,3 +352,19 @@ TEST_F(Air, AResumedPumpRunEqualsTheUninterruptedOne) {
     EXPECT_EQ(slurp(d / "forces.csv"), slurp(whole / "forces.csv"));
     EXPECT_EQ(slurp(d / "energy.csv"), slurp(whole / "energy.csv"));
 }
+
+// Issue 48: a leak that outruns the pump let dp fall from 60 kPa to a few hundred Pa within a
+// cycle while the run's banner said 0.06 MPa, without a word. summary.json now warns, naming
+// the lowest dp, the set value and the leak.
+TEST_F(Air, AnUnderpressureFallingFarBelowTheSetValueIsWarned) {
+    ASSERT_EQ(prep_.status, 0) << prep_.output;
+    const fs::path d = branch("leaking", "--set process.pressure_model=pump --set process.pump_speed=2.8e-6 "
+                                         "--set process.bleed_rate=0 --set process.leak_rate=1e-3");
+    const auto j = nlohmann::json::parse(slurp(d / "summary.json"));
+    const double lo = j.at("air").at("cycles")[0].at("underpressure_min").get<double>();
+    std::printf("leaking pump: dp down to %.6g Pa\n", lo);
+    ASSERT_LT(lo, 0.03e6);
+    bool warned = false;
+    for (const auto& w : j.at("warnings")) warned |= w.get<std::string>().starts_with("pump model: dp fell to");
+    EXPECT_TRUE(warned) << j.at("warnings").dump();
+}

@@ -552,3 +552,97 @@ TEST(DamperPreparation, UnderpressureIsCheckedByEveryCommand) {
     }
     fs::remove_all(d);
 }
+
+// Issue 48: values inside their keys' ranges that ask for what the damper cannot do, each
+// refused with exit 2 naming the key, before anything is written (a crushed sample: W -440; a
+// stroke past the damper's height: W 9.7e6; a pump-down of 215,128 h; counts wrapped round; a
+// diverged step reported as "cannot create std::vector larger than max_size()"; damper.radius
+// 1e300 blamed on grains.radius).
+TEST_F(Damper, PhysicallyImpossibleValuesAreRefusedNamingTheKey) {
+    ASSERT_EQ(base_.status, 0) << base_.output;
+    struct Case {
+        std::string args, must_mention, also;
+    };
+    const std::string prepared = (scratch("dp060") / "prepared.ckpt").string();
+    // A chain of 7 overlapping spheres: at the grain's volume it reaches about 10 mm from its
+    // centre, the foil's inner radius (11 mm), where a sphere of a third of that is refused.
+    std::string chain = "x,y,z,r\n";
+    for (int k = 0; k < 7; ++k) chain += std::to_string(1.9 * (k - 3)) + ",0,0,1\n";
+    const fs::path chain_csv = scratch("chain.csv");
+    write_file(chain_csv, chain);
+    const std::vector<Case> cases = {
+        {"--set grains.shape=\\\"template\\\" --set grains.clump_template=" + chain_csv.string(),
+         "'grains.clump_template' = '" + chain_csv.string() + "'", "can turn inside the foil"},
+        {"--set process.start_offset=0.02", "'process.start_offset' = 0.02", "50% of the height"},
+        {"--set process.amplitude=0.035", "'process.amplitude' = 0.035", "50% of the height"},
+        {"--set process.amplitude=0.016 --set process.direction=\\\"extension\\\"", "'process.amplitude' = 0.016", "up"},
+        {"--from " + prepared + " --set process.amplitude=0.035", "'process.amplitude' = 0.035", "50% of the height"},
+        {"--set process.pressure_model=\\\"pump\\\" --set process.pump_down=true --set process.pump_speed=1e-12",
+         "'process.pump_speed' = 1e-12", " h) of simulated time"},
+        {"--set process.samples_per_cycle=1000000", "'process.samples_per_cycle' = 1000000", "less than the time step"},
+        {"--set process.cycles=2147483648", "'process.cycles' = 2147483648", "1..1000000"},
+        {"--set process.samples_per_cycle=4294967300", "'process.samples_per_cycle' = 4294967300", "4..1000000"},
+        {"--set simulation.dt_safety=0.7", "'simulation.dt_safety' = 0.7", "(0, 0.5]"},
+        {"--set foil.stiffness_ratio=1.5", "'foil.stiffness_ratio' = 1.5", "[0, 1]"},
+        {"--set process.local_damping=0.999999", "'process.local_damping' = 0.999999", "[0, 0.9]"},
+        {"--set simulation.local_damping=0.95", "'simulation.local_damping' = 0.95", "[0, 0.9]"},
+        {"--set damper.radius=1e300", "'damper.radius'", "10 million foil particles"},
+        {"--set grains.radius=1e300", "grains.radius / 3", "foil.particle_radius"},
+        // A refused branch names the shapes, not the numbers the checkpoint keeps (it said 0 and 1).
+        {"--from " + prepared + " --set grains.shape=dimer", "grains.shape = \"sphere\" (the config asks for \"dimer\")",
+         "prepared with another geometry"},
+    };
+    for (const Case& c : cases) {
+        const fs::path d = scratch("impossible");
+        fs::remove_all(d);
+        const Outcome r = run("damper --out " + d.string() + " " + kSmall + " " + c.args);
+        EXPECT_TRUE(WIFEXITED(r.status) && WEXITSTATUS(r.status) == 2) << c.args << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.must_mention), std::string::npos) << c.args << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.also), std::string::npos) << c.args << "\n" << r.output;
+        EXPECT_EQ(r.output.find("max_size"), std::string::npos) << c.args << "\n" << r.output;
+        EXPECT_FALSE(fs::exists(d)) << c.args << ": wrote " << d;
+    }
+}
+
+// Issue 48: values that are accepted but do not do what they seem are warned, on stderr with
+// --quiet too and in summary.json "warnings": a velocity the frequency overrides, a sample
+// window longer than the samples' spacing (cut to it), a stroke beyond 20% of the height. And
+// summary.json "inputs" holds every key that was set (simulation.dt_safety was missing).
+TEST_F(Damper, AcceptedButMisleadingValuesAreWarnedAndEveryKeySetIsRecorded) {
+    ASSERT_EQ(base_.status, 0) << base_.output;
+    const fs::path d = scratch("warned");
+    fs::remove_all(d);
+    // The base run's period is 2 A / v = 0.04 s: 25 Hz keeps it, 80 samples 0.5 ms apart.
+    const Outcome r = run("damper --out " + d.string() + " --from " + (scratch("dp060") / "prepared.ckpt").string() +
+                          " " + kSmall + " --set process.cycles=1 --set process.frequency=25 --set process.amplitude=0.007"
+                          " --set process.sample_window=1e-3 --set simulation.dt_safety=0.4");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const std::string js = slurp(d / "summary.json");
+    for (const char* w : {"process.velocity = 0.1 m/s is not the cap's speed", "process.sample_window = 0.001 s is longer",
+                          "% of the sample's height: beyond about 20%"}) {
+        EXPECT_NE(r.output.find(w), std::string::npos) << w << "\n" << r.output;
+        EXPECT_NE(js.find(w), std::string::npos) << w << "\n" << js;
+    }
+    EXPECT_EQ(json_number(js, "simulation.dt_safety", "inputs"), 0.4) << js;
+    EXPECT_EQ(json_number(js, "process.frequency", "inputs"), 25) << js;
+}
+
+// Issue 48: a run that records fewer cycles than asked (the samples fall behind a time step
+// longer than their spacing) exited 0. From a prepared sample (the sampling is checked against
+// the step only once the sample's step is known: warned) it now says so in summary.json
+// "warnings" and on stderr, and exits 1.
+TEST_F(Damper, ARunThatRecordsFewerCyclesThanAskedFails) {
+    ASSERT_EQ(base_.status, 0) << base_.output;
+    const double dt = json_number(slurp(scratch("dp060") / "summary.json"), "dt");
+    ASSERT_GT(dt, 0.0);
+    const fs::path d = scratch("incomplete");
+    fs::remove_all(d);
+    char freq[64];
+    std::snprintf(freq, sizeof freq, "%.17g", 1.0 / (40.0 * dt));  // 40 steps a cycle, 80 samples asked
+    const Outcome r = run("damper --out " + d.string() + " --from " + (scratch("dp060") / "prepared.ckpt").string() +
+                          " " + kSmall + " --set process.cycles=1 --set process.frequency=" + freq +
+                          " --set output.energy=false");
+    EXPECT_TRUE(WIFEXITED(r.status) && WEXITSTATUS(r.status) == 1) << r.output;
+    EXPECT_NE(r.output.find("incomplete: 0 of process.cycles = 1 cycles recorded"), std::string::npos) << r.output;
+    EXPECT_NE(slurp(d / "summary.json").find("incomplete: 0 of process.cycles = 1"), std::string::npos);
+}

@@ -692,6 +692,47 @@ TEST_F(Study, CalibrationRecoversTheFrictionOfAnExperimentFromAnotherPacking) {
         EXPECT_NE(report.find("\"best\": null"), std::string::npos) << report;
         EXPECT_TRUE(fs::exists(out / "misfit_failed.csv"));
     }
+
+    // Issue 48: a unit slip (--force-unit kN on data in N replaced calibration.json) makes the
+    // measured peak force 1000 times the simulated: counted failed, the good results kept, and
+    // said on stderr with --quiet and in calibration_failed.json "warnings". The cases are done:
+    // this only compares.
+    {
+        std::string cols = columns;
+        cols.replace(cols.find(" --force-unit kN"), 16, " --force-unit N");
+        const Outcome slip = run("calibrate " + study.string() + " --experiment " + expfile.string() + " --out " +
+                                 out.string() + " --no-plot --quiet" + cols);
+        EXPECT_EQ(WEXITSTATUS(slip.status), 1) << slip.output;
+        EXPECT_NE(slip.output.find("implausible units"), std::string::npos) << slip.output;
+        EXPECT_NE(slip.output.find("check --force-unit (now N)"), std::string::npos) << slip.output;
+        EXPECT_EQ(slurp(out / "calibration.json"), json_before);
+        EXPECT_NE(slurp(out / "calibration_failed.json").find("check --force-unit (now N)"), std::string::npos);
+    }
+    // The displacement's slip shows against process.amplitude before anything runs: exit 2.
+    {
+        std::string cols = columns;
+        cols.replace(cols.find(" --displacement-unit mm"), 23, " --displacement-unit m");
+        const Outcome slip = run("calibrate " + study.string() + " --experiment " + expfile.string() + " --out " +
+                                 out.string() + " --no-plot --quiet" + cols);
+        EXPECT_EQ(WEXITSTATUS(slip.status), 2) << slip.output;
+        EXPECT_NE(slip.output.find("implausible units"), std::string::npos) << slip.output;
+        EXPECT_NE(slip.output.find("check --displacement-unit (now m)"), std::string::npos) << slip.output;
+        EXPECT_EQ(slurp(out / "calibration.json"), json_before);
+    }
+    // A stroke 1.5 times the simulated one: a calibration, but warned on stderr with --quiet
+    // and in calibration.json (the warning was printed only without --quiet, and not kept).
+    std::string longer = "t_s,stroke_mm,load_kN\n";
+    for (const auto& r : rows) {
+        char line[160];
+        std::snprintf(line, sizeof line, "%.9g,%.9g,%.9g\n", r[0], -(1.5e3 * r[1]), -(1e-3 * r[5]));
+        longer += line;
+    }
+    const fs::path longfile = scratch("longer_stroke.csv");
+    write_file(longfile, longer);
+    const Outcome warned = run("calibrate " + study.string() + " --experiment " + longfile.string() + " --out " +
+                               out.string() + " --no-plot --quiet" + columns);
+    EXPECT_NE(warned.output.find("simulated stroke"), std::string::npos) << warned.output;
+    EXPECT_NE(slurp(out / "calibration.json").find("simulated stroke"), std::string::npos);
 }
 
 TEST_F(Study, FailedCasesAreReportedAndDoNotStopTheOthers) {
@@ -853,4 +894,25 @@ TEST_F(Study, TheBatchBackendWritesTheCpuBackendsFiles) {
     EXPECT_NE(c.status, 0);
     EXPECT_NE(c.output.find("--backend cuda"), std::string::npos) << c.output;
     EXPECT_FALSE(fs::exists(none));
+}
+
+// Issue 48: a sweep into a folder of an earlier sweep, with a changed key that acts during the
+// preparation but is no geometry key (grains.young), branched its new case from the old sample
+// (W 133.77 where a fresh run of that case gives 204.33). The branch now checks every key that
+// acts before prepared.ckpt and refuses, naming the key, as it refuses a changed grains.radius.
+TEST_F(Study, ABranchFromASampleOfOtherPreparationSettingsIsRefused) {
+    const fs::path first = scratch("young1.toml"), second = scratch("young2.toml"), out = scratch("young");
+    fs::remove_all(out);
+    write_file(first, kSmallSet + "[grid]\n\"grains.friction\" = [0.3]\n");
+    const Outcome a = run("sweep " + first.string() + " --out " + out.string() + " --no-plot --quiet --jobs 1");
+    ASSERT_EQ(a.status, 0) << a.output;
+    write_file(second, kSmallSet + "\"grains.young\" = 2.3e10\n[grid]\n\"grains.friction\" = [0.3, 0.6]\n");
+    const Outcome b = run("sweep " + second.string() + " --out " + out.string() + " --no-plot --jobs 1");
+    EXPECT_EQ(WEXITSTATUS(b.status), 1) << b.output;
+    const fs::path branch = out / "grains.friction=0.6";
+    ASSERT_TRUE(fs::exists(branch / "FAILED")) << b.output;
+    const std::string why = slurp(branch / "FAILED");
+    EXPECT_NE(why.find("grains.young = 2.3e+09 (the config asks for 2.3e+10"), std::string::npos) << why;
+    EXPECT_NE(why.find("acts during the preparation"), std::string::npos) << why;
+    EXPECT_FALSE(fs::exists(branch / "summary.json"));
 }

@@ -380,3 +380,27 @@ TEST(Analysis, CsvWithAHeaderOnlyIsAnError) {
         EXPECT_NE(std::string(e.what()).find(path), std::string::npos) << e.what();
     }
 }
+
+// Issue 48: a UTF-8 byte order mark before the header (a spreadsheet's export) made the first
+// column "\xEF\xBB\xBFtime", and the refusal "no time column 'time'" showed no difference. It is
+// skipped.
+TEST(Analysis, AByteOrderMarkBeforeTheHeaderIsNoPartOfTheFirstColumn) {
+    TempDir dir;
+    write_file(dir / "bom.csv", "\xEF\xBB\xBFtime,displacement,force\n0,0,0\n1,1,1\n2,0,0\n");
+    const LoopSeries s = read_loop_csv(dir / "bom.csv", "time", "displacement", "force", "");
+    EXPECT_EQ(s.time, (std::vector<double>{0, 1, 2}));
+}
+
+// Issue 48: rows whose time runs backwards (a merged or re-sorted file) were taken in their
+// order, loops and all. Refused, naming the line and both times.
+TEST(Analysis, ATimeColumnRunningBackwardsIsRefused) {
+    TempDir dir;
+    write_file(dir / "unsorted.csv", "time,displacement,force\n0,0,0\n2,1,1\n1,0,0\n");
+    try {
+        read_loop_csv(dir / "unsorted.csv", "time", "displacement", "force", "");
+        FAIL() << "accepted";
+    } catch (const std::runtime_error& e) {
+        const std::string m = e.what();
+        EXPECT_NE(m.find("line 4: column 'time' = 1 is earlier than the row before (2)"), std::string::npos) << m;
+    }
+}

@@ -364,11 +364,18 @@ TEST(Checkpoint, RejectsDamagedForeignAndFutureFiles) {
     write_bytes(bad, "hello, world\n");
     expect_load_error(bad, "not a vppdem checkpoint");
 
+    // Issue 48: a flipped version byte said "format version 3" as if a newer vppdem had written
+    // the file. The checksum covers the version: a damaged header is named so, with the file.
     std::string future = bytes;
     future[8] = 3;  // version field (little-endian uint32 after the magic)
     write_bytes(bad, future);
-    expect_load_error(bad, "version 3");
-    expect_load_error(bad, "supports version 2");
+    expect_load_error(bad, "not a vppdem checkpoint of a known version");
+    expect_load_error(bad, bad.string());
+    // A sealed file of another version: written by another vppdem.
+    dem::reseal_checkpoint_bytes(future);
+    write_bytes(bad, future);
+    expect_load_error(bad, "another vppdem (format version 3)");
+    expect_load_error(bad, "reads format versions 1 and 2");
 
     World r;
     EXPECT_EQ(load_checkpoint(good.string(), r), "app");  // the original is still fine

@@ -133,3 +133,27 @@ TEST_F(FolderLockTest, AnotherProcessIsRefusedUntilItIsKilledThenItsStaleLockIsT
     EXPECT_TRUE(after.held());
     EXPECT_NE(slurp(d / FolderLock::kFileName).find("pid " + std::to_string(::getpid()) + "\n"), std::string::npos);
 }
+
+// Issue 48: a lock file that is a symbolic link was followed, and the file it points to
+// truncated and overwritten with the holder's name. It is refused, naming the link, and the
+// target is left as it was.
+TEST(FolderLockLink, ALockFileThatIsASymbolicLinkIsRefusedAndItsTargetKept) {
+    const fs::path d = scratch("link");
+    const fs::path target = d / "precious.txt";
+    {
+        std::ofstream(target) << "the user's data\n";
+    }
+    const fs::path dir = d / "out";
+    fs::create_directories(dir);
+    fs::create_symlink(target, dir / ".vppdem.lock");
+    std::string message;
+    try {
+        FolderLock lock(dir.string());
+    } catch (const std::exception& e) {
+        message = e.what();
+    }
+    EXPECT_NE(message.find("symbolic link"), std::string::npos) << message;
+    EXPECT_NE(message.find(".vppdem.lock"), std::string::npos) << message;
+    EXPECT_EQ(slurp(target), "the user's data\n");
+    fs::remove_all(d);
+}

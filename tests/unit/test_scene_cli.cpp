@@ -860,3 +860,66 @@ orientation = [0.0, 0.0, 0.5]
     refused("[[clumps]]\nmaterial = \"grain\"\nshape = \"template\"\ntemplate = \"apart.csv\"\nposition = [0, 0, 0.01]\n",
             "do not all touch");
 }
+
+// Issue 48, a full disk: CsvWriter ignored fflush and fclose, so a cut-short tracked.csv was
+// renamed into place (and a throw from a destructor aborted the run, exit 134). tracked.csv's
+// temporary file is a link to /dev/full, where every write fails with ENOSPC: the run ends with
+// exit 2 and a message naming the file, and nothing lies under the final name.
+TEST(SceneCli, AFullDiskIsAClearErrorAndLeavesNoFileUnderItsFinalName) {
+    if (!fs::exists("/dev/full")) GTEST_SKIP() << "no /dev/full here";
+    TempDir d;
+    write_file(d / "s.toml", tiny_scene());
+    fs::create_directories(d / "out");
+    fs::create_symlink("/dev/full", d / "out/tracked.csv.part");
+    const Result r = run_scene(d / "s.toml", d / "out", "--overwrite");
+    EXPECT_EQ(r.rc, 2) << r.output;
+    EXPECT_NE(r.output.find("tracked.csv"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("No space left on device"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("terminate called"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(fs::symlink_status(d / "out/tracked.csv"))) << "a file under the final name";
+}
+
+// Issue 48: a .vppdem.lock that is a symbolic link was followed, and the file it points to
+// truncated and overwritten. Refused with exit 2, the target kept.
+TEST(SceneCli, ALockFileThatIsALinkIsRefusedAndItsTargetKept) {
+    TempDir d;
+    write_file(d / "s.toml", tiny_scene());
+    write_file(d / "precious.txt", "the user's data\n");
+    fs::create_directories(d / "out");
+    fs::create_symlink(d / "precious.txt", d / "out/.vppdem.lock");
+    const Result r = run_scene(d / "s.toml", d / "out", "--overwrite");
+    EXPECT_EQ(r.rc, 2) << r.output;
+    EXPECT_NE(r.output.find("is a symbolic link"), std::string::npos) << r.output;
+    EXPECT_EQ(read_file(d / "precious.txt"), "the user's data\n");
+}
+
+// Issue 48: every refusal of the command line exits 2 (CLI11's own codes were 105 a failed
+// check, 106 a missing option, 109 an excluded one), "nan" is no positive number
+// (--checkpoint-every nan rewrote the checkpoint 189,028 times in 5 minutes), a bound is written
+// as a number (CLI11 printed DBL_MAX with 309 digits), and --seeds 0 is refused, not ignored.
+TEST(SceneCli, CommandLineRefusalsExitTwoAndSayTheBoundShortly) {
+    TempDir d;
+    write_file(d / "study.toml", "[grid]\n\"grains.friction\" = [0.3]\n");
+    const std::string study = quote((d / "study.toml").string());
+    struct Case {
+        std::string args, must_mention;
+    };
+    const std::vector<Case> cases = {
+        {"damper --out " + quote((d / "o1").string()) + " --checkpoint-every nan", "must be a finite number > 0"},
+        {"damper --out " + quote((d / "o2").string()) + " --checkpoint-every -1e308", "must be a finite number > 0"},
+        {"damper --out " + quote((d / "o3").string()) + " --checkpoint-every inf", "--checkpoint-every"},
+        {"damper", "--out"},                                                     // 106 before
+        {"sweep " + study + " --out " + quote((d / "o4").string()) + " --seeds 0", "--seeds"},
+        {"sweep " + study + " --out " + quote((d / "o5").string()) + " --list --report-only", "excludes"},  // 109
+        {"sweep " + study + " --out " + quote((d / "o6").string()) + " --jobs -2", "must be a finite number >= 0"},
+        {"nosuchcommand", "unknown command"},
+    };
+    for (const Case& c : cases) {
+        const Result r = run_vppdem(c.args);
+        EXPECT_EQ(r.rc, 2) << c.args << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.must_mention), std::string::npos) << c.args << "\n" << r.output;
+        EXPECT_EQ(r.output.find("17976931348623157"), std::string::npos) << c.args << "\n" << r.output;
+    }
+    EXPECT_FALSE(fs::exists(d / "o1"));
+    EXPECT_EQ(run_vppdem("--help").rc, 0);
+}

@@ -131,6 +131,8 @@ TEST(Settings, RangesAreEnforcedWithTheTablesMessage) {
         std::vector<std::string> bad;
         if (s.check == Check::Positive) bad = {"0.0", "-1.0"};
         else if (s.check == Check::NonNegative) bad = {"-1.0"};
+        else if (s.check == Check::Range && s.type == SettingType::Integer)
+            bad = {std::to_string(int64_t(s.lo) - 1), std::to_string(int64_t(s.hi) + 1)};
         else if (s.check == Check::Range) bad = {toml_float_literal(s.lo - 1.0), toml_float_literal(s.hi + 1.0)};
         else if (s.check == Check::AtLeast) bad = {std::to_string(int64_t(s.lo) - 1)};
         for (const std::string& v : bad) {
@@ -143,7 +145,8 @@ TEST(Settings, RangesAreEnforcedWithTheTablesMessage) {
         }
         if (s.check == Check::Range) {  // a bound itself: refused when open, accepted when closed
             for (const auto& [bound, open] : {std::pair{s.lo, s.lo_open}, std::pair{s.hi, s.hi_open}}) {
-                const std::string m = message_of({std::string(s.key) + "=" + toml_float_literal(bound)});
+                const std::string v = s.type == SettingType::Integer ? std::to_string(int64_t(bound)) : toml_float_literal(bound);
+                const std::string m = message_of({std::string(s.key) + "=" + v});
                 EXPECT_EQ(m.empty(), !open) << s.key << "=" << bound << ": " << m;
             }
         }
@@ -155,6 +158,7 @@ TEST(Settings, RangesAreEnforcedWithTheTablesMessage) {
 TEST(Settings, IntegersBeyondTwoToThe53AreRefused) {
     for (const Setting& s : settings()) {
         if (s.type != SettingType::Integer || s.read) continue;  // the generic reader's keys
+        if (s.check == Check::Range && s.hi < 9007199254740992.0) continue;  // their range is narrower
         const std::string m = message_of({std::string(s.key) + "=9223372036854775807"});
         EXPECT_NE(m.find("'" + std::string(s.key) + "' = 9223372036854775807: must be at most 2^53"),
                   std::string::npos) << m;
@@ -206,4 +210,47 @@ TEST(Settings, RecordedKeysAreNumberedWithoutGaps) {
 TEST(Settings, TheReferenceListsEveryKey) {
     const std::string md = config_reference_markdown();
     for (const Setting& s : settings()) EXPECT_NE(md.find("| `" + std::string(s.key) + "` |"), std::string::npos) << s.key;
+}
+
+// Issue 48: counts past 2^31 wrapped round in the run's int (process.cycles = 2147483648 ran 0
+// cycles, 4294967297 ran one while summary.json said 4294967297; samples_per_cycle = 4294967300
+// wrote 4 rows a cycle). They are refused, naming the key, the value and the range.
+TEST(Settings, CountsPastTheirRangeAreRefusedNotWrapped) {
+    for (const char* v : {"2147483648", "4294967297", "1000001"}) {
+        const std::string m = message_of({std::string("process.cycles=") + v});
+        EXPECT_NE(m.find(std::string("'process.cycles' = ") + v), std::string::npos) << m;
+        EXPECT_NE(m.find("must be an integer in 1..1000000"), std::string::npos) << m;
+    }
+    const std::string m = message_of({"process.samples_per_cycle=4294967300"});
+    EXPECT_NE(m.find("'process.samples_per_cycle' = 4294967300"), std::string::npos) << m;
+    EXPECT_NE(m.find("4..1000000"), std::string::npos) << m;
+    EXPECT_EQ(message_of({"process.cycles=1000000", "process.samples_per_cycle=1000000"}), "");
+}
+
+// Issue 48: foil.stiffness_ratio = 1.5 was accepted and the run failed with "cannot create
+// std::vector larger than max_size()". ks/kn of elastic spheres is at most 1, and the time step
+// is sized on kn: above 1 is refused for the grains and the foil alike.
+TEST(Settings, StiffnessRatiosAboveOneAreRefused) {
+    for (const char* k : {"foil.stiffness_ratio", "grains.stiffness_ratio"}) {
+        const std::string m = message_of({std::string(k) + "=1.5"});
+        EXPECT_NE(m.find(std::string("'") + k + "' = 1.5"), std::string::npos) << m;
+        EXPECT_NE(m.find("must be in [0, 1]"), std::string::npos) << m;
+        EXPECT_EQ(message_of({std::string(k) + "=1.0"}), "") << k;
+    }
+}
+
+// Issue 48: keys that act during the preparation (grains.young: a sweep branched a changed value
+// from the old sample) are recorded with it, so a study's branch can check them.
+TEST(Settings, EveryKeyActingDuringThePreparationIsRecordedWithTheSample) {
+    std::set<std::string> prep;
+    for (const Setting& s : preparation_settings()) prep.insert(s.key);
+    for (const char* k : {"grains.young", "grains.stiffness_ratio", "foil.young", "foil.thickness",
+                          "foil.stiffness_ratio", "simulation.dt_safety", "simulation.local_damping"})
+        EXPECT_TRUE(prep.count(k)) << k;
+    for (const Setting& s : settings()) {
+        const std::string sec = std::string(s.key).substr(0, std::string(s.key).find('.'));
+        if (sec == "tension") continue;  // the tension command's strip, no damper sample
+        // Every key either shares a preparation (acts after it), is geometry, or is recorded.
+        EXPECT_TRUE(s.shares_preparation || s.geometry > 0 || prep.count(s.key)) << s.key;
+    }
 }

@@ -181,3 +181,19 @@ TEST(SizeDistribution, StatsOfTheDrawnRadii) {
     EXPECT_EQ(s.d50, 4.0);
     EXPECT_EQ(s.d90, 4.0);
 }
+
+// Issue 48: a sieve curve that does not span 0 to 100% was renormalised silently. The curve is
+// still taken from its smallest sieve to its largest, and what was left out is said (the run
+// repeats it as a warning); a curve from 0 to 100% has nothing to say.
+TEST(SizeDistribution, ASieveCurveNotFromZeroToAHundredPercentSaysWhatItLeavesOut) {
+    const fs::path p = write_csv("partial.csv", "size,passing\n0.002,10\n0.004,30\n0.006,80\n0.008,95\n");
+    const SizeDistribution d = SizeDistribution::sieve_curve(p.string());
+    EXPECT_NE(d.sieve_note.find("runs from 10% to 95% passing"), std::string::npos) << d.sieve_note;
+    EXPECT_NE(d.sieve_note.find("the 10% below its smallest sieve and the 5% above its largest"), std::string::npos)
+        << d.sieve_note;
+    EXPECT_DOUBLE_EQ(d.sieve_passing.front(), 0.0);
+    EXPECT_DOUBLE_EQ(d.sieve_passing.back(), 1.0);
+    const fs::path full = write_csv("full.csv", "size,passing\n0.002,0\n0.004,30\n0.008,100\n");
+    EXPECT_EQ(SizeDistribution::sieve_curve(full.string()).sieve_note, "");
+}
+

@@ -167,3 +167,23 @@ TEST(StudyEnsembles, CasesTableHoldsTheMeanAndTheStudentInterval) {
               "grains.friction,simulation.seed,W,dissipated_energy,peak_force,run_seconds,status,case,"
               "W_settled,settled_cycles,first_settled_cycle,friction_share,damping_share,grains,packing_fraction,warnings");
 }
+
+// Issue 48: a key written twice in [set], quoted and as a dotted key, is one config key: the
+// later silently won. Refused, naming the key.
+TEST(StudyEnsembles, AKeyGivenTwiceInSetIsRefused) {
+    try {
+        load_study(write_study("twice", "[set]\n\"grains.friction\" = 0.3\ngrains.friction = 0.5\n"));
+        FAIL() << "accepted";
+    } catch (const cfg::ConfigError& e) {
+        EXPECT_NE(std::string(e.what()).find("[set] key 'grains.friction' is given twice"), std::string::npos) << e.what();
+    }
+}
+
+// Issue 48: 0 and -0.0 made two cases of one run (labels "0" and "-0"). -0.0 is the value 0: in
+// a list it repeats 0 (refused as any repeat), alone it is labelled 0.
+TEST(StudyEnsembles, MinusZeroIsZero) {
+    EXPECT_THROW(load_study(write_study("mz", "[grid]\n\"grains.friction\" = [0.0, -0.0]\n")), cfg::ConfigError);
+    const Study s = load_study(write_study("mz1", "[grid]\n\"grains.friction\" = [-0.0, 0.5]\n"));
+    EXPECT_EQ(s.grid[0].labels, (std::vector<std::string>{"0", "0.5"}));
+    EXPECT_EQ(expand_study(s)[0].name, "grains.friction=0");
+}

@@ -1,5 +1,7 @@
 #include "dem/detect/cell_grid.h"
 
+#include <string>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -25,6 +27,18 @@ void CellGrid::build(const std::vector<Vec3>& pos, double min_cell, int64_t max_
             hi[d] = std::max(hi[d], p[d]);
         }
     if (pos.empty()) lo = hi = Vec3{};
+    // A position that is not finite (an unstable step: a time step too large for the stiffest
+    // spring) would size the grid from NaN and fail as "cannot create std::vector larger than
+    // max_size()"; say what happened instead.
+    for (int d = 0; d < 3; ++d)
+        if (!std::isfinite(hi[d] - lo[d])) {
+            std::size_t bad = 0;
+            while (bad < pos.size() && std::isfinite(pos[bad].x) && std::isfinite(pos[bad].y) && std::isfinite(pos[bad].z))
+                ++bad;
+            throw SimulationUnstable("the simulation became unstable: particle " + std::to_string(bad) +
+                                     " has a position that is not a finite number (the explicit step diverged: a time "
+                                     "step too large for the stiffest contact or bond)");
+        }
     cell = min_cell;
     for (;;) {
         int64_t total = 1;

@@ -5,11 +5,18 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <stdexcept>
 #include <vector>
 
 #include "dem/core/vec3.h"
 
 namespace dem {
+
+// Thrown when the particles' positions stop being finite numbers (a diverged step); the caller
+// names the settings that size the step.
+struct SimulationUnstable : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
 
 struct CellGrid {
     Vec3 origin;                        // [m] corner of cell (0,0,0)

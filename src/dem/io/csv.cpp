@@ -1,7 +1,9 @@
 #include "dem/io/csv.h"
 
 #include <charconv>
+#include <cerrno>
 #include <cmath>
+#include <exception>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -35,6 +37,7 @@ std::string csv_text(const std::string& s) {
 
 void CsvWriter::open(const std::string& path, std::string_view header) {
     close();
+    unwinding_ = std::uncaught_exceptions();
     path_ = path;
     file_ = std::fopen((path + ".part").c_str(), "wb");
     if (!file_) throw std::runtime_error("cannot write '" + path + ".part': " + std::strerror(errno));
@@ -64,18 +67,60 @@ void CsvWriter::row(const std::vector<double>& values) {
 
 void CsvWriter::flush() {
     if (!file_) return;
-    if (!buf_.empty() && std::fwrite(buf_.data(), 1, buf_.size(), file_) != buf_.size())
-        throw std::runtime_error("write failed for '" + path_ + ".part'");
+    // A full disk shows at fwrite or only at fflush (the C library's buffer): both are checked,
+    // so a short file is never renamed into place as if it were complete.
+    if (!buf_.empty() && std::fwrite(buf_.data(), 1, buf_.size(), file_) != buf_.size()) fail("write failed");
     buf_.clear();
-    std::fflush(file_);
+    if (std::fflush(file_) != 0) fail("write failed");
+}
+
+void CsvWriter::fail(const char* what) {
+    const int err = errno;
+    discard();
+    throw std::runtime_error(std::string(what) + " for '" + path_ + ".part' (" + std::strerror(err) + "): '" + path_ +
+                             "' was not written (a full disk?)");
+}
+
+void CsvWriter::discard() noexcept {
+    if (!file_) return;
+    std::fclose(file_);
+    file_ = nullptr;
+    buf_.clear();
+    std::error_code ec;
+    std::filesystem::remove(path_ + ".part", ec);
 }
 
 void CsvWriter::close() {
     if (!file_) return;
     flush();
-    std::fclose(file_);
+    // fclose writes what is left in the C library's buffer: its result counts as much.
+    std::FILE* f = file_;
     file_ = nullptr;
+    if (std::fclose(f) != 0) {
+        const int err = errno;
+        std::error_code ec;
+        std::filesystem::remove(path_ + ".part", ec);
+        throw std::runtime_error("write failed for '" + path_ + ".part' (" + std::strerror(err) + "): '" + path_ +
+                                 "' was not written (a full disk?)");
+    }
     std::filesystem::rename(path_ + ".part", path_);
+}
+
+CsvWriter::~CsvWriter() {
+    // A destructor must not throw (an exception during another's unwinding ends the process,
+    // exit 134): a writer left open by an exception is discarded (no half file under the final
+    // name); one left open on an ordinary exit is closed, and a failure to close is reported
+    // and the file discarded.
+    if (!file_) return;
+    if (std::uncaught_exceptions() > unwinding_) {
+        discard();
+        return;
+    }
+    try {
+        close();
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "vppdem: error: %s\n", e.what());
+    }
 }
 
 std::vector<std::vector<double>> read_numeric_csv(const std::string& path, std::size_t min_columns,
@@ -87,6 +132,8 @@ std::vector<std::vector<double>> read_numeric_csv(const std::string& path, std::
     std::size_t lineno = 0;
     while (std::getline(in, line)) {
         ++lineno;
+        // A UTF-8 byte order mark is no part of the first cell (a header "size" would not match).
+        if (lineno == 1 && line.starts_with("\xEF\xBB\xBF")) line.erase(0, 3);
         if (!line.empty() && line.back() == '\r') line.pop_back();
         if (line.empty() || line[0] == '#') continue;
         std::vector<double> vals;
@@ -129,7 +176,14 @@ void write_text_atomic(const std::string& path, const std::string& text) {
         std::ofstream out(tmp, std::ios::binary);
         if (!out) throw std::runtime_error("cannot write '" + tmp + "'");
         out << text;
-        if (!out) throw std::runtime_error("write failed for '" + tmp + "'");
+        // The stream's buffer reaches the disk at close: a full disk shows there, and the old
+        // file must then stay as it was.
+        out.close();
+        if (!out) {
+            std::error_code ec;
+            std::filesystem::remove(tmp, ec);
+            throw std::runtime_error("write failed for '" + tmp + "': '" + path + "' was not replaced (a full disk?)");
+        }
     }
     std::filesystem::rename(tmp, path);
 }

@@ -14,7 +14,8 @@ class CsvWriter {
 public:
     CsvWriter() = default;
     CsvWriter(const std::string& path, std::string_view header) { open(path, header); }
-    ~CsvWriter() { close(); }
+    // Closes the file (see close()); during an exception's unwinding discards it instead.
+    ~CsvWriter();
     CsvWriter(const CsvWriter&) = delete;
     CsvWriter& operator=(const CsvWriter&) = delete;
 
@@ -23,13 +24,19 @@ public:
     void row(std::initializer_list<double> values);
     void row(const std::vector<double>& values);
     void flush();
-    void close();  // flush, then rename PATH.part -> PATH
+    // Flush, then rename PATH.part -> PATH. A failed write (a full disk) removes PATH.part and
+    // throws std::runtime_error; PATH is then left as it was.
+    void close();
     bool is_open() const { return file_ != nullptr; }
 
 private:
     std::string path_;
     std::FILE* file_ = nullptr;
     std::string buf_;
+    int unwinding_ = 0;  // std::uncaught_exceptions() when opened
+
+    [[noreturn]] void fail(const char* what);  // discard(), then throw naming the file and errno
+    void discard() noexcept;                   // close and remove PATH.part
 };
 
 // Appends the shortest decimal form of v that reads back to the same double.

@@ -92,7 +92,12 @@ FolderLock::FolderLock(const std::string& dir) {
     for (int round = 0;; ++round) {
         // O_CLOEXEC: the plots' std::system() children must not inherit the lock and hold it
         // after this process ends.
-        const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
+        // O_NOFOLLOW: the lock is truncated and written below; a lock file that is a symbolic
+        // link would have that done to whatever it points to (a user's file), so it is refused.
+        const int fd = ::open(path.c_str(), O_RDWR | O_CREAT | O_CLOEXEC | O_NOFOLLOW, 0644);
+        if (fd < 0 && errno == ELOOP)
+            throw std::runtime_error("the lock file '" + path + "' is a symbolic link; vppdem writes into its lock "
+                                     "file and will not follow a link to another file: remove the link");
         if (fd < 0) throw std::runtime_error("cannot create the lock file '" + path + "': " + std::strerror(errno));
         int rc;
         do rc = ::flock(fd, LOCK_EX | LOCK_NB);
