@@ -127,16 +127,22 @@ std::vector<uint8_t> choose_vacancies(const dem::SurfaceMesh& sites, double frac
     return vacant;
 }
 
-Membrane build_membrane(dem::World& w, const MembraneDef& d, const dem::SurfaceMesh& surface) {
+namespace {
+void check_def(const MembraneDef& d) {
     const FoilDef& f = d.foil;
     if (!(f.particle_radius > 0) || !(f.young > 0) || !(f.thickness > 0) || !(f.density > 0))
         throw std::invalid_argument("membrane: foil radius, Young modulus, thickness and density must be > 0");
     if (!(d.stiffness_factor > 0)) throw std::invalid_argument("membrane: stiffness_factor must be > 0");
     if (!(d.vacancy_fraction >= 0 && d.vacancy_fraction < 0.5))
         throw std::invalid_argument("membrane: vacancy_fraction must be in [0, 0.5)");
+}
+}  // namespace
+
+Membrane membrane_sites(const MembraneDef& d, const dem::SurfaceMesh& surface) {
+    check_def(d);
     dem::check_closed_surface(surface, "membrane surface");
     Membrane m;
-    m.spacing = d.spacing > 0 ? d.spacing : 2.0 * f.particle_radius;
+    m.spacing = d.spacing > 0 ? d.spacing : 2.0 * d.foil.particle_radius;
     dem::RemeshOptions ro;
     ro.edge_length = m.spacing;
     ro.iterations = d.remesh_iterations;
@@ -147,7 +153,19 @@ Membrane build_membrane(dem::World& w, const MembraneDef& d, const dem::SurfaceM
     m.sites = std::move(rr.mesh);
     m.site_feature = std::move(rr.feature);
     m.min_edge = rr.min_edge, m.max_edge = rr.max_edge, m.mean_edge = rr.mean_edge;
+    return m;
+}
 
+Membrane build_membrane(dem::World& w, const MembraneDef& d, const dem::SurfaceMesh& surface) {
+    Membrane m = membrane_sites(d, surface);
+    place_membrane(w, d, m);
+    return m;
+}
+
+void place_membrane(dem::World& w, const MembraneDef& d, Membrane& m) {
+    check_def(d);
+    const FoilDef& f = d.foil;
+    if (!m.particles.empty()) throw std::invalid_argument("membrane: already placed (use a copy of membrane_sites' result)");
     const std::size_t ns = m.sites.vertices.size();
     std::vector<uint8_t> vacant(ns, 0);
     if (d.vacancies) vacant = choose_vacancies(m.sites, d.vacancy_fraction, d.seed);
@@ -212,7 +230,6 @@ Membrane build_membrane(dem::World& w, const MembraneDef& d, const dem::SurfaceM
         for (const auto& t : m.triangles) c.triangles.push_back({uint32_t(map[t[0]]), uint32_t(map[t[1]]), uint32_t(map[t[2]])});
         dem::check_closed_surface(c, "membrane particles' triangulation");
     }
-    return m;
 }
 
 dem::PressureFans membrane_pressure_fans(const Membrane& m) {

@@ -78,6 +78,12 @@ struct Membrane {
 // Throws std::invalid_argument for a bad definition, std::runtime_error for a bad surface.
 Membrane build_membrane(dem::World& w, const MembraneDef& d, const dem::SurfaceMesh& surface);
 
+// build_membrane in two steps, so that runs over seeds remesh once: membrane_sites checks and
+// remeshes (the sites only, nothing placed; seconds for ~10^4 sites), place_membrane draws the
+// vacancies (d.seed) and adds the particles and bonds to `w` (milliseconds). Place a copy.
+Membrane membrane_sites(const MembraneDef& d, const dem::SurfaceMesh& surface);
+void place_membrane(dem::World& w, const MembraneDef& d, Membrane& m);
+
 // kn [N/m] of a bond of length `length` [m] whose two triangles have the area `area` [m^2].
 double membrane_bond_stiffness(const MembraneDef& d, double length, double area);
 

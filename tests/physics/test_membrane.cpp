@@ -6,7 +6,9 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <string>
 
+#include "dem/io/checkpoint.h"
 #include "dem/mesh/mesh_checks.h"
 #include "dem/mesh/mesh_shapes.h"
 #include "dem/world/world.h"
@@ -270,5 +272,48 @@ TEST(Membrane, CylinderMeshAgainstBuiltInCylinder) {
         EXPECT_NEAR(rp / want_particles, 1.0, 0.05);
         EXPECT_NEAR(rb / want_bonds, 1.0, 0.05);
         EXPECT_NEAR(s.half / projected, cyl_per_area, 0.01);
+    }
+}
+
+TEST(Membrane, SitesOnceThenSeedsGiveTheSameAsBuildingAnew) {
+    // membrane_sites + place_membrane (remesh once, draw per seed) equals build_membrane.
+    vpp::MembraneDef d = paper_membrane();
+    d.vacancies = true;
+    const dem::SurfaceMesh bag = dem::make_icosphere(0.015, 16);
+    const vpp::Membrane sites = vpp::membrane_sites(d, bag);
+    std::size_t previous = 0;
+    for (uint64_t seed : {1, 2}) {
+        d.seed = seed;
+        dem::World a, b;
+        vpp::Membrane ma = sites;
+        vpp::place_membrane(a, d, ma);
+        const vpp::Membrane mb = vpp::build_membrane(b, d, bag);
+        ASSERT_EQ(ma.particles.size(), mb.particles.size());
+        EXPECT_EQ(ma.particle, mb.particle);
+        EXPECT_EQ(ma.triangles, mb.triangles);
+        EXPECT_EQ(a.bonds().size(), b.bonds().size());
+        std::size_t h = 0;  // which sites are vacant differs between seeds
+        for (std::size_t s = 0; s < ma.particle.size(); ++s) h = h * 31 + (ma.particle[s] < 0 ? s : 0);
+        EXPECT_NE(h, previous);
+        previous = h;
+    }
+    dem::World w;
+    vpp::Membrane placed = sites;
+    vpp::place_membrane(w, d, placed);
+    EXPECT_THROW(vpp::place_membrane(w, d, placed), std::invalid_argument);
+}
+
+TEST(Membrane, CheckpointsRefuseFansRatherThanDropThem) {
+    // The checkpoint format has no place for pressure fans yet: saving must fail loudly, not
+    // resume a membrane without its pressure.
+    dem::World w;
+    const vpp::Membrane m = vpp::build_membrane(w, paper_membrane(), dem::make_icosphere(0.01, 8));
+    w.pressure.fans = vpp::membrane_pressure_fans(m);
+    const std::string path = ::testing::TempDir() + "/membrane_fans.ckpt";
+    try {
+        dem::save_checkpoint(path, w, "");
+        ADD_FAILURE() << "a World with pressure fans was saved";
+    } catch (const std::runtime_error& e) {
+        EXPECT_NE(std::string(e.what()).find("pressure fans"), std::string::npos) << e.what();
     }
 }
