@@ -49,13 +49,14 @@ PressureSums sums(const dem::World& w, double x_c) {
 
 TEST(Membrane, NetPressureForceIsZeroOnClosedSurfaces) {
     // sum A over a closed triangulation vanishes identically: |sum A| / sum |A| at round-off,
-    // with and without vacancies, on a sphere, a box (sharp edges) and a capped cylinder. The
-    // tributary areas as vectors: the x components over the half x > x_c sum to the body's
-    // area projected on the yz plane (the net force of dp on that half is dp times it).
+    // with and without vacancies, on a sphere, a box (sharp edges), a capped cylinder and a
+    // torus. The tributary areas as vectors: the x components over the half x > x_c sum to the
+    // area of the body's cut by the plane x = x_c (divergence theorem on the half body; dp
+    // times it is the force that holds one half against the other).
     struct Shape {
         const char* name;
         dem::SurfaceMesh mesh;
-        double area, volume, projected, x_c;  // closed forms [m^2], [m^3], [m^2]; centre x [m]
+        double area, volume, projected, x_c;  // closed forms [m^2], [m^3], cut [m^2]; cut at x [m]
     };
     const double R = 0.02, a = 0.03, b = 0.02, c = 0.05, H = 0.04;
     const Shape shapes[] = {
@@ -63,6 +64,10 @@ TEST(Membrane, NetPressureForceIsZeroOnClosedSurfaces) {
         {"box", dem::make_box_mesh({0, 0, 0}, {a, b, c}, 1), 2 * (a * b + a * c + b * c), a * b * c, b * c, a / 2},
         {"cylinder", dem::make_cylinder_mesh(R, H, 128, 1), 2 * kPi * R * H + 2 * kPi * R * R, kPi * R * R * H, 2 * R * H,
          0.0},
+        // A torus (major 20 mm, tube 8 mm): neither convex nor star-shaped, genus 1. The cut
+        // x = 0 crosses its tube twice: two discs of 8 mm.
+        {"torus", dem::make_torus(0.02, 0.008, 96, 40), 4 * kPi * kPi * 0.02 * 0.008,
+         2 * kPi * kPi * 0.02 * 0.008 * 0.008, 2 * kPi * 0.008 * 0.008, 0.0},
     };
     for (const Shape& s : shapes)
         for (bool vac : {false, true}) {
@@ -75,7 +80,7 @@ TEST(Membrane, NetPressureForceIsZeroOnClosedSurfaces) {
             const PressureSums p = sums(w, s.x_c);
             const double vol = vpp::enclosed_volume(m, w.particles.pos);
             std::printf("%s%s: %zu particles (%zu vacancies), %zu bonds, edges %.3f..%.3f (mean %.3f) x spacing; "
-                        "|sum A| / sum|A| = %.2e, sum|A| / area %.5f, half-body projection / closed form %.5f, "
+                        "|sum A| / sum|A| = %.2e, sum|A| / area %.5f, half-body cut / closed form %.5f, "
                         "volume / closed form %.5f\n",
                         s.name, vac ? " with vacancies" : "", m.particles.size(), m.vacancies, m.bonds.size(),
                         m.min_edge / m.spacing, m.max_edge / m.spacing, m.mean_edge / m.spacing, norm(p.net) / p.abs,

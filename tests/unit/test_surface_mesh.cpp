@@ -68,7 +68,7 @@ SurfaceMesh tetra() {
 
 TEST(SurfaceMesh, ShapesAreClosedAndOutward) {
     for (const SurfaceMesh& m : {tetra(), dem::make_icosphere(1.0, 3), dem::make_box_mesh({0, 0, 0}, {1, 2, 3}, 4),
-                                 dem::make_cylinder_mesh(0.5, 1.0, 24, 3)})
+                                 dem::make_cylinder_mesh(0.5, 1.0, 24, 3), dem::make_torus(1.0, 0.3, 24, 12)})
         EXPECT_EQ(dem::find_mesh_defect(m), "");
     EXPECT_NEAR(dem::enclosed_volume(tetra()), 1.0 / 6.0, 1e-15);
 }

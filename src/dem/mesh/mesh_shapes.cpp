@@ -110,4 +110,24 @@ SurfaceMesh make_cylinder_mesh(double radius, double height, int segments, int r
     return m;
 }
 
+SurfaceMesh make_torus(double major, double minor, int n_major, int n_minor) {
+    if (!(major > minor && minor > 0) || n_major < 3 || n_minor < 3)
+        throw std::invalid_argument("torus mesh: major > minor > 0, at least 3 segments each way");
+    SurfaceMesh m;
+    for (int i = 0; i < n_major; ++i)
+        for (int j = 0; j < n_minor; ++j) {
+            const double u = 2.0 * std::numbers::pi * i / n_major, v = 2.0 * std::numbers::pi * j / n_minor;
+            const double r = major + minor * std::cos(v);
+            m.vertices.push_back({r * std::cos(u), r * std::sin(u), minor * std::sin(v)});
+        }
+    auto at = [&](int i, int j) { return uint32_t((i % n_major) * n_minor + (j % n_minor)); };
+    // d/du x d/dv points out of the tube.
+    for (int i = 0; i < n_major; ++i)
+        for (int j = 0; j < n_minor; ++j) {
+            m.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+            m.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+        }
+    return m;
+}
+
 }  // namespace dem

@@ -18,4 +18,9 @@ SurfaceMesh make_box_mesh(const Vec3& lo, const Vec3& hi, int n);
 // bands along z, flat caps as fans from their centres (the kind of cap an STL export writes).
 SurfaceMesh make_cylinder_mesh(double radius, double height, int segments, int rings, double z0 = 0.0);
 
+// Torus about the z axis: tube centre circle of radius `major`, tube radius `minor` [m]
+// (major > minor > 0); `n_major` x `n_minor` quads of 2 triangles. Not convex, not star-shaped
+// about any point, genus 1: the case that rules out projecting onto a hull or a sphere.
+SurfaceMesh make_torus(double major, double minor, int n_major, int n_minor);
+
 }  // namespace dem
