@@ -111,6 +111,10 @@ std::string find_mesh_defect(const SurfaceMesh& m) {
     for (const auto& t : m.triangles)
         for (uint32_t k : t)
             if (k >= nv) return "a triangle names vertex " + std::to_string(k) + " of " + std::to_string(nv);
+    // Beyond 1e100 products of coordinates (volumes, orientations) overflow.
+    for (const Vec3& v : m.vertices)
+        if (!(std::abs(v.x) < 1e100 && std::abs(v.y) < 1e100 && std::abs(v.z) < 1e100))
+            return "a vertex at " + point_name(v) + " is not finite or beyond 1e100";
 
     // Degenerate triangles: area against the longest edge squared (scale-free).
     for (std::size_t t = 0; t < nt; ++t) {
