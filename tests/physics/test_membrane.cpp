@@ -17,6 +17,7 @@
 #include "vpp/config.h"
 #include "vpp/foil.h"
 #include "vpp/membrane.h"
+#include "vpp/membrane_air.h"
 
 namespace {
 
@@ -368,4 +369,37 @@ TEST(Membrane, FanPressureWorkBalancesTheLedgerAndIsThreadIndependent) {
     ASSERT_EQ(p1.size(), p2.size());
     EXPECT_EQ(std::memcmp(p1.data(), p2.data(), p1.size() * sizeof(Vec3)), 0);
     EXPECT_EQ(l1.pressure_work, l2.pressure_work);
+}
+
+TEST(Membrane, SealedAirFollowsBoylesLawAndAFastPumpHoldsTheSetPoint) {
+    // The air model on a membrane: sealed (no pump, no leak) at p_atm, its enclosure shrunk by
+    // hand to 90% linear size: p V = p_atm V0, dp = p_atm - p; the work summed is the
+    // isothermal p_atm V0 ln(V1 / V0). A pump far faster than the volume changes holds dp_set.
+    dem::World w;
+    vpp::MembraneDef d = paper_membrane();
+    const vpp::Membrane m = vpp::build_membrane(w, d, dem::make_icosphere(0.02, 16));
+    w.pressure.fans = vpp::membrane_pressure_fans(m);
+    w.params.dt = 1e-6;
+    const double solids = 1e-5;  // [m^3] grains inside
+    vpp::MembraneAirDef air;
+    air.model = vpp::PressureModel::Pump;
+    air.line.p_atm = vpp::kAtmosphericPressure;
+    vpp::MembraneGas g;
+    vpp::membrane_air_step(w, m, solids, 0.0, air, g);
+    const double v0 = g.volume;
+    EXPECT_NEAR(w.pressure.dp, 0.0, 1e-9);
+    for (uint32_t i : m.particles) w.particles.pos[i] *= 0.9;
+    vpp::membrane_air_step(w, m, solids, 0.0, air, g);
+    const double v1 = vpp::enclosed_volume(m, w.particles.pos) - solids;
+    const double p = vpp::kAtmosphericPressure * v0 / v1;
+    std::printf("sealed: V %.5g -> %.5g m^3, dp %.6g Pa (Boyle %.6g), work %.6g J (isothermal %.6g)\n", v0, v1,
+                w.pressure.dp, vpp::kAtmosphericPressure - p, g.work, vpp::kAtmosphericPressure * v0 * std::log(v1 / v0));
+    EXPECT_NEAR(w.pressure.dp / (vpp::kAtmosphericPressure - p), 1.0, 1e-12);
+    EXPECT_NEAR(g.work / (vpp::kAtmosphericPressure * v0 * std::log(v1 / v0)), 1.0, 1e-12);
+    // A pump of speed 1e3 m^3/s evacuates to dp_set within a step and holds it exactly.
+    air.line.speed = 1e3;
+    vpp::membrane_air_step(w, m, solids, 6e4, air, g);
+    EXPECT_EQ(w.pressure.dp, 6e4);
+    // A membrane collapsed onto its solids is refused.
+    EXPECT_THROW(vpp::membrane_air_step(w, m, 1.0, 6e4, air, g), std::runtime_error);
 }
