@@ -48,7 +48,7 @@ struct MembraneDef {
     MembraneStiffness stiffness = MembraneStiffness::MatchFoil;
     // [-] multiplies every kn. The rules above hold for the full triangulation; the vacancies
     // (~24% drawn) halve its biaxial stiffness (measured strain ratio 2.05 over 3 seeds,
-    // docs/membrane.md), which about 2.05 restores.
+    // docs/membrane.md), which about 2.05 restores (2.1 gives a strain ratio of 0.977).
     double stiffness_factor = 1.0;
     bool vacancies = false;         // leave out ~vacancy_fraction of the sites
     double vacancy_fraction = 0.25; // [-] the paper's 25%
