@@ -58,6 +58,8 @@ std::size_t BatchSystems::add(World& wd) {
         torque2.push_back(bl.torque2[k]);
     }
     bond_first.push_back(int64_t(bi.size()));
+    if (!wd.pressure.fans.empty())
+        throw std::invalid_argument("batch: pressure fans (a triangulated membrane) are not supported by the batch engine");
     dp.push_back(world_underpressure(wd));
     for (const PressureNode& q : wd.pressure.nodes) {
         node.push_back(base + q.node);

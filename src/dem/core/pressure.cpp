@@ -9,9 +9,11 @@ namespace dem {
 void PressureForces::prepare(const MembranePressure& mp, std::size_t n, bool on, bool needed) {
     if (!needed) return;
     if (force.size() != n || on != was_on_ || mp.nodes.size() != seen_.size() ||
-        (on && std::memcmp(mp.nodes.data(), seen_.data(), mp.nodes.size() * sizeof(PressureNode)) != 0)) {
+        (on && std::memcmp(mp.nodes.data(), seen_.data(), mp.nodes.size() * sizeof(PressureNode)) != 0) ||
+        mp.fans.node != seen_fans_) {
         force.assign(n, Vec3{});
         seen_ = mp.nodes;
+        seen_fans_ = mp.fans.node;
         was_on_ = on;
     }
 }
@@ -23,6 +25,8 @@ void PressureForces::apply(const MembranePressure& mp, const std::vector<Vec3>& 
         const PressureNode& q = mp.nodes[k];
         force[q.node] = -(tributary_area(pos, q) * mp.dp);
     }
+    const auto [f0, f1] = thread_range(int64_t(mp.fans.node.size()), thread_id(), thread_count());
+    for (int64_t k = f0; k < f1; ++k) force[mp.fans.node[k]] = -(fan_area(pos, mp.fans, std::size_t(k)) * mp.dp);
 }
 
 }  // namespace dem

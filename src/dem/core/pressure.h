@@ -27,9 +27,35 @@ inline Vec3 tributary_area(const std::vector<Vec3>& pos, const PressureNode& q) 
     return tributary_area(pos[q.ring[0]], pos[q.ring[1]], pos[q.ring[2]], pos[q.ring[3]]);
 }
 
+// Follower pressure on a triangulated membrane (dem/mesh, vpp/membrane): a loaded node S with
+// its one-ring P_1..P_n, counter-clockwise seen from the side A points to, stands for a third
+// of each triangle (S, P_i, P_i+1) around it:
+//   A = sum_i (P_i - S) x (P_{i+1} - S) / 6,   F = -dp A.
+// Summed over the nodes of a closed triangulation every triangle's area vector is counted
+// once, so a uniform dp gives zero net force (to round-off) in any shape. The quad rule of
+// PressureNode is the special case of a square grid whose loaded nodes stand for (2h)^2 each;
+// fans carry any valence, hence a CSR ring rather than a fixed array.
+struct PressureFans {
+    std::vector<uint32_t> node;   // the loaded particles S
+    std::vector<uint32_t> start;  // CSR: node k's ring is ring[start[k] .. start[k+1]); size node.size()+1
+    std::vector<uint32_t> ring;   // one-ring particles, cyclic
+    bool empty() const { return node.empty(); }
+};
+
+// The tributary-area vector of fan k [m^2].
+inline Vec3 fan_area(const std::vector<Vec3>& pos, const PressureFans& f, std::size_t k) {
+    const Vec3& s = pos[f.node[k]];
+    const uint32_t b = f.start[k], e = f.start[k + 1];
+    Vec3 a;
+    for (uint32_t i = b; i < e; ++i) a += cross(pos[f.ring[i]] - s, pos[f.ring[i + 1 < e ? i + 1 : b]] - s);
+    return a / 6.0;
+}
+
 struct MembranePressure {
     std::vector<PressureNode> nodes;
+    PressureFans fans;  // triangulated membranes; not in checkpoints yet (the writer refuses them)
     double dp = 0.0;  // [Pa] outside minus inside; > 0 pushes against A (underpressure)
+    bool has_nodes() const { return !nodes.empty() || !fans.empty(); }
 };
 
 // The pressure's force on each particle in one slot per particle, which the gather adds (and the
@@ -47,6 +73,7 @@ public:
 
 private:
     std::vector<PressureNode> seen_;  // the node list the zeroed slots were made for
+    std::vector<uint32_t> seen_fans_;  // the fans' loaded nodes the zeroed slots were made for
     bool was_on_ = false;
 };
 

@@ -227,7 +227,7 @@ private:
     void lap(int tid, Phase phase);
     ContactPhysics contact_physics() const { return {&particles, &materials, &planes, &facets}; }
     int threads() const { return params.threads > 1 ? params.threads : 1; }
-    bool pressure_on() const { return pressure.dp != 0.0 && !pressure.nodes.empty(); }
+    bool pressure_on() const { return pressure.dp != 0.0 && pressure.has_nodes(); }
     double effective_skin() const;
     Vec3 total_force(std::size_t i) const;
 

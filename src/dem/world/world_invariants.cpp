@@ -31,6 +31,15 @@ const char* World::broken_invariant() const {
         for (uint32_t r : q.ring)
             if (r >= n) return "pressure ring out of range";
     }
+    {
+        const PressureFans& f = pressure.fans;
+        if (!f.empty() && (f.start.size() != f.node.size() + 1 || f.start.front() != 0 || f.start.back() != f.ring.size()))
+            return "pressure fan ranges do not match the rings";
+        for (uint32_t q : f.node)
+            if (q >= n) return "pressure node out of range";
+        for (uint32_t r : f.ring)
+            if (r >= n) return "pressure ring out of range";
+    }
     if (const char* why = clump_rule()) return why;
     if (const char* why = contacts_.broken_rule(n, nw)) return why;
     const BondList& b = bonds_;

@@ -26,7 +26,8 @@ static_assert(sizeof(Material) == sizeof(std::string) + 5 * sizeof(double), "upd
 static_assert(sizeof(Motion) == sizeof(Vec3) + sizeof(std::vector<int>), "update dem/world/world_io.h");
 static_assert(sizeof(Plane) == 2 * sizeof(Vec3) + 16 + sizeof(Motion), "update dem/world/world_io.h");
 static_assert(sizeof(Facet) == 3 * sizeof(Vec3) + 16 + sizeof(Motion), "update dem/world/world_io.h");
-static_assert(sizeof(MembranePressure) == sizeof(std::vector<int>) + 8, "update dem/world/world_io.h");
+// The fans (3 vectors) are refused by the writer until the format carries them (section PRES).
+static_assert(sizeof(MembranePressure) == 4 * sizeof(std::vector<int>) + 8, "update dem/world/world_io.h");
 static_assert(sizeof(SimulationParams) == 4 * 8 + sizeof(Vec3) &&
                   offsetof(SimulationParams, track_energy) == 3 * 8 + sizeof(Vec3) + 4,
               "update dem/world/world_io.h");
@@ -192,6 +193,11 @@ template <class A, class W> void World::serialize(A& a, W& w, uint32_t version) 
     });
     a.section("MOTN", [&](A& s) { s.list(w.motions, [](A& x, auto& m) { io::motion_io(x, m); }); });
     a.section("PRES", [&](A& s) {
+        // The fans of a triangulated membrane are not in the format yet: refuse rather than
+        // resume without their pressure.
+        if constexpr (!A::kLoading)
+            if (!w.pressure.fans.empty())
+                throw std::runtime_error("checkpoint: a World with pressure fans (a triangulated membrane) cannot be saved yet");
         s.vec(w.pressure.nodes);
         s.pod(w.pressure.dp);
     });
