@@ -5,8 +5,10 @@
 #   2. the device tests: vppdem_cuda_tests (the laws' bits on the device), vppdem_device_tests
 #      (the batch engine: a batch of one over 10,000 steps and 8 mixed cases give World's bits, a
 #      sweep with --backend cuda writes the files of --backend cpu);
-#   3. compute-sanitizer memcheck and racecheck on them (shorter runs);
-#   4. bench/gpu.sh: the device against the CPU of this machine.
+#   3. bench/gpu.sh: the device against the CPU of this machine;
+#   4. compute-sanitizer memcheck and racecheck on the device tests (shorter runs).
+# Each step has a time limit, cut to what is left of DEVICE_CHECK_BUDGET (460 s); a step the budget
+# cannot start is reported NOT RUN.
 # Everything goes to DIR/device_check.log, printed at the end (the steps' headers as they run). Exit status: 0 all passed, 1 a step
 # failed, 3 no GPU (without --host-only).
 # usage: run.sh [--host-only]   (--host-only: steps 1-2 with the device tests skipped, and the
@@ -21,8 +23,17 @@ host_only=0
 say() { echo "$@" | tee -a "$log"; }
 # Runs a step with a time limit, its output into the log; records PASS/FAIL.
 results=()
-step() {  # name, limit_s, command...
+budget=${DEVICE_CHECK_BUDGET:-460}  # [s] for all steps: the run stays under 8 minutes
+step() {  # name, limit_s, command...  (the limit is cut to what is left of the budget)
   local name=$1 limit=$2; shift 2
+  local left=$((budget - SECONDS))
+  if [ $left -lt 15 ]; then
+    say ""
+    say "== $name: NOT RUN (the ${budget} s budget is spent)"
+    results+=("NOT RUN  $name  (budget spent)")
+    return 0
+  fi
+  [ "$limit" -le "$left" ] || limit=$left
   say ""
   say "== $name ($(date -u +%T), limit ${limit}s): $*"
   local t0=$SECONDS rc
@@ -60,13 +71,14 @@ check_ldd() {
 }
 step "the binaries' libraries (ldd)" 30 check_ldd
 step "vppdem starts" 30 "$here/vppdem" --help
-step "vppdem_cuda_tests" 120 "$here/vppdem_cuda_tests"
-step "vppdem_device_tests" 300 "$here/vppdem_device_tests"
+step "vppdem_cuda_tests" 60 "$here/vppdem_cuda_tests"
+step "vppdem_device_tests" 200 "$here/vppdem_device_tests"
 if [ $host_only = 1 ]; then
   step "the benchmark script parses" 10 bash -n "$here/bench/gpu.sh"
   step "the paper's damper on the emulated device (2 copies, 20 steps)" 120 "$here/vppdem" bench checkpoint \
     --state "$here/inputs/paper/run.ckpt" --batch 2 --backend emulated --steps 20 --energy
 else
+  step "bench/gpu.sh" 240 env VPPDEM="$here/vppdem" STATE="$here/inputs/paper/run.ckpt" "$here/bench/gpu.sh"
   cs=/usr/local/cuda/bin/compute-sanitizer
   [ -x $cs ] || cs=$(command -v compute-sanitizer || true)
   if [ -n "$cs" ]; then
@@ -80,7 +92,6 @@ else
     say "compute-sanitizer: not found (/usr/local/cuda/bin, PATH)"
     results+=("FAIL  compute-sanitizer not found")
   fi
-  step "bench/gpu.sh" 240 env VPPDEM="$here/vppdem" STATE="$here/inputs/paper/run.ckpt" "$here/bench/gpu.sh"
 fi
 say ""
 say "== summary ($(date -u +%T))"
