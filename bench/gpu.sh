@@ -33,7 +33,7 @@ cpu_only=0
 [ "${1:-}" = "--cpu-only" ] && cpu_only=1
 
 field() { sed -n "s/.*\"$1\": \"\{0,1\}\([^,\"}]*\).*/\1/p"; }
-declare -A rate
+declare -A rate extra
 rows=()
 bench() {  # name, args...: one `vppdem bench checkpoint` line; its rate into rate[name]
   local name=$1; shift
@@ -49,6 +49,11 @@ bench() {  # name, args...: one `vppdem bench checkpoint` line; its rate into ra
   else
     rate[$name]=$r
     dt=$(echo "$line" | field dt)
+    if [[ $line == *host_us_per_step* ]]; then
+      extra[$name]=$(printf '%.0f | %.0f | %.0f | %.0f' "$(echo "$line" | field host_us_per_step)" \
+        "$(echo "$line" | field device_us_per_step)" "$(echo "$line" | field bytes_up_per_step)" \
+        "$(echo "$line" | field bytes_down_per_step)")
+    fi
     echo "gpu.sh: $name: $line"
   fi
   rows+=("$name")
@@ -62,6 +67,8 @@ if [ $cpu_only = 0 ]; then
     [ "$B" = 1 ] && steps=$ONE_STEPS
     bench "device batch $B" --batch "$B" --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$steps"
   done
+  # What the ledger costs (World's ledger reads every contact's dashpot force and every velocity).
+  ENERGY="" bench "device batch 256, ledger off" --batch 256 --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$DEVICE_STEPS"
 fi
 bench "CPU World, 1 thread" --threads 1 --steps "$CPU_STEPS"
 bench "CPU World, $CPU_THREADS threads" --threads "$CPU_THREADS" --steps "$CPU_STEPS"
@@ -85,12 +92,12 @@ rate[$name]=$sum
 rows+=("$name")
 
 echo
-echo "| run | rate | unit |"
-echo "|---|---|---|"
+echo "| run | rate | unit | host us/step | bus+device us/step | bytes up/step | bytes down/step |"
+echo "|---|---|---|---|---|---|---|"
 for name in "${rows[@]}"; do
   unit="system-steps/s"
   case $name in "device batch 1"|"CPU World"*) unit="steps/s";; esac
-  printf '| %s | %.0f | %s |\n' "$name" "${rate[$name]}" "$unit"
+  printf '| %s | %.0f | %s | %s |\n' "$name" "${rate[$name]}" "$unit" "${extra[$name]:-| | |}"
 done
 echo
 if [ $cpu_only = 0 ] && [ -n "$dt" ]; then

@@ -111,7 +111,9 @@ TEST(DeviceBatch, ABatchOfOneGivesTheWorldsBitsOver10000Steps) {
     b.store(0);
     std::printf("bus: %.1f MB up, %.1f MB down over %d steps\n", double(d.bytes_up()) / 1e6, double(d.bytes_down()) / 1e6, steps);
     expect_same(ref, mine, "device batch of one");
-    if (steps >= 10000) EXPECT_GT(mine.rebuild_count(), rebuilds0);
+    if (steps >= 10000) {
+        EXPECT_GT(mine.rebuild_count(), rebuilds0);
+    }
     for (int k = 0; k < 200; ++k) {
         ref.step();
         mine.step();

@@ -1,6 +1,7 @@
 #include "dem/batch/device_batch.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <stdexcept>
 #include <string>
@@ -54,6 +55,12 @@ DeviceBatch::DeviceBatch(std::unique_ptr<dev::Device> device, int threads)
 }
 
 template <class F> void DeviceBatch::each(std::size_t B, F&& f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    struct Lap {
+        double& to;
+        std::chrono::steady_clock::time_point t0;
+        ~Lap() { to += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } lap{host_s_, t0};
     const int nt = int(std::min<std::size_t>(std::size_t(threads_), std::max<std::size_t>(B, 1)));
     team_.run(nt, [&](int tid) {
         const auto [s0, s1] = thread_range(int64_t(B), tid, nt);
@@ -154,6 +161,7 @@ void DeviceBatch::load(BatchSystems& b) {
     }
     layout_dirty_ = true;
     up_ = down_ = 0;
+    host_s_ = total_s_ = 0;
 }
 
 void DeviceBatch::ensure_stores(BatchSystems& b, std::size_t s) {
@@ -431,6 +439,12 @@ void DeviceBatch::read_stream() {
 }
 
 void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
+    const auto t_start = std::chrono::steady_clock::now();
+    struct Lap {
+        double& to;
+        std::chrono::steady_clock::time_point t0;
+        ~Lap() { to += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } lap{total_s_, t_start};
     const std::size_t B = b.systems();
     if (sys_.size() != B) throw std::logic_error("batch: the device holds another layout (load first)");
     const auto live = [&](std::size_t s) { return !(s < skip.size() && skip[s]) && !err[s]; };
@@ -635,6 +649,12 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
 }
 
 void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
+    const auto t_start = std::chrono::steady_clock::now();
+    struct Lap {
+        double& to;
+        std::chrono::steady_clock::time_point t0;
+        ~Lap() { to += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } lap{total_s_, t_start};
     const std::size_t B = b.systems();
     bool any_track = false;
     for (std::size_t s = 0; s < B; ++s) {

@@ -51,6 +51,11 @@ public:
     const char* device_name() const { return dev_->name(); }
     uint64_t bytes_up() const { return up_; }      // host -> device since load, [bytes]
     uint64_t bytes_down() const { return down_; }  // device -> host since load, [bytes]
+    // Where the time went since load [s]: the host's per-system parts (World's bookkeeping, the
+    // patches; wall-clock of the shared loops) and the rest of the halves (the copies each way,
+    // the launches and the waits for the kernels).
+    double host_seconds() const { return host_s_; }
+    double device_seconds() const { return total_s_ - host_s_; }
 
     struct Sys;
     struct Buf {
@@ -99,6 +104,7 @@ private:
     uint64_t stream_cap_ = 0;
     std::atomic<bool> layout_dirty_{true};
     std::atomic<uint64_t> up_{0}, down_{0};
+    double host_s_ = 0, total_s_ = 0;
 };
 
 }  // namespace dem::batch
