@@ -25,7 +25,8 @@ struct DeviceBatch::Sys {
     std::size_t pp_size = 0, pw_size = 0;
     Buf link_start, link_count, link_ref;
     std::size_t ref_size = 0;
-    Buf wall_now, ref_pos, pterms, bterms;
+    Buf ref_pos, pterms, bterms;
+    std::size_t off_now = 0;  // this system's walls in the walls-now section
     // This system's parts of the outbox sections (entries of each).
     std::size_t off_walls = 0, off_sums = 0, off_fv = 0;
     std::size_t sum_fric = 0, sum_smooth = 0, sum_walls = 0, sum_bonds = 0, sum_particles = 0;
@@ -35,7 +36,7 @@ struct DeviceBatch::Sys {
     int track = 0;
     std::vector<Buf*> bufs() {
         std::vector<Buf*> v{&pp_start, &pp_other, &pp_slot, &pp_gap, &pw_start, &pw_other, &pw_slot, &pw_gap,
-                            &link_start, &link_count, &link_ref, &wall_now, &ref_pos, &pterms, &bterms};
+                            &link_start, &link_count, &link_ref, &ref_pos, &pterms, &bterms};
         for (St& t : st)
             for (Buf* b : {&t.i, &t.j, &t.cand, &t.phys, &t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point,
                            &t.fv, &t.terms})
@@ -78,7 +79,7 @@ void DeviceBatch::free_all() {
     for (Buf& b : globals_)
         if (b.p) dev_->release(b.p);
     globals_.clear();
-    for (Buf* b : {&views_buf_, &patches_buf_, &payload_buf_, &stream_, &count_, &maxd2_, &walls_, &presc_, &sums_, &fv_, &vel_})
+    for (Buf* b : {&views_buf_, &patches_buf_, &payload_buf_, &wallnow_, &stream_, &count_, &maxd2_, &walls_, &presc_, &sums_, &fv_, &vel_})
         if (b->p) {
             dev_->release(b->p);
             *b = Buf{};
@@ -337,7 +338,7 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     v.link_start = at<uint32_t>(y.link_start, 0);
     v.link_count = at<uint32_t>(y.link_count, 0);
     v.link_ref = at<uint32_t>(y.link_ref, 0);
-    v.wall_now = at<WallNow>(y.wall_now, 0);
+    v.wall_now = at<WallNow>(wallnow_, y.off_now);
     v.ref_pos = at<FloatVec3>(y.ref_pos, 0);
     v.pterms = at<double>(y.pterms, 0);
     v.bterms = at<double>(y.bterms, 0);
@@ -455,6 +456,13 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
     // The walls' motion, the rebuild test and the broad phase, World's (its positions and
     // contact state from the device first when it rebuilds or compacts).
     std::vector<int> on(B, 0);
+    // The walls now of all systems go up in one copy (their number does not change in a step).
+    std::size_t walls_now = 0;
+    for (std::size_t s = 0; s < B; ++s) {
+        sys_[s].off_now = walls_now;
+        walls_now += b.world[s]->planes.size() + b.world[s]->facets.size();
+    }
+    h_wallnow_.resize(std::max<std::size_t>(walls_now, 1));
     each(B, [&](std::size_t s, Patches&) {
         if (!live(s)) return;
         try {
@@ -474,7 +482,8 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             }
             const WallState& walls = wd.wall_state();
             const std::size_t np = wd.planes.size(), nw = np + wd.facets.size();
-            std::vector<WallNow> now(nw);
+            if (y.off_now + nw > walls_now) throw std::logic_error("batch: a system's walls changed in a step");
+            WallNow* now = h_wallnow_.data() + y.off_now;
             for (std::size_t k = 0; k < nw; ++k) {
                 WallNow& wl = now[k];
                 wl.plane = k < np;
@@ -491,7 +500,6 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
                 }
                 wl.velocity = walls.velocity[k];
             }
-            put(y.wall_now, now.data(), std::max<std::size_t>(nw, 1) * sizeof(WallNow));
             std::tie(y.pair_reach, y.wall_reach) = wd.engine_reach();
             y.track = wd.params.track_energy ? 1 : 0;
             b.dp[s] = wd.pressure.nodes.empty() ? 0.0 : wd.pressure.dp;
@@ -500,6 +508,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             fail(s);
         }
     });
+    put(wallnow_, h_wallnow_.data(), h_wallnow_.size() * sizeof(WallNow));
     if (layout_dirty_) layout_outbox(b);
     for (std::size_t s = 0; s < B; ++s) {
         if (on[s]) fill_view(b, s);

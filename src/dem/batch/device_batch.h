@@ -90,7 +90,8 @@ private:
     std::vector<Buf> globals_;
     std::vector<Sys> sys_;
     std::vector<dev::SysView> views_;
-    Buf views_buf_, patches_buf_, payload_buf_;
+    Buf views_buf_, patches_buf_, payload_buf_, wallnow_;
+    std::vector<WallNow> h_wallnow_;  // all systems' walls now, staged for one copy
     std::vector<Patches> patches_;  // per host thread
     Patches merged_;
     int threads_ = 1;
