@@ -51,9 +51,10 @@ export VPPDEM_DEVICE_INPUTS=$here/inputs VPPDEM_BINARY=$here/vppdem
 say "device check: $(date -u +%FT%TZ) on $(hostname), $(nproc) cores, bundle $here"
 [ -f MANIFEST ] && head -3 MANIFEST | tee -a "$log"
 gpu=0
-if command -v nvidia-smi > /dev/null && nvidia-smi -L >> "$log" 2>&1; then gpu=1; fi
+if command -v nvidia-smi > /dev/null && nvidia-smi -L >> "$log" 2>&1; then gpu=1
+elif ls /dev/nvidia[0-9]* > /dev/null 2>&1; then gpu=1; say "(no nvidia-smi; /dev/nvidia* present: trying the device)"; fi
 if [ $gpu = 0 ] && [ $host_only = 0 ]; then
-  say "device check: no GPU here (nvidia-smi -L finds none or is missing): nothing to check on a device."
+  say "device check: no GPU here (nvidia-smi -L finds none or is missing, no /dev/nvidia*): nothing to check on a device."
   say "  (run.sh --host-only runs the host-side parts: the bundle's libraries and the skipped tests)"
   exit 3
 fi
