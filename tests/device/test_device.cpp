@@ -63,7 +63,7 @@ std::string damper_args(int seed) {
 
 // The small damper after its cycle for `seed` (made when missing).
 std::string sample(int seed) {
-    const fs::path dir = inputs() / ("s" + std::to_string(seed));
+    const fs::path dir = inputs() / std::string("s").append(std::to_string(seed));
     if (!fs::exists(dir / "run.ckpt")) {
         std::string out;
         const int rc = shell(vppdem() + " damper --out " + dir.string() + " " + damper_args(seed), &out);

@@ -113,6 +113,7 @@ void DeviceBatch::get(void* dst, const void* src, std::size_t bytes) {
 
 void DeviceBatch::load(BatchSystems& b) {
     free_all();
+    views_stale_ = true;
     const auto up = [&](auto*& ptr, const auto& vec) {
         Buf buf;
         put(buf, vec.data(), vec.size() * sizeof(vec[0]));
@@ -360,7 +361,10 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     o.v = at<Vec3>(vel_, std::size_t(b.first[s]));
 }
 
-void DeviceBatch::upload_views() { put(views_buf_, views_.data(), views_.size() * sizeof(dev::SysView)); }
+void DeviceBatch::upload_views() {
+    put(views_buf_, views_.data(), views_.size() * sizeof(dev::SysView));
+    views_stale_ = false;
+}
 
 void DeviceBatch::patch(Patches& to, void* dst, const void* src, std::size_t bytes) {
     if (bytes % 4) throw std::logic_error("batch: a patch of " + std::to_string(bytes) + " bytes");
@@ -394,10 +398,15 @@ void DeviceBatch::flush_patches() {
         t.payload.clear();
     }
     if (m.p.empty()) return;
-    put(patches_buf_, m.p.data(), m.p.size() * sizeof(dev::Patch));
-    put(payload_buf_, m.payload.data(), m.payload.size() * 4);
+    // The records and their payload in one copy.
+    static_assert(sizeof(dev::Patch) == 16);
+    const std::size_t head = m.p.size() * sizeof(dev::Patch);
+    staged_.resize(head + m.payload.size() * 4);
+    std::memcpy(staged_.data(), m.p.data(), head);
+    std::memcpy(staged_.data() + head, m.payload.data(), m.payload.size() * 4);
+    put(patches_buf_, staged_.data(), staged_.size());
     dev_->apply(static_cast<const dev::Patch*>(patches_buf_.p), uint32_t(m.p.size()),
-                static_cast<const uint32_t*>(payload_buf_.p));
+                reinterpret_cast<const uint32_t*>(static_cast<const char*>(patches_buf_.p) + head));
 }
 
 void DeviceBatch::read_stream() {
@@ -452,6 +461,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
     const auto fail = [&](std::size_t s) {
         err[s] = std::current_exception();
         views_[s].active = 0;
+        views_stale_ = true;
     };
     // The walls' motion, the rebuild test and the broad phase, World's (its positions and
     // contact state from the device first when it rebuilds or compacts).
@@ -667,10 +677,14 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
     const std::size_t B = b.systems();
     bool any_track = false;
     for (std::size_t s = 0; s < B; ++s) {
-        if ((s < skip.size() && skip[s]) || err[s]) views_[s].active = 0;
+        if (((s < skip.size() && skip[s]) || err[s]) && views_[s].active) {
+            views_[s].active = 0;
+            views_stale_ = true;
+        }
         any_track |= views_[s].active && views_[s].track;
     }
-    upload_views();
+    // The views are the forces half's unless a system dropped out since.
+    if (views_stale_) upload_views();
     dev_->zero(maxd2_.p, B * 8);
     dev_->motion(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
     get(h_maxd2_.data(), maxd2_.p, B * 8);
@@ -703,6 +717,7 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
         } catch (...) {
             err[s] = std::current_exception();
             views_[s].active = 0;
+            views_stale_ = true;
         }
     });
     flush_patches();

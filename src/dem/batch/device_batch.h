@@ -91,6 +91,8 @@ private:
     std::vector<Sys> sys_;
     std::vector<dev::SysView> views_;
     Buf views_buf_, patches_buf_, payload_buf_, wallnow_;
+    std::vector<char> staged_;             // the patches' records and payload, for one copy
+    std::atomic<bool> views_stale_{true};  // views_ changed since they went up
     std::vector<WallNow> h_wallnow_;  // all systems' walls now, staged for one copy
     std::vector<Patches> patches_;  // per host thread
     Patches merged_;
