@@ -202,3 +202,32 @@ TEST_F(BatchDamper, TheStepperOnTheEmulatedDeviceGivesEachRunsBits) {
     expect_same(rb, b, "run b (stepper, emulated device)");
     EXPECT_EQ(stepper.most_systems(), 2u);
 }
+
+// The kernels' work split among a block's threads, as on a GPU: the emulated device with 4 threads
+// per system meeting at the kernels' barriers and appending with atomics (the found and opened
+// contacts then come in any order: the host sorts them). Each case's bits, 8 mixed cases.
+TEST_F(BatchDamper, TheKernelsSplitAmongABlocksThreadsGiveEachCasesBits) {
+    ASSERT_TRUE(ok_) << log_;
+    struct Case { int seed; double dp, mu; bool energy; };
+    std::vector<Case> cases;
+    for (int seed : {1, 2})
+        for (double dp : {40e3, 80e3})
+            for (double mu : {0.2, 0.6}) cases.push_back({seed, dp, mu, cases.size() % 3 != 1});
+    const int steps = 1000;
+    std::vector<World> ref, mine;
+    for (const Case& c : cases) {
+        ref.push_back(load(c.seed, c.dp, c.mu, c.energy));
+        mine.push_back(ref.back());
+        for (int k = 0; k < steps; ++k) ref.back().step();
+    }
+    dem::batch::BatchSystems b;
+    for (World& w : mine) b.add(w);
+    dem::batch::DeviceBatch d(dem::batch::dev::emulated_device(4), 2);
+    d.load(b);
+    d.step(b, steps);
+    for (std::size_t q = 0; q < cases.size(); ++q) {
+        d.pull(b, q);
+        b.store(q);
+        expect_same(ref[q], mine[q], "case " + std::to_string(q) + " (emulated device, 4 threads per block)");
+    }
+}

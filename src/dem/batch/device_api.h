@@ -117,8 +117,9 @@ public:
     virtual void motion(const Globals& g, const SysView* views, int B) = 0;
 };
 
-// The host compiler's device (device_emul.cpp): every build has it (the tests run it).
-std::unique_ptr<Device> emulated_device();
+// The host compiler's device (device_emul.cpp): every build has it (the tests run it). Each
+// system's block is `threads_per_block` host threads meeting at the kernels' barriers.
+std::unique_ptr<Device> emulated_device(int threads_per_block = 1);
 // The CUDA device (device_cuda.cu with VPPDEM_CUDA; otherwise a stub that throws, naming the
 // option). cuda_built(): this vppdem was built with it. cuda_devices(): how many GPUs, 0 when
 // none or when the driver answers with an error (*why, when given, says which).
