@@ -79,7 +79,7 @@ void DeviceBatch::free_all() {
     for (Buf& b : globals_)
         if (b.p) dev_->release(b.p);
     globals_.clear();
-    for (Buf* b : {&views_buf_, &patches_buf_, &payload_buf_, &wallnow_, &stream_, &count_, &maxd2_, &walls_, &presc_, &sums_, &fv_, &vel_})
+    for (Buf* b : {&views_buf_, &patches_buf_, &payload_buf_, &wallnow_, &stream_, &count_, &maxd2_, &sec_})
         if (b->p) {
             dev_->release(b->p);
             *b = Buf{};
@@ -274,16 +274,14 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
     ensure(stream_, stream * 16, false);
     ensure(count_, 16, false);
     ensure(maxd2_, std::max<std::size_t>(sys_.size(), 1) * 8, false);
-    ensure(walls_, std::max<std::size_t>(walls, 1) * sizeof(Vec3), false);
-    ensure(presc_, std::max<std::size_t>(2 * b.prescribed.size(), 1) * sizeof(Vec3), false);
-    ensure(sums_, std::max<std::size_t>(sums, 1) * sizeof(double), false);
-    ensure(fv_, std::max<std::size_t>(fv, 1) * sizeof(Vec3), false);
-    ensure(vel_, std::max<std::size_t>(b.particles(), 1) * sizeof(Vec3), false);
-    h_walls_.resize(walls);
-    h_presc_.resize(2 * b.prescribed.size());
-    h_sums_.resize(sums);
-    h_fv_.resize(fv);
-    h_vel_.resize(b.particles());
+    o_presc_ = 0;
+    o_walls_ = o_presc_ + 2 * b.prescribed.size() * sizeof(Vec3);
+    o_fv_ = o_walls_ + walls * sizeof(Vec3);
+    o_sums_ = o_fv_ + fv * sizeof(Vec3);
+    o_vel_ = o_sums_ + sums * sizeof(double);
+    o_end_ = o_vel_ + b.particles() * sizeof(Vec3);
+    ensure(sec_, std::max<std::size_t>(o_end_, 8), false);
+    h_sec_.resize(std::max<std::size_t>(o_end_, 8));
     h_maxd2_.resize(sys_.size());
     layout_dirty_ = false;
 }
@@ -349,16 +347,18 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     o.count = at<uint64_t>(count_, 0);
     o.cap = stream_cap_;
     o.max_d2 = at<uint64_t>(maxd2_, s);
-    o.walls = at<Vec3>(walls_, 4 * 0 + y.off_walls);
-    o.presc = at<Vec3>(presc_, std::size_t(2 * b.presc_first[s]));
-    o.sum_fric = at<double>(sums_, y.sum_fric);
-    o.sum_smooth = at<double>(sums_, y.sum_smooth);
-    o.sum_walls = at<double>(sums_, y.sum_walls);
-    o.sum_bonds = at<double>(sums_, y.sum_bonds);
-    o.sum_particles = at<double>(sums_, y.sum_particles);
-    o.fv_fric = at<Vec3>(fv_, y.off_fv);
-    o.fv_smooth = at<Vec3>(fv_, y.off_fv + y.st[0].cap);
-    o.v = at<Vec3>(vel_, std::size_t(b.first[s]));
+    char* const sec = static_cast<char*>(sec_.p);
+    o.walls = reinterpret_cast<Vec3*>(sec + o_walls_) + y.off_walls;
+    o.presc = reinterpret_cast<Vec3*>(sec + o_presc_) + 2 * b.presc_first[s];
+    double* const sums = reinterpret_cast<double*>(sec + o_sums_);
+    o.sum_fric = sums + y.sum_fric;
+    o.sum_smooth = sums + y.sum_smooth;
+    o.sum_walls = sums + y.sum_walls;
+    o.sum_bonds = sums + y.sum_bonds;
+    o.sum_particles = sums + y.sum_particles;
+    o.fv_fric = reinterpret_cast<Vec3*>(sec + o_fv_) + y.off_fv;
+    o.fv_smooth = reinterpret_cast<Vec3*>(sec + o_fv_) + y.off_fv + y.st[0].cap;
+    o.v = reinterpret_cast<Vec3*>(sec + o_vel_) + b.first[s];
 }
 
 void DeviceBatch::upload_views() {
@@ -592,12 +592,10 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
     dev_->zero(count_.p, 16);
     dev_->forces(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
     read_stream();
-    get(h_walls_.data(), walls_.p, h_walls_.size() * sizeof(Vec3));
-    get(h_presc_.data(), presc_.p, h_presc_.size() * sizeof(Vec3));
-    if (any_track) {
-        get(h_sums_.data(), sums_.p, h_sums_.size() * sizeof(double));
-        get(h_fv_.data(), fv_.p, h_fv_.size() * sizeof(Vec3));
-    }
+    // The prescribed particles and the wall store (with the ledger also the dashpot forces and
+    // the block sums) in one copy.
+    const std::size_t upto = any_track ? o_vel_ : o_fv_;
+    get(h_sec_.data() + o_presc_, static_cast<const char*>(sec_.p) + o_presc_, upto - o_presc_);
 
     // World's wall reactions and the frees of the opened contacts (which go to the device).
     each(B, [&](std::size_t s, Patches& pt) {
@@ -607,7 +605,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             Sys& y = sys_[s];
             ContactSet& c = wd.engine_contacts();
             for (std::size_t q = 0; q < c.walls.size(); ++q) {
-                const Vec3* e = h_walls_.data() + y.off_walls + 4 * q;
+                const Vec3* e = hv(o_walls_) + y.off_walls + 4 * q;
                 c.walls.force[q] = e[0];
                 c.walls.torque2[q] = e[1];
                 c.walls.point[q] = e[2];
@@ -616,16 +614,15 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             if (y.track) {
                 EnergyBook& book = wd.engine_book();
                 const auto sums = [&](std::vector<double>& to, std::size_t off) {
-                    std::copy(h_sums_.begin() + std::ptrdiff_t(off), h_sums_.begin() + std::ptrdiff_t(off + to.size()), to.begin());
+                    std::copy(hd(o_sums_) + off, hd(o_sums_) + off + to.size(), to.begin());
                 };
                 sums(book.fric, y.sum_fric);
                 sums(book.smooth, y.sum_smooth);
                 sums(book.walls, y.sum_walls);
                 sums(book.bonds, y.sum_bonds);
-                std::copy(h_fv_.begin() + std::ptrdiff_t(y.off_fv), h_fv_.begin() + std::ptrdiff_t(y.off_fv + c.fric.size()),
-                          c.fric.fv.begin());
+                std::copy(hv(o_fv_) + y.off_fv, hv(o_fv_) + y.off_fv + c.fric.size(), c.fric.fv.begin());
                 const std::size_t sm = y.off_fv + y.st[0].cap;
-                std::copy(h_fv_.begin() + std::ptrdiff_t(sm), h_fv_.begin() + std::ptrdiff_t(sm + c.smooth.size()), c.smooth.fv.begin());
+                std::copy(hv(o_fv_) + sm, hv(o_fv_) + sm + c.smooth.size(), c.smooth.fv.begin());
             }
             c.opened_fric[0] = y.open[0];
             c.opened_smooth[0] = y.open[1];
@@ -657,8 +654,8 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             const int64_t base = b.first[s];
             for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {
                 const uint32_t i = b.prescribed[std::size_t(q)];
-                wd.particles.force[i] = h_presc_[std::size_t(2 * q)];
-                b.pressure_slot[std::size_t(base + i)] = h_presc_[std::size_t(2 * q + 1)];
+                wd.particles.force[i] = hv(o_presc_)[2 * q];
+                b.pressure_slot[std::size_t(base + i)] = hv(o_presc_)[2 * q + 1];
             }
         } catch (...) {
             fail(s);
@@ -689,8 +686,8 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
     dev_->motion(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
     get(h_maxd2_.data(), maxd2_.p, B * 8);
     if (any_track) {
-        get(h_sums_.data(), sums_.p, h_sums_.size() * sizeof(double));
-        get(h_vel_.data(), vel_.p, h_vel_.size() * sizeof(Vec3));
+        // The block sums and the velocities in one copy.
+        get(h_sec_.data() + o_sums_, static_cast<const char*>(sec_.p) + o_sums_, o_end_ - o_sums_);
     }
     each(B, [&](std::size_t s, Patches& pt) {
         if (!views_[s].active) return;
@@ -703,9 +700,8 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
             if (y.track) {
                 EnergyBook& book = wd.engine_book();
                 const std::size_t m = std::size_t(dev::blocks(n) * dev::kParticleSums);
-                book.particles.assign(h_sums_.begin() + std::ptrdiff_t(y.sum_particles),
-                                      h_sums_.begin() + std::ptrdiff_t(y.sum_particles + m));
-                std::copy(h_vel_.begin() + base, h_vel_.begin() + base + n, wd.particles.vel.begin());
+                book.particles.assign(hd(o_sums_) + y.sum_particles, hd(o_sums_) + y.sum_particles + m);
+                std::copy(hv(o_vel_) + base, hv(o_vel_) + base + n, wd.particles.vel.begin());
             }
             max_d2 = std::max(max_d2, wd.engine_follow_motions(b.pressure_slot.data() + base));
             for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {

@@ -99,11 +99,16 @@ private:
     int threads_ = 1;
     ThreadTeam team_;
     // The outbox sections (device) and their host copies.
-    Buf stream_, count_, maxd2_, walls_, presc_, sums_, fv_, vel_;
+    // One section for what the forces and motion halves bring back besides the stream, laid out
+    // [prescribed | wall store | dashpot forces | block sums | velocities] so that each half gets
+    // what it reads in one copy (bytes offsets o_*).
+    Buf stream_, count_, maxd2_, sec_;
+    std::vector<char> h_sec_;
+    std::size_t o_presc_ = 0, o_walls_ = 0, o_fv_ = 0, o_sums_ = 0, o_vel_ = 0, o_end_ = 0;
+    Vec3* hv(std::size_t o) { return reinterpret_cast<Vec3*>(h_sec_.data() + o); }
+    double* hd(std::size_t o) { return reinterpret_cast<double*>(h_sec_.data() + o); }
     std::vector<uint32_t> h_stream_;
     std::vector<uint64_t> h_maxd2_;
-    std::vector<Vec3> h_walls_, h_presc_, h_fv_, h_vel_;
-    std::vector<double> h_sums_;
     uint64_t stream_cap_ = 0;
     std::atomic<bool> layout_dirty_{true};
     std::atomic<uint64_t> up_{0}, down_{0};
