@@ -83,6 +83,9 @@ int main(int argc, char** argv) {
     bench->add_option("--batch", bo.batch, "checkpoint: step this many copies of the World as one batch (the batch "
                                            "engine's host backend, docs/gpu.md)")
         ->check(kPositive);
+    bench->add_option("--backend", bo.backend, "--batch on: host (the host backend), cuda (the device backend on the GPU; "
+                                               "a build with VPPDEM_CUDA), emulated (the device backend's kernels on the host)")
+        ->check(CLI::IsMember({"host", "cuda", "emulated"}));
     bench->add_option("--simd", bo.simd, "Run the kernels on this SIMD target only (default: the best here)");
 
     // vppdem tension|envelope [CONFIG] --out DIR [--set ...]: the foil checks of the paper.

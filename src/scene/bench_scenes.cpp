@@ -1,5 +1,6 @@
 #include "scene/bench_scenes.h"
 
+#include <memory>
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -12,6 +13,7 @@
 #include "dem/core/kernels.h"
 #include "dem/world/world.h"
 #include "dem/batch/batch_systems.h"
+#include "dem/batch/device_batch.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
 #include "dem/walls/facet_sets.h"
@@ -144,16 +146,32 @@ void batch_of_copies(dem::World& w, const BenchOptions& opt) {
     std::vector<dem::World> copies(std::size_t(opt.batch), w);
     dem::batch::BatchSystems b;
     for (dem::World& c : copies) b.add(c);
-    dem::batch::step_host(b, opt.threads, 1);  // untimed: the first rebuild
+    std::unique_ptr<dem::batch::DeviceBatch> dev;
+    if (opt.backend == "cuda") dev = std::make_unique<dem::batch::DeviceBatch>(dem::batch::dev::cuda_device(), opt.threads);
+    if (opt.backend == "emulated") dev = std::make_unique<dem::batch::DeviceBatch>(dem::batch::dev::emulated_device(), opt.threads);
+    const auto steps = [&](uint64_t n) {
+        if (dev) dev->step(b, n);
+        else dem::batch::step_host(b, opt.threads, n);
+    };
+    if (dev) dev->load(b);
+    steps(1);  // untimed: the first rebuild
+    const uint64_t up0 = dev ? dev->bytes_up() : 0, down0 = dev ? dev->bytes_down() : 0;
+    const double host0 = dev ? dev->host_seconds() : 0.0, device0 = dev ? dev->device_seconds() : 0.0;
     const auto t0 = std::chrono::steady_clock::now();
-    dem::batch::step_host(b, opt.threads, uint64_t(opt.steps));
+    steps(uint64_t(opt.steps));
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const double sps = double(opt.steps) / wall;
-    std::printf("{\"scene\": \"checkpoint\", \"backend\": \"batch-host\", \"systems\": %d, \"particles\": %zu, "
-                "\"steps\": %ld, \"threads\": %d, \"wall_s\": %.6g, \"steps_per_s\": %.6g, "
-                "\"system_steps_per_s\": %.6g, \"energy\": %s, \"dt\": %.6g}\n",
-                opt.batch, w.particles.size(), opt.steps, opt.threads, wall, sps, sps * opt.batch,
-                opt.energy ? "true" : "false", w.params.dt);
+    const double up = dev ? double(dev->bytes_up() - up0) / double(opt.steps) : 0.0;
+    const double down = dev ? double(dev->bytes_down() - down0) / double(opt.steps) : 0.0;
+    // Where a step's time goes: the host's per-system parts and the rest (copies, launches, kernels).
+    const double host_us = dev ? 1e6 * (dev->host_seconds() - host0) / double(opt.steps) : 0.0;
+    const double device_us = dev ? 1e6 * (dev->device_seconds() - device0) / double(opt.steps) : 0.0;
+    std::printf("{\"scene\": \"checkpoint\", \"backend\": \"batch-%s\", \"device\": \"%s\", \"systems\": %d, "
+                "\"particles\": %zu, \"steps\": %ld, \"threads\": %d, \"wall_s\": %.6g, \"steps_per_s\": %.6g, "
+                "\"system_steps_per_s\": %.6g, \"bytes_up_per_step\": %.6g, \"bytes_down_per_step\": %.6g, "
+                "\"host_us_per_step\": %.6g, \"device_us_per_step\": %.6g, \"energy\": %s, \"dt\": %.6g}\n",
+                opt.backend.c_str(), dev ? dev->device_name() : "host", opt.batch, w.particles.size(), opt.steps,
+                opt.threads, wall, sps, sps * opt.batch, up, down, host_us, device_us, opt.energy ? "true" : "false", w.params.dt);
     std::fflush(stdout);
 }
 

@@ -19,6 +19,8 @@ struct BenchOptions {
     std::string simd;         // run the kernels on this SIMD target only (names: --simd list); "" = best
     int batch = 0;            // checkpoint: > 0 steps that many copies of the World as one batch (the
                               // batch engine's host backend, docs/gpu.md) instead of the World itself
+    std::string backend = "host";  // --batch on: host (step_host), cuda (the device backend on the GPU),
+                                   // emulated (the device backend's kernels on the host)
 };
 
 // Runs the benchmark and prints one JSON line last (a contract read by outside tools). With

@@ -1,5 +1,6 @@
 #include "vpp/study.h"
 
+#include <cstdlib>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -11,6 +12,7 @@
 #include <thread>
 
 #include "dem/batch/batch_stepper.h"
+#include "dem/batch/device_api.h"
 
 #include "dem/io/csv.h"
 #include "scene/config.h"
@@ -78,11 +80,22 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     SweepResult res;
     res.cases = expand_study(s);  // every case's config is checked before anything runs
     if (opt.report_only) return report_sweep(s, opt, std::move(res));
-    if (opt.backend == "cuda")
-        throw ConfigError("--backend cuda: this vppdem has no CUDA backend yet (docs/gpu.md: the batch engine runs on "
-                          "the CPU as --backend batch; its device kernels are what is left)");
-    if (opt.backend != "cpu" && opt.backend != "batch")
+    if (opt.backend != "cpu" && opt.backend != "batch" && opt.backend != "cuda")
         throw ConfigError("--backend '" + opt.backend + "' is not one of cpu, batch, cuda");
+    // --backend cuda: the batch engine's device backend on the GPU. VPPDEM_EMULATE_DEVICE=1 runs it
+    // on the emulated device instead (its kernels on the host: the tests' stand-in for a GPU).
+    const char* emulate = std::getenv("VPPDEM_EMULATE_DEVICE");
+    const bool emulated = opt.backend == "cuda" && emulate && std::string(emulate) == "1";
+    if (opt.backend == "cuda" && !emulated && !dem::batch::dev::cuda_built())
+        throw ConfigError("--backend cuda: this vppdem was built without CUDA. Build it with the option VPPDEM_CUDA "
+                          "(cmake -S . -B build-cuda -DVPPDEM_CUDA=ON -DVPPDEM_NVCC=/usr/local/cuda/bin/nvcc, then "
+                          "cmake --build build-cuda --target vppdem; docs/gpu.md), or use --backend batch (the same "
+                          "engine on the CPU)");
+    if (opt.backend == "cuda" && !emulated) {
+        const char* why = nullptr;
+        if (dem::batch::dev::cuda_devices(&why) == 0)
+            throw ConfigError(std::string("--backend cuda: no CUDA device (") + (why ? why : "none") + ")");
+    }
     const auto& cases = res.cases;
     const fs::path out(opt.out_dir);
     if (fs::exists(out) && !fs::is_directory(out))
@@ -117,6 +130,9 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     // The batch the running cases step their cycling through (--backend batch).
     std::unique_ptr<dem::batch::BatchStepper> batch;
     if (opt.backend == "batch") batch = std::make_unique<dem::batch::BatchStepper>(jobs);
+    if (opt.backend == "cuda")
+        batch = std::make_unique<dem::batch::BatchStepper>(
+            jobs, emulated ? dem::batch::BatchStepper::Backend::kEmulated : dem::batch::BatchStepper::Backend::kCuda);
 
     std::mutex mu;
     std::map<std::size_t, int> state;  // 0 pending, 1 running, 2 finished
@@ -291,8 +307,8 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     if (hook_error) std::rethrow_exception(hook_error);
     if (stop.load()) throw SweepStopped();
     if (batch && !opt.quiet)
-        std::fprintf(stderr, "sweep: batch backend: %llu half steps launched, up to %zu runs at once\n",
-                     (unsigned long long)batch->launches(), batch->most_systems());
+        std::fprintf(stderr, "sweep: %s backend: %llu half steps launched, up to %zu runs at once\n",
+                     opt.backend.c_str(), (unsigned long long)batch->launches(), batch->most_systems());
 
     // Gather on rank 0 and write the summary.
     std::string text;

@@ -7,9 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <thread>
 #include <vector>
 
+#include "batch_compare.h"
 #include "cli_helpers.h"
+#include "dem/batch/batch_stepper.h"
+#include "dem/batch/device_batch.h"
 #include "dem/batch/batch_systems.h"
 #include "dem/io/checkpoint.h"
 #include "dem/world/world.h"
@@ -49,53 +53,10 @@ protected:
 bool BatchDamper::ok_ = true;
 std::string BatchDamper::log_;
 
-// The sample of `seed` after its cycle, at underpressure dp [Pa] and grain friction mu, with the
-// top cap and the ring pressed down 2 mm over the next 0.03 s (past the 10,000 steps), its energy
-// ledger started afresh (or off).
 World load(int seed, double dp, double mu, bool energy = true) {
-    World w;
-    const std::string folder = std::string("s").append(std::to_string(seed));
-    dem::load_checkpoint((scratch(folder) / "run.ckpt").string(), w);
-    w.params.track_energy = energy;
-    w.reset_energy();
-    w.pressure.dp = dp;
-    w.materials[0].friction = mu;
-    w.invalidate_contact_physics();
-    const double t1 = w.time + 0.03;
-    const auto press = [&](dem::Motion& m) {
-        if (m.history.empty()) return;
-        m.history.push_back({t1, m.history.back().displacement + dem::Vec3{0, 0, -0.002}});
-    };
-    for (dem::Plane& p : w.planes) press(p.motion);
-    for (dem::Motion& m : w.motions) press(m);
-    return w;
+    return batch_test::load_case((scratch(std::string("s").append(std::to_string(seed))) / "run.ckpt").string(), dp, mu, energy);
 }
-
-void expect_same(const World& a, const World& b, const std::string& what) {
-    ASSERT_EQ(a.particles.size(), b.particles.size()) << what;
-    ASSERT_EQ(a.steps, b.steps) << what;
-    ASSERT_EQ(a.time, b.time) << what;
-    for (std::size_t i = 0; i < a.particles.size(); ++i) {
-        ASSERT_EQ(a.particles.pos[i], b.particles.pos[i]) << what << ", particle " << i;
-        ASSERT_EQ(a.particles.vel[i], b.particles.vel[i]) << what << ", particle " << i;
-        ASSERT_EQ(a.particles.angvel[i], b.particles.angvel[i]) << what << ", particle " << i;
-        ASSERT_EQ(a.particles.force[i], b.particles.force[i]) << what << ", particle " << i;
-    }
-    ASSERT_EQ(a.contact_count(), b.contact_count()) << what;
-    for (std::size_t k = 0; k < a.wall_count(); ++k) ASSERT_EQ(a.wall_force(k), b.wall_force(k)) << what << ", wall " << k;
-    for (std::size_t k = 0; k < a.bonds().size(); ++k) ASSERT_EQ(a.bonds().shear[k], b.bonds().shear[k]) << what;
-    const dem::EnergyLedger &p = a.energy(), &q = b.energy();
-    ASSERT_EQ(p.steps, q.steps) << what;
-    const double pv[] = {p.boundary_work, p.pressure_work, p.gravity_work, p.external_work, p.friction_slip,
-                         p.shear_release, p.damping_dissipation, p.viscous_dissipation, p.kinetic, p.elastic_contacts,
-                         p.elastic_bonds, p.stored0, p.time, p.t0, p.pending_boundary, p.pending_pressure,
-                         p.pending_gravity, p.pending_external, p.pending_damping, p.pending_viscous};
-    const double qv[] = {q.boundary_work, q.pressure_work, q.gravity_work, q.external_work, q.friction_slip,
-                         q.shear_release, q.damping_dissipation, q.viscous_dissipation, q.kinetic, q.elastic_contacts,
-                         q.elastic_bonds, q.stored0, q.time, q.t0, q.pending_boundary, q.pending_pressure,
-                         q.pending_gravity, q.pending_external, q.pending_damping, q.pending_viscous};
-    for (std::size_t k = 0; k < std::size(pv); ++k) ASSERT_EQ(pv[k], qv[k]) << what << ", ledger entry " << k;
-}
+using batch_test::expect_same;
 
 }  // namespace
 
@@ -156,5 +117,117 @@ TEST_F(BatchDamper, ABatchOfEightMixedCasesGivesEachCasesBits) {
             b.store(q);
             expect_same(ref[q], mine[q], "case " + std::to_string(q) + ", " + std::to_string(threads) + " thread(s)");
         }
+    }
+}
+
+// The device backend (dem/batch/device_batch.h) on the emulated device: the device's kernels
+// compiled by the host compiler, its memory host memory, and the whole exchange with World (the
+// touch test's finds placed by World, the frees, the rebuilds and compactions, the ledger's sums)
+// as on a GPU. A batch of one gives World's bits over 10,000 steps, then hands back a World that
+// steps on as if it had never left; 8 mixed cases give each case's bits.
+TEST_F(BatchDamper, TheDeviceBackendOnTheEmulatedDeviceGivesTheWorldsBits) {
+    ASSERT_TRUE(ok_) << log_;
+    World ref = load(1, 60e3, 0.3);
+    World mine = ref;
+    const uint64_t rebuilds0 = ref.rebuild_count();
+    dem::batch::BatchSystems b;
+    b.add(mine);
+    dem::batch::DeviceBatch d(dem::batch::dev::emulated_device());
+    d.load(b);
+    for (int k = 0; k < 10000; ++k) ref.step();
+    d.step(b, 10000);
+    d.pull(b, 0);
+    b.store(0);
+    expect_same(ref, mine, "device batch of one (emulated)");
+    EXPECT_GT(mine.rebuild_count(), rebuilds0);
+    for (int k = 0; k < 200; ++k) {
+        ref.step();
+        mine.step();
+    }
+    expect_same(ref, mine, "after the hand-back");
+}
+
+TEST_F(BatchDamper, TheDeviceBackendOnTheEmulatedDeviceGivesEachOfEightCasesBits) {
+    ASSERT_TRUE(ok_) << log_;
+    struct Case { int seed; double dp, mu; bool energy; };
+    std::vector<Case> cases;
+    for (int seed : {1, 2})
+        for (double dp : {40e3, 80e3})
+            for (double mu : {0.2, 0.6}) cases.push_back({seed, dp, mu, cases.size() % 3 != 1});
+    const int steps = 3000;
+    std::vector<World> ref;
+    for (const Case& c : cases) {
+        ref.push_back(load(c.seed, c.dp, c.mu, c.energy));
+        for (int k = 0; k < steps; ++k) ref.back().step();
+    }
+    // The host parts of the systems shared among 1 and 3 threads: the same bits.
+    for (const int threads : {1, 3}) {
+        std::vector<World> mine;
+        for (const Case& c : cases) mine.push_back(load(c.seed, c.dp, c.mu, c.energy));
+        dem::batch::BatchSystems b;
+        for (World& w : mine) b.add(w);
+        dem::batch::DeviceBatch d(dem::batch::dev::emulated_device(), threads);
+        d.load(b);
+        d.step(b, steps);
+        for (std::size_t q = 0; q < cases.size(); ++q) {
+            d.pull(b, q);
+            b.store(q);
+            expect_same(ref[q], mine[q], "case " + std::to_string(q) + " (emulated device, " + std::to_string(threads) + " threads)");
+        }
+    }
+}
+
+// BatchStepper on the emulated device: two runs, each in its own thread stepping its World as
+// ever, the second joining late and leaving early, give their Worlds' bits.
+TEST_F(BatchDamper, TheStepperOnTheEmulatedDeviceGivesEachRunsBits) {
+    ASSERT_TRUE(ok_) << log_;
+    World ra = load(1, 50e3, 0.3), rb = load(2, 70e3, 0.5, false);
+    World a = ra, b = rb;
+    for (int k = 0; k < 1500; ++k) ra.step();
+    for (int k = 0; k < 700; ++k) rb.step();
+    dem::batch::BatchStepper stepper(1, dem::batch::BatchStepper::Backend::kEmulated);
+    const auto run = [&](World& w, int skip, int steps) {
+        for (int k = 0; k < skip; ++k) w.step();  // before joining: on its own
+        for (int k = 0; k < steps; ++k) {
+            stepper.compute_forces(w);
+            stepper.integrate(w);
+        }
+        stepper.leave(w);
+    };
+    std::thread ta([&] { run(a, 0, 1500); });
+    std::thread tb([&] { run(b, 100, 600); });
+    ta.join();
+    tb.join();
+    expect_same(ra, a, "run a (stepper, emulated device)");
+    expect_same(rb, b, "run b (stepper, emulated device)");
+    EXPECT_EQ(stepper.most_systems(), 2u);
+}
+
+// The kernels' work split among a block's threads, as on a GPU: the emulated device with 4 threads
+// per system meeting at the kernels' barriers and appending with atomics (the found and opened
+// contacts then come in any order: the host sorts them). Each case's bits, 8 mixed cases.
+TEST_F(BatchDamper, TheKernelsSplitAmongABlocksThreadsGiveEachCasesBits) {
+    ASSERT_TRUE(ok_) << log_;
+    struct Case { int seed; double dp, mu; bool energy; };
+    std::vector<Case> cases;
+    for (int seed : {1, 2})
+        for (double dp : {40e3, 80e3})
+            for (double mu : {0.2, 0.6}) cases.push_back({seed, dp, mu, cases.size() % 3 != 1});
+    const int steps = 1000;
+    std::vector<World> ref, mine;
+    for (const Case& c : cases) {
+        ref.push_back(load(c.seed, c.dp, c.mu, c.energy));
+        mine.push_back(ref.back());
+        for (int k = 0; k < steps; ++k) ref.back().step();
+    }
+    dem::batch::BatchSystems b;
+    for (World& w : mine) b.add(w);
+    dem::batch::DeviceBatch d(dem::batch::dev::emulated_device(4), 2);
+    d.load(b);
+    d.step(b, steps);
+    for (std::size_t q = 0; q < cases.size(); ++q) {
+        d.pull(b, q);
+        b.store(q);
+        expect_same(ref[q], mine[q], "case " + std::to_string(q) + " (emulated device, 4 threads per block)");
     }
 }

@@ -810,7 +810,8 @@ TEST_F(Study, MpiSweepWritesTheSameSummaryAsTheSerialOne) {
 // --backend batch (docs/gpu.md): the running cases' cycling stepped in lockstep through one batch
 // of the batch engine's host backend gives the files of --backend cpu byte for byte: three
 // underpressures branching from one preparation, two at a time (so the batch also takes a case
-// in and lets one go mid-run). --backend cuda is refused before anything is written.
+// in and lets one go mid-run); --backend cuda on the emulated device too. --backend cuda without
+// a CUDA build or a device is refused before anything is written.
 // A study given more cycles (process.cycles raised, here on the command line) continues its
 // finished cases from their run.ckpt: each case's records are then those of a sweep run with
 // that many cycles from the start, bit for bit; --report-only counts a case that has fewer
@@ -889,10 +890,27 @@ TEST_F(Study, TheBatchBackendWritesTheCpuBackendsFiles) {
     EXPECT_EQ(cases, 3);
     // Two cases did share the batch.
     EXPECT_NE(b.output.find("up to 2 runs at once"), std::string::npos) << b.output;
+    // --backend cuda on the emulated device (the device backend's kernels and its exchange with
+    // World, run on the host): the same files again.
+    const fs::path emulated = scratch("backend_emulated");
+    const Outcome d = shell("VPPDEM_EMULATE_DEVICE=1 " + kBinary + " sweep " + study.string() + " --out " + emulated.string() +
+                            " --jobs 2 --backend cuda --no-plot");
+    ASSERT_EQ(d.status, 0) << d.output;
+    EXPECT_NE(d.output.find("up to 2 runs at once"), std::string::npos) << d.output;
+    for (const auto& e : fs::directory_iterator(cpu)) {
+        if (!e.is_directory()) continue;
+        for (const char* f : {"forces.csv", "cycles.csv", "energy.csv"})
+            EXPECT_EQ(slurp(e.path() / f), slurp(emulated / e.path().filename() / f)) << e.path().filename() << "/" << f;
+    }
+    // Without a CUDA build (or without a device) --backend cuda is refused before anything is
+    // written, with exit status 2, naming the option to build with (or the missing device).
     const fs::path none = scratch("backend_cuda");
-    const Outcome c = run("sweep " + study.string() + " --out " + none.string() + " --backend cuda --no-plot");
-    EXPECT_NE(c.status, 0);
+    const Outcome c = shell("env -u VPPDEM_EMULATE_DEVICE " + kBinary + " sweep " + study.string() + " --out " + none.string() +
+                            " --backend cuda --no-plot");
+    EXPECT_TRUE(WIFEXITED(c.status) && WEXITSTATUS(c.status) == 2) << c.status << c.output;
     EXPECT_NE(c.output.find("--backend cuda"), std::string::npos) << c.output;
+    EXPECT_TRUE(c.output.find("-DVPPDEM_CUDA=ON") != std::string::npos || c.output.find("no CUDA device") != std::string::npos)
+        << c.output;
     EXPECT_FALSE(fs::exists(none));
 }
 

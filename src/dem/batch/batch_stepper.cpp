@@ -7,6 +7,11 @@
 
 namespace dem::batch {
 
+BatchStepper::BatchStepper(int threads, Backend backend) : threads_(threads > 1 ? threads : 1) {
+    if (backend == Backend::kEmulated) device_ = std::make_unique<DeviceBatch>(dev::emulated_device(), threads_);
+    if (backend == Backend::kCuda) device_ = std::make_unique<DeviceBatch>(dev::cuda_device(), threads_);
+}
+
 std::size_t BatchStepper::index_of(const World& world) const {
     for (std::size_t s = 0; s < batch_.systems(); ++s)
         if (batch_.world[s] == &world && !gone_[s]) return s;
@@ -58,6 +63,7 @@ void BatchStepper::run_half() {
             std::vector<World*> worlds;
             for (std::size_t s = 0; s < batch_.systems(); ++s)
                 if (!gone_[s]) {
+                    if (device_) device_->pull(batch_, s);
                     batch_.store(s);
                     worlds.push_back(batch_.world[s]);
                 }
@@ -68,9 +74,25 @@ void BatchStepper::run_half() {
             gone_.assign(worlds.size(), false);
             error_.assign(worlds.size(), nullptr);
             active_ = worlds.size();
+            if (device_) try {
+                    device_->load(batch_);
+                } catch (...) {
+                    for (auto& e : error_) e = std::current_exception();
+                }
         }
     }
     const bool forces = half_ == Half::kForces;
+    if (device_) {
+        // One launch per half for all systems; a system whose host part threw is skipped after.
+        std::vector<bool> skip(gone_);
+        try {
+            if (forces) device_->forces(batch_, skip, error_);
+            else device_->motion(batch_, skip, error_);
+        } catch (...) {  // the device itself failed: every member hears it
+            for (std::size_t s = 0; s < error_.size(); ++s)
+                if (!gone_[s] && !error_[s]) error_[s] = std::current_exception();
+        }
+    } else {
     const int64_t ns = int64_t(batch_.systems());
     const int nt = int(std::min<int64_t>(threads_, std::max<int64_t>(ns, 1)));
     team_.run(nt, [&](int tid) {
@@ -85,6 +107,7 @@ void BatchStepper::run_half() {
             }
         }
     });
+    }
     ++launches_;
     most_ = std::max(most_, active_);
     half_ = forces ? Half::kMotion : Half::kForces;
@@ -96,7 +119,9 @@ void BatchStepper::run_half() {
 void BatchStepper::sync(World& world) {
     std::lock_guard<std::mutex> lk(mu_);
     const std::size_t s = index_of(world);
-    if (s != SIZE_MAX) batch_.store(s);
+    if (s == SIZE_MAX) return;
+    if (device_) device_->pull(batch_, s);
+    batch_.store(s);
 }
 
 void BatchStepper::leave(World& world) noexcept {
@@ -105,6 +130,11 @@ void BatchStepper::leave(World& world) noexcept {
     if (s == SIZE_MAX) return;
     // Usually between its steps; mid-step (its run threw after compute_forces()) the others may
     // be waiting at the motion half: it runs without this one.
+    try {
+        if (device_) device_->pull(batch_, s);
+    } catch (...) {
+        // A device that cannot answer leaves the World as the last store left it.
+    }
     batch_.store(s);
     gone_[s] = true;
     --active_;

@@ -11,10 +11,12 @@
 #include <condition_variable>
 #include <cstdint>
 #include <exception>
+#include <memory>
 #include <mutex>
 #include <vector>
 
 #include "dem/batch/batch_systems.h"
+#include "dem/batch/device_batch.h"
 #include "dem/core/thread_team.h"
 #include "dem/world/world.h"
 
@@ -22,8 +24,14 @@ namespace dem::batch {
 
 class BatchStepper {
 public:
+    // Where the batch runs: the host backend (step_forces, step_motion: the systems shared among
+    // threads), the device backend on a CUDA device (DeviceBatch; a vppdem built with
+    // VPPDEM_CUDA), or the device backend on the emulated device (its kernels on the host: the
+    // tests' stand-in for a GPU).
+    enum class Backend { kHost, kCuda, kEmulated };
     // `threads`: the host backend's threads for one launch (the systems shared among them).
-    explicit BatchStepper(int threads = 1) : threads_(threads > 1 ? threads : 1) {}
+    // kCuda without a CUDA build or without a device throws, saying which.
+    explicit BatchStepper(int threads = 1, Backend backend = Backend::kHost);
 
     // The halves of world's step (as World::compute_forces() and World::integrate()); each returns
     // when every member's half is done. compute_forces() of a World not in the batch joins it.
@@ -60,6 +68,7 @@ private:
     std::size_t most_ = 0;
     int threads_;
     ThreadTeam team_;
+    std::unique_ptr<DeviceBatch> device_;  // the device backend (nullptr: the host's)
 };
 
 }  // namespace dem::batch

@@ -174,6 +174,9 @@ public:
     // particles.vel before engine_end_step(); fp is its pressure force per particle [N] (for the
     // prescribed particles' boundary work). Clumps are not part of it (the engine refuses them).
     bool engine_rebuild_due() { return broad_.needs_rebuild(particles.size(), planes, facets, time); }
+    // engine_begin_forces() will lay the contact stores out again without a rebuild (as
+    // update_candidates() decides): a device engine brings their state back first.
+    bool engine_compaction_due() const { return physics_dirty_ || contacts_.holes > contacts_.store_slots() / 4 + 256; }
     void engine_begin_forces();
     ContactSet& engine_contacts() { return contacts_; }
     BondList& engine_bonds() { return bonds_; }

@@ -1,0 +1,130 @@
+// The batch engine's device (docs/gpu.md): what the host side of the device backend
+// (device_batch.cpp, GCC) and the kernels (device_kernels.inl: nvcc in device_cuda.cu, or the
+// host compiler in device_emul.cpp, the "emulated device" whose memory is host memory and whose
+// launches are loops) share. Plain data only: no World, no CUDA type.
+//
+// Memory: the particles, bonds and pressure nodes of all systems concatenated (Globals, laid
+// out as BatchSystems); per system its contact stores, candidate lists, interaction lists,
+// walls, rebuild positions and scratch (SysView, device pointers); one outbox for all systems
+// (what comes back per half step, downloaded in one copy).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+
+#include "dem/batch/pair_step.h"
+#include "dem/contact/linear_law.h"
+#include "dem/core/vec3.h"
+
+namespace dem::batch::dev {
+
+inline constexpr int64_t kBlock = 64;        // the ledger's block of entries (kernels::kBlock)
+inline constexpr int kPairSums = 4;          // kernels::kPairSums (elastic, slip, release, viscous)
+inline constexpr int kParticleSums = 11;     // kernels::kParticleSums
+inline constexpr uint32_t kNone = 0xffffffffu;  // kNoSlot
+inline constexpr uint32_t kSmooth = 1u << 31;    // kSmoothBit
+VPPDEM_HD inline int64_t blocks(int64_t n) { return (n + kBlock - 1) / kBlock; }
+
+// One ActiveContacts store on the device (size: slots in use, holes included).
+struct Store {
+    uint32_t *i = nullptr, *j = nullptr, *cand = nullptr;
+    ContactPhys* phys = nullptr;
+    Vec3 *shear = nullptr, *prev = nullptr, *force = nullptr, *torque1 = nullptr, *torque2 = nullptr, *point = nullptr,
+         *fv = nullptr;
+    double* terms = nullptr;  // scratch: kPairSums per slot (the ledger)
+    uint32_t size = 0;
+};
+
+struct Cands {
+    uint32_t *start = nullptr, *other = nullptr, *slot = nullptr;  // start: n + 1 entries
+    float* gap = nullptr;
+    uint32_t size = 0;
+};
+
+// What the touch test and the contact kernels found, appended by all systems to one stream of
+// records (system, kind, a, b) that the host sorts: (particle, candidate) for a touching
+// candidate without a contact, (slot, 0) for a contact found apart.
+enum Kind : uint32_t { kFoundPP, kFoundPW, kOpenFric, kOpenSmooth, kOpenWalls };
+
+// What comes back per half step (device pointers into the outbox sections, this system's part).
+struct Outbox {
+    uint32_t sys = 0;
+    uint32_t* stream = nullptr;  // 4 words per record
+    uint64_t* count = nullptr;   // [0] records appended, [1] set when the stream overflowed
+    uint64_t cap = 0;            // records
+    uint64_t* max_d2 = nullptr;  // this system's largest squared move (a double's bits)
+    Vec3* walls = nullptr;       // per wall slot: force, torque2, point, fv (the reactions and the ledger)
+    Vec3* presc = nullptr;       // per prescribed particle: force, pressure force
+    double *sum_fric = nullptr, *sum_smooth = nullptr, *sum_walls = nullptr, *sum_bonds = nullptr,
+           *sum_particles = nullptr;  // the ledger's block sums
+    Vec3 *fv_fric = nullptr, *fv_smooth = nullptr;  // the dashpot forces (the ledger's forward half)
+    Vec3* v = nullptr;                              // the velocities after the motion half (the ledger)
+};
+
+struct SysView {
+    int active = 0;          // 0: skipped (a member that left)
+    int track = 0;           // the energy ledger
+    int with_pressure = 0;
+    int64_t base = 0, n = 0;  // particles base .. base + n of Globals
+    int64_t bond0 = 0, bond1 = 0, node0 = 0, node1 = 0, presc0 = 0, presc1 = 0;
+    double dt = 0, lambda = 0, dp = 0;
+    Vec3 gravity;
+    float pair_reach = 0, wall_reach = 0;
+    Cands pp, pw;
+    Store fric, smooth, walls;
+    uint32_t *link_start = nullptr, *link_count = nullptr, *link_ref = nullptr;
+    const WallNow* wall_now = nullptr;
+    const FloatVec3* ref_pos = nullptr;
+    double* pterms = nullptr;   // scratch: kParticleSums per particle
+    double* bterms = nullptr;   // scratch: one per bond
+    Outbox out;
+};
+
+// The concatenated arrays of all systems (BatchSystems' layout, global indices).
+struct Globals {
+    Vec3 *x = nullptr, *v = nullptr, *w = nullptr, *f = nullptr, *fx = nullptr, *t = nullptr;
+    double *m = nullptr, *inv_m = nullptr, *inv_i = nullptr, *r = nullptr;
+    Vec3* pressure_slot = nullptr;
+    int64_t *bi = nullptr, *bj = nullptr;
+    double *kn = nullptr, *ks = nullptr, *rest = nullptr;
+    Vec3 *bshear = nullptr, *bprev = nullptr, *bforce = nullptr, *btorque1 = nullptr, *btorque2 = nullptr;
+    int64_t* node = nullptr;
+    int64_t* ring = nullptr;  // 4 per node
+    uint32_t* prescribed = nullptr;
+};
+
+// A write of `words` 32-bit words from the payload (at word `from`) to device address dst.
+struct Patch {
+    uint64_t dst;
+    uint32_t words, from;
+};
+
+// A device: memory and the launches over B systems (views: B SysViews in device memory).
+class Device {
+public:
+    virtual ~Device() = default;
+    virtual const char* name() const = 0;
+    virtual void* alloc(std::size_t bytes) = 0;  // zeroed
+    virtual void release(void* p) = 0;
+    virtual void put(void* dst, const void* src, std::size_t bytes) = 0;   // host -> device
+    virtual void get(void* dst, const void* src, std::size_t bytes) = 0;   // device -> host
+    virtual void copy(void* dst, const void* src, std::size_t bytes) = 0;  // device -> device
+    virtual void zero(void* dst, std::size_t bytes) = 0;
+    virtual void apply(const Patch* patches, uint32_t n, const uint32_t* payload) = 0;
+    virtual void touch(const Globals& g, const SysView* views, int B) = 0;
+    virtual void forces(const Globals& g, const SysView* views, int B) = 0;
+    virtual void motion(const Globals& g, const SysView* views, int B) = 0;
+};
+
+// The host compiler's device (device_emul.cpp): every build has it (the tests run it). Each
+// system's block is `threads_per_block` host threads meeting at the kernels' barriers.
+std::unique_ptr<Device> emulated_device(int threads_per_block = 1);
+// The CUDA device (device_cuda.cu with VPPDEM_CUDA; otherwise a stub that throws, naming the
+// option). cuda_built(): this vppdem was built with it. cuda_devices(): how many GPUs, 0 when
+// none or when the driver answers with an error (*why, when given, says which).
+std::unique_ptr<Device> cuda_device();
+bool cuda_built();
+int cuda_devices(const char** why = nullptr);
+
+}  // namespace dem::batch::dev

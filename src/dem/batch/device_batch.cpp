@@ -1,0 +1,745 @@
+#include "dem/batch/device_batch.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+
+#include "dem/core/kernels.h"
+#include "dem/core/parallel.h"
+
+namespace dem::batch {
+
+static_assert(dev::kBlock == kernels::kBlock && dev::kPairSums == kernels::kPairSums &&
+              dev::kParticleSums == kernels::kParticleSums && dev::kNone == kNoSlot && dev::kSmooth == kSmoothBit);
+static_assert(kernels::kElastic == 0 && kernels::kSlip == 1 && kernels::kRelease == 2 && kernels::kViscous == 3);
+
+struct DeviceBatch::Sys {
+    struct St {
+        Buf i, j, cand, phys, shear, prev, force, torque1, torque2, point, fv, terms;
+        std::size_t cap = 0;
+    };
+    St st[3];  // frictional, frictionless, wall
+    Buf pp_start, pp_other, pp_slot, pp_gap, pw_start, pw_other, pw_slot, pw_gap;
+    std::size_t pp_size = 0, pw_size = 0;
+    Buf link_start, link_count, link_ref;
+    std::size_t ref_size = 0;
+    Buf ref_pos, pterms, bterms;
+    std::size_t off_now = 0;  // this system's walls in the walls-now section
+    // This system's parts of the outbox sections (entries of each).
+    std::size_t off_walls = 0, off_sums = 0, off_fv = 0;
+    std::size_t sum_fric = 0, sum_smooth = 0, sum_walls = 0, sum_bonds = 0, sum_particles = 0;
+    // What the stream brought this half.
+    std::vector<uint32_t> found_pp, found_pw, open[3];
+    float pair_reach = 0, wall_reach = 0;
+    int track = 0;
+    std::vector<Buf*> bufs() {
+        std::vector<Buf*> v{&pp_start, &pp_other, &pp_slot, &pp_gap, &pw_start, &pw_other, &pw_slot, &pw_gap,
+                            &link_start, &link_count, &link_ref, &ref_pos, &pterms, &bterms};
+        for (St& t : st)
+            for (Buf* b : {&t.i, &t.j, &t.cand, &t.phys, &t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point,
+                           &t.fv, &t.terms})
+                v.push_back(b);
+        return v;
+    }
+};
+
+namespace {
+ActiveContacts& store_of(ContactSet& c, int k) { return k == 0 ? c.fric : k == 1 ? c.smooth : c.walls; }
+template <class T> T* at(DeviceBatch::Buf& b, std::size_t k) { return static_cast<T*>(b.p) + k; }
+}  // namespace
+
+DeviceBatch::DeviceBatch(std::unique_ptr<dev::Device> device, int threads)
+    : dev_(std::move(device)), patches_(std::size_t(threads > 1 ? threads : 1)), threads_(threads > 1 ? threads : 1) {
+    if (!dev_) throw std::invalid_argument("batch: no device");
+}
+
+template <class F> void DeviceBatch::each(std::size_t B, F&& f) {
+    const auto t0 = std::chrono::steady_clock::now();
+    struct Lap {
+        double& to;
+        std::chrono::steady_clock::time_point t0;
+        ~Lap() { to += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } lap{host_s_, t0};
+    const int nt = int(std::min<std::size_t>(std::size_t(threads_), std::max<std::size_t>(B, 1)));
+    team_.run(nt, [&](int tid) {
+        const auto [s0, s1] = thread_range(int64_t(B), tid, nt);
+        for (int64_t s = s0; s < s1; ++s) f(std::size_t(s), patches_[std::size_t(tid)]);
+    });
+}
+
+DeviceBatch::~DeviceBatch() { free_all(); }
+
+void DeviceBatch::free_all() {
+    for (Sys& y : sys_)
+        for (Buf* b : y.bufs())
+            if (b->p) dev_->release(b->p);
+    sys_.clear();
+    for (Buf& b : globals_)
+        if (b.p) dev_->release(b.p);
+    globals_.clear();
+    for (Buf* b : {&views_buf_, &patches_buf_, &payload_buf_, &wallnow_, &stream_, &count_, &maxd2_, &sec_})
+        if (b->p) {
+            dev_->release(b->p);
+            *b = Buf{};
+        }
+    g_ = dev::Globals{};
+    layout_dirty_ = true;
+}
+
+void DeviceBatch::ensure(Buf& b, std::size_t bytes, bool keep) {
+    if (bytes <= b.bytes && b.p) return;
+    const std::size_t cap = std::max<std::size_t>({bytes, b.bytes + b.bytes / 2, 64});
+    void* p = dev_->alloc(cap);
+    if (b.p) {
+        if (keep) dev_->copy(p, b.p, b.bytes);
+        dev_->release(b.p);
+    }
+    b.p = p;
+    b.bytes = cap;
+}
+
+void DeviceBatch::put(Buf& b, const void* src, std::size_t bytes) {
+    ensure(b, bytes, false);
+    dev_->put(b.p, src, bytes);
+    up_ += bytes;
+}
+
+void DeviceBatch::get(void* dst, const void* src, std::size_t bytes) {
+    dev_->get(dst, src, bytes);
+    down_ += bytes;
+}
+
+void DeviceBatch::load(BatchSystems& b) {
+    free_all();
+    views_stale_ = true;
+    const auto up = [&](auto*& ptr, const auto& vec) {
+        Buf buf;
+        put(buf, vec.data(), vec.size() * sizeof(vec[0]));
+        globals_.push_back(buf);
+        ptr = static_cast<std::remove_reference_t<decltype(ptr)>>(buf.p);
+    };
+    up(g_.x, b.x);
+    up(g_.v, b.v);
+    up(g_.w, b.w);
+    up(g_.f, b.f);
+    up(g_.fx, b.fx);
+    up(g_.t, b.t);
+    up(g_.m, b.m);
+    up(g_.inv_m, b.inv_m);
+    up(g_.inv_i, b.inv_i);
+    up(g_.r, b.r);
+    up(g_.pressure_slot, b.pressure_slot);
+    up(g_.bi, b.bi);
+    up(g_.bj, b.bj);
+    up(g_.kn, b.kn);
+    up(g_.ks, b.ks);
+    up(g_.rest, b.rest);
+    up(g_.bshear, b.shear);
+    up(g_.bprev, b.prev_normal);
+    up(g_.bforce, b.bond_force);
+    up(g_.btorque1, b.torque1);
+    up(g_.btorque2, b.torque2);
+    up(g_.node, b.node);
+    {
+        Buf buf;
+        put(buf, b.ring.data(), b.ring.size() * sizeof(b.ring[0]));
+        globals_.push_back(buf);
+        g_.ring = static_cast<int64_t*>(buf.p);
+    }
+    up(g_.prescribed, b.prescribed);
+    sys_.resize(b.systems());
+    views_.assign(b.systems(), dev::SysView{});
+    for (std::size_t s = 0; s < b.systems(); ++s) {
+        const std::size_t n = std::size_t(b.first[s + 1] - b.first[s]);
+        Sys& y = sys_[s];
+        upload_contacts(b, s);
+        const std::vector<FloatVec3>& ref = b.world[s]->broad_phase().ref_pos;
+        ensure(y.ref_pos, n * sizeof(FloatVec3), false);
+        if (ref.size() == n) put(y.ref_pos, ref.data(), n * sizeof(FloatVec3));
+        ensure(y.pterms, n * dev::kParticleSums * sizeof(double), false);
+        ensure(y.bterms, std::size_t(b.bond_first[s + 1] - b.bond_first[s]) * sizeof(double), false);
+    }
+    layout_dirty_ = true;
+    up_ = down_ = 0;
+    host_s_ = total_s_ = 0;
+}
+
+void DeviceBatch::ensure_stores(BatchSystems& b, std::size_t s) {
+    ContactSet& c = b.world[s]->engine_contacts();
+    Sys& y = sys_[s];
+    for (int k = 0; k < 3; ++k) {
+        Sys::St& t = y.st[k];
+        const std::size_t size = store_of(c, k).size();
+        if (size <= t.cap && t.i.p) continue;
+        const std::size_t cap = std::max<std::size_t>({size, 2 * t.cap, 256});
+        for (Buf* bf : {&t.i, &t.j, &t.cand}) ensure(*bf, cap * 4, true);
+        ensure(t.phys, cap * sizeof(ContactPhys), true);
+        for (Buf* bf : {&t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point, &t.fv}) ensure(*bf, cap * sizeof(Vec3), true);
+        ensure(t.terms, cap * dev::kPairSums * sizeof(double), false);
+        t.cap = cap;
+        layout_dirty_ = true;
+    }
+}
+
+void DeviceBatch::upload_contacts(BatchSystems& b, std::size_t s) {
+    World& wd = *b.world[s];
+    ContactSet& c = wd.engine_contacts();
+    Sys& y = sys_[s];
+    const std::size_t n = std::size_t(b.first[s + 1] - b.first[s]);
+    ensure_stores(b, s);
+    for (int k = 0; k < 3; ++k) {
+        const ActiveContacts& a = store_of(c, k);
+        Sys::St& t = y.st[k];
+        const std::size_t m = a.size();
+        const auto up = [&](Buf& bf, const auto& vec) {
+            dev_->put(bf.p, vec.data(), m * sizeof(vec[0]));
+            up_ += m * sizeof(vec[0]);
+        };
+        up(t.i, a.i);
+        up(t.j, a.j);
+        up(t.cand, a.cand);
+        up(t.phys, a.phys);
+        up(t.shear, a.shear);
+        up(t.prev, a.prev_normal);
+        up(t.force, a.force);
+        up(t.torque1, a.torque1);
+        up(t.torque2, a.torque2);
+        up(t.point, a.point);
+        up(t.fv, a.fv);
+    }
+    const auto cands = [&](const CandidateList& cl, Buf& start, Buf& other, Buf& slot, Buf& gap, std::size_t& size) {
+        size = cl.other.empty() || cl.start.size() != n + 1 ? 0 : cl.other.size();
+        if (!size) return;
+        put(start, cl.start.data(), (n + 1) * 4);
+        put(other, cl.other.data(), size * 4);
+        put(slot, cl.slot.data(), size * 4);
+        put(gap, cl.gap.data(), size * sizeof(float));
+    };
+    std::size_t pp = y.pp_size, pw = y.pw_size;
+    cands(c.pp, y.pp_start, y.pp_other, y.pp_slot, y.pp_gap, y.pp_size);
+    cands(c.pw, y.pw_start, y.pw_other, y.pw_slot, y.pw_gap, y.pw_size);
+    if (pp != y.pp_size || pw != y.pw_size) layout_dirty_ = true;
+    const InteractionLists& l = c.links;
+    ensure(y.link_start, std::max<std::size_t>(n, 1) * 4, false);
+    ensure(y.link_count, std::max<std::size_t>(n, 1) * 4, false);
+    if (l.start.size() == n && l.count.size() == n) {
+        put(y.link_start, l.start.data(), n * 4);
+        put(y.link_count, l.count.data(), n * 4);
+    } else {
+        dev_->zero(y.link_count.p, std::max<std::size_t>(n, 1) * 4);
+        dev_->zero(y.link_start.p, std::max<std::size_t>(n, 1) * 4);
+    }
+    put(y.link_ref, l.ref.data(), std::max<std::size_t>(l.ref.size(), 1) * 4);
+    y.ref_size = l.ref.size();
+}
+
+void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s) {
+    ContactSet& c = b.world[s]->engine_contacts();
+    Sys& y = sys_[s];
+    for (int k = 0; k < 3; ++k) {
+        ActiveContacts& a = store_of(c, k);
+        Sys::St& t = y.st[k];
+        const std::size_t m = std::min(a.size(), t.cap);
+        for (auto [dst, bf] : {std::pair{&a.shear, &t.shear}, {&a.prev_normal, &t.prev}, {&a.force, &t.force},
+                               {&a.torque1, &t.torque1}, {&a.torque2, &t.torque2}, {&a.point, &t.point}, {&a.fv, &t.fv}})
+            get(dst->data(), bf->p, m * sizeof(Vec3));
+    }
+}
+
+void DeviceBatch::layout_outbox(BatchSystems& b) {
+    std::size_t stream = 64, walls = 0, sums = 0, fv = 0;
+    for (std::size_t s = 0; s < sys_.size(); ++s) {
+        Sys& y = sys_[s];
+        const int64_t n = b.first[s + 1] - b.first[s], nb = b.bond_first[s + 1] - b.bond_first[s];
+        stream += y.pp_size + y.pw_size + y.st[0].cap + y.st[1].cap + y.st[2].cap;
+        y.off_walls = walls;
+        walls += 4 * y.st[2].cap;
+        y.off_sums = sums;
+        y.sum_fric = sums;
+        sums += std::size_t(dev::kPairSums * dev::blocks(int64_t(y.st[0].cap)));
+        y.sum_smooth = sums;
+        sums += std::size_t(dev::kPairSums * dev::blocks(int64_t(y.st[1].cap)));
+        y.sum_walls = sums;
+        sums += std::size_t(dev::kPairSums * dev::blocks(int64_t(y.st[2].cap)));
+        y.sum_bonds = sums;
+        sums += std::size_t(dev::blocks(nb));
+        y.sum_particles = sums;
+        sums += std::size_t(dev::kParticleSums * dev::blocks(n));
+        y.off_fv = fv;
+        fv += y.st[0].cap + y.st[1].cap;
+    }
+    stream_cap_ = stream;
+    ensure(stream_, stream * 16, false);
+    ensure(count_, 16, false);
+    ensure(maxd2_, std::max<std::size_t>(sys_.size(), 1) * 8, false);
+    o_presc_ = 0;
+    o_walls_ = o_presc_ + 2 * b.prescribed.size() * sizeof(Vec3);
+    o_fv_ = o_walls_ + walls * sizeof(Vec3);
+    o_sums_ = o_fv_ + fv * sizeof(Vec3);
+    o_vel_ = o_sums_ + sums * sizeof(double);
+    o_end_ = o_vel_ + b.particles() * sizeof(Vec3);
+    ensure(sec_, std::max<std::size_t>(o_end_, 8), false);
+    h_sec_.resize(std::max<std::size_t>(o_end_, 8));
+    h_maxd2_.resize(sys_.size());
+    layout_dirty_ = false;
+}
+
+void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
+    Sys& y = sys_[s];
+    dev::SysView& v = views_[s];
+    World& wd = *b.world[s];
+    v.active = 1;
+    v.track = y.track;
+    v.base = b.first[s];
+    v.n = b.first[s + 1] - b.first[s];
+    v.bond0 = b.bond_first[s];
+    v.bond1 = b.bond_first[s + 1];
+    v.node0 = b.node_first[s];
+    v.node1 = b.node_first[s + 1];
+    v.presc0 = b.presc_first[s];
+    v.presc1 = b.presc_first[s + 1];
+    v.dt = b.dt[s];
+    v.lambda = b.lambda[s];
+    v.dp = b.dp[s];
+    v.with_pressure = b.dp[s] != 0.0 && v.node1 > v.node0;
+    v.gravity = b.gravity[s];
+    v.pair_reach = y.pair_reach;
+    v.wall_reach = y.wall_reach;
+    const auto cands = [](dev::Cands& c, Buf& start, Buf& other, Buf& slot, Buf& gap, std::size_t size) {
+        c.start = at<uint32_t>(start, 0);
+        c.other = at<uint32_t>(other, 0);
+        c.slot = at<uint32_t>(slot, 0);
+        c.gap = at<float>(gap, 0);
+        c.size = uint32_t(size);
+    };
+    cands(v.pp, y.pp_start, y.pp_other, y.pp_slot, y.pp_gap, y.pp_size);
+    cands(v.pw, y.pw_start, y.pw_other, y.pw_slot, y.pw_gap, y.pw_size);
+    ContactSet& c = wd.engine_contacts();
+    for (int k = 0; k < 3; ++k) {
+        Sys::St& t = y.st[k];
+        dev::Store& d = k == 0 ? v.fric : k == 1 ? v.smooth : v.walls;
+        d.i = at<uint32_t>(t.i, 0);
+        d.j = at<uint32_t>(t.j, 0);
+        d.cand = at<uint32_t>(t.cand, 0);
+        d.phys = at<ContactPhys>(t.phys, 0);
+        d.shear = at<Vec3>(t.shear, 0);
+        d.prev = at<Vec3>(t.prev, 0);
+        d.force = at<Vec3>(t.force, 0);
+        d.torque1 = at<Vec3>(t.torque1, 0);
+        d.torque2 = at<Vec3>(t.torque2, 0);
+        d.point = at<Vec3>(t.point, 0);
+        d.fv = at<Vec3>(t.fv, 0);
+        d.terms = y.track ? at<double>(t.terms, 0) : nullptr;
+        d.size = uint32_t(store_of(c, k).size());
+    }
+    v.link_start = at<uint32_t>(y.link_start, 0);
+    v.link_count = at<uint32_t>(y.link_count, 0);
+    v.link_ref = at<uint32_t>(y.link_ref, 0);
+    v.wall_now = at<WallNow>(wallnow_, y.off_now);
+    v.ref_pos = at<FloatVec3>(y.ref_pos, 0);
+    v.pterms = at<double>(y.pterms, 0);
+    v.bterms = at<double>(y.bterms, 0);
+    dev::Outbox& o = v.out;
+    o.sys = uint32_t(s);
+    o.stream = at<uint32_t>(stream_, 0);
+    o.count = at<uint64_t>(count_, 0);
+    o.cap = stream_cap_;
+    o.max_d2 = at<uint64_t>(maxd2_, s);
+    char* const sec = static_cast<char*>(sec_.p);
+    o.walls = reinterpret_cast<Vec3*>(sec + o_walls_) + y.off_walls;
+    o.presc = reinterpret_cast<Vec3*>(sec + o_presc_) + 2 * b.presc_first[s];
+    double* const sums = reinterpret_cast<double*>(sec + o_sums_);
+    o.sum_fric = sums + y.sum_fric;
+    o.sum_smooth = sums + y.sum_smooth;
+    o.sum_walls = sums + y.sum_walls;
+    o.sum_bonds = sums + y.sum_bonds;
+    o.sum_particles = sums + y.sum_particles;
+    o.fv_fric = reinterpret_cast<Vec3*>(sec + o_fv_) + y.off_fv;
+    o.fv_smooth = reinterpret_cast<Vec3*>(sec + o_fv_) + y.off_fv + y.st[0].cap;
+    o.v = reinterpret_cast<Vec3*>(sec + o_vel_) + b.first[s];
+}
+
+void DeviceBatch::upload_views() {
+    put(views_buf_, views_.data(), views_.size() * sizeof(dev::SysView));
+    views_stale_ = false;
+}
+
+void DeviceBatch::patch(Patches& to, void* dst, const void* src, std::size_t bytes) {
+    if (bytes % 4) throw std::logic_error("batch: a patch of " + std::to_string(bytes) + " bytes");
+    const uint32_t words = uint32_t(bytes / 4);
+    if (!words) return;
+    to.p.push_back({uint64_t(reinterpret_cast<uintptr_t>(dst)), words, uint32_t(to.payload.size())});
+    const std::size_t from = to.payload.size();
+    to.payload.resize(from + words);
+    std::memcpy(to.payload.data() + from, src, bytes);
+}
+
+void DeviceBatch::patch_list(Patches& to, Sys& y, const InteractionLists& l, uint32_t i) {
+    patch(to, at<uint32_t>(y.link_start, i), &l.start[i], 4);
+    patch(to, at<uint32_t>(y.link_count, i), &l.count[i], 4);
+    patch(to, at<uint32_t>(y.link_ref, l.start[i]), l.ref.data() + l.start[i], std::size_t(l.count[i]) * 4);
+}
+
+void DeviceBatch::flush_patches() {
+    // The threads' patches in one list (no two write the same words: each system's are its own).
+    Patches& m = merged_;
+    m.p.clear();
+    m.payload.clear();
+    for (Patches& t : patches_) {
+        const uint32_t base = uint32_t(m.payload.size());
+        for (dev::Patch q : t.p) {
+            q.from += base;
+            m.p.push_back(q);
+        }
+        m.payload.insert(m.payload.end(), t.payload.begin(), t.payload.end());
+        t.p.clear();
+        t.payload.clear();
+    }
+    if (m.p.empty()) return;
+    // The records and their payload in one copy.
+    static_assert(sizeof(dev::Patch) == 16);
+    const std::size_t head = m.p.size() * sizeof(dev::Patch);
+    staged_.resize(head + m.payload.size() * 4);
+    std::memcpy(staged_.data(), m.p.data(), head);
+    std::memcpy(staged_.data() + head, m.payload.data(), m.payload.size() * 4);
+    put(patches_buf_, staged_.data(), staged_.size());
+    dev_->apply(static_cast<const dev::Patch*>(patches_buf_.p), uint32_t(m.p.size()),
+                reinterpret_cast<const uint32_t*>(static_cast<const char*>(patches_buf_.p) + head));
+}
+
+void DeviceBatch::read_stream() {
+    uint64_t count[2];
+    get(count, count_.p, 16);
+    if (count[1] || count[0] > stream_cap_)
+        throw std::runtime_error("batch: the device's stream of found contacts overflowed (" + std::to_string(count[0]) + " of " +
+                                 std::to_string(stream_cap_) + ")");
+    h_stream_.resize(std::size_t(count[0]) * 4);
+    get(h_stream_.data(), stream_.p, h_stream_.size() * 4);
+    for (Sys& y : sys_) {
+        y.found_pp.clear();
+        y.found_pw.clear();
+        for (auto& o : y.open) o.clear();
+    }
+    for (std::size_t r = 0; r < std::size_t(count[0]); ++r) {
+        const uint32_t* e = h_stream_.data() + 4 * r;
+        Sys& y = sys_.at(e[0]);
+        switch (e[1]) {
+            case dev::kFoundPP: y.found_pp.insert(y.found_pp.end(), {e[2], e[3]}); break;
+            case dev::kFoundPW: y.found_pw.insert(y.found_pw.end(), {e[2], e[3]}); break;
+            default: y.open[e[1] - dev::kOpenFric].push_back(e[2]);
+        }
+    }
+    // The device appends in any order: the host's order (particle, then candidate; slots ascending).
+    const auto pairs = [](std::vector<uint32_t>& v) {
+        std::vector<std::pair<uint32_t, uint32_t>> p(v.size() / 2);
+        for (std::size_t q = 0; q < p.size(); ++q) p[q] = {v[2 * q], v[2 * q + 1]};
+        std::sort(p.begin(), p.end());
+        for (std::size_t q = 0; q < p.size(); ++q) {
+            v[2 * q] = p[q].first;
+            v[2 * q + 1] = p[q].second;
+        }
+    };
+    for (Sys& y : sys_) {
+        pairs(y.found_pp);
+        pairs(y.found_pw);
+        for (auto& o : y.open) std::sort(o.begin(), o.end());
+    }
+}
+
+void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
+    const auto t_start = std::chrono::steady_clock::now();
+    struct Lap {
+        double& to;
+        std::chrono::steady_clock::time_point t0;
+        ~Lap() { to += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } lap{total_s_, t_start};
+    const std::size_t B = b.systems();
+    if (sys_.size() != B) throw std::logic_error("batch: the device holds another layout (load first)");
+    const auto live = [&](std::size_t s) { return !(s < skip.size() && skip[s]) && !err[s]; };
+    const auto fail = [&](std::size_t s) {
+        err[s] = std::current_exception();
+        views_[s].active = 0;
+        views_stale_ = true;
+    };
+    // The walls' motion, the rebuild test and the broad phase, World's (its positions and
+    // contact state from the device first when it rebuilds or compacts).
+    std::vector<int> on(B, 0);
+    // The walls now of all systems go up in one copy (their number does not change in a step).
+    std::size_t walls_now = 0;
+    for (std::size_t s = 0; s < B; ++s) {
+        sys_[s].off_now = walls_now;
+        walls_now += b.world[s]->planes.size() + b.world[s]->facets.size();
+    }
+    h_wallnow_.resize(std::max<std::size_t>(walls_now, 1));
+    each(B, [&](std::size_t s, Patches&) {
+        if (!live(s)) return;
+        try {
+            World& wd = *b.world[s];
+            Sys& y = sys_[s];
+            const int64_t base = b.first[s], n = b.first[s + 1] - base;
+            const bool rebuild = wd.engine_rebuild_due();
+            const bool relayout = rebuild || wd.engine_compaction_due();
+            if (rebuild) get(wd.particles.pos.data(), g_.x + base, std::size_t(n) * sizeof(Vec3));
+            if (relayout) download_contacts(b, s);
+            wd.engine_begin_forces();
+            if (relayout) upload_contacts(b, s);
+            if (rebuild) {
+                const std::vector<FloatVec3>& ref = wd.broad_phase().ref_pos;
+                if (ref.size() != std::size_t(n)) throw std::logic_error("batch: no rebuild positions");
+                put(y.ref_pos, ref.data(), ref.size() * sizeof(FloatVec3));
+            }
+            const WallState& walls = wd.wall_state();
+            const std::size_t np = wd.planes.size(), nw = np + wd.facets.size();
+            if (y.off_now + nw > walls_now) throw std::logic_error("batch: a system's walls changed in a step");
+            WallNow* now = h_wallnow_.data() + y.off_now;
+            for (std::size_t k = 0; k < nw; ++k) {
+                WallNow& wl = now[k];
+                wl.plane = k < np;
+                if (wl.plane) {
+                    wl.point = walls.plane_point[k];
+                    wl.normal = wd.planes[k].normal;
+                    wl.one_sided = wd.planes[k].one_sided;
+                } else {
+                    const auto& v = walls.facet_now[k - np];
+                    wl.v0 = v[0];
+                    wl.v1 = v[1];
+                    wl.v2 = v[2];
+                    wl.one_sided = wd.facets[k - np].one_sided;
+                }
+                wl.velocity = walls.velocity[k];
+            }
+            std::tie(y.pair_reach, y.wall_reach) = wd.engine_reach();
+            y.track = wd.params.track_energy ? 1 : 0;
+            b.dp[s] = wd.pressure.nodes.empty() ? 0.0 : wd.pressure.dp;
+            on[s] = 1;
+        } catch (...) {
+            fail(s);
+        }
+    });
+    put(wallnow_, h_wallnow_.data(), h_wallnow_.size() * sizeof(WallNow));
+    if (layout_dirty_) layout_outbox(b);
+    for (std::size_t s = 0; s < B; ++s) {
+        if (on[s]) fill_view(b, s);
+        else views_[s].active = 0;
+    }
+    upload_views();
+    dev_->zero(count_.p, 16);
+    dev_->touch(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
+    read_stream();
+
+    // World places the new contacts in candidate order; the placements go to the device.
+    each(B, [&](std::size_t s, Patches& pt) {
+        if (!on[s]) return;
+        try {
+            World& wd = *b.world[s];
+            Sys& y = sys_[s];
+            ContactSet& c = wd.engine_contacts();
+            c.new_pp[0] = y.found_pp;
+            c.new_pw[0] = y.found_pw;
+            wd.engine_activate();
+            ensure_stores(b, s);
+            const InteractionLists& l = c.links;
+            std::vector<uint32_t> touched;
+            static const Vec3 zero[7] = {};
+            const auto place = [&](int k, uint32_t q) {
+                const ActiveContacts& a = store_of(c, k);
+                Sys::St& t = y.st[k];
+                patch(pt, at<uint32_t>(t.i, q), &a.i[q], 4);
+                patch(pt, at<uint32_t>(t.j, q), &a.j[q], 4);
+                patch(pt, at<uint32_t>(t.cand, q), &a.cand[q], 4);
+                patch(pt, at<ContactPhys>(t.phys, q), &a.phys[q], sizeof(ContactPhys));
+                for (Buf* bf : {&t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point, &t.fv})
+                    patch(pt, at<Vec3>(*bf, q), zero, sizeof(Vec3));
+                touched.push_back(a.i[q]);
+                if (k != 2) touched.push_back(a.j[q]);
+            };
+            for (std::size_t e = 0; e < y.found_pp.size(); e += 2) {
+                const uint32_t k = y.found_pp[e + 1], slot = c.pp.slot[k];
+                patch(pt, at<uint32_t>(y.pp_slot, k), &c.pp.slot[k], 4);
+                place(slot & kSmoothBit ? 1 : 0, slot & ~kSmoothBit);
+            }
+            for (std::size_t e = 0; e < y.found_pw.size(); e += 2) {
+                const uint32_t k = y.found_pw[e + 1];
+                patch(pt, at<uint32_t>(y.pw_slot, k), &c.pw.slot[k], 4);
+                place(2, c.pw.slot[k]);
+            }
+            if (l.ref.size() != y.ref_size || y.link_ref.bytes < l.ref.size() * 4) {
+                // A list outgrew its room and moved to the end: the lists go whole.
+                const std::size_t n = l.start.size();
+                put(y.link_start, l.start.data(), n * 4);
+                put(y.link_count, l.count.data(), n * 4);
+                put(y.link_ref, l.ref.data(), std::max<std::size_t>(l.ref.size(), 1) * 4);
+                y.ref_size = l.ref.size();
+            } else {
+                std::sort(touched.begin(), touched.end());
+                touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+                for (uint32_t i : touched) patch_list(pt, y, l, i);
+            }
+        } catch (...) {
+            fail(s);
+            on[s] = 0;
+        }
+    });
+    bool any_track = false;
+    for (std::size_t s = 0; s < B; ++s) any_track |= on[s] && sys_[s].track;
+    if (layout_dirty_) layout_outbox(b);
+    for (std::size_t s = 0; s < B; ++s)
+        if (on[s]) fill_view(b, s);
+    flush_patches();
+    upload_views();
+    dev_->zero(count_.p, 16);
+    dev_->forces(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
+    read_stream();
+    // The prescribed particles and the wall store (with the ledger also the dashpot forces and
+    // the block sums) in one copy.
+    const std::size_t upto = any_track ? o_vel_ : o_fv_;
+    get(h_sec_.data() + o_presc_, static_cast<const char*>(sec_.p) + o_presc_, upto - o_presc_);
+
+    // World's wall reactions and the frees of the opened contacts (which go to the device).
+    each(B, [&](std::size_t s, Patches& pt) {
+        if (!on[s]) return;
+        try {
+            World& wd = *b.world[s];
+            Sys& y = sys_[s];
+            ContactSet& c = wd.engine_contacts();
+            for (std::size_t q = 0; q < c.walls.size(); ++q) {
+                const Vec3* e = hv(o_walls_) + y.off_walls + 4 * q;
+                c.walls.force[q] = e[0];
+                c.walls.torque2[q] = e[1];
+                c.walls.point[q] = e[2];
+                c.walls.fv[q] = e[3];
+            }
+            if (y.track) {
+                EnergyBook& book = wd.engine_book();
+                const auto sums = [&](std::vector<double>& to, std::size_t off) {
+                    std::copy(hd(o_sums_) + off, hd(o_sums_) + off + to.size(), to.begin());
+                };
+                sums(book.fric, y.sum_fric);
+                sums(book.smooth, y.sum_smooth);
+                sums(book.walls, y.sum_walls);
+                sums(book.bonds, y.sum_bonds);
+                std::copy(hv(o_fv_) + y.off_fv, hv(o_fv_) + y.off_fv + c.fric.size(), c.fric.fv.begin());
+                const std::size_t sm = y.off_fv + y.st[0].cap;
+                std::copy(hv(o_fv_) + sm, hv(o_fv_) + sm + c.smooth.size(), c.smooth.fv.begin());
+            }
+            c.opened_fric[0] = y.open[0];
+            c.opened_smooth[0] = y.open[1];
+            c.opened_walls[0] = y.open[2];
+            // The candidates and particles of the opened contacts, read before World frees them.
+            std::vector<uint32_t> cand[3], touched;
+            for (int k = 0; k < 3; ++k) {
+                const ActiveContacts& a = store_of(c, k);
+                for (uint32_t q : y.open[k]) {
+                    cand[k].push_back(a.cand[q]);
+                    touched.push_back(a.i[q]);
+                    if (k != 2) touched.push_back(a.j[q]);
+                }
+            }
+            wd.engine_end_forces();
+            for (int k = 0; k < 3; ++k) {
+                const ActiveContacts& a = store_of(c, k);
+                const CandidateList& cl = k == 2 ? c.pw : c.pp;
+                Buf& slot = k == 2 ? y.pw_slot : y.pp_slot;
+                for (std::size_t e = 0; e < y.open[k].size(); ++e) {
+                    const uint32_t q = y.open[k][e], kk = cand[k][e];
+                    patch(pt, at<uint32_t>(y.st[k].cand, q), &a.cand[q], 4);
+                    if (kk != kNoSlot) patch(pt, at<uint32_t>(slot, kk), &cl.slot[kk], 4);
+                }
+            }
+            std::sort(touched.begin(), touched.end());
+            touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+            for (uint32_t i : touched) patch_list(pt, y, c.links, i);
+            const int64_t base = b.first[s];
+            for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {
+                const uint32_t i = b.prescribed[std::size_t(q)];
+                wd.particles.force[i] = hv(o_presc_)[2 * q];
+                b.pressure_slot[std::size_t(base + i)] = hv(o_presc_)[2 * q + 1];
+            }
+        } catch (...) {
+            fail(s);
+        }
+    });
+    flush_patches();
+}
+
+void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
+    const auto t_start = std::chrono::steady_clock::now();
+    struct Lap {
+        double& to;
+        std::chrono::steady_clock::time_point t0;
+        ~Lap() { to += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+    } lap{total_s_, t_start};
+    const std::size_t B = b.systems();
+    bool any_track = false;
+    for (std::size_t s = 0; s < B; ++s) {
+        if (((s < skip.size() && skip[s]) || err[s]) && views_[s].active) {
+            views_[s].active = 0;
+            views_stale_ = true;
+        }
+        any_track |= views_[s].active && views_[s].track;
+    }
+    // The views are the forces half's unless a system dropped out since.
+    if (views_stale_) upload_views();
+    dev_->zero(maxd2_.p, B * 8);
+    dev_->motion(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
+    get(h_maxd2_.data(), maxd2_.p, B * 8);
+    if (any_track) {
+        // The block sums and the velocities in one copy.
+        get(h_sec_.data() + o_sums_, static_cast<const char*>(sec_.p) + o_sums_, o_end_ - o_sums_);
+    }
+    each(B, [&](std::size_t s, Patches& pt) {
+        if (!views_[s].active) return;
+        try {
+            World& wd = *b.world[s];
+            Sys& y = sys_[s];
+            const int64_t base = b.first[s], n = b.first[s + 1] - base;
+            double max_d2;
+            std::memcpy(&max_d2, &h_maxd2_[s], 8);
+            if (y.track) {
+                EnergyBook& book = wd.engine_book();
+                const std::size_t m = std::size_t(dev::blocks(n) * dev::kParticleSums);
+                book.particles.assign(hd(o_sums_) + y.sum_particles, hd(o_sums_) + y.sum_particles + m);
+                std::copy(hv(o_vel_) + base, hv(o_vel_) + base + n, wd.particles.vel.begin());
+            }
+            max_d2 = std::max(max_d2, wd.engine_follow_motions(b.pressure_slot.data() + base));
+            for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {
+                const uint32_t i = b.prescribed[std::size_t(q)];
+                patch(pt, g_.x + base + i, &wd.particles.pos[i], sizeof(Vec3));
+                patch(pt, g_.v + base + i, &wd.particles.vel[i], sizeof(Vec3));
+            }
+            wd.engine_end_step(max_d2);
+        } catch (...) {
+            err[s] = std::current_exception();
+            views_[s].active = 0;
+            views_stale_ = true;
+        }
+    });
+    flush_patches();
+}
+
+void DeviceBatch::step(BatchSystems& b, uint64_t steps) {
+    std::vector<std::exception_ptr> err(b.systems());
+    const std::vector<bool> skip;
+    for (uint64_t k = 0; k < steps; ++k) {
+        forces(b, skip, err);
+        motion(b, skip, err);
+        for (const auto& e : err)
+            if (e) std::rethrow_exception(e);
+    }
+}
+
+void DeviceBatch::pull(BatchSystems& b, std::size_t s) {
+    if (s >= sys_.size()) throw std::invalid_argument("batch: no system " + std::to_string(s) + " on the device");
+    const std::size_t base = std::size_t(b.first[s]), n = std::size_t(b.first[s + 1]) - base;
+    for (auto [host, d] : {std::pair{&b.x, g_.x}, {&b.v, g_.v}, {&b.w, g_.w}, {&b.f, g_.f}, {&b.t, g_.t}})
+        get(host->data() + base, d + base, n * sizeof(Vec3));
+    const std::size_t b0 = std::size_t(b.bond_first[s]), nb = std::size_t(b.bond_first[s + 1]) - b0;
+    for (auto [host, d] : {std::pair{&b.shear, g_.bshear}, {&b.prev_normal, g_.bprev}, {&b.bond_force, g_.bforce},
+                           {&b.torque1, g_.btorque1}, {&b.torque2, g_.btorque2}})
+        get(host->data() + b0, d + b0, nb * sizeof(Vec3));
+    download_contacts(b, s);
+}
+
+}  // namespace dem::batch
