@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages vppdem needs (as root, or through sudo).
 set -euo pipefail
-pkgs=(build-essential cmake pkg-config libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
+pkgs=(build-essential cmake pkg-config ccache libtomlplusplus-dev libcli11-dev nlohmann-json3-dev
       libgtest-dev libgmock-dev libbenchmark-dev libhwy-dev python3 python3-matplotlib python3-numpy
       pybind11-dev python3-dev python3-pytest
       libopenmpi-dev openmpi-bin)
