@@ -595,6 +595,12 @@ std::string csv_field(const std::string& s) {
 
 fs::path scratch(const std::string& name) { return scratch_path("settings_property", name); }
 
+// A value as the report shows it: the test's files as files/NAME (their folder holds the pid).
+std::string shown(const std::string& value) {
+    const std::string dir = scratch("files").string() + "/";
+    return value.starts_with(dir) ? "files/" + value.substr(dir.size()) : value;
+}
+
 }  // namespace
 
 // Every key of the table has a rule for drawing its values: a key with its own reader
@@ -726,7 +732,7 @@ TEST(SettingsProperty, EveryValueIsRefusedOrRunsEveryCycleFinite) {
         cpu += r.cpu_s;
         const Known* k = known_failing(r.c.key, r.c.value);
         if (r.outcome == "failed") {
-            const std::string line = r.c.key + "=" + r.c.value + " (" + r.c.kind + ", " +
+            const std::string line = r.c.key + "=" + shown(r.c.value) + " (" + r.c.kind + ", " +
                                      (r.c.fresh ? "fresh" : "branch") + "): " + r.detail;
             std::printf("%s %s\n", k ? "KNOWN" : "FAIL ", line.c_str());
             if (k) std::printf("       issue 48: %s\n", k->finding);
@@ -747,7 +753,7 @@ TEST(SettingsProperty, EveryValueIsRefusedOrRunsEveryCycleFinite) {
             char t[64];
             std::snprintf(t, sizeof t, "%.3f,%.3f", r.wall_s, r.cpu_s);
             csv << seed << "," << csv_field(r.c.key) << "," << r.c.type << "," << r.c.kind << ","
-                << (r.c.config_refuses ? "config" : r.c.fresh ? "fresh" : "branch") << "," << csv_field(r.c.value) << ","
+                << (r.c.config_refuses ? "config" : r.c.fresh ? "fresh" : "branch") << "," << csv_field(shown(r.c.value)) << ","
                 << r.outcome << "," << r.status << "," << t << "," << (k ? "yes" : "") << ","
                 << csv_field(r.detail) << "\n";
         }
