@@ -6,10 +6,13 @@
 # per key into docs/robustness.md.
 # usage: scripts/robustness.sh
 # Knobs: SEED (48), DRAWS (values within each range per key, 4), JOBS (runs at once, 2),
-#        TIMEOUT ([s] per branch run, 120; a fresh preparation 6x), BUILD (build),
-#        CSV (docs/data/robustness/settings_property.csv), DOCS (docs).
-# About 40 minutes of CPU with the defaults (a fresh preparation of the small damper for every
-# accepted value of a geometry key). In the background:
+#        TIMEOUT ([s] per branch run, 30), FRESH_TIMEOUT ([s] per fresh preparation, 180),
+#        FRESH (at most this many accepted values run a fresh preparation, a seeded sample; 0: all),
+#        BUILD (build), CSV (docs/data/robustness/settings_property.csv), DOCS (docs).
+# Every case is appended to CSV.partial as it ends (a stopped run keeps them). With FRESH=0 about
+# an hour on the shared 2-core machine (a fresh preparation of the small damper for every
+# accepted value of a key that acts on the preparation, many of the type's extremes running to
+# their time limit). In the background:
 #   nohup nice -n 19 bash scripts/robustness.sh > robustness.log 2>&1 &
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,7 +20,9 @@ cd "$(dirname "$0")/.."
 SEED=${SEED:-48}
 DRAWS=${DRAWS:-4}
 JOBS=${JOBS:-2}
-TIMEOUT=${TIMEOUT:-120}
+TIMEOUT=${TIMEOUT:-30}
+FRESH_TIMEOUT=${FRESH_TIMEOUT:-180}
+FRESH=${FRESH:-0}
 BUILD=${BUILD:-build}
 CSV=${CSV:-docs/data/robustness/settings_property.csv}
 DOCS=${DOCS:-docs}
@@ -28,9 +33,9 @@ DOCS=${DOCS:-docs}
 }
 mkdir -p "$(dirname "$CSV")"
 # Failures are the findings: the test reports them without failing (VPPDEM_PROPERTY_LONG).
-VPPDEM_PROPERTY_SEED=$SEED VPPDEM_PROPERTY_DRAWS=$DRAWS VPPDEM_PROPERTY_BRANCHES=0 VPPDEM_PROPERTY_FRESH=0 \
+VPPDEM_PROPERTY_SEED=$SEED VPPDEM_PROPERTY_DRAWS=$DRAWS VPPDEM_PROPERTY_BRANCHES=0 VPPDEM_PROPERTY_FRESH=$FRESH VPPDEM_PROPERTY_FRESH_TIMEOUT=$FRESH_TIMEOUT \
 VPPDEM_PROPERTY_EXTREMES=1 VPPDEM_PROPERTY_JOBS=$JOBS VPPDEM_PROPERTY_TIMEOUT=$TIMEOUT \
 VPPDEM_PROPERTY_LONG=1 VPPDEM_PROPERTY_CSV=$PWD/$CSV \
   "$BUILD/vppdem_tests" --gtest_filter=SettingsProperty.EveryValueIsRefusedOrRunsEveryCycleFinite
-COMMAND="SEED=$SEED DRAWS=$DRAWS bash scripts/robustness.sh"
+COMMAND="SEED=$SEED DRAWS=$DRAWS FRESH=$FRESH TIMEOUT=$TIMEOUT FRESH_TIMEOUT=$FRESH_TIMEOUT bash scripts/robustness.sh"
 /usr/bin/python3 tools/robustness_report.py "$CSV" "$DOCS" "$COMMAND" "$(git rev-parse --short HEAD)"

@@ -23,8 +23,9 @@
 //   VPPDEM_PROPERTY_EXTREMES  1: also the extremes of the type (5e-324, 1e300, DBL_MAX, 2^31,
 //                             2^32+1, 2^53) for keys whose range is open-ended (default 0)
 //   VPPDEM_PROPERTY_JOBS      runs at once (default 2)
-//   VPPDEM_PROPERTY_TIMEOUT   [s] wall-clock limit of a branch run (default 60; a fresh run 6x),
-//                             times VPPDEM_TEST_TIME_SCALE
+//   VPPDEM_PROPERTY_TIMEOUT   [s] wall-clock limit of a branch run (default 60), times
+//                             VPPDEM_TEST_TIME_SCALE
+//   VPPDEM_PROPERTY_FRESH_TIMEOUT  [s] that of a fresh run (default 6 times the branch's)
 //   VPPDEM_PROPERTY_CSV       write every case's outcome to this CSV (scripts/robustness.sh)
 //   VPPDEM_PROPERTY_LONG      1: report failures without failing the test (the long version's
 //                             figures count them)
@@ -533,9 +534,37 @@ void judge(Result& r, int wstatus, bool timed_out, const fs::path& out, const st
     r.detail = bad.empty() ? "" : "exit 0 but " + bad;
 }
 
+std::string csv_field(const std::string& s) {
+    if (s.find_first_of(",\"\n") == std::string::npos) return s;
+    std::string q = "\"";
+    for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+    return q + "\"";
+}
+
+fs::path scratch(const std::string& name) { return scratch_path("settings_property", name); }
+
+// A value as the report shows it: the test's files as files/NAME (their folder holds the pid).
+std::string shown(const std::string& value) {
+    const std::string dir = scratch("files").string() + "/";
+    return value.starts_with(dir) ? "files/" + value.substr(dir.size()) : value;
+}
+
+const char* const kCsvHeader = "seed,key,type,kind,route,value,outcome,status,wall_s,cpu_s,known,detail";
+uint64_t g_seed = 0;
+
+std::string csv_row(const Result& r) {
+    const Known* k = known_failing(r.c.key, r.c.value);
+    char t[64];
+    std::snprintf(t, sizeof t, "%.3f,%.3f", r.wall_s, r.cpu_s);
+    return std::to_string(g_seed) + "," + csv_field(r.c.key) + "," + r.c.type + "," + r.c.kind + "," +
+           (r.c.config_refuses ? "config" : r.c.fresh ? "fresh" : "branch") + "," + csv_field(shown(r.c.value)) + "," +
+           r.outcome + "," + std::to_string(r.status) + "," + t + "," + (k ? "yes" : "") + "," + csv_field(r.detail);
+}
+
 // Runs the cases, `jobs` at a time; `from` empty: each its own preparation.
 void run_all(const Base& b, std::vector<Result>& results, const std::vector<std::size_t>& which, const fs::path& dir,
-             const fs::path& from, int jobs, double branch_limit_s, bool progress = false) {
+             const fs::path& from, int jobs, double branch_limit_s, double fresh_limit_s, bool progress,
+             std::ofstream* partial) {
     std::size_t done = 0;
     std::vector<Job> active;
     std::size_t next = 0;
@@ -549,7 +578,7 @@ void run_all(const Base& b, std::vector<Result>& results, const std::vector<std:
             fs::remove_all(out);
             const auto args = case_args(b, r.c, out, r.c.fresh ? fs::path() : from);
             active.push_back({i, spawn(args, log), log, out, std::chrono::steady_clock::now(),
-                              own ? 6 * branch_limit_s : branch_limit_s});
+                              own ? fresh_limit_s : branch_limit_s});
         }
         std::this_thread::sleep_for(std::chrono::milliseconds(10));
         for (std::size_t k = 0; k < active.size();) {
@@ -574,6 +603,10 @@ void run_all(const Base& b, std::vector<Result>& results, const std::vector<std:
             const int64_t asked = r.c.key == "process.cycles" ? std::strtoll(r.c.value.c_str(), nullptr, 10) : 1;
             judge(r, ws, timed_out, j.out, slurp(j.log), asked);
             ++done;
+            if (partial) {
+                *partial << csv_row(r) << "\n";
+                partial->flush();
+            }
             // The long version: each failure as it comes, and how far it is.
             if (progress && r.outcome == "failed")
                 std::fprintf(stderr, "  failed: %s=%s: %s\n", r.c.key.c_str(), r.c.value.c_str(), r.detail.c_str());
@@ -584,21 +617,6 @@ void run_all(const Base& b, std::vector<Result>& results, const std::vector<std:
             active.erase(active.begin() + long(k));
         }
     }
-}
-
-std::string csv_field(const std::string& s) {
-    if (s.find_first_of(",\"\n") == std::string::npos) return s;
-    std::string q = "\"";
-    for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
-    return q + "\"";
-}
-
-fs::path scratch(const std::string& name) { return scratch_path("settings_property", name); }
-
-// A value as the report shows it: the test's files as files/NAME (their folder holds the pid).
-std::string shown(const std::string& value) {
-    const std::string dir = scratch("files").string() + "/";
-    return value.starts_with(dir) ? "files/" + value.substr(dir.size()) : value;
 }
 
 }  // namespace
@@ -623,6 +641,7 @@ TEST(SettingsProperty, EveryKeyHasADrawingRule) {
 TEST(SettingsProperty, EveryValueIsRefusedOrRunsEveryCycleFinite) {
     const auto t_start = std::chrono::steady_clock::now();
     const uint64_t seed = uint64_t(env_long("VPPDEM_PROPERTY_SEED", 48));
+    g_seed = seed;
     const int draws = int(env_long("VPPDEM_PROPERTY_DRAWS", 1));
     const long max_branch = env_long("VPPDEM_PROPERTY_BRANCHES", 16);
     const long max_fresh = env_long("VPPDEM_PROPERTY_FRESH", 1);
@@ -630,6 +649,9 @@ TEST(SettingsProperty, EveryValueIsRefusedOrRunsEveryCycleFinite) {
     const bool long_run = env_long("VPPDEM_PROPERTY_LONG", 0) != 0;
     const int jobs = std::max(1, int(env_long("VPPDEM_PROPERTY_JOBS", 2)));
     const double limit_s = double(env_long("VPPDEM_PROPERTY_TIMEOUT", 60)) * time_scale();
+    const double fresh_limit_s =
+        std::getenv("VPPDEM_PROPERTY_FRESH_TIMEOUT") ? double(env_long("VPPDEM_PROPERTY_FRESH_TIMEOUT", 360)) * time_scale()
+                                                     : 6 * limit_s;
     std::printf("settings property: seed %" PRIu64 ", %d draws within each range, extremes %s, at most %ld "
                 "branch runs and %ld fresh preparations (0: all), %d at once "
                 "(VPPDEM_PROPERTY_SEED=%" PRIu64 " reproduces it)\n",
@@ -718,9 +740,17 @@ TEST(SettingsProperty, EveryValueIsRefusedOrRunsEveryCycleFinite) {
     std::fflush(stdout);
 
     const fs::path from = scratch("base") / "prepared.ckpt";
-    run_all(b, results, refused, scratch(""), from, jobs, limit_s, long_run);
-    run_all(b, results, branch, scratch(""), from, jobs, limit_s, long_run);
-    run_all(b, results, fresh, scratch(""), from, jobs, limit_s, long_run);
+    // The long version writes each case as it ends to CSV.partial (a stopped run keeps them).
+    const char* csv_path = std::getenv("VPPDEM_PROPERTY_CSV");
+    std::ofstream partial_file;
+    if (csv_path && *csv_path) {
+        partial_file.open(std::string(csv_path) + ".partial");
+        partial_file << kCsvHeader << "\n";
+    }
+    std::ofstream* partial = partial_file.is_open() ? &partial_file : nullptr;
+    run_all(b, results, refused, scratch(""), from, jobs, limit_s, fresh_limit_s, long_run, partial);
+    run_all(b, results, branch, scratch(""), from, jobs, limit_s, fresh_limit_s, long_run, partial);
+    run_all(b, results, fresh, scratch(""), from, jobs, limit_s, fresh_limit_s, long_run, partial);
 
     // Report: every failure with its key, value and outcome; the known ones apart.
     std::map<std::string, int> count;
@@ -745,19 +775,13 @@ TEST(SettingsProperty, EveryValueIsRefusedOrRunsEveryCycleFinite) {
     std::printf("outcomes: %d refused, %d ran, %d failed, %d skipped; %.1f s of CPU in the cases, %.1f s wall in all\n",
                 count["refused"], count["ran"], count["failed"], count["skipped"], cpu, wall);
 
-    if (const char* path = std::getenv("VPPDEM_PROPERTY_CSV"); path && *path) {
-        std::ofstream csv(path);
-        csv << "seed,key,type,kind,route,value,outcome,status,wall_s,cpu_s,known,detail\n";
-        for (const Result& r : results) {
-            const Known* k = known_failing(r.c.key, r.c.value);
-            char t[64];
-            std::snprintf(t, sizeof t, "%.3f,%.3f", r.wall_s, r.cpu_s);
-            csv << seed << "," << csv_field(r.c.key) << "," << r.c.type << "," << r.c.kind << ","
-                << (r.c.config_refuses ? "config" : r.c.fresh ? "fresh" : "branch") << "," << csv_field(shown(r.c.value)) << ","
-                << r.outcome << "," << r.status << "," << t << "," << (k ? "yes" : "") << ","
-                << csv_field(r.detail) << "\n";
-        }
-        std::printf("outcomes written to %s\n", path);
+    if (csv_path && *csv_path) {
+        std::ofstream csv(csv_path);
+        csv << kCsvHeader << "\n";
+        for (const Result& r : results) csv << csv_row(r) << "\n";
+        std::printf("outcomes written to %s\n", csv_path);
+        partial_file.close();
+        fs::remove(std::string(csv_path) + ".partial");
     }
     if (!long_run) {
         EXPECT_TRUE(unexpected.empty()) << unexpected.size() << " failing (key, value) cases beyond issue 48's known "
