@@ -167,8 +167,10 @@ const std::vector<Setting>& table() {
         // At most 1: ks/kn of elastic spheres is 2 (1 - nu) / (2 - nu), 0.67 to 1 for Poisson ratios
         // 0.5 to 0; and the time step is sized on the normal stiffness, so a stiffer tangential
         // spring outruns it (1.5 blew the run up).
-        {.key = "grains.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::Range, .lo = 0.0,
-         .hi = 1.0, .allowed = "must be in [0, 1] (ks/kn of elastic spheres is at most 1; the time step is sized on kn)",
+        {.key = "grains.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::Range, .lo = 0.01,
+         .hi = 1.0, .allowed = "must be in [0.01, 1] (ks/kn of elastic spheres is at most 1; the time step is sized on "
+                               "kn; below 0.01 the shear spring cannot carry the friction force: at 0 its elongation "
+                               "f_t / k_s is NaN)",
          .acts = A::ContactPhysics, .run = 3, .summary = 5, .doc = "ks/kn of grain contacts", FIELD(grains.stiffness_ratio)},
         {.key = "grains.volume_fraction", .type = T::Real, .unit = "-", .def = 0.54, .check = C::Range, .lo = 0.0,
          .hi = 0.74, .lo_open = true, .hi_open = true,
@@ -203,8 +205,10 @@ const std::vector<Setting>& table() {
          .acts = A::Geometry, .geometry = 5, .summary = 10, .doc = "density of the foil particles", FIELD(foil.density)},
         {.key = "foil.friction", .type = T::Real, .unit = "-", .def = 0.0, .check = C::NonNegative,
          .acts = A::ContactPhysics, .run = 6, .summary = 11, .doc = "friction of foil contacts", FIELD(foil.friction)},
-        {.key = "foil.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::Range, .lo = 0.0,
-         .hi = 1.0, .allowed = "must be in [0, 1] (ks/kn of elastic spheres is at most 1; the time step is sized on kn)",
+        {.key = "foil.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::Range, .lo = 0.01,
+         .hi = 1.0, .allowed = "must be in [0.01, 1] (ks/kn of elastic spheres is at most 1; the time step is sized on "
+                               "kn; below 0.01 the shear spring cannot carry the friction force: at 0 its elongation "
+                               "f_t / k_s is NaN)",
          .acts = A::ContactPhysics, .run = 7, .doc = "ks/kn of bonds and foil contacts", FIELD(foil.stiffness_ratio)},
         // [damper]; radius and height are also checked against the foil (vpp/config.cpp).
         {.key = "damper.radius", .type = T::Real, .unit = "m", .def = 0.0255, .check = C::Positive,
