@@ -34,7 +34,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from paired_velocity import t_quantile  # noqa: E402  (one Student t for the tools)
+from paired_velocity import interval, t_quantile  # noqa: E402,F401  (one Student t for the tools)
 
 LEVEL = 0.975       # two-sided 95%
 MARGIN = 0.10       # equivalence margin: a fraction of the reference's mean
@@ -55,19 +55,6 @@ VERDICTS = [
     ("not decidable", "the repository lacks what would decide it (the experiment's measured loops)"),
     ("open", "runs pending"),
 ]
-
-
-def interval(xs):
-    """(n, mean, sd, half width of the 95% Student-t interval of the mean); NaN where undefined."""
-    xs = [x for x in xs if x is not None and math.isfinite(x)]
-    n = len(xs)
-    if n == 0:
-        return 0, math.nan, math.nan, math.nan
-    m = sum(xs) / n
-    if n < 2:
-        return n, m, math.nan, math.nan
-    sd = math.sqrt(sum((x - m) ** 2 for x in xs) / (n - 1))
-    return n, m, sd, t_quantile(LEVEL, n - 1) * sd / math.sqrt(n)
 
 
 def welch_dof(s1, n1, s2, n2):
