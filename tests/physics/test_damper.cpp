@@ -583,7 +583,7 @@ TEST_F(Damper, PhysicallyImpossibleValuesAreRefusedNamingTheKey) {
         {"--set process.cycles=2147483648", "'process.cycles' = 2147483648", "1..1000000"},
         {"--set process.samples_per_cycle=4294967300", "'process.samples_per_cycle' = 4294967300", "4..1000000"},
         {"--set simulation.dt_safety=0.7", "'simulation.dt_safety' = 0.7", "(0, 0.5]"},
-        {"--set foil.stiffness_ratio=1.5", "'foil.stiffness_ratio' = 1.5", "[0, 1]"},
+        {"--set foil.stiffness_ratio=1.5", "'foil.stiffness_ratio' = 1.5", "[0.01, 1]"},
         {"--set process.local_damping=0.999999", "'process.local_damping' = 0.999999", "[0, 0.9]"},
         {"--set simulation.local_damping=0.95", "'simulation.local_damping' = 0.95", "[0, 0.9]"},
         {"--set damper.radius=1e300", "'damper.radius'", "10 million foil particles"},
