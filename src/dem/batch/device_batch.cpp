@@ -48,6 +48,12 @@ struct DeviceBatch::Sys {
 namespace {
 ActiveContacts& store_of(ContactSet& c, int k) { return k == 0 ? c.fric : k == 1 ? c.smooth : c.walls; }
 template <class T> T* at(DeviceBatch::Buf& b, std::size_t k) { return static_cast<T*>(b.p) + k; }
+// Adds the wall time of its scope to a counter (host or total seconds of the timing report).
+struct Lap {
+    double& to;  // [s]
+    std::chrono::steady_clock::time_point t0 = std::chrono::steady_clock::now();
+    ~Lap() { to += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
+};
 }  // namespace
 
 DeviceBatch::DeviceBatch(std::unique_ptr<dev::Device> device, int threads)
@@ -56,12 +62,7 @@ DeviceBatch::DeviceBatch(std::unique_ptr<dev::Device> device, int threads)
 }
 
 template <class F> void DeviceBatch::each(std::size_t B, F&& f) {
-    const auto t0 = std::chrono::steady_clock::now();
-    struct Lap {
-        double& to;
-        std::chrono::steady_clock::time_point t0;
-        ~Lap() { to += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
-    } lap{host_s_, t0};
+    Lap lap{host_s_};
     const int nt = int(std::min<std::size_t>(std::size_t(threads_), std::max<std::size_t>(B, 1)));
     team_.run(nt, [&](int tid) {
         const auto [s0, s1] = thread_range(int64_t(B), tid, nt);
@@ -449,12 +450,7 @@ void DeviceBatch::read_stream() {
 }
 
 void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
-    const auto t_start = std::chrono::steady_clock::now();
-    struct Lap {
-        double& to;
-        std::chrono::steady_clock::time_point t0;
-        ~Lap() { to += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
-    } lap{total_s_, t_start};
+    Lap lap{total_s_};
     const std::size_t B = b.systems();
     if (sys_.size() != B) throw std::logic_error("batch: the device holds another layout (load first)");
     const auto live = [&](std::size_t s) { return !(s < skip.size() && skip[s]) && !err[s]; };
@@ -665,12 +661,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
 }
 
 void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
-    const auto t_start = std::chrono::steady_clock::now();
-    struct Lap {
-        double& to;
-        std::chrono::steady_clock::time_point t0;
-        ~Lap() { to += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); }
-    } lap{total_s_, t_start};
+    Lap lap{total_s_};
     const std::size_t B = b.systems();
     bool any_track = false;
     for (std::size_t s = 0; s < B; ++s) {
