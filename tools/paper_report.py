@@ -569,25 +569,26 @@ DPS = [20000, 40000, 60000, 80000]
 RADII = [0.0205, 0.0255, 0.0305]
 
 
-def v_direction(outcomes):
-    """A trend claim from rules.direction() outcomes: reproduced where every one lies the paper's way,
-    not reproduced where one is resolved against it, else consistent, not established."""
+def v_outcomes(outcomes, passes, fails):
+    """A claim's verdict from its tests' outcomes: reproduced where every one passes, not reproduced
+    where one fails, else consistent, not established; open while one is missing."""
     if not outcomes or None in outcomes:
         return "open (runs pending)"
-    if all(o == "yes" for o in outcomes):
+    if all(o == passes for o in outcomes):
         return "reproduced"
-    return "not reproduced" if "against" in outcomes else "consistent, not established"
+    return "not reproduced" if fails in outcomes else "consistent, not established"
+
+
+def v_direction(outcomes):
+    """A trend claim from rules.direction() outcomes: each the paper's way ("yes") or resolved
+    against it ("against")."""
+    return v_outcomes(outcomes, "yes", "against")
 
 
 def v_equivalence(bands):
-    """A claim of no (or a few per cent) effect from rules.band() outcomes: reproduced where every
-    interval lies within the margin, not reproduced where one lies beyond it, else consistent, not
-    established."""
-    if not bands or None in bands:
-        return "open (runs pending)"
-    if all(b == "within" for b in bands):
-        return "reproduced"
-    return "not reproduced" if "beyond" in bands else "consistent, not established"
+    """A claim of no (or a few per cent) effect from rules.band() outcomes: each interval within the
+    margin ("within") or beyond it ("beyond")."""
+    return v_outcomes(bands, "within", "beyond")
 
 
 def v_saturation(status):
