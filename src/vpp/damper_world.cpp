@@ -656,15 +656,15 @@ bool DamperRun::refill() {
     // With damper.packing_target the grains' volume decides, not their level: the grains missing
     // to the target (to the nearest grain), however high they then stand; the cap compresses them.
     std::size_t add = 0;
+    const double phi_now = c_.damper.packing_target > 0.0 ? packing_fraction(r_in, z_top_) : 0.0;  // [-] before this re-fill
     if (c_.damper.packing_target > 0.0) {
-        const double v_now = packing_fraction(r_in, z_top_) * area * z_top_;  // [m^3] the grains' own volume
-        const double missing = std::round((c_.damper.packing_target * area * z_top_ - v_now) / v_k);
+        const double missing = std::round((c_.damper.packing_target - phi_now) * area * z_top_ / v_k);
         if (missing < 1.0) {
             if (done == 0 && missing < -0.5) {
                 std::snprintf(msg, sizeof msg,
                               "prepare: the pour alone fills %.4f of the foil's interior, above damper.packing_target "
                               "= %.4g: lower grains.volume_fraction to reach the target",
-                              v_now / (area * z_top_), c_.damper.packing_target);
+                              phi_now, c_.damper.packing_target);
                 warn(msg);
             }
             return false;
@@ -677,7 +677,7 @@ bool DamperRun::refill() {
         if (c_.damper.packing_target > 0.0)
             std::snprintf(msg, sizeof msg,
                           "prepare: after %d re-fills the grains fill %.4f of the foil's interior, below "
-                          "damper.packing_target = %.4g", done, packing_fraction(r_in, z_top_),
+                          "damper.packing_target = %.4g", done, phi_now,
                           c_.damper.packing_target);
         else
             std::snprintf(msg, sizeof msg,
@@ -722,7 +722,7 @@ bool DamperRun::refill() {
     w_.invalidate_candidates();
     if (c_.damper.packing_target > 0.0)
         log("[prepare] grains fill %.4f of the foil's interior, below the target %.4g: re-fill %d adds %zu grains (%u "
-            "in all)\n", packing_fraction(r_in, z_top_) - double(pos.size()) * v_k / (area * z_top_),
+            "in all)\n", phi_now,
             c_.damper.packing_target, done + 1, pos.size(), grain_count_now());
     else
         log("[prepare] grains level %.4f m, below %.4f m: re-fill %d adds %zu grains (%u in all)\n", level, target,
