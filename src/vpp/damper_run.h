@@ -146,6 +146,10 @@ private:
     // The sampling against the time step (known once the world is built): warnings; with
     // `refuse`, sampling faster than the time step is refused (a fresh run, before writing).
     std::vector<std::string> check_sampling(bool refuse) const;
+    // The time step against the contacts and the process (known once the world is built): a step
+    // that is no number, a fixed step beyond the stable one, a run of more steps than any machine
+    // finishes are refused (a new run or a branch, before writing).
+    void check_steps() const;
     // Warns what is not yet among the run's warnings (a resumed run has its first start's).
     void warn_once(const std::vector<std::string>& what);
     // n radii from the size distribution's stream `stream` (0: the pour, k: re-fill k).

@@ -192,6 +192,7 @@ void DamperRun::setup() {
         st_.report["prepare.grains_poured"] = double(grain_count_now());
         st_.report["prepare.funnel_height"] = funnel_h;
         w_.params.dt = resolve_dt(c_.simulation, w_);
+        check_steps();            // refuses a step that is no number, unstable, or too many of them
         check_sampling(true);     // refuses sampling faster than the time step
         start_output_dir(false);  // only now: bad input writes nothing
         log("damper: %zu grains (r_k = %.4g m), foil %d x %d = %zu particles (radius %.5g m), height %.5g m, "
@@ -215,15 +216,19 @@ void DamperRun::setup() {
         // a prepared sample, even into its own folder) starts a new run there.
         std::error_code ec;
         const bool resuming = fs::exists(out_ / "run.ckpt") && fs::equivalent(o_.from, out_ / "run.ckpt", ec);
-        start_output_dir(resuming);
-        log("damper: starting from %s at stage '%s', t = %.4g s, %d thread(s)\n", o_.from.c_str(),
-            stage_name(st_.stage), w_.time, c_.simulation.threads);
         // A prepared sample takes the config's contact and process settings; a resumed run keeps
         // its own (adopt_checkpoint_settings), but for the thread count (set below for every path).
+        // A branch is refused what a new sample is refused (sampling faster than its time step),
+        // before its folder is touched.
         if (st_.stage == Stage::Prepared) {
             apply_config_to_prepared();
             w_.params.dt = resolve_dt(c_.simulation, w_);
+            check_steps();
+            check_sampling(true);
         }
+        start_output_dir(resuming);
+        log("damper: starting from %s at stage '%s', t = %.4g s, %d thread(s)\n", o_.from.c_str(),
+            stage_name(st_.stage), w_.time, c_.simulation.threads);
     }
     w_.params.threads = c_.simulation.threads;
     for (const std::string& w : check_sampling(false)) process_warnings_.push_back(w);
@@ -287,6 +292,34 @@ std::vector<std::string> DamperRun::check_process() const {
         warnings.push_back("process: the cap moves " + fmt("%.4g", 1e3 * up) + " mm up, " +
                            fmt("%.0f", 100.0 * up / H) + "% of the sample's height: the foil is stretched by about as "
                            "much (docs/config.md, \"Limits from the physics\")");
+    // The contacts against the load. The underpressure dp (or, without it, the weight of the
+    // column, rho g H) presses a grain over its cross-section (2 r)^2 into contacts of stiffness
+    // about E r / 2 (linear law, harmonic mean of E r): an overlap of delta / r = 8 load / E. At
+    // half the radius the grains sit in each other (a modulus of 5e-324 Pa gave NaN): refused. The
+    // foil, a cylinder of radius R under dp, stretches by the hoop strain dp R / (E_f t_f); beyond
+    // 50% a polymer foil tears (as tension.strain and the stroke up).
+    {
+        constexpr double kMaxOverlap = 0.5;    // [grain radii]
+        constexpr double kMaxHoopStrain = 0.5; // [-]
+        constexpr double kGravity = 9.81;      // [m/s^2]
+        const double load = std::max(p.underpressure, c_.grains.density * kGravity * H);  // [Pa]
+        const double overlap = 8.0 * load / c_.grains.young;
+        if (!(overlap <= kMaxOverlap))
+            throw std::runtime_error(
+                "config key 'grains.young' = " + show("", c_.grains.young) + ": under " + fmt("%.4g", load) +
+                " Pa (process.underpressure, or the column's weight) the grains would overlap by about " +
+                fmt("%.3g", overlap) + " of their radius (8 load / E); allowed: at least " +
+                fmt("%.4g", 8.0 * load / kMaxOverlap) + " Pa here (an overlap under half the radius)");
+        const double strain = p.underpressure * L_.radius / (c_.foil.young * c_.foil.thickness);
+        if (!(strain <= kMaxHoopStrain))
+            throw std::runtime_error(
+                "config key 'foil.young' = " + show("", c_.foil.young) + " with 'foil.thickness' = " +
+                show("", c_.foil.thickness) + ": under process.underpressure = " + show("", p.underpressure) +
+                " Pa the foil would stretch by " + fmt("%.3g", strain) + " (the hoop strain dp R / (E_f t_f), R = " +
+                fmt("%.4g", L_.radius) + " m); allowed: E_f t_f at least " +
+                fmt("%.4g", p.underpressure * L_.radius / kMaxHoopStrain) + " N/m here (a strain under 50%: beyond, "
+                "a polymer foil tears)");
+    }
     // Local damping above 0.5: an oscillation already loses most of its amplitude each half
     // period; more holds the grains back, and the loop's area is then largely the damping's.
     if (cycling_local_damping(c_) > 0.5)
@@ -316,6 +349,96 @@ std::vector<std::string> DamperRun::check_process() const {
                 " m^3/s here, or process.pump_down = false");
     }
     return warnings;
+}
+
+namespace {
+
+// Of the keys that set the critical step sqrt(m/k), the one given farthest from its default (in
+// decades, either way), as "key = value": the one a message about the step should name first.
+std::string step_key(const Config& c) {
+    const std::pair<const char*, double> parts[] = {{"grains.young", c.grains.young},     {"foil.young", c.foil.young},
+                                                    {"foil.thickness", c.foil.thickness}, {"grains.density", c.grains.density},
+                                                    {"foil.density", c.foil.density},     {"grains.radius", c.grains.radius}};
+    std::string best = "grains.young = " + show("", c.grains.young);
+    double most = -1.0;
+    for (const auto& [key, value] : parts) {
+        const Setting* s = find_setting(key);
+        if (s == nullptr || !(s->def > 0.0) || !(value > 0.0)) continue;
+        const double d = std::abs(std::log10(value / s->def));
+        if (d > most) most = d, best = std::string(key) + " = " + show("", value);
+    }
+    return best;
+}
+
+}  // namespace
+
+void DamperRun::check_steps() const {
+    const SimulationDef& sim = c_.simulation;
+    const ProcessDef& p = c_.process;
+    const double dt = w_.params.dt, critical = w_.critical_dt();
+    // The automatic step comes from every contact's stiffness and every particle's mass; a
+    // message names first the key farthest from its default (step_key).
+    auto from_auto = [&] {
+        return "simulation.dt_safety = " + show("", sim.dt_safety) + " times the critical step sqrt(m/k) of the "
+               "contacts, here from " + step_key(c_) + " (of grains.young, grains.density, grains.radius, "
+               "foil.young, foil.thickness, foil.density, the stiffness ratios)";
+    };
+    const bool tiny = !(dt >= std::numeric_limits<double>::min());
+    // A modulus of 1e300 or 5e-324 leaves a step of 0, a subnormal or infinity: nothing to integrate with.
+    if (tiny || !std::isfinite(dt)) {
+        const std::string key = sim.dt_auto ? step_key(c_) : "simulation.dt = " + show("", sim.dt);
+        throw std::runtime_error("config key '" + key.substr(0, key.find(' ')) + "' = " + key.substr(key.find('=') + 2) +
+                                 ": the time step " + fmt("%.3g", dt) + " s (" +
+                                 (sim.dt_auto ? from_auto() : key) + ") is not a positive finite number of "
+                                 "seconds; allowed: moduli, densities and sizes of real materials");
+    }
+    const std::string source = sim.dt_auto ? from_auto() : "simulation.dt = " + show("", sim.dt);
+    // A fixed step has the automatic one's bound: half one contact's critical step (dt_safety <= 0.5).
+    if (!sim.dt_auto && std::isfinite(critical) && sim.dt > 0.5 * critical)
+        throw std::runtime_error("config key 'simulation.dt' = " + show("", sim.dt) + ": more than half the critical "
+                                 "step sqrt(m/k) = " + fmt("%.4g", critical) + " s of the stiffest contact (the bound of "
+                                 "simulation.dt_safety); allowed: at most " + fmt("%.4g", 0.5 * critical) +
+                                 " s here, or \"auto\"");
+    // The neighbour lists' skin: a few tenths of a radius saves list rebuilds; ten radii already
+    // lists hundreds of pairs per grain that never touch, and 1e300 m overflowed the cell grid.
+    const double max_skin = 10.0 * sizes_.max_radius();
+    if (!(sim.skin <= max_skin))
+        throw std::runtime_error("config key 'simulation.skin' = " + show("", sim.skin) + ": allowed: at most ten "
+                                 "times the largest grain radius (" + fmt("%.4g", max_skin) + " m here; 0: half the "
+                                 "smallest radius)");
+    // The steps the run needs from the vacuum on: the ramp, the hold and every cycle. 1e12 steps
+    // are 33,000 of the paper's cycles (3e7 steps each), months on any machine: beyond, a value is
+    // a slip (a velocity of 1e-300 m/s, a modulus of 1e300 Pa), not a run.
+    constexpr double kMaxSteps = 1e12;
+    const double T = cycle_period(p), cycling = double(p.cycles) * T;
+    const double total = cycling + p.ramp_time + p.hold_time;  // [s] of simulated time
+    if (!(total / dt <= kMaxSteps)) {
+        // The count is a ratio: the message leads with the factor farther outside what a damper
+        // run has (up to 1000 s of simulated time; a step of at least 1 ns).
+        const bool blame_step = std::log10(1e-9 / dt) > std::log10(total / 1e3);
+        std::string what;
+        if (blame_step) {
+            const std::string key = sim.dt_auto ? step_key(c_) : "simulation.dt = " + show("", sim.dt);
+            what = key;
+        } else if (cycling >= p.ramp_time && cycling >= p.hold_time) {
+            // One cycle longer than a whole run: the period's key; else the count of cycles.
+            const std::string period = p.frequency > 0.0 ? "process.frequency = " + show("", p.frequency)
+                                                         : "process.velocity = " + show("", p.velocity) +
+                                                               " (period 2 process.amplitude / process.velocity)";
+            what = T > 1e3 ? period + ", " + std::to_string(p.cycles) + " cycles of " + fmt("%.4g", T) + " s"
+                           : "process.cycles = " + std::to_string(p.cycles) + " cycles of " + fmt("%.4g", T) + " s (" +
+                                 period + ")";
+        }
+        else if (p.ramp_time >= p.hold_time)
+            what = "process.ramp_time = " + show("", p.ramp_time);
+        else
+            what = "process.hold_time = " + show("", p.hold_time);
+        throw std::runtime_error("config key '" + what.substr(0, what.find(' ')) + "' (" + what + "): the run would take " +
+                                 fmt("%.3g", total / dt) + " steps, " + fmt("%.4g", total) + " s of simulated time (the "
+                                 "cycles, process.ramp_time and process.hold_time) over a time step of " +
+                                 fmt("%.3g", dt) + " s (" + source + "); allowed: at most " + fmt("%.0e", kMaxSteps) +
+                                 " steps (months on any machine)");
+    }
 }
 
 std::vector<std::string> DamperRun::check_sampling(bool refuse) const {

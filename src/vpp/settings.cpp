@@ -555,7 +555,7 @@ const char* acts_name(Acts a) {
 }
 
 // The checks that weigh keys against each other and against the built damper (vpp/damper_world.cpp,
-// check_process and check_sampling; vpp/damper_record.cpp), which a single key's range cannot say.
+// check_process, check_steps and check_sampling; vpp/damper_record.cpp), which a single key's range cannot say.
 std::string limits_markdown() {
     return "### Limits from the physics\n\n"
            "A value inside its key's range may still ask for something the damper cannot do. These are\n"
@@ -576,14 +576,29 @@ std::string limits_markdown() {
            "  diverged); from a prepared sample it is a dynamic run, as `process.local_damping` = 0.\n"
            "- **Time step** (`simulation.dt_safety`): the critical step sqrt(m/k) is that of one contact; a\n"
            "  grain with several contacts, and the foil's bonds, need a smaller one: allowed (0, 0.5] (0.7\n"
-           "  diverged on the small damper). A run whose positions stop being finite numbers ends with an\n"
-           "  error naming the step and these keys.\n"
+           "  diverged on the small damper). A fixed `simulation.dt` has the same bound: at most half the\n"
+           "  critical step. A run whose positions stop being finite numbers ends with an error naming the\n"
+           "  step and these keys. A step that is not a positive finite number (a modulus of 1e300 or\n"
+           "  DBL_MAX) is refused naming the key farthest from its default.\n"
+           "- **Run length**: more than 1e12 steps from the vacuum on (the cycles, `process.ramp_time` and\n"
+           "  `process.hold_time` over the step; 33,000 of the paper's cycles of 3e7 steps) is refused,\n"
+           "  naming the period's key (`process.velocity`, `process.frequency`), `process.cycles`, the\n"
+           "  ramp or hold, or the step's key, whichever lies farther outside a damper run (1000 s of\n"
+           "  simulated time, a step of 1 ns).\n"
+           "- **Contacts against the load**: the underpressure dp (without it the column's weight rho g H)\n"
+           "  presses a grain over its cross-section (2r)^2 into contacts of stiffness about E r / 2: an\n"
+           "  overlap of 8 dp / E radii. `grains.young` below 16 dp (an overlap of half the radius) is\n"
+           "  refused (5e-324 Pa gave NaN). The foil under dp stretches by the hoop strain dp R / (E_f t_f):\n"
+           "  `foil.young` x `foil.thickness` giving more than 50% is refused (a torn foil).\n"
+           "- **Neighbour skin** (`simulation.skin`): at most ten times the largest grain radius (a few\n"
+           "  tenths saves list rebuilds; 1e300 m overflowed the cell grid).\n"
            "- **Tangential stiffness** (`grains.stiffness_ratio`, `foil.stiffness_ratio`): ks/kn of elastic\n"
            "  spheres is 2(1 - nu)/(2 - nu), 0.67 to 1 for Poisson ratios 0.5 to 0, and the step is sized on\n"
-           "  kn: allowed [0, 1].\n"
+           "  kn: allowed [0.01, 1] (0 left a contact without tangential stiffness, and the run gave NaN).\n"
            "- **Counts** (`process.cycles`, `process.samples_per_cycle`): at most 1,000,000 (larger values\n"
            "  wrapped round in the run's counters). A sample every time step at most: more samples per cycle\n"
-           "  than the cycle has steps is refused (a run from a checkpoint: warned). A run that still records\n"
+           "  than the cycle has steps is refused, on a new sample and a branch from a prepared one alike (a\n"
+           "  resumed run keeps its checked settings). A run that still records\n"
            "  fewer cycles than asked says so in `warnings` and exits 1 (a study's case fails).\n"
            "- **process.sample_window** longer than the samples' spacing (period / samples_per_cycle):\n"
            "  warned, each force is averaged over the spacing only.\n"
