@@ -88,8 +88,9 @@ void read_table(const toml::table& root, CommandSet commands, Config& c) {
             const double cols = std::numbers::pi * c.damper.radius / rf, rows = c.damper.height / (2.0 * rf);
             auto too_big = [&](const char* key, double limit) {
                 s.fail(key, "must give at most 10 million foil particles (columns pi r_p / r_f times rows H_p / "
-                            "(2 r_f), r_f = foil.particle_radius " + cfg::number_text(rf) + " m): at most " +
-                            cfg::number_text(limit) + " m here");
+                            "(2 r_f), r_f = foil.particle_radius " + cfg::number_text(rf) + " m" +
+                            (c.given.count("foil.particle_radius") ? "" : ", grains.radius / 3 unless given") +
+                            "): at most " + cfg::number_text(limit) + " m here");
             };
             if (cols > kMaxFoil) too_big("radius", kMaxFoil * rf / std::numbers::pi);
             if (rows > kMaxFoil) too_big("height", kMaxFoil * 2.0 * rf);

@@ -449,10 +449,14 @@ std::vector<std::string> DamperRun::check_sampling(bool refuse) const {
     const double spacing = T / double(p.samples_per_cycle);  // [s] between two samples
     // One sample per step at most: more samples per cycle than steps fall behind, and the run
     // ends with fewer cycles recorded than asked.
+    // The period's own keys are named too: a velocity of 1e300 m/s is the slip, not the count.
+    const std::string period = p.frequency > 0.0 ? "process.frequency = " + show("", p.frequency)
+                                                 : "2 process.amplitude / process.velocity = 2 x " + show("", p.amplitude) +
+                                                       " m / " + show("", p.velocity) + " m/s";
     if (spacing < dt && refuse)
         throw std::runtime_error("config key 'process.samples_per_cycle' = " + std::to_string(p.samples_per_cycle) +
                                  ": a sample every " + fmt("%.3g", spacing) + " s (the period " + fmt("%.4g", T) +
-                                 " s / samples_per_cycle) is less than the time step " + fmt("%.3g", dt) +
+                                 " s, " + period + ", / samples_per_cycle) is less than the time step " + fmt("%.3g", dt) +
                                  " s; allowed: at most " + fmt("%.0f", std::floor(T / dt)) +
                                  " here (one sample per step), or a longer period");
     if (spacing < dt)

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "scene/config.h"
@@ -198,7 +199,13 @@ const std::vector<Setting>& table() {
          .doc = "r_f, radius of the foil particles",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
              const std::string k = short_key(r);
-             c.foil.particle_radius = s.positive(k, s.number(k, c.grains.radius / 3.0));
+             const double v = s.number(k, c.grains.radius / 3.0);
+             // Unset, it is grains.radius / 3: a radius of 5e-324 m leaves 0, which must name grains.radius.
+             if (!(v >= std::numeric_limits<double>::min()) && !s.node(k))
+                 s.fail(k, "is grains.radius / 3 unless given, here " + cfg::number_text(v) + " m from grains.radius = " +
+                               cfg::number_text(c.grains.radius) + " m: must be > 0 and finite (a grain radius of "
+                               "real grains)");
+             c.foil.particle_radius = s.positive(k, v);
          },
          FIELD(foil.particle_radius)},
         {.key = "foil.density", .type = T::Real, .unit = "kg/m^3", .def = 151.77, .check = C::Positive,
