@@ -601,6 +601,10 @@ TEST_F(Damper, PhysicallyImpossibleValuesAreRefusedNamingTheKey) {
         {"--set process.ramp_time=1e300", "'process.ramp_time' (process.ramp_time = 1e+300)", "steps"},
         {"--from " + prepared + " --set simulation.dt=1e-3", "'simulation.dt' = 0.001", "critical step"},
         {"--from " + prepared + " --set simulation.skin=1e300", "'simulation.skin' = 1e+300", "ten times"},
+        {"--set grains.radius=5e-324", "from grains.radius = 5e-324", "must be > 0"},
+        {"--set grains.radius=1e-300", "grains.radius / 3 unless given", "10 million foil particles"},
+        {"--from " + prepared + " --set process.velocity=1e300", "process.velocity = 2 x 0.002 m / 1e+300 m/s",
+         "less than the time step"},
         // A refused branch names the shapes, not the numbers the checkpoint keeps (it said 0 and 1).
         {"--from " + prepared + " --set grains.shape=dimer", "grains.shape = \"sphere\" (the config asks for \"dimer\")",
          "prepared with another geometry"},
