@@ -302,12 +302,16 @@ std::vector<std::string> DamperRun::check_process() const {
         constexpr double kMaxOverlap = 0.5;    // [grain radii]
         constexpr double kMaxHoopStrain = 0.5; // [-]
         constexpr double kGravity = 9.81;      // [m/s^2]
-        const double load = std::max(p.underpressure, c_.grains.density * kGravity * H);  // [Pa]
+        const double weight = c_.grains.density * kGravity * H;  // [Pa] at the column's foot
+        const double load = std::max(p.underpressure, weight);    // [Pa]
         const double overlap = 8.0 * load / c_.grains.young;
+        const std::string by = weight > p.underpressure
+                                   ? " with 'grains.density' = " + show("", c_.grains.density) + ": under the column's "
+                                     "weight rho g H = " + fmt("%.4g", weight) + " Pa"
+                                   : ": under process.underpressure = " + show("", p.underpressure) + " Pa";
         if (!(overlap <= kMaxOverlap))
             throw std::runtime_error(
-                "config key 'grains.young' = " + show("", c_.grains.young) + ": under " + fmt("%.4g", load) +
-                " Pa (process.underpressure, or the column's weight) the grains would overlap by about " +
+                "config key 'grains.young' = " + show("", c_.grains.young) + by + " the grains would overlap by about " +
                 fmt("%.3g", overlap) + " of their radius (8 load / E); allowed: at least " +
                 fmt("%.4g", 8.0 * load / kMaxOverlap) + " Pa here (an overlap under half the radius)");
         const double strain = p.underpressure * L_.radius / (c_.foil.young * c_.foil.thickness);
