@@ -157,7 +157,11 @@ const std::vector<Setting>& table() {
          },
          .get = [](const Config& c) { return c.grains.clump_template_id; },
          .set = [](Config&, double) {}, .legacy = 0.0},
-        {.key = "grains.density", .type = T::Real, .unit = "kg/m^3", .def = 2689.639, .check = C::Positive,
+        // At most 1e6 kg/m^3: 44 times osmium (22,590), room for mass scaling; 1e300 left a body
+        // that never comes to rest.
+        {.key = "grains.density", .type = T::Real, .unit = "kg/m^3", .def = 2689.639, .check = C::Range, .lo = 0.0,
+         .hi = 1e6, .lo_open = true,
+         .allowed = "must be in (0, 1e6] kg/m^3 (44 times osmium's 22,590: room for mass scaling)",
          .acts = A::Geometry, .geometry = 3, .summary = 2, .doc = "density of the grains", FIELD(grains.density)},
         {.key = "grains.young", .type = T::Real, .unit = "Pa", .def = 2.3e9, .check = C::Positive,
          .acts = A::ContactPhysics, .run = 2, .summary = 3, .doc = "E_k, Young's modulus of the grains (contact stiffness)",
@@ -208,7 +212,10 @@ const std::vector<Setting>& table() {
              c.foil.particle_radius = s.positive(k, v);
          },
          FIELD(foil.particle_radius)},
-        {.key = "foil.density", .type = T::Real, .unit = "kg/m^3", .def = 151.77, .check = C::Positive,
+        {.key = "foil.density", .type = T::Real, .unit = "kg/m^3", .def = 151.77, .check = C::Range, .lo = 0.0,
+         .hi = 1e6, .lo_open = true,
+         .allowed = "must be in (0, 1e6] kg/m^3 (44 times osmium's 22,590: room for mass scaling; 1e300 gave a foil "
+                    "that never comes to rest)",
          .acts = A::Geometry, .geometry = 5, .summary = 10, .doc = "density of the foil particles", FIELD(foil.density)},
         {.key = "foil.friction", .type = T::Real, .unit = "-", .def = 0.0, .check = C::NonNegative,
          .acts = A::ContactPhysics, .run = 6, .summary = 11, .doc = "friction of foil contacts", FIELD(foil.friction)},
