@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dem/contact/active_contacts.h"
+#include "dem/core/step_bodies.h"
 #include "dem/core/vec3.h"
 #include "dem/walls/wall.h"
 
@@ -24,5 +25,32 @@ struct WallState {
     // Reactions from the live wall contacts of `walls` for nw walls, in slot order.
     void sum_reactions(const ActiveContacts& walls, std::size_t nw);
 };
+
+// Wall k (planes first, then facets) as the wall bodies read it (dem/core/step_bodies.h):
+// World's wall kernel and touch test and the batch engine's walls now.
+inline WallNow wall_now(const std::vector<Plane>& planes, const std::vector<Facet>& facets,
+                        const std::vector<Vec3>& plane_point, const std::vector<std::array<Vec3, 3>>& facet_now,
+                        const Vec3& velocity, uint32_t k) {
+    WallNow wl;
+    const uint32_t np = uint32_t(planes.size());
+    wl.plane = k < np;
+    if (wl.plane) {
+        wl.point = plane_point[k];
+        wl.normal = planes[k].normal;
+        wl.one_sided = planes[k].one_sided;
+    } else {
+        const std::array<Vec3, 3>& v = facet_now[k - np];
+        wl.v0 = v[0];
+        wl.v1 = v[1];
+        wl.v2 = v[2];
+        wl.one_sided = facets[k - np].one_sided;
+    }
+    wl.velocity = velocity;
+    return wl;
+}
+inline WallNow wall_now(const WallState& ws, const std::vector<Plane>& planes, const std::vector<Facet>& facets,
+                        uint32_t k) {
+    return wall_now(planes, facets, ws.plane_point, ws.facet_now, ws.velocity[k], k);
+}
 
 }  // namespace dem
