@@ -137,7 +137,7 @@ void step_forces(BatchSystems& b, std::size_t sys) {
     wd.engine_begin_forces();
     ContactSet& c = wd.engine_contacts();
     const WallState& walls = wd.wall_state();
-    const auto now = [&](uint32_t k) { return wall_now(walls, wd.planes, wd.facets, k); };
+    const auto now = [&](uint32_t k) -> const WallNow& { return walls.now[k]; };
     // Candidates without a contact that could have closed their gap since the rebuild, tested
     // (as ContactSet::find_new, with World's reach).
     const auto [pair_reach, wall_reach] = wd.engine_reach();
@@ -212,7 +212,7 @@ void step_forces(BatchSystems& b, std::size_t sys) {
         for (int64_t q = blk * kernels::kBlock; q < std::min(int64_t(c.walls.size()), (blk + 1) * kernels::kBlock); ++q) {
             if (c.walls.cand[q] == kNoSlot) continue;
             PairEnergy en;
-            const WallNow wl = now(c.walls.j[q]);
+            const WallNow& wl = now(c.walls.j[q]);
             const PairOut o = track ? wall_pair<true>(end(c.walls.i[q]), wl, c.walls.phys[q], dt, c.walls.shear[q],
                                                       c.walls.prev_normal[q], &en)
                                     : wall_pair(end(c.walls.i[q]), wl, c.walls.phys[q], dt, c.walls.shear[q],

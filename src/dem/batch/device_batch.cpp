@@ -487,10 +487,11 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
                 put(y.ref_pos, ref.data(), ref.size() * sizeof(FloatVec3));
             }
             const WallState& walls = wd.wall_state();
-            const std::size_t np = wd.planes.size(), nw = np + wd.facets.size();
+            const std::size_t nw = wd.planes.size() + wd.facets.size();
             if (y.off_now + nw > walls_now) throw std::logic_error("batch: a system's walls changed in a step");
             WallNow* now = h_wallnow_.data() + y.off_now;
-            for (std::size_t k = 0; k < nw; ++k) now[k] = wall_now(walls, wd.planes, wd.facets, uint32_t(k));
+            if (walls.now.size() != nw) throw std::logic_error("batch: a system's walls were not moved");
+            std::copy(walls.now.begin(), walls.now.end(), now);
             std::tie(y.pair_reach, y.wall_reach) = wd.engine_reach();
             y.track = wd.params.track_energy ? 1 : 0;
             b.dp[s] = world_underpressure(wd);

@@ -41,17 +41,15 @@ VPPDEM_HD inline void advance_particle(ParticleState& s, const Vec3& f, const Ve
     st.inv_m = inv_m;
     st.inv_i = inv_i;
     const bool free = inv_m > 0.0;
+    const AdvanceStepLanes<double> q = advance_lanes(free, st, lanes(g), dt, lambda);
     if constexpr (kEnergy) {
-        AdvanceTerms<double> q;
-        const V3<double> fpl = lanes(fp);
-        advance_lanes<true>(free, st, lanes(g), dt, lambda, lambda != 0.0, &q, &fpl, &r);
+        double terms[11];
+        advance_terms_lanes(free, st, q, dt, lambda != 0.0, lanes(fp), r, terms);
         for (int k = 0; k < 5; ++k) {
-            en->back[k] = q.back[k];
-            en->fwd[k] = q.fwd[k];
+            en->back[k] = terms[k];
+            en->fwd[k] = terms[5 + k];
         }
-        en->kinetic = q.kinetic;
-    } else {
-        advance_lanes<false>(free, st, lanes(g), dt, lambda, lambda != 0.0);
+        en->kinetic = terms[10];
     }
     s.x = vec3(st.x);
     s.v = vec3(st.v);

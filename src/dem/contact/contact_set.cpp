@@ -5,7 +5,6 @@
 #include "dem/core/parallel.h"
 #include "dem/core/step_bodies.h"
 #include "dem/detect/geometry.h"
-#include "dem/walls/wall_state.h"
 
 namespace dem {
 
@@ -32,8 +31,6 @@ void ContactSet::find_new(const FindArgs& a) {
     // branch per candidate would be mispredicted about every other time.
     const Particles& p = *a.p;
     const int64_t n = int64_t(p.size());
-    const std::vector<Plane>& planes = *a.planes;
-    const std::vector<Facet>& facets = *a.facets;
     const int tid = thread_id();
     std::vector<uint32_t>& npp = new_pp[tid];
     std::vector<uint32_t>& npw = new_pw[tid];
@@ -78,8 +75,7 @@ void ContactSet::find_new(const FindArgs& a) {
             npp.push_back(test[q]);
         }
     };
-    const std::vector<Vec3>& plane_point = *a.plane_point;
-    const std::vector<std::array<Vec3, 3>>& facet_now = *a.facet_now;
+    const std::vector<WallNow>& wall_now = *a.wall_now;
     for (const auto& [b0, b1] : *a.blocks) {
         const int64_t i0 = b0 * kernels::kBlock, i1 = std::min(n, b1 * kernels::kBlock);
         if (a.packed && a.repack) kernels::pack_particles(p, i0, i1, a.packed);
@@ -89,7 +85,7 @@ void ContactSet::find_new(const FindArgs& a) {
         }, npp);
         scan(pw, i0, i1, a.wall_reach, [&](uint32_t i, uint32_t w) {
             ContactGeom g;  // the touch test of the wall body (dem/core/step_bodies.h), the batch engine's too
-            return wall_geometry(p.pos[i], p.radius[i], wall_now(planes, facets, plane_point, facet_now, Vec3{}, w), g);
+            return wall_geometry(p.pos[i], p.radius[i], wall_now[w], g);
         }, npw);
     }
 }

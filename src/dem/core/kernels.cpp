@@ -304,11 +304,12 @@ template <bool kEnergy, class D>
 HWY_INLINE void bond_body(D d, const kernels::BondArgs& a, int64_t s, VecD<D>* terms) {
     BondList& b = *a.b;
     const PairState<D> q = gather_pair(d, *a.p, a.packed, &b.i[s], &b.j[s]);
+    const BondGeometryLanes<VecD<D>> geo = bond_geometry_lanes(q);
     VecD<D> kn, ks, l0;
     hn::LoadInterleaved3(d, &b.phys[s].kn, kn, ks, l0);
     V3D<D> fs = load3(d, &b.shear[s]), prev = load3(d, &b.prev_normal[s]);
     V3D<D> f, t1, t2;
-    bond_lanes<kEnergy>(q, kn, ks, l0, hn::Set(d, a.dt), fs, prev, f, t1, t2, terms);
+    bond_step_lanes<kEnergy>(q, geo, kn, ks, l0, hn::Set(d, a.dt), fs, prev, f, t1, t2, terms);
     store3(d, f, &b.force[s]);
     store3(d, t1, &b.torque1[s]);
     store3(d, t2, &b.torque2[s]);
@@ -333,20 +334,7 @@ HWY_INLINE void advance_body(D d, const kernels::AdvanceArgs& a, int64_t s, VecD
     st.fx = a.ext_force ? load3(d, &a.ext_force[s]) : zero3(d);
     const V3D<D> g{hn::Set(d, a.gravity.x), hn::Set(d, a.gravity.y), hn::Set(d, a.gravity.z)};
     const VecD<D> dt = hn::Set(d, a.dt), lambda = hn::Set(d, a.lambda);
-    if constexpr (kEnergy) {
-        const V3D<D> fp = a.pressure ? load3(d, &a.pressure[s]) : zero3(d);
-        const VecD<D> r = hn::LoadU(d, &p.radius[s]);
-        AdvanceTerms<VecD<D>> en;
-        advance_lanes<true>(free, st, g, dt, lambda, a.lambda != 0.0, &en, &fp, &r);
-        using kernels::kTerms;
-        for (int k = 0; k < kTerms; ++k) {
-            terms[k] = en.back[k];
-            terms[kTerms + k] = en.fwd[k];
-        }
-        terms[2 * kTerms] = en.kinetic;
-    } else {
-        advance_lanes<false>(free, st, g, dt, lambda, a.lambda != 0.0);
-    }
+    const AdvanceStepLanes<VecD<D>> step = advance_lanes(free, st, g, dt, lambda);
     store3(d, st.v, &p.vel[s]);
     store3(d, st.x, &p.pos[s]);
     store3(d, st.w, &p.angvel[s]);
@@ -359,6 +347,12 @@ HWY_INLINE void advance_body(D d, const kernels::AdvanceArgs& a, int64_t s, VecD
     hn::LoadInterleaved3(df, &a.ref_pos[s].x, rx, ry, rz);
     const V3D<D> moved = st.x - V3D<D>{hn::PromoteTo(d, rx), hn::PromoteTo(d, ry), hn::PromoteTo(d, rz)};
     max_d2 = hn::Max(max_d2, hn::IfThenElseZero(free, norm2(moved)));
+    if constexpr (kEnergy) {
+        static_assert(kernels::kTerms == 5 && kernels::kParticleSums == 11 && kernels::kGravity == 2 &&
+                      kernels::kPressure == 1 && kernels::kExternal == 3 && kernels::kDamping == 4);
+        const V3D<D> fp = a.pressure ? load3(d, &a.pressure[s]) : zero3(d);
+        advance_terms_lanes(free, st, step, dt, a.lambda != 0.0, fp, hn::LoadU(d, &p.radius[s]), terms);
+    }
 }
 
 template <bool kEnergy>
@@ -388,7 +382,8 @@ double AdvanceT(const kernels::AdvanceArgs& a) {
     auto max_v = hn::Zero(d);
     auto max_1 = hn::Zero(d1);
     for_blocks<kEnergy ? kernels::kParticleSums : 0>(
-        d, int64_t(a.p->size()), a.block_begin, a.block_end, a.energy, [&](auto dd, int64_t s, auto* t) {
+        d, int64_t(a.p->size()), a.block_begin, a.block_end, a.energy,
+        [&](auto dd, int64_t s, auto* t) __attribute__((always_inline)) {
             if constexpr (hn::MaxLanes(decltype(dd)()) == 1 && hn::MaxLanes(decltype(d)()) != 1)
                 advance_body<kEnergy>(dd, a, s, t, max_1);
             else

@@ -8,6 +8,17 @@
 // into each SIMD target's namespace by dem/core/kernels.cpp (as dem/core/lanes-inl.h). Needs,
 // included before it: dem/core/lanes-inl.h, dem/contact/linear_law-inl.h,
 // dem/bonds/bond_law-inl.h.
+// VPPDEM_BODY: the bodies are inlined into their kernels' loops whatever the compiler's estimate
+// (World's kernels were written with every step inlined; a call per vector costs).
+#ifndef VPPDEM_BODY
+#if defined(__CUDACC__)
+#define VPPDEM_BODY __host__ __device__ __forceinline__
+#elif defined(__GNUC__)
+#define VPPDEM_BODY __attribute__((always_inline)) inline
+#else
+#define VPPDEM_BODY inline
+#endif
+#endif
 
 // One particle pair as the pair and bond kernels read it: positions, half-step velocities,
 // angular velocities and radii of body 1 (i) and body 2 (j).
@@ -27,7 +38,7 @@ template <class R> struct PairLanesOut {
 
 // The touch test of a particle pair (ContactSet::find_new, the pair kernels): the spheres
 // overlap.
-template <class R> VPPDEM_HD inline auto spheres_touch_lanes(const V3<R>& xi, const R& ri, const V3<R>& xj, const R& rj) {
+template <class R> VPPDEM_BODY auto spheres_touch_lanes(const V3<R>& xi, const R& ri, const V3<R>& xj, const R& rj) {
     const V3<R> dx = xj - xi;
     const R rs = ri + rj;
     return norm2(dx) < rs * rs;
@@ -35,7 +46,7 @@ template <class R> VPPDEM_HD inline auto spheres_touch_lanes(const V3<R>& xi, co
 
 // Velocity of body 2 relative to body 1 at the contact, lever arms at the full radii along n
 // (Yade's avoidGranularRatcheting).
-template <class R> VPPDEM_HD inline V3<R> pair_relative_velocity(const PairLanes<R>& q, const V3<R>& n) {
+template <class R> VPPDEM_BODY V3<R> pair_relative_velocity(const PairLanes<R>& q, const V3<R>& n) {
     return (q.vj + cross(q.wj, n * neg(q.rj))) - (q.vi + cross(q.wi, n * q.ri));
 }
 
@@ -43,7 +54,7 @@ template <class R> VPPDEM_HD inline V3<R> pair_relative_velocity(const PairLanes
 // spheres touch: unit normal from 1 to 2 ((0, 0, 1) for coincident centres) and overlap [m]
 // (negative when apart). Returns the touch mask, `live` and the spheres overlapping.
 template <class R, class M>
-VPPDEM_HD inline auto sphere_geometry_lanes(const PairLanes<R>& q, const M& live, V3<R>& n, R& overlap) {
+VPPDEM_BODY auto sphere_geometry_lanes(const PairLanes<R>& q, const M& live, V3<R>& n, R& overlap) {
     const V3<R> dx = q.xj - q.xi;
     const R d2 = norm2(dx), rs = q.ri + q.rj;
     const auto touch = both(live, d2 < rs * rs);
@@ -60,7 +71,7 @@ VPPDEM_HD inline auto sphere_geometry_lanes(const PairLanes<R>& q, const M& live
 // contact point. `live`: the slot holds a contact (true for one pair). Returns the touch mask;
 // a live pair that does not touch opened this step.
 template <bool kEnergy, class R, class M>
-VPPDEM_HD inline auto frictional_pair_lanes(const PairLanes<R>& q, const M& live, const R& kn, const R& ks, const R& mu,
+VPPDEM_BODY auto frictional_pair_lanes(const PairLanes<R>& q, const M& live, const R& kn, const R& ks, const R& mu,
                                             const R& cn, const R& dt, V3<R>& fs, V3<R>& prev, PairLanesOut<R>& o) {
     V3<R> n;
     R overlap;
@@ -97,7 +108,7 @@ VPPDEM_HD inline auto frictional_pair_lanes(const PairLanes<R>& q, const M& live
 // A frictionless particle pair: the normal force only (no shear spring, no torques: o.torque1
 // and o.torque2 are not written). Returns the touch mask as frictional_pair_lanes.
 template <bool kEnergy, class R, class M>
-VPPDEM_HD inline auto smooth_pair_lanes(const PairLanes<R>& q, const M& live, const R& kn, const R& cn, const R& dt,
+VPPDEM_BODY auto smooth_pair_lanes(const PairLanes<R>& q, const M& live, const R& kn, const R& cn, const R& dt,
                                         PairLanesOut<R>& o) {
     V3<R> n;
     R overlap;
@@ -119,27 +130,45 @@ VPPDEM_HD inline auto smooth_pair_lanes(const PairLanes<R>& q, const M& live, co
     return touch;
 }
 
-// One bond's step: geometry, relative velocity at the bond point (lever arms as for a contact:
-// the bond point sits where the spheres would touch), the bond law with its shear history (fs,
-// prev: updated), torques. With kEnergy the bond's stored energy [J] goes to *elastic.
-template <bool kEnergy, class R>
-VPPDEM_HD inline void bond_lanes(const PairLanes<R>& q, const R& kn, const R& ks, const R& rest, const R& dt, V3<R>& fs,
-                                 V3<R>& prev, V3<R>& force, V3<R>& torque1, V3<R>& torque2, R* elastic = nullptr) {
-    const R half = lit(dt, 0.5);
+// A bond's geometry: unit axis n from 1 to 2, centre distance [m], half the gap the spheres
+// would close to touch (the lever arms are as for a contact: the bond point sits where the
+// spheres would touch), relative velocity at the bond point and the twist rate.
+template <class R> struct BondGeometryLanes {
+    V3<R> n, vrel;
+    R dist, half_gap, spin_n;
+};
+template <class R> VPPDEM_BODY BondGeometryLanes<R> bond_geometry_lanes(const PairLanes<R>& q) {
+    const R half = lit(q.ri, 0.5);
+    BondGeometryLanes<R> b;
     const V3<R> dx = q.xj - q.xi;
-    const R dist = lane_sqrt(norm2(dx));
-    const V3<R> n = dx * (lit(dt, 1.0) / dist);
-    const R half_gap = half * (q.ri + q.rj - dist);
-    const V3<R> vrel = pair_relative_velocity(q, n);
-    const R spin_n = half * dot(n, q.wi + q.wj);
-    force = bond_force_lanes<kEnergy>(kn, ks, rest, n, dist, vrel, spin_n, dt, fs, prev, elastic);
-    const V3<R> nxf = cross(n, neg(force));
-    torque1 = nxf * (q.ri - half_gap);
-    torque2 = nxf * (q.rj - half_gap);
+    b.dist = lane_sqrt(norm2(dx));
+    b.n = dx * (lit(q.ri, 1.0) / b.dist);
+    b.half_gap = half * (q.ri + q.rj - b.dist);
+    b.vrel = pair_relative_velocity(q, b.n);
+    b.spin_n = half * dot(b.n, q.wi + q.wj);
+    return b;
+}
+// The bond law on that geometry with its shear history (fs, prev: updated), and the torques.
+// With kEnergy the bond's stored energy [J] goes to *elastic.
+template <bool kEnergy, class R>
+VPPDEM_BODY void bond_step_lanes(const PairLanes<R>& q, const BondGeometryLanes<R>& b, const R& kn, const R& ks,
+                                 const R& rest, const R& dt, V3<R>& fs, V3<R>& prev, V3<R>& force, V3<R>& torque1,
+                                  V3<R>& torque2, R* elastic = nullptr) {
+    force = bond_force_lanes<kEnergy>(kn, ks, rest, b.n, b.dist, b.vrel, b.spin_n, dt, fs, prev, elastic);
+    const V3<R> nxf = cross(b.n, neg(force));
+    torque1 = nxf * (q.ri - b.half_gap);
+    torque2 = nxf * (q.rj - b.half_gap);
+}
+// One bond's step: the two above (World's bond kernel calls them apart, loading the bond's
+// coefficients and history between them).
+template <bool kEnergy, class R>
+VPPDEM_BODY void bond_lanes(const PairLanes<R>& q, const R& kn, const R& ks, const R& rest, const R& dt, V3<R>& fs,
+                            V3<R>& prev, V3<R>& force, V3<R>& torque1, V3<R>& torque2, R* elastic = nullptr) {
+    bond_step_lanes<kEnergy>(q, bond_geometry_lanes(q), kn, ks, rest, dt, fs, prev, force, torque1, torque2, elastic);
 }
 
 // 1 - lambda sign(x), sign(0) = 0 (dem/integrate/leapfrog.h).
-template <class R> VPPDEM_HD inline R damping_factor_lanes(const R& x, const R& lambda) {
+template <class R> VPPDEM_BODY R damping_factor_lanes(const R& x, const R& lambda) {
     const R zero = lit(x, 0.0), one = lit(x, 1.0);
     return one - lambda * select(x > zero, one, select(x < zero, lit(x, -1.0), zero));
 }
@@ -151,67 +180,75 @@ template <class R> struct AdvanceLanes {
     R m, inv_m, inv_i;  // [kg], [1/kg], [1/(kg m^2)]
 };
 
-// The energy ledger's terms of one particle's step (dem/core/kernels.h, ParticleTerm): the work
-// of each force over the back and forward half steps [J], then the kinetic energy [J].
-template <class R> struct AdvanceTerms {
-    R back[5], fwd[5], kinetic;
+// What the energy terms of a step read besides the particle: the velocities before and after,
+// the gravity force, the total force, and the accelerations the integrator applied.
+template <class R> struct AdvanceStepLanes {
+    V3<R> v0, v1, w0, w1, fg, ftot, acc, al;
 };
 
 // One leapfrog step with Yade's local damping for the particles of `free` (inv_m > 0); the others
-// keep their state (and get zero terms). Total force (contact + external) + gravity,
-// cundallDamp2nd on the translation, cundallDamp1st on the rotation, then v and x. lambda [-]
-// the local damping (`damped`: lambda != 0); with kEnergy the terms go to *en (fp the pressure's
-// force [N], r the radius [m]).
-template <bool kEnergy, class R, class M>
-VPPDEM_HD inline void advance_lanes(const M& free, AdvanceLanes<R>& s, const V3<R>& g, const R& dt, const R& lambda,
-                                    bool damped, AdvanceTerms<R>* en = nullptr, const V3<R>* fp = nullptr,
-                                    const R* r = nullptr) {
-    const R zero = lit(dt, 0.0), half = lit(dt, 0.5), half_dt = half * dt;
-    const V3<R> x0 = s.x, v0 = s.v, w0 = s.w;
-    const V3<R> fg = g * s.m;
+// keep their state. Total force (contact + external) + gravity, cundallDamp2nd on the translation,
+// cundallDamp1st on the rotation, then v and x. lambda [-] the local damping. Returns what
+// advance_terms_lanes reads.
+template <class R, class M>
+VPPDEM_BODY AdvanceStepLanes<R> advance_lanes(const M& free, AdvanceLanes<R>& s, const V3<R>& g, const R& dt,
+                                              const R& lambda) {
+    const R half_dt = lit(dt, 0.5) * dt;
+    AdvanceStepLanes<R> q;
+    const V3<R> x0 = s.x;
+    const V3<R>& v0 = q.v0 = s.v;
+    const V3<R>& w0 = q.w0 = s.w;
+    q.fg = g * s.m;
     // Total force as World::total_force: contacts + external + gravity.
-    const V3<R> ftot = (s.f + s.fx) + fg;
+    q.ftot = (s.f + s.fx) + q.fg;
     // Yade's cundallDamp2nd: component k scaled by 1 - lambda sign(a_k v_k(t)),
     // v(t) = v(t - dt/2) + dt/2 a (dem/integrate/leapfrog.h, damped_acceleration).
-    V3<R> acc = ftot * s.inv_m;
+    V3<R>& acc = q.acc = q.ftot * s.inv_m;
     acc.x = acc.x * damping_factor_lanes(acc.x * (v0.x + half_dt * acc.x), lambda);
     acc.y = acc.y * damping_factor_lanes(acc.y * (v0.y + half_dt * acc.y), lambda);
     acc.z = acc.z * damping_factor_lanes(acc.z * (v0.z + half_dt * acc.z), lambda);
-    const V3<R> v1 = v0 + acc * dt;
-    const V3<R> x1 = x0 + v1 * dt;
+    q.v1 = v0 + acc * dt;
+    const V3<R> x1 = x0 + q.v1 * dt;
     // cundallDamp1st for rotations.
-    V3<R> al = s.t * s.inv_i;
+    V3<R>& al = q.al = s.t * s.inv_i;
     al.x = al.x * damping_factor_lanes(al.x * w0.x, lambda);
     al.y = al.y * damping_factor_lanes(al.y * w0.y, lambda);
     al.z = al.z * damping_factor_lanes(al.z * w0.z, lambda);
-    const V3<R> w1 = w0 + al * dt;
+    q.w1 = w0 + al * dt;
     s.x = select(free, x1, x0);
-    s.v = select(free, v1, v0);
-    s.w = select(free, w1, w0);
-    if constexpr (kEnergy) {
-        // World::particle terms (docs/energy.md): trapezoid halves of each force's work.
-        const R h = half_dt;
-        const R inertia = select(s.inv_i > zero, lit(dt, 0.4) * s.m * *r * *r, zero);
-        AdvanceTerms<R>& t = *en;
-        for (int k = 0; k < 5; ++k) t.back[k] = t.fwd[k] = zero;
-        t.back[2] = dot(fg, v0) * h;  // gravity
-        t.fwd[2] = dot(fg, v1) * h;
-        t.back[1] = dot(*fp, v0) * h;  // pressure
-        t.fwd[1] = dot(*fp, v1) * h;
-        t.back[3] = dot(s.fx, v0) * h;  // external
-        t.fwd[3] = dot(s.fx, v1) * h;
-        t.kinetic = half * s.m * dot(v0, v1) + half * inertia * dot(w0, w1);
-        if (damped) {
-            // The damping force and torque the integrator removed: F - m a, T - I alpha.
-            const V3<R> df = ftot - acc * s.m;
-            const V3<R> dq = select(inertia > zero, s.t - al * inertia, V3<R>{zero, zero, zero});
-            t.back[4] = (dot(df, v0) + dot(dq, w0)) * h;
-            t.fwd[4] = (dot(df, v1) + dot(dq, w1)) * h;
-        }
-        for (int k = 0; k < 5; ++k) {
-            t.back[k] = select(free, t.back[k], zero);
-            t.fwd[k] = select(free, t.fwd[k], zero);
-        }
-        t.kinetic = select(free, t.kinetic, zero);
+    s.v = select(free, q.v1, v0);
+    s.w = select(free, q.w1, w0);
+    return q;
+}
+
+// The energy ledger's terms of that step (World::particle terms, docs/energy.md: trapezoid halves
+// of each force's work; dem/core/kernels.h, ParticleTerm), zero for a particle not `free`: the
+// work of each force over the back half step [J] in t[0..5), over the forward half step in
+// t[5..10), the kinetic energy [J] in t[10]. s the particle as advance_lanes left it (its mass,
+// inertia, external force and torque are read), fp the pressure's force [N], r the radius [m],
+// `damped`: lambda != 0.
+template <class R, class M>
+VPPDEM_BODY void advance_terms_lanes(const M& free, const AdvanceLanes<R>& s, const AdvanceStepLanes<R>& q, const R& dt,
+                                     bool damped, const V3<R>& fp, const R& r, R* t) {
+    const R zero = lit(dt, 0.0), half = lit(dt, 0.5), h = half * dt;
+    const R inertia = select(s.inv_i > zero, lit(dt, 0.4) * s.m * r * r, zero);
+    R* const back = t;
+    R* const fwd = t + 5;
+    back[0] = fwd[0] = zero;  // boundary: the prescribed particles' (World's)
+    back[2] = dot(q.fg, q.v0) * h;  // gravity
+    fwd[2] = dot(q.fg, q.v1) * h;
+    back[1] = dot(fp, q.v0) * h;  // pressure
+    fwd[1] = dot(fp, q.v1) * h;
+    back[3] = dot(s.fx, q.v0) * h;  // external
+    fwd[3] = dot(s.fx, q.v1) * h;
+    t[10] = half * s.m * dot(q.v0, q.v1) + half * inertia * dot(q.w0, q.w1);
+    back[4] = fwd[4] = zero;
+    if (damped) {
+        // The damping force and torque the integrator removed: F - m a, T - I alpha.
+        const V3<R> df = q.ftot - q.acc * s.m;
+        const V3<R> dq = select(inertia > zero, s.t - q.al * inertia, V3<R>{zero, zero, zero});
+        back[4] = (dot(df, q.v0) + dot(dq, q.w0)) * h;
+        fwd[4] = (dot(df, q.v1) + dot(dq, q.w1)) * h;
     }
+    for (int k = 0; k < 11; ++k) t[k] = select(free, t[k], zero);
 }

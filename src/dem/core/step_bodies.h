@@ -12,6 +12,7 @@
 #include "dem/core/lanes.h"
 #include "dem/core/vec3.h"
 #include "dem/detect/geometry.h"
+#include "dem/walls/wall_now.h"
 
 namespace dem {
 
@@ -38,16 +39,6 @@ struct PairOut {
 struct PairEnergy {
     double elastic = 0, slip = 0, release = 0, viscous = 0;  // [J]
     Vec3 fv;                                                  // [N] dashpot force on body 2
-};
-
-// Where a wall is now: a plane (point, normal) or a facet (vertices), and its velocity over the
-// last step.
-struct WallNow {
-    bool plane = true;
-    bool one_sided = false;
-    Vec3 point, normal;  // [m], [-] (planes)
-    Vec3 v0, v1, v2;     // [m] (facets)
-    Vec3 velocity;       // [m/s]
 };
 
 // The narrow phase of a sphere (x [m], r [m]) against a wall: the touch test of

@@ -5,7 +5,6 @@
 
 #include "dem/core/kernels.h"
 #include "dem/core/step_bodies.h"
-#include "dem/walls/wall_state.h"
 
 namespace dem::kernels {
 
@@ -14,7 +13,7 @@ namespace {
 template <bool kEnergy> void wall_pairs_impl(const WallPairArgs& a) {
     const Particles& p = *a.p;
     ActiveContacts& ws = *a.c;
-    const std::vector<Vec3>& wall_vel = *a.wall_vel;
+    const std::vector<WallNow>& now = *a.now;
     const double dt = a.dt;
     const int64_t ns = int64_t(ws.size());
     std::vector<uint32_t>& opened = *a.opened;
@@ -26,7 +25,7 @@ template <bool kEnergy> void wall_pairs_impl(const WallPairArgs& a) {
             if (ws.cand[s] == kNoSlot) continue;
             const uint32_t i = ws.i[s], w = ws.j[s];
             // The wall body of dem/core/step_bodies.h (the batch engine's too).
-            const WallNow wl = wall_now(*a.planes, *a.facets, *a.plane_point, *a.facet_now, wall_vel[w], w);
+            const WallNow& wl = now[w];
             PairEnergy en;
             const PairOut o = wall_pair<kEnergy>({p.pos[i], p.vel[i], p.angvel[i], p.radius[i]}, wl, ws.phys[s], dt,
                                                  ws.shear[s], ws.prev_normal[s], &en);

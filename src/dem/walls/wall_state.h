@@ -7,9 +7,9 @@
 #include <vector>
 
 #include "dem/contact/active_contacts.h"
-#include "dem/core/step_bodies.h"
 #include "dem/core/vec3.h"
 #include "dem/walls/wall.h"
+#include "dem/walls/wall_now.h"
 
 namespace dem {
 
@@ -17,17 +17,18 @@ struct WallState {
     std::vector<Vec3> plane_point;                 // [m] a point of each plane now
     std::vector<std::array<Vec3, 3>> facet_now;    // [m] each facet's vertices now
     std::vector<Vec3> velocity;                    // [m/s] each wall's mean velocity over the last step
+    std::vector<WallNow> now;                      // each wall as the wall bodies read it (wall_now)
     std::vector<Vec3> force, torque;               // [N], [N m] (about the origin) particles on each wall
 
     // The walls at `time` (planes first, then facets); the velocity over [time - dt, time]
-    // matches the particles' half-step velocity v(t - dt/2).
+    // matches the particles' half-step velocity v(t - dt/2). Also `now`, from these.
     void move(const std::vector<Plane>& planes, const std::vector<Facet>& facets, double time, double dt);
     // Reactions from the live wall contacts of `walls` for nw walls, in slot order.
     void sum_reactions(const ActiveContacts& walls, std::size_t nw);
 };
 
 // Wall k (planes first, then facets) as the wall bodies read it (dem/core/step_bodies.h):
-// World's wall kernel and touch test and the batch engine's walls now.
+// WallState::now, which World's wall kernel and touch test and the batch engine's kernels read.
 inline WallNow wall_now(const std::vector<Plane>& planes, const std::vector<Facet>& facets,
                         const std::vector<Vec3>& plane_point, const std::vector<std::array<Vec3, 3>>& facet_now,
                         const Vec3& velocity, uint32_t k) {
@@ -47,10 +48,6 @@ inline WallNow wall_now(const std::vector<Plane>& planes, const std::vector<Face
     }
     wl.velocity = velocity;
     return wl;
-}
-inline WallNow wall_now(const WallState& ws, const std::vector<Plane>& planes, const std::vector<Facet>& facets,
-                        uint32_t k) {
-    return wall_now(planes, facets, ws.plane_point, ws.facet_now, ws.velocity[k], k);
 }
 
 }  // namespace dem

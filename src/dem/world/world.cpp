@@ -330,8 +330,7 @@ void World::open_contacts(int tid) {
     find.repack = !packed_valid_;
     find.planes = &planes;
     find.facets = &facets;
-    find.plane_point = &walls_now_.plane_point;
-    find.facet_now = &walls_now_.facet_now;
+    find.wall_now = &walls_now_.now;
     std::tie(find.pair_reach, find.wall_reach) = engine_reach();
     find.blocks = &work_.particles[tid];
     contacts_.find_new(find);
@@ -366,11 +365,7 @@ void World::contact_forces(int tid) {
     kernels::WallPairArgs w;
     w.p = &particles;
     w.c = &contacts_.walls;
-    w.planes = &planes;
-    w.facets = &facets;
-    w.plane_point = &walls_now_.plane_point;
-    w.facet_now = &walls_now_.facet_now;
-    w.wall_vel = &walls_now_.velocity;
+    w.now = &walls_now_.now;
     w.dt = dt;
     w.blocks = &work_.walls[tid];
     w.energy = track ? book_.walls.data() : nullptr;
