@@ -5,6 +5,7 @@
 #include <string>
 
 #include "dem/batch/bond_step.h"
+#include "dem/batch/lane_sums.h"
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
 #include "dem/core/kernels.h"
@@ -89,24 +90,6 @@ void BatchSystems::store(std::size_t s) const {
 }
 
 namespace {
-
-// The energy ledger's block sums as the SIMD kernels form them (dem/core/kernels.h): within a block
-// of kBlock entries, entry e adds its K terms to virtual lane e % 8 in entry order, then the 8
-// lanes are added in order.
-template <int K> struct LaneSums {
-    double lane[K][8] = {};
-    void add(int64_t e, const double* t) {
-        for (int k = 0; k < K; ++k) lane[k][e % 8] += t[k];
-    }
-    // The block's K sums into out (blocks_of starts each block with a fresh LaneSums).
-    void flush(double* out) const {
-        for (int k = 0; k < K; ++k) {
-            double sum = 0.0;
-            for (int l = 0; l < 8; ++l) sum += lane[k][l];
-            out[k] = sum;
-        }
-    }
-};
 
 // Runs body(q) for the entries of each block of n and flushes the block's sums into out.
 template <int K, class Body> void blocks_of(std::size_t n, double* out, Body&& body) {

@@ -9,6 +9,7 @@
 // non-negative double, by its bits).
 #include "dem/batch/bond_step.h"
 #include "dem/batch/device_api.h"
+#include "dem/batch/lane_sums.h"
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
 #include "dem/contact/candidates.h"
@@ -61,22 +62,15 @@ VPPDEM_HD inline void put_terms(double* t, const PairEnergy& e) {
     t[3] = e.viscous;
 }
 
-// The ledger's block sums of K terms per entry (batch_systems.cpp, LaneSums): entry e adds to
-// virtual lane e % 8 in entry order, then the 8 lanes in order. Entries whose terms are zero add
-// nothing to the bits (a sum that starts at +0 never becomes -0), so holes may be added.
+// The ledger's block sums of K terms per entry (lane_sums.h, LaneSums, the host backend's too).
+// Entries whose terms are zero add nothing to the bits (a sum that starts at +0 never becomes -0),
+// so holes may be added.
 template <int K> VPPDEM_HD inline void lane_sums(const double* terms, int64_t n, double* out, int tid, int nt) {
     for (int64_t b = tid; b < blocks(n); b += nt) {
-        double lane[K][8];
-        for (int k = 0; k < K; ++k)
-            for (int l = 0; l < 8; ++l) lane[k][l] = 0.0;
+        LaneSums<K> sums;
         const int64_t e1 = (b + 1) * kBlock < n ? (b + 1) * kBlock : n;
-        for (int64_t e = b * kBlock; e < e1; ++e)
-            for (int k = 0; k < K; ++k) lane[k][e % 8] += terms[e * K + k];
-        for (int k = 0; k < K; ++k) {
-            double sum = 0.0;
-            for (int l = 0; l < 8; ++l) sum += lane[k][l];
-            out[b * K + k] = sum;
-        }
+        for (int64_t e = b * kBlock; e < e1; ++e) sums.add(e, terms + e * K);
+        sums.flush(out + b * K);
     }
 }
 

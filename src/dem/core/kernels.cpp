@@ -1,5 +1,6 @@
 // SIMD kernels of the step (dem/core/kernels.h). Compiled once per Highway target through
-// foreach_target.h; the physics comes from the lane templates of the laws
+// foreach_target.h; the physics comes from the lane templates of the bodies
+// (dem/core/step_bodies-inl.h, the batch engine's too) and of the laws they call
 // (dem/contact/linear_law.h, dem/bonds/bond_law.h), so this file only loads, stores and masks.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "dem/core/kernels.cpp"
