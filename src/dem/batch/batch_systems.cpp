@@ -5,6 +5,7 @@
 #include <string>
 
 #include "dem/batch/bond_step.h"
+#include "dem/batch/lane_sums.h"
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
 #include "dem/core/kernels.h"
@@ -12,11 +13,6 @@
 #include "dem/core/thread_team.h"
 
 namespace dem::batch {
-
-namespace {
-// The underpressure a system's foil carries [Pa]: World's, and none without pressure nodes.
-double world_underpressure(const World& wd) { return wd.pressure.nodes.empty() ? 0.0 : wd.pressure.dp; }
-}  // namespace
 
 std::size_t BatchSystems::add(World& wd) {
     const Particles& p = wd.particles;
@@ -95,24 +91,6 @@ void BatchSystems::store(std::size_t s) const {
 
 namespace {
 
-// The energy ledger's block sums as the SIMD kernels form them (dem/core/kernels.h): within a block
-// of kBlock entries, entry e adds its K terms to virtual lane e % 8 in entry order, then the 8
-// lanes are added in order.
-template <int K> struct LaneSums {
-    double lane[K][8] = {};
-    void add(int64_t e, const double* t) {
-        for (int k = 0; k < K; ++k) lane[k][e % 8] += t[k];
-    }
-    // The block's K sums into out (blocks_of starts each block with a fresh LaneSums).
-    void flush(double* out) const {
-        for (int k = 0; k < K; ++k) {
-            double sum = 0.0;
-            for (int l = 0; l < 8; ++l) sum += lane[k][l];
-            out[k] = sum;
-        }
-    }
-};
-
 // Runs body(q) for the entries of each block of n and flushes the block's sums into out.
 template <int K, class Body> void blocks_of(std::size_t n, double* out, Body&& body) {
     const int64_t nb = kernels::block_count(n);
@@ -142,31 +120,14 @@ void step_forces(BatchSystems& b, std::size_t sys) {
     wd.engine_begin_forces();
     ContactSet& c = wd.engine_contacts();
     const WallState& walls = wd.wall_state();
-    const uint32_t nplanes = uint32_t(wd.planes.size());
-    const auto wall_now = [&](uint32_t k) {
-        WallNow wl;
-        wl.plane = k < nplanes;
-        if (wl.plane) {
-            wl.point = walls.plane_point[k];
-            wl.normal = wd.planes[k].normal;
-            wl.one_sided = wd.planes[k].one_sided;
-        } else {
-            const auto& v = walls.facet_now[k - nplanes];
-            wl.v0 = v[0];
-            wl.v1 = v[1];
-            wl.v2 = v[2];
-            wl.one_sided = wd.facets[k - nplanes].one_sided;
-        }
-        wl.velocity = walls.velocity[k];
-        return wl;
-    };
+    const auto now = [&](uint32_t k) -> const WallNow& { return walls.now[k]; };
     // Candidates without a contact that could have closed their gap since the rebuild, tested
     // (as ContactSet::find_new, with World's reach).
     const auto [pair_reach, wall_reach] = wd.engine_reach();
     if (!c.pp.other.empty())
         for (int64_t i = 0; i < n; ++i)
             for (uint32_t k = c.pp.start[i]; k < c.pp.start[i + 1]; ++k) {
-                if (c.pp.slot[k] != kNoSlot || !(c.pp.gap[k] < pair_reach)) continue;
+                if (!open_candidate(c.pp.slot[k], c.pp.gap[k], pair_reach)) continue;
                 const uint32_t j = c.pp.other[k];
                 if (spheres_touch(b.x[base + i], b.r[base + i], b.x[base + j], b.r[base + j])) {
                     c.new_pp[0].push_back(uint32_t(i));
@@ -176,9 +137,9 @@ void step_forces(BatchSystems& b, std::size_t sys) {
     if (!c.pw.other.empty())
         for (int64_t i = 0; i < n; ++i)
             for (uint32_t k = c.pw.start[i]; k < c.pw.start[i + 1]; ++k) {
-                if (c.pw.slot[k] != kNoSlot || !(c.pw.gap[k] < wall_reach)) continue;
+                if (!open_candidate(c.pw.slot[k], c.pw.gap[k], wall_reach)) continue;
                 ContactGeom g;
-                if (wall_geometry(end(uint32_t(i)), wall_now(c.pw.other[k]), g)) {
+                if (wall_geometry(end(uint32_t(i)), now(c.pw.other[k]), g)) {
                     c.new_pw[0].push_back(uint32_t(i));
                     c.new_pw[0].push_back(k);
                 }
@@ -234,7 +195,7 @@ void step_forces(BatchSystems& b, std::size_t sys) {
         for (int64_t q = blk * kernels::kBlock; q < std::min(int64_t(c.walls.size()), (blk + 1) * kernels::kBlock); ++q) {
             if (c.walls.cand[q] == kNoSlot) continue;
             PairEnergy en;
-            const WallNow wl = wall_now(c.walls.j[q]);
+            const WallNow& wl = now(c.walls.j[q]);
             const PairOut o = track ? wall_pair<true>(end(c.walls.i[q]), wl, c.walls.phys[q], dt, c.walls.shear[q],
                                                       c.walls.prev_normal[q], &en)
                                     : wall_pair(end(c.walls.i[q]), wl, c.walls.phys[q], dt, c.walls.shear[q],
@@ -259,7 +220,7 @@ void step_forces(BatchSystems& b, std::size_t sys) {
     }
     // The underpressure is World's (a driver may change it between steps: the air inside).
     b.dp[s] = world_underpressure(wd);
-    const bool with_pressure = b.dp[s] != 0.0 && b.node_first[s + 1] > b.node_first[s];
+    const bool with_pressure = b.with_pressure(sys);
     for (int64_t k = b.node_first[s]; k < b.node_first[s + 1]; ++k) {
         const auto& q = b.ring[k];
         b.pressure_slot[b.node[k]] = pressure_force(b.x[q[0]], b.x[q[1]], b.x[q[2]], b.x[q[3]], b.dp[s]);
@@ -277,24 +238,14 @@ void step_forces(BatchSystems& b, std::size_t sys) {
     });
     // The gather of World (gather_in_order): each particle's interaction list in order; the force
     // on body 1 is the opposite of that on body 2.
-    using L = InteractionLists;
-    const Vec3* const force[3] = {c.fric.force.data(), c.smooth.force.data(), c.walls.force.data()};
-    const Vec3* const torque[3][2] = {{c.fric.torque1.data(), c.fric.torque2.data()},
-                                      {c.smooth.torque1.data(), c.smooth.torque2.data()},
-                                      {c.walls.torque2.data(), c.walls.torque2.data()}};
-    const auto add = [&](uint32_t ref, Vec3& fo, Vec3& to) {
-        const uint32_t src = ref >> 30, second = (ref & L::kSecond) ? 1 : 0, k = ref & L::kIndexMask;
-        if (src == L::kBond) {
-            fo += b.bond_force[bb + k] * (second ? 1.0 : -1.0);
-            to += second ? b.torque2[bb + k] : b.torque1[bb + k];
-        } else {
-            fo += force[src][k] * (second ? 1.0 : -1.0);
-            to += torque[src][second][k];
-        }
-    };
+    const GatherTables tb{{c.fric.force.data(), c.smooth.force.data(), c.walls.force.data(), b.bond_force.data() + bb},
+                          {{c.fric.torque1.data(), c.fric.torque2.data()},
+                           {c.smooth.torque1.data(), c.smooth.torque2.data()},
+                           {c.walls.torque2.data(), c.walls.torque2.data()},
+                           {b.torque1.data() + bb, b.torque2.data() + bb}}};
     for (int64_t i = 0; i < n; ++i) {
         Vec3 fi, ti;
-        gather_in_order(c.links.ref.data() + c.links.start[i], c.links.count[i], add, fi, ti);
+        gather_particle(tb, c.links.ref.data() + c.links.start[i], c.links.count[i], fi, ti);
         if (with_pressure) fi += b.pressure_slot[base + i];
         b.f[base + i] = fi;
         b.t[base + i] = ti;
@@ -313,7 +264,7 @@ void step_motion(BatchSystems& b, std::size_t sys) {
     const bool track = wd.params.track_energy;
     EnergyBook& book = wd.engine_book();
     const BroadPhase& bp = wd.broad_phase();
-    const bool with_pressure = b.dp[s] != 0.0 && b.node_first[s + 1] > b.node_first[s];
+    const bool with_pressure = b.with_pressure(sys);
 
     // Motion to t + dt: the free particles, then World's prescribed ones, then the clock (and
     // the ledger, from the block sums, the prescribed particles' forces and the new velocities).

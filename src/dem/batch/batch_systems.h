@@ -45,6 +45,8 @@ struct BatchSystems {
     std::vector<uint32_t> prescribed;
 
     std::size_t systems() const { return gravity.size(); }
+    // System s's foil carries its underpressure dp[s] (its pressure nodes' forces join the gather).
+    bool with_pressure(std::size_t s) const { return dp[s] != 0.0 && node_first[s + 1] > node_first[s]; }
     std::size_t particles() const { return x.size(); }
     // Appends `world` as system B and returns B. The World must outlive the batch's use of it (its
     // own threads, params.threads, serve its broad phase). Refused: clumps.
@@ -52,6 +54,10 @@ struct BatchSystems {
     // Hands system s back to its World: particles (state, forces), bonds' state and history.
     void store(std::size_t s) const;
 };
+
+// The underpressure a system's foil carries [Pa]: World's, and none without pressure nodes (read
+// at each step: a driver may change it between steps, the air inside).
+inline double world_underpressure(const World& wd) { return wd.pressure.nodes.empty() ? 0.0 : wd.pressure.dp; }
 
 // The two halves of system s's step on the host (World::compute_forces(), World::integrate()):
 // between them World's wall reactions, its prescribed particles' forces, its energy ledger and

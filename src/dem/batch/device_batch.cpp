@@ -304,7 +304,7 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     v.dt = b.dt[s];
     v.lambda = b.lambda[s];
     v.dp = b.dp[s];
-    v.with_pressure = b.dp[s] != 0.0 && v.node1 > v.node0;
+    v.with_pressure = b.with_pressure(s);
     v.gravity = b.gravity[s];
     v.pair_reach = y.pair_reach;
     v.wall_reach = y.wall_reach;
@@ -487,28 +487,14 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
                 put(y.ref_pos, ref.data(), ref.size() * sizeof(FloatVec3));
             }
             const WallState& walls = wd.wall_state();
-            const std::size_t np = wd.planes.size(), nw = np + wd.facets.size();
+            const std::size_t nw = wd.planes.size() + wd.facets.size();
             if (y.off_now + nw > walls_now) throw std::logic_error("batch: a system's walls changed in a step");
             WallNow* now = h_wallnow_.data() + y.off_now;
-            for (std::size_t k = 0; k < nw; ++k) {
-                WallNow& wl = now[k];
-                wl.plane = k < np;
-                if (wl.plane) {
-                    wl.point = walls.plane_point[k];
-                    wl.normal = wd.planes[k].normal;
-                    wl.one_sided = wd.planes[k].one_sided;
-                } else {
-                    const auto& v = walls.facet_now[k - np];
-                    wl.v0 = v[0];
-                    wl.v1 = v[1];
-                    wl.v2 = v[2];
-                    wl.one_sided = wd.facets[k - np].one_sided;
-                }
-                wl.velocity = walls.velocity[k];
-            }
+            if (walls.now.size() != nw) throw std::logic_error("batch: a system's walls were not moved");
+            std::copy(walls.now.begin(), walls.now.end(), now);
             std::tie(y.pair_reach, y.wall_reach) = wd.engine_reach();
             y.track = wd.params.track_energy ? 1 : 0;
-            b.dp[s] = wd.pressure.nodes.empty() ? 0.0 : wd.pressure.dp;
+            b.dp[s] = world_underpressure(wd);
             on[s] = 1;
         } catch (...) {
             fail(s);

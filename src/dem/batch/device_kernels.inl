@@ -1,7 +1,7 @@
 // The device backend's kernels (docs/gpu.md), written once: included by device_cuda.cu (nvcc:
 // one thread block per system, thread `tid` of `nt`) and by device_emul.cpp (the host compiler:
 // one thread, tid = 0, nt = 1). The per-index work is the host backend's bodies
-// (pair_step.h, bond_step.h, particle_step.h, gather_in_order), in the host backend's order; what
+// (pair_step.h, bond_step.h, particle_step.h, gather_particle), in the host backend's order; what
 // a kernel adds is only the loop, the barriers and the appends to the outbox.
 //
 // Before including: VPPDEM_KFN (__device__ or nothing: the kernels' bodies), VPPDEM_SYNC() (a block barrier), vppdem_append(uint64_t* counter) (returns
@@ -9,8 +9,10 @@
 // non-negative double, by its bits).
 #include "dem/batch/bond_step.h"
 #include "dem/batch/device_api.h"
+#include "dem/batch/lane_sums.h"
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
+#include "dem/contact/candidates.h"
 #include "dem/contact/interaction_lists.h"
 
 namespace dem::batch::dev {
@@ -38,14 +40,14 @@ VPPDEM_KFN inline void touch_body(const Globals& g, const SysView& s, int tid, i
         const int64_t a = s.base + i;
         if (s.pp.size)
             for (uint32_t k = s.pp.start[i]; k < s.pp.start[i + 1]; ++k) {
-                if (s.pp.slot[k] != kNone || !(s.pp.gap[k] < s.pair_reach)) continue;
+                if (!open_candidate(s.pp.slot[k], s.pp.gap[k], s.pair_reach)) continue;
                 const int64_t b = s.base + s.pp.other[k];
                 if (!spheres_touch(g.x[a], g.r[a], g.x[b], g.r[b])) continue;
                 emit(s.out, kFoundPP, uint32_t(i), k);
             }
         if (s.pw.size)
             for (uint32_t k = s.pw.start[i]; k < s.pw.start[i + 1]; ++k) {
-                if (s.pw.slot[k] != kNone || !(s.pw.gap[k] < s.wall_reach)) continue;
+                if (!open_candidate(s.pw.slot[k], s.pw.gap[k], s.wall_reach)) continue;
                 ContactGeom geo;
                 if (!wall_geometry(end_of(g, a), s.wall_now[s.pw.other[k]], geo)) continue;
                 emit(s.out, kFoundPW, uint32_t(i), k);
@@ -60,22 +62,15 @@ VPPDEM_HD inline void put_terms(double* t, const PairEnergy& e) {
     t[3] = e.viscous;
 }
 
-// The ledger's block sums of K terms per entry (batch_systems.cpp, LaneSums): entry e adds to
-// virtual lane e % 8 in entry order, then the 8 lanes in order. Entries whose terms are zero add
-// nothing to the bits (a sum that starts at +0 never becomes -0), so holes may be added.
+// The ledger's block sums of K terms per entry (lane_sums.h, LaneSums, the host backend's too).
+// Entries whose terms are zero add nothing to the bits (a sum that starts at +0 never becomes -0),
+// so holes may be added.
 template <int K> VPPDEM_HD inline void lane_sums(const double* terms, int64_t n, double* out, int tid, int nt) {
     for (int64_t b = tid; b < blocks(n); b += nt) {
-        double lane[K][8];
-        for (int k = 0; k < K; ++k)
-            for (int l = 0; l < 8; ++l) lane[k][l] = 0.0;
+        LaneSums<K> sums;
         const int64_t e1 = (b + 1) * kBlock < n ? (b + 1) * kBlock : n;
-        for (int64_t e = b * kBlock; e < e1; ++e)
-            for (int k = 0; k < K; ++k) lane[k][e % 8] += terms[e * K + k];
-        for (int k = 0; k < K; ++k) {
-            double sum = 0.0;
-            for (int l = 0; l < 8; ++l) sum += lane[k][l];
-            out[b * K + k] = sum;
-        }
+        for (int64_t e = b * kBlock; e < e1; ++e) sums.add(e, terms + e * K);
+        sums.flush(out + b * K);
     }
 }
 
@@ -175,23 +170,14 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
         s.out.walls[4 * q + 3] = wl.fv[q];
     }
     // The gather of World (gather_in_order): each particle's interaction list in order.
-    using L = InteractionLists;
-    const Vec3* const force[3] = {s.fric.force, s.smooth.force, s.walls.force};
-    const Vec3* const torque[3][2] = {{s.fric.torque1, s.fric.torque2}, {s.smooth.torque1, s.smooth.torque2},
-                                      {s.walls.torque2, s.walls.torque2}};
-    const auto add = [&](uint32_t ref, Vec3& fo, Vec3& to) {
-        const uint32_t src = ref >> 30, second = (ref & L::kSecond) ? 1 : 0, k = ref & L::kIndexMask;
-        if (src == L::kBond) {
-            fo += g.bforce[s.bond0 + k] * (second ? 1.0 : -1.0);
-            to += second ? g.btorque2[s.bond0 + k] : g.btorque1[s.bond0 + k];
-        } else {
-            fo += force[src][k] * (second ? 1.0 : -1.0);
-            to += torque[src][second][k];
-        }
-    };
+    const GatherTables tb{{s.fric.force, s.smooth.force, s.walls.force, g.bforce + s.bond0},
+                          {{s.fric.torque1, s.fric.torque2},
+                           {s.smooth.torque1, s.smooth.torque2},
+                           {s.walls.torque2, s.walls.torque2},
+                           {g.btorque1 + s.bond0, g.btorque2 + s.bond0}}};
     for (int64_t i = tid; i < s.n; i += nt) {
         Vec3 fi, ti;
-        gather_in_order(s.link_ref + s.link_start[i], s.link_count[i], add, fi, ti);
+        gather_particle(tb, s.link_ref + s.link_start[i], s.link_count[i], fi, ti);
         if (s.with_pressure) fi += g.pressure_slot[s.base + i];
         g.f[s.base + i] = fi;
         g.t[s.base + i] = ti;

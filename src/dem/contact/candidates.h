@@ -9,9 +9,15 @@
 #include <cstdint>
 #include <vector>
 
+#include "dem/core/hd.h"
+
 namespace dem {
 
 inline constexpr uint32_t kNoSlot = 0xffffffffu;  // candidate without a live contact
+
+// A candidate the touch test looks at (ContactSet::find_new, World's filter and the batch
+// engine's kernels): no live contact, and a gap at the rebuild [m] below `reach` [m].
+VPPDEM_HD inline bool open_candidate(uint32_t slot, float gap, float reach) { return slot == kNoSlot && gap < reach; }
 
 struct CandidateList {
     // Particle i's partners are other[start[i] .. start[i+1]), ascending: particles j > i for

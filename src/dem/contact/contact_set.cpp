@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "dem/core/parallel.h"
+#include "dem/core/step_bodies.h"
 #include "dem/detect/geometry.h"
 
 namespace dem {
@@ -30,9 +31,6 @@ void ContactSet::find_new(const FindArgs& a) {
     // branch per candidate would be mispredicted about every other time.
     const Particles& p = *a.p;
     const int64_t n = int64_t(p.size());
-    const std::vector<Plane>& planes = *a.planes;
-    const std::vector<Facet>& facets = *a.facets;
-    const uint32_t nplanes = uint32_t(planes.size());
     const int tid = thread_id();
     std::vector<uint32_t>& npp = new_pp[tid];
     std::vector<uint32_t>& npw = new_pw[tid];
@@ -77,21 +75,17 @@ void ContactSet::find_new(const FindArgs& a) {
             npp.push_back(test[q]);
         }
     };
-    const std::vector<Vec3>& plane_point = *a.plane_point;
-    const std::vector<std::array<Vec3, 3>>& facet_now = *a.facet_now;
+    const std::vector<WallNow>& wall_now = *a.wall_now;
     for (const auto& [b0, b1] : *a.blocks) {
         const int64_t i0 = b0 * kernels::kBlock, i1 = std::min(n, b1 * kernels::kBlock);
         if (a.packed && a.repack) kernels::pack_particles(p, i0, i1, a.packed);
         if (a.packed) scan_pairs(i0, i1, a.pair_reach);
         else scan(pp, i0, i1, a.pair_reach, [&](uint32_t i, uint32_t j) {
-            const Vec3 d = p.pos[j] - p.pos[i];
-            const double rs = p.radius[i] + p.radius[j];
-            return norm2(d) < rs * rs;
+            return spheres_touch_lanes(lanes(p.pos[i]), p.radius[i], lanes(p.pos[j]), p.radius[j]);
         }, npp);
         scan(pw, i0, i1, a.wall_reach, [&](uint32_t i, uint32_t w) {
-            ContactGeom g;
-            return w < nplanes ? sphere_plane(p.pos[i], p.radius[i], plane_point[w], planes[w].normal, planes[w].one_sided, g)
-                               : sphere_facet(p.pos[i], p.radius[i], facet_now[w - nplanes], facets[w - nplanes].one_sided, g);
+            ContactGeom g;  // the touch test of the wall body (dem/core/step_bodies.h), the batch engine's too
+            return wall_geometry(p.pos[i], p.radius[i], wall_now[w], g);
         }, npw);
     }
 }

@@ -53,8 +53,7 @@ struct ContactSet {
         bool repack = false;                        // write `packed` first (the particles changed by hand)
         const std::vector<Plane>* planes = nullptr;
         const std::vector<Facet>* facets = nullptr;
-        const std::vector<Vec3>* plane_point = nullptr;               // [m] planes now
-        const std::vector<std::array<Vec3, 3>>* facet_now = nullptr;  // [m] facets now
+        const std::vector<WallNow>* wall_now = nullptr;               // the walls now (WallState::now)
         float pair_reach = 0, wall_reach = 0;  // [m] largest gap a candidate may have closed since the rebuild
         const std::vector<std::pair<int64_t, int64_t>>* blocks = nullptr;  // this thread's particle blocks
     };

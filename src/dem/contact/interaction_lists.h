@@ -72,4 +72,25 @@ VPPDEM_HD inline void gather_in_order(const uint32_t* refs, uint32_t m, Add&& ad
     t = ta + tb;
 }
 
+// The force and torque tables the gather reads, by source (InteractionLists::Source) and side
+// (body 1, body 2). The frictionless store's torques are never written and stay zero; a wall
+// contact's particle is always its body 2.
+struct GatherTables {
+    const Vec3* force[4];
+    const Vec3* torque[4][2];
+};
+
+// One particle's force and torque from its interactions `refs` (m of them) in list order
+// (gather_in_order): World's gather and the batch engine's.
+VPPDEM_HD inline void gather_particle(const GatherTables& tb, const uint32_t* refs, uint32_t m, Vec3& f, Vec3& t) {
+    using L = InteractionLists;
+    const auto add = [&](uint32_t ref, Vec3& fo, Vec3& to) {
+        const uint32_t src = ref >> 30, second = (ref & L::kSecond) ? 1 : 0, k = ref & L::kIndexMask;
+        // Body 1 gets the opposite of the force on body 2: x - y and x + (-y) round alike.
+        fo += tb.force[src][k] * (second ? 1.0 : -1.0);
+        to += tb.torque[src][second][k];
+    };
+    gather_in_order(refs, m, add, f, t);
+}
+
 }  // namespace dem

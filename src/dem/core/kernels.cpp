@@ -1,5 +1,6 @@
 // SIMD kernels of the step (dem/core/kernels.h). Compiled once per Highway target through
-// foreach_target.h; the physics comes from the lane templates of the laws
+// foreach_target.h; the physics comes from the lane templates of the bodies
+// (dem/core/step_bodies-inl.h, the batch engine's too) and of the laws they call
 // (dem/contact/linear_law.h, dem/bonds/bond_law.h), so this file only loads, stores and masks.
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "dem/core/kernels.cpp"
@@ -39,6 +40,7 @@ using kernels::kBlock;
 #include "dem/core/lanes-inl.h"
 #include "dem/contact/linear_law-inl.h"
 #include "dem/bonds/bond_law-inl.h"
+#include "dem/core/step_bodies-inl.h"
 
 template <class D> using VecD = hn::Vec<D>;
 template <class D> using V3D = V3<VecD<D>>;
@@ -220,10 +222,7 @@ HWY_INLINE void load_packed(D d, const kernels::PackedParticle* P, const uint32_
 }
 
 // The bodies and velocities of a particle pair, gathered.
-template <class D> struct PairState {
-    V3D<D> xi, xj, vi, vj, wi, wj;
-    VecD<D> ri, rj;
-};
+template <class D> using PairState = PairLanes<VecD<D>>;
 template <class D>
 HWY_INLINE PairState<D> gather_pair(D d, const Particles& p, const kernels::PackedParticle* packed, const uint32_t* i,
                                     const uint32_t* j) {
@@ -241,15 +240,22 @@ HWY_INLINE PairState<D> gather_pair(D d, const Particles& p, const kernels::Pack
     q.wj = gather3(d, p.angvel.data(), times3(load_index(d, j)));
     return q;
 }
-// Velocity of body 2 relative to body 1 at the contact, lever arms at the full radii along n
-// (Yade's avoidGranularRatcheting).
-template <class D> HWY_INLINE V3D<D> relative_velocity(const PairState<D>& q, const V3D<D>& n) {
-    return (q.vj + cross(q.wj, n * neg(q.rj))) - (q.vi + cross(q.wi, n * q.ri));
-}
 // A slot holds a live contact unless it is a hole (cand = kNoSlot, -1 as int32).
 template <class D> HWY_INLINE auto live_mask(D d, const uint32_t* cand) {
     const hn::RebindToSigned<D> di;
     return hn::RebindMask(d, hn::Ne(load_index(d, cand), hn::Set(di, -1)));
+}
+
+// The pair kernels: loads, the body of dem/core/step_bodies-inl.h (the batch engine's too), stores.
+template <bool kEnergy, class D>
+HWY_INLINE void store_pair_terms(D d, const PairLanesOut<VecD<D>>& o, VecD<D>* terms, Vec3* fv) {
+    if constexpr (kEnergy) {
+        terms[kernels::kElastic] = o.elastic;
+        terms[kernels::kSlip] = o.slip;
+        terms[kernels::kRelease] = o.release;
+        terms[kernels::kViscous] = o.viscous;
+        store3(d, o.fv, fv);
+    }
 }
 
 template <bool kEnergy, class D>
@@ -257,46 +263,18 @@ HWY_INLINE void frictional_body(D d, const kernels::PairArgs& a, int64_t s, VecD
     ActiveContacts& c = *a.c;
     const PairState<D> q = gather_pair(d, *a.p, a.packed, &c.i[s], &c.j[s]);
     const auto live = live_mask(d, &c.cand[s]);
-    const VecD<D> zero = hn::Zero(d), dt = hn::Set(d, a.dt), half = hn::Set(d, 0.5);
-    // Sphere-sphere geometry (dem/detect/geometry.h, sphere_sphere).
-    const V3D<D> dx = q.xj - q.xi;
-    const VecD<D> d2 = norm2(dx), rs = q.ri + q.rj;
-    const auto touch = hn::And(live, d2 < rs * rs);
-    const VecD<D> dist = hn::Sqrt(d2);
-    const VecD<D> inv = hn::Set(d, 1.0) / dist;
-    const V3D<D> n = select(dist > zero, dx * inv, V3D<D>{zero, zero, hn::Set(d, 1.0)});
-    const VecD<D> overlap = rs - dist;
-    const VecD<D> arm1 = q.ri - half * overlap, arm2 = q.rj - half * overlap;
-
     VecD<D> kn, ks, mu, cn;
     hn::LoadInterleaved4(d, &c.phys[s].kn, kn, ks, mu, cn);
-    const V3D<D> fs0 = load3(d, &c.shear[s]), prev0 = load3(d, &c.prev_normal[s]);
-    V3D<D> fs = fs0, prev = prev0;
-    const V3D<D> vrel = relative_velocity(q, n);
-    const VecD<D> spin_n = half * dot(n, q.wi + q.wj);
-    ContactEnergyLanes<VecD<D>> e;
-    const V3D<D> f = linear_contact_force_lanes<kEnergy>(kn, ks, mu, cn, n, overlap, vrel, spin_n, dt, fs, prev, &e);
-    const V3D<D> nxf = cross(n, neg(f));
-    const V3D<D> z3 = zero3(d);
-    // A pair found apart forgets its shear spring (Yade deletes the interaction).
-    store3(d, select(touch, f, z3), &c.force[s]);
-    store3(d, select(touch, nxf * arm1, z3), &c.torque1[s]);
-    store3(d, select(touch, nxf * arm2, z3), &c.torque2[s]);
-    store3(d, select(touch, fs, z3), &c.shear[s]);
-    store3(d, select(touch, prev, z3), &c.prev_normal[s]);
-    const auto opened = hn::AndNot(touch, live);
-    if constexpr (kEnergy) {
-        // Opened this step: the loaded spring is lost (shear_release_energy), with the last
-        // normal as lever-arm direction.
-        const V3D<D> vr0 = relative_velocity(q, prev0);
-        const VecD<D> release = norm2(fs0) / (hn::Set(d, 2.0) * ks) - half * dot(fs0, vr0) * dt;
-        terms[kernels::kElastic] = select(touch, e.elastic, zero);
-        terms[kernels::kSlip] = select(touch, e.slip, zero);
-        terms[kernels::kRelease] = select(both(opened, ks > zero), release, zero);
-        terms[kernels::kViscous] = select(touch, e.viscous, zero);
-        store3(d, select(touch, e.fv, z3), &c.fv[s]);
-    }
-    append_lanes(d, opened, s, a.opened);
+    V3D<D> fs = load3(d, &c.shear[s]), prev = load3(d, &c.prev_normal[s]);
+    PairLanesOut<VecD<D>> o;
+    const auto touch = frictional_pair_lanes<kEnergy>(q, live, kn, ks, mu, cn, hn::Set(d, a.dt), fs, prev, o);
+    store3(d, o.force, &c.force[s]);
+    store3(d, o.torque1, &c.torque1[s]);
+    store3(d, o.torque2, &c.torque2[s]);
+    store3(d, fs, &c.shear[s]);
+    store3(d, prev, &c.prev_normal[s]);
+    store_pair_terms<kEnergy>(d, o, terms, &c.fv[s]);
+    append_lanes(d, hn::AndNot(touch, live), s, a.opened);
 }
 
 template <bool kEnergy, class D>
@@ -305,32 +283,21 @@ HWY_INLINE void smooth_body(D d, const kernels::PairArgs& a, int64_t s, VecD<D>*
     VecD<D> pi[8], pj[8];
     load_packed(d, a.packed, &c.i[s], pi);
     load_packed(d, a.packed, &c.j[s], pj);
-    const V3D<D> xi{pi[0], pi[1], pi[2]}, xj{pj[0], pj[1], pj[2]};
-    const VecD<D> ri = pi[3], rj = pj[3];
+    PairState<D> q;  // no angular velocities: a frictionless pair has no lever arm
+    q.wi = q.wj = zero3(d);
+    q.xi = {pi[0], pi[1], pi[2]};
+    q.ri = pi[3];
+    q.vi = {pi[4], pi[5], pi[6]};
+    q.xj = {pj[0], pj[1], pj[2]};
+    q.rj = pj[3];
+    q.vj = {pj[4], pj[5], pj[6]};
     const auto live = live_mask(d, &c.cand[s]);
-    const VecD<D> zero = hn::Zero(d), dt = hn::Set(d, a.dt);
-    const V3D<D> dx = xj - xi;
-    const VecD<D> d2 = norm2(dx), rs = ri + rj;
-    const auto touch = hn::And(live, d2 < rs * rs);
-    const VecD<D> dist = hn::Sqrt(d2);
-    const VecD<D> inv = hn::Set(d, 1.0) / dist;
-    const V3D<D> n = select(dist > zero, dx * inv, V3D<D>{zero, zero, hn::Set(d, 1.0)});
-    const VecD<D> overlap = rs - dist;
     VecD<D> kn, ks, mu, cn;
     hn::LoadInterleaved4(d, &c.phys[s].kn, kn, ks, mu, cn);
-    // Only the normal relative velocity matters here: without shear there is no lever arm.
-    const V3D<D> vrel = V3D<D>{pj[4], pj[5], pj[6]} - V3D<D>{pi[4], pi[5], pi[6]};
-    ContactEnergyLanes<VecD<D>> e;
-    const V3D<D> f = normal_contact_force_lanes<kEnergy>(kn, cn, n, overlap, vrel, dt, &e);
-    const V3D<D> z3 = zero3(d);
-    store3(d, select(touch, f, z3), &c.force[s]);
-    if constexpr (kEnergy) {
-        terms[kernels::kElastic] = select(touch, e.elastic, zero);
-        terms[kernels::kSlip] = zero;
-        terms[kernels::kRelease] = zero;
-        terms[kernels::kViscous] = select(touch, e.viscous, zero);
-        store3(d, select(touch, e.fv, z3), &c.fv[s]);
-    }
+    PairLanesOut<VecD<D>> o;
+    const auto touch = smooth_pair_lanes<kEnergy>(q, live, kn, cn, hn::Set(d, a.dt), o);
+    store3(d, o.force, &c.force[s]);
+    store_pair_terms<kEnergy>(d, o, terms, &c.fv[s]);
     append_lanes(d, hn::AndNot(touch, live), s, a.opened);
 }
 
@@ -338,100 +305,54 @@ template <bool kEnergy, class D>
 HWY_INLINE void bond_body(D d, const kernels::BondArgs& a, int64_t s, VecD<D>* terms) {
     BondList& b = *a.b;
     const PairState<D> q = gather_pair(d, *a.p, a.packed, &b.i[s], &b.j[s]);
-    const VecD<D> dt = hn::Set(d, a.dt), half = hn::Set(d, 0.5);
-    const V3D<D> dx = q.xj - q.xi;
-    const VecD<D> dist = hn::Sqrt(norm2(dx));
-    const V3D<D> n = dx * (hn::Set(d, 1.0) / dist);
-    // Lever arms as for a contact: the bond point sits where the spheres would touch.
-    const VecD<D> half_gap = half * (q.ri + q.rj - dist);
-    const V3D<D> vrel = relative_velocity(q, n);
-    const VecD<D> spin_n = half * dot(n, q.wi + q.wj);
+    const BondGeometryLanes<VecD<D>> geo = bond_geometry_lanes(q);
     VecD<D> kn, ks, l0;
     hn::LoadInterleaved3(d, &b.phys[s].kn, kn, ks, l0);
     V3D<D> fs = load3(d, &b.shear[s]), prev = load3(d, &b.prev_normal[s]);
-    VecD<D> elastic;
-    const V3D<D> f = bond_force_lanes<kEnergy>(kn, ks, l0, n, dist, vrel, spin_n, dt, fs, prev, &elastic);
-    const V3D<D> nxf = cross(n, neg(f));
+    V3D<D> f, t1, t2;
+    bond_step_lanes<kEnergy>(q, geo, kn, ks, l0, hn::Set(d, a.dt), fs, prev, f, t1, t2, terms);
     store3(d, f, &b.force[s]);
-    store3(d, nxf * (q.ri - half_gap), &b.torque1[s]);
-    store3(d, nxf * (q.rj - half_gap), &b.torque2[s]);
+    store3(d, t1, &b.torque1[s]);
+    store3(d, t2, &b.torque2[s]);
     store3(d, fs, &b.shear[s]);
     store3(d, prev, &b.prev_normal[s]);
-    if constexpr (kEnergy) terms[0] = elastic;
-}
-
-// sign(x) * lambda as in dem/integrate/leapfrog.h: 1 - lambda sign(x), sign(0) = 0.
-template <class D> HWY_INLINE VecD<D> damping_factor(D d, VecD<D> x, VecD<D> lambda) {
-    const VecD<D> zero = hn::Zero(d), one = hn::Set(d, 1.0);
-    const VecD<D> sgn = hn::IfThenElse(x > zero, one, hn::IfThenElse(x < zero, hn::Set(d, -1.0), zero));
-    return one - lambda * sgn;
 }
 
 template <bool kEnergy, class D>
 HWY_INLINE void advance_body(D d, const kernels::AdvanceArgs& a, int64_t s, VecD<D>* terms, VecD<D>& max_d2) {
     Particles& p = *a.p;
-    const VecD<D> zero = hn::Zero(d), dt = hn::Set(d, a.dt), lambda = hn::Set(d, a.lambda);
-    const VecD<D> half = hn::Set(d, 0.5), half_dt = hn::Set(d, 0.5 * a.dt);
-    const VecD<D> inv_m = hn::LoadU(d, &p.inv_mass[s]), m = hn::LoadU(d, &p.mass[s]);
-    const VecD<D> inv_i = hn::LoadU(d, &p.inv_inertia[s]);
-    const auto free = inv_m > zero;
-    const V3D<D> x0 = load3(d, &p.pos[s]), v0 = load3(d, &p.vel[s]), w0 = load3(d, &p.angvel[s]);
-    const V3D<D> fc = load3(d, &p.force[s]), tq = load3(d, &p.torque[s]);
+    const VecD<D> zero = hn::Zero(d);
+    AdvanceLanes<VecD<D>> st;
+    st.m = hn::LoadU(d, &p.mass[s]);
+    st.inv_m = hn::LoadU(d, &p.inv_mass[s]);
+    st.inv_i = hn::LoadU(d, &p.inv_inertia[s]);
+    const auto free = st.inv_m > zero;
+    st.x = load3(d, &p.pos[s]);
+    st.v = load3(d, &p.vel[s]);
+    st.w = load3(d, &p.angvel[s]);
+    st.f = load3(d, &p.force[s]);
+    st.t = load3(d, &p.torque[s]);
+    st.fx = a.ext_force ? load3(d, &a.ext_force[s]) : zero3(d);
     const V3D<D> g{hn::Set(d, a.gravity.x), hn::Set(d, a.gravity.y), hn::Set(d, a.gravity.z)};
-    const V3D<D> fx = a.ext_force ? load3(d, &a.ext_force[s]) : zero3(d);
-    const V3D<D> fg = g * m;
-    // Total force as World::total_force: contacts + external + gravity.
-    const V3D<D> ftot = (fc + fx) + fg;
-    // Yade's cundallDamp2nd: component k scaled by 1 - lambda sign(a_k v_k(t)),
-    // v(t) = v(t - dt/2) + dt/2 a (dem/integrate/leapfrog.h, damped_acceleration).
-    V3D<D> acc = ftot * inv_m;
-    acc.x = acc.x * damping_factor(d, acc.x * (v0.x + half_dt * acc.x), lambda);
-    acc.y = acc.y * damping_factor(d, acc.y * (v0.y + half_dt * acc.y), lambda);
-    acc.z = acc.z * damping_factor(d, acc.z * (v0.z + half_dt * acc.z), lambda);
-    const V3D<D> v1 = v0 + acc * dt;
-    const V3D<D> x1 = x0 + v1 * dt;
-    // cundallDamp1st for rotations.
-    V3D<D> al = tq * inv_i;
-    al.x = al.x * damping_factor(d, al.x * w0.x, lambda);
-    al.y = al.y * damping_factor(d, al.y * w0.y, lambda);
-    al.z = al.z * damping_factor(d, al.z * w0.z, lambda);
-    const V3D<D> w1 = w0 + al * dt;
-    const V3D<D> v = select(free, v1, v0), x = select(free, x1, x0);
-    store3(d, v, &p.vel[s]);
-    store3(d, x, &p.pos[s]);
-    store3(d, select(free, w1, w0), &p.angvel[s]);
+    const VecD<D> dt = hn::Set(d, a.dt), lambda = hn::Set(d, a.lambda);
+    const AdvanceStepLanes<VecD<D>> step = advance_lanes(free, st, g, dt, lambda);
+    store3(d, st.v, &p.vel[s]);
+    store3(d, st.x, &p.pos[s]);
+    store3(d, st.w, &p.angvel[s]);
     if (a.packed) {  // the pair kernels' copy for the next step
-        const VecD<D> rows[8] = {x.x, x.y, x.z, hn::LoadU(d, &p.radius[s]), v.x, v.y, v.z, zero};
+        const VecD<D> rows[8] = {st.x.x, st.x.y, st.x.z, hn::LoadU(d, &p.radius[s]), st.v.x, st.v.y, st.v.z, zero};
         lanes_to_rows(d, rows, &a.packed[s].x);
     }
     const hn::Rebind<float, D> df;
     hn::Vec<decltype(df)> rx, ry, rz;
     hn::LoadInterleaved3(df, &a.ref_pos[s].x, rx, ry, rz);
-    const V3D<D> moved = x1 - V3D<D>{hn::PromoteTo(d, rx), hn::PromoteTo(d, ry), hn::PromoteTo(d, rz)};
+    const V3D<D> moved = st.x - V3D<D>{hn::PromoteTo(d, rx), hn::PromoteTo(d, ry), hn::PromoteTo(d, rz)};
     max_d2 = hn::Max(max_d2, hn::IfThenElseZero(free, norm2(moved)));
     if constexpr (kEnergy) {
-        // World::particle terms (docs/energy.md): trapezoid halves of each force's work.
-        const VecD<D> h = half_dt;
+        static_assert(kernels::kTerms == 5 && kernels::kParticleSums == 11 && kernels::kGravity == 2 &&
+                      kernels::kPressure == 1 && kernels::kExternal == 3 && kernels::kDamping == 4);
         const V3D<D> fp = a.pressure ? load3(d, &a.pressure[s]) : zero3(d);
-        const VecD<D> r = hn::LoadU(d, &p.radius[s]);
-        const VecD<D> inertia = select(inv_i > zero, hn::Set(d, 0.4) * m * r * r, zero);
-        using kernels::kTerms;
-        for (int k = 0; k < kernels::kParticleSums; ++k) terms[k] = zero;
-        terms[kernels::kGravity] = dot(fg, v0) * h;
-        terms[kTerms + kernels::kGravity] = dot(fg, v1) * h;
-        terms[kernels::kPressure] = dot(fp, v0) * h;
-        terms[kTerms + kernels::kPressure] = dot(fp, v1) * h;
-        terms[kernels::kExternal] = dot(fx, v0) * h;
-        terms[kTerms + kernels::kExternal] = dot(fx, v1) * h;
-        terms[2 * kTerms] = half * m * dot(v0, v1) + half * inertia * dot(w0, w1);
-        if (a.lambda != 0.0) {
-            // The damping force and torque the integrator removed: F - m a, T - I alpha.
-            const V3D<D> df = ftot - acc * m;
-            const V3D<D> dq = select(inertia > zero, tq - al * inertia, zero3(d));
-            terms[kernels::kDamping] = (dot(df, v0) + dot(dq, w0)) * h;
-            terms[kTerms + kernels::kDamping] = (dot(df, v1) + dot(dq, w1)) * h;
-        }
-        for (int k = 0; k < kernels::kParticleSums; ++k) terms[k] = hn::IfThenElseZero(free, terms[k]);
+        advance_terms_lanes(free, st, step, dt, a.lambda != 0.0, fp, hn::LoadU(d, &p.radius[s]), terms);
     }
 }
 
@@ -462,7 +383,8 @@ double AdvanceT(const kernels::AdvanceArgs& a) {
     auto max_v = hn::Zero(d);
     auto max_1 = hn::Zero(d1);
     for_blocks<kEnergy ? kernels::kParticleSums : 0>(
-        d, int64_t(a.p->size()), a.block_begin, a.block_end, a.energy, [&](auto dd, int64_t s, auto* t) {
+        d, int64_t(a.p->size()), a.block_begin, a.block_end, a.energy,
+        [&](auto dd, int64_t s, auto* t) __attribute__((always_inline)) {
             if constexpr (hn::MaxLanes(decltype(dd)()) == 1 && hn::MaxLanes(decltype(d)()) != 1)
                 advance_body<kEnergy>(dd, a, s, t, max_1);
             else
@@ -490,7 +412,7 @@ void FilterOpenCandidates(const uint32_t* slot, const float* gap, float reach, i
         cnt += hn::CompressStore(hn::Add(iota, hn::Set(du, uint32_t(k))), m, du, dst + cnt);
     }
     for (; k < k1; ++k)
-        if (slot[k] == kNoSlot && gap[k] < reach) dst[cnt++] = uint32_t(k);
+        if (open_candidate(slot[k], gap[k], reach)) dst[cnt++] = uint32_t(k);
     out.resize(old + cnt);
 }
 
@@ -502,9 +424,8 @@ void TouchingPairs(const kernels::PackedParticle* P, const uint32_t* I, const ui
         VecD<decltype(dd)> a[8], b[8];
         load_packed(dd, P, I + q, a);
         load_packed(dd, P, J + q, b);
-        const V3<VecD<decltype(dd)>> dx{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-        const auto rs = a[3] + b[3];
-        const auto touch = norm2(dx) < rs * rs;  // as sphere_sphere and the pair kernels
+        using R = VecD<decltype(dd)>;
+        const auto touch = spheres_touch_lanes(V3<R>{a[0], a[1], a[2]}, a[3], V3<R>{b[0], b[1], b[2]}, b[3]);
         if (hn::AllFalse(dd, touch)) return;
         uint8_t bits[8] = {};
         hn::StoreMaskBits(dd, touch, bits);

@@ -21,6 +21,7 @@
 #include "dem/core/particles.h"
 #include "dem/core/vec3.h"
 #include "dem/walls/wall.h"
+#include "dem/walls/wall_now.h"
 
 namespace dem::kernels {
 
@@ -67,11 +68,7 @@ void smooth_pairs(const PairArgs& a);
 struct WallPairArgs {
     const Particles* p = nullptr;
     ActiveContacts* c = nullptr;                                  // the wall store
-    const std::vector<Plane>* planes = nullptr;
-    const std::vector<Facet>* facets = nullptr;
-    const std::vector<Vec3>* plane_point = nullptr;               // [m] planes now
-    const std::vector<std::array<Vec3, 3>>* facet_now = nullptr;  // [m] facets now
-    const std::vector<Vec3>* wall_vel = nullptr;                  // [m/s] over the last step
+    const std::vector<WallNow>* now = nullptr;                    // the walls now (WallState::now)
     double dt = 0;                                                // [s]
     const std::vector<std::pair<int64_t, int64_t>>* blocks = nullptr;  // runs of blocks of slots
     double* energy = nullptr;         // kPairSums per block, indexed by block; nullptr: no ledger

@@ -23,7 +23,7 @@ void PressureForces::apply(const MembranePressure& mp, const std::vector<Vec3>& 
     // Each node appears once in the list, so every iteration writes its own slot.
     for (int64_t k = k0; k < k1; ++k) {
         const PressureNode& q = mp.nodes[k];
-        force[q.node] = -(tributary_area(pos, q) * mp.dp);
+        force[q.node] = pressure_force(pos[q.ring[0]], pos[q.ring[1]], pos[q.ring[2]], pos[q.ring[3]], mp.dp);
     }
     const auto [f0, f1] = thread_range(int64_t(mp.fans.node.size()), thread_id(), thread_count());
     for (int64_t k = f0; k < f1; ++k) force[mp.fans.node[k]] = -(fan_area(pos, mp.fans, std::size_t(k)) * mp.dp);

@@ -26,6 +26,11 @@ VPPDEM_HD inline Vec3 tributary_area(const Vec3& p1, const Vec3& p2, const Vec3&
 inline Vec3 tributary_area(const std::vector<Vec3>& pos, const PressureNode& q) {
     return tributary_area(pos[q.ring[0]], pos[q.ring[1]], pos[q.ring[2]], pos[q.ring[3]]);
 }
+// The follower pressure's force on a node [N]: -(A dp), A its ring's tributary area (World's
+// PressureForces::apply and the batch engine's kernels).
+VPPDEM_HD inline Vec3 pressure_force(const Vec3& p1, const Vec3& p2, const Vec3& p3, const Vec3& p4, double dp) {
+    return -(tributary_area(p1, p2, p3, p4) * dp);
+}
 
 // Follower pressure on a triangulated membrane (dem/mesh, vpp/membrane): a loaded node S with
 // its one-ring P_1..P_n, counter-clockwise seen from the side A points to, stands for a third

@@ -3,9 +3,8 @@
 // kernels and the energy terms summed per block in slot order.
 #include <algorithm>
 
-#include "dem/contact/linear_law.h"
 #include "dem/core/kernels.h"
-#include "dem/detect/geometry.h"
+#include "dem/core/step_bodies.h"
 
 namespace dem::kernels {
 
@@ -14,13 +13,8 @@ namespace {
 template <bool kEnergy> void wall_pairs_impl(const WallPairArgs& a) {
     const Particles& p = *a.p;
     ActiveContacts& ws = *a.c;
-    const std::vector<Plane>& planes = *a.planes;
-    const std::vector<Facet>& facets = *a.facets;
-    const std::vector<Vec3>& plane_point = *a.plane_point;
-    const std::vector<std::array<Vec3, 3>>& facet_now = *a.facet_now;
-    const std::vector<Vec3>& wall_vel = *a.wall_vel;
+    const std::vector<WallNow>& now = *a.now;
     const double dt = a.dt;
-    const uint32_t nplanes = uint32_t(planes.size());
     const int64_t ns = int64_t(ws.size());
     std::vector<uint32_t>& opened = *a.opened;
     opened.clear();
@@ -30,46 +24,25 @@ template <bool kEnergy> void wall_pairs_impl(const WallPairArgs& a) {
         for (int64_t s = b * kBlock; s < std::min(ns, (b + 1) * kBlock); ++s) {
             if (ws.cand[s] == kNoSlot) continue;
             const uint32_t i = ws.i[s], w = ws.j[s];
-            const ContactPhys& ph = ws.phys[s];
-            ContactGeom g;
-            const bool touch = w < nplanes
-                                   ? sphere_plane(p.pos[i], p.radius[i], plane_point[w], planes[w].normal,
-                                                  planes[w].one_sided, g)
-                                   : sphere_facet(p.pos[i], p.radius[i], facet_now[w - nplanes],
-                                                  facets[w - nplanes].one_sided, g);
-            if (!touch) {
-                if constexpr (kEnergy) {  // opened this step: the shear spring's energy is lost
-                    const Vec3 n = ws.prev_normal[s];
-                    const Vec3 vrel = (p.vel[i] + cross(p.angvel[i], n * -p.radius[i])) - wall_vel[w];
-                    sum[kRelease] += shear_release_energy(ph.ks, ws.shear[s], vrel, dt);
-                }
-                ws.shear[s] = ws.prev_normal[s] = ws.force[s] = ws.torque2[s] = ws.fv[s] = Vec3{};
+            // The wall body of dem/core/step_bodies.h (the batch engine's too).
+            const WallNow& wl = now[w];
+            PairEnergy en;
+            const PairOut o = wall_pair<kEnergy>({p.pos[i], p.vel[i], p.angvel[i], p.radius[i]}, wl, ws.phys[s], dt,
+                                                 ws.shear[s], ws.prev_normal[s], &en);
+            ws.force[s] = o.force;
+            ws.torque2[s] = o.torque2;
+            if (!o.touch) {
+                if constexpr (kEnergy) sum[kRelease] += en.release;
+                ws.fv[s] = Vec3{};
                 opened.push_back(uint32_t(s));
                 continue;
             }
-            const Vec3& n = g.normal;  // from the wall to the sphere
-            const Vec3 vrel = (p.vel[i] + cross(p.angvel[i], n * -p.radius[i])) - wall_vel[w];
-            ContactEnergyLanes<double> e;
-            V3<double> f;
-            if (ph.mu == 0.0) {
-                f = normal_contact_force_lanes<kEnergy>(ph.kn, ph.cn, lanes(n), g.overlap, lanes(vrel), dt, &e);
-                ws.torque2[s] = Vec3{};
-            } else {
-                V3<double> fs = lanes(ws.shear[s]), prev = lanes(ws.prev_normal[s]);
-                const double spin_n = 0.5 * dot(n, p.angvel[i]);
-                f = linear_contact_force_lanes<kEnergy>(ph.kn, ph.ks, ph.mu, ph.cn, lanes(n), g.overlap, lanes(vrel),
-                                                        spin_n, dt, fs, prev, &e);
-                ws.shear[s] = vec3(fs);
-                ws.prev_normal[s] = vec3(prev);
-                ws.torque2[s] = cross(n, -vec3(f)) * g.arm2;
-            }
-            ws.force[s] = vec3(f);
-            ws.point[s] = p.pos[i] - n * g.arm2;
+            ws.point[s] = o.point;
             if constexpr (kEnergy) {
-                sum[kElastic] += e.elastic;
-                sum[kSlip] += e.slip;
-                sum[kViscous] += e.viscous;
-                ws.fv[s] = vec3(e.fv);
+                sum[kElastic] += en.elastic;
+                sum[kSlip] += en.slip;
+                sum[kViscous] += en.viscous;
+                ws.fv[s] = en.fv;
             }
         }
         if constexpr (kEnergy) std::copy(sum, sum + kPairSums, a.energy + b * kPairSums);

@@ -18,6 +18,8 @@ void WallState::move(const std::vector<Plane>& planes, const std::vector<Facet>&
         for (int v = 0; v < 3; ++v) facet_now[k][v] = facets[k].vertices[v] + d;
         velocity[planes.size() + k] = facets[k].motion.mean_velocity(t0, t1);
     }
+    now.resize(velocity.size());
+    for (std::size_t k = 0; k < now.size(); ++k) now[k] = wall_now(planes, facets, plane_point, facet_now, velocity[k], uint32_t(k));
 }
 
 void WallState::sum_reactions(const ActiveContacts& walls, std::size_t nw) {

@@ -330,8 +330,7 @@ void World::open_contacts(int tid) {
     find.repack = !packed_valid_;
     find.planes = &planes;
     find.facets = &facets;
-    find.plane_point = &walls_now_.plane_point;
-    find.facet_now = &walls_now_.facet_now;
+    find.wall_now = &walls_now_.now;
     std::tie(find.pair_reach, find.wall_reach) = engine_reach();
     find.blocks = &work_.particles[tid];
     contacts_.find_new(find);
@@ -366,11 +365,7 @@ void World::contact_forces(int tid) {
     kernels::WallPairArgs w;
     w.p = &particles;
     w.c = &contacts_.walls;
-    w.planes = &planes;
-    w.facets = &facets;
-    w.plane_point = &walls_now_.plane_point;
-    w.facet_now = &walls_now_.facet_now;
-    w.wall_vel = &walls_now_.velocity;
+    w.now = &walls_now_.now;
     w.dt = dt;
     w.blocks = &work_.walls[tid];
     w.energy = track ? book_.walls.data() : nullptr;
@@ -396,28 +391,17 @@ void World::gather_forces(int tid) {
     Particles& p = particles;
     const int64_t n = int64_t(p.size());
     const bool with_pressure = pressure_on();
-    using L = InteractionLists;
     const ContactSet& c = contacts_;
-    // Force and torque tables by source (L::Source) and side (body 1, body 2). The
-    // frictionless store's torques are never written and stay zero; a wall contact's
-    // particle is always its body 2.
-    const Vec3* const force[4] = {c.fric.force.data(), c.smooth.force.data(), c.walls.force.data(), bonds_.force.data()};
-    const Vec3* const torque[4][2] = {{c.fric.torque1.data(), c.fric.torque2.data()},
-                                      {c.smooth.torque1.data(), c.smooth.torque2.data()},
-                                      {c.walls.torque2.data(), c.walls.torque2.data()},
-                                      {bonds_.torque1.data(), bonds_.torque2.data()}};
+    const GatherTables tb{{c.fric.force.data(), c.smooth.force.data(), c.walls.force.data(), bonds_.force.data()},
+                          {{c.fric.torque1.data(), c.fric.torque2.data()},
+                           {c.smooth.torque1.data(), c.smooth.torque2.data()},
+                           {c.walls.torque2.data(), c.walls.torque2.data()},
+                           {bonds_.torque1.data(), bonds_.torque2.data()}}};
     const Vec3* const pressure_force = pressure_forces_.force.data();
     for (const auto& [b0, b1] : work_.particles[tid])
     for (int64_t i = b0 * kernels::kBlock; i < std::min(n, b1 * kernels::kBlock); ++i) {
-        // In list order (a fixed order), two partial sums (gather_in_order).
-        const auto add = [&](uint32_t ref, Vec3& f, Vec3& t) {
-            const uint32_t src = ref >> 30, second = (ref & L::kSecond) ? 1 : 0, k = ref & L::kIndexMask;
-            // Body 1 gets the opposite of the force on body 2: x - y and x + (-y) round alike.
-            f += force[src][k] * (second ? 1.0 : -1.0);
-            t += torque[src][second][k];
-        };
         Vec3 fi, ti;
-        gather_in_order(&c.links.ref[c.links.start[i]], c.links.count[i], add, fi, ti);
+        gather_particle(tb, &c.links.ref[c.links.start[i]], c.links.count[i], fi, ti);
         if (with_pressure) fi += pressure_force[i];
         p.force[i] = fi;
         p.torque[i] = ti;

@@ -1,0 +1,33 @@
+// The energy ledger's block sums as World's SIMD kernels form them (dem/core/kernels.h, for_blocks):
+// within a block of kernels::kBlock entries, entry e adds its K terms to virtual lane e % 8 in entry
+// order, then the 8 lanes are added in order. One source for the batch engine's host backend
+// (batch_systems.cpp) and its device kernels (device_kernels.inl).
+#pragma once
+
+#include <cstdint>
+
+#include "dem/core/hd.h"
+
+namespace dem::batch {
+
+template <int K> struct LaneSums {
+    double lane[K][8];
+    VPPDEM_HD LaneSums() {
+        for (int k = 0; k < K; ++k)
+            for (int l = 0; l < 8; ++l) lane[k][l] = 0.0;
+    }
+    // Entry e's K terms t[0..K).
+    VPPDEM_HD void add(int64_t e, const double* t) {
+        for (int k = 0; k < K; ++k) lane[k][e % 8] += t[k];
+    }
+    // The block's K sums into out (each block starts with a fresh LaneSums).
+    VPPDEM_HD void flush(double* out) const {
+        for (int k = 0; k < K; ++k) {
+            double sum = 0.0;
+            for (int l = 0; l < 8; ++l) sum += lane[k][l];
+            out[k] = sum;
+        }
+    }
+};
+
+}  // namespace dem::batch
