@@ -136,6 +136,9 @@ int main(int argc, char** argv) {
     device->add_option("--set", device_sets, "Override a device key: section.key=value (repeatable)")->allow_extra_args(false);
     device->add_flag("--overwrite", device_overwrite, "Replace files in a non-empty output directory without a run.ckpt");
     device->add_flag("--quiet", device_quiet, "No progress output");
+    double device_ckpt_every = 60.0;
+    device->add_option("--checkpoint-every", device_ckpt_every, "[s] wall-clock time between checkpoints within a stage")
+        ->check(kPositive);
 
     // vppdem analyze FORCES.csv: cycles.csv from any force-displacement record.
     auto* analyze = app.add_subcommand("analyze", "Energy per cycle and W of a forces CSV, written to a new file");
@@ -298,6 +301,7 @@ int main(int argc, char** argv) {
             o.from = device_from;
             o.quiet = device_quiet;
             o.overwrite = device_overwrite;
+            o.checkpoint_every = device_ckpt_every;
             vpp::run_device(d, o);
         } else if (*analyze) {
             ao.disp_scale = dunit == "mm" ? 1e-3 : 1.0;

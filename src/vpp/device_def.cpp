@@ -304,7 +304,22 @@ std::vector<std::pair<std::string, std::string>> device_inputs(const DeviceDef& 
     in.emplace_back("simulation.gravity", json_vec(d.gravity));
     in.emplace_back("simulation.seed", json_number(double(d.seed)));
     for (const NumberKey& k : number_keys()) in.emplace_back(k.key, json_number(d.*k.field));
-    in.emplace_back("membrane.shape", json_string(d.membrane_shape.kind));
+    auto shape = [&](const std::string& key, const DeviceShape& sh) {
+        in.emplace_back(key + ".shape", json_string(sh.kind));
+        if (sh.kind == "none") return;
+        if (sh.kind == "mesh") {
+            in.emplace_back(key + ".file", json_string(sh.file));
+            in.emplace_back(key + ".scale", json_number(sh.scale));
+            in.emplace_back(key + ".offset", json_vec(sh.offset));
+            return;
+        }
+        in.emplace_back(key + ".center", json_vec(sh.center));
+        if (sh.kind == "box") in.emplace_back(key + ".size", json_vec(sh.size));
+        else in.emplace_back(key + ".radius", json_number(sh.radius));
+        if (sh.kind == "cylinder") in.emplace_back(key + ".height", json_number(sh.height));
+        in.emplace_back(key + ".resolution", json_number(sh.resolution));
+    };
+    shape("membrane", d.membrane_shape);
     in.emplace_back("membrane.young", json_number(d.membrane.foil.young));
     in.emplace_back("membrane.thickness", json_number(d.membrane.foil.thickness));
     in.emplace_back("membrane.particle_radius", json_number(d.membrane.foil.particle_radius));
@@ -312,7 +327,33 @@ std::vector<std::pair<std::string, std::string>> device_inputs(const DeviceDef& 
     in.emplace_back("membrane.clamp_tool", json_string(d.clamp_tool));
     in.emplace_back("air.model", json_string(d.air.model == PressureModel::Pump ? "pump" : "constant"));
     in.emplace_back("result.object", json_string(d.object));
-    for (const DeviceTool& t : d.tools) in.emplace_back("tools." + t.name + ".shape", json_string(t.shape.kind));
+    in.emplace_back("membrane.density", json_number(d.membrane.foil.density));
+    in.emplace_back("membrane.stiffness_ratio", json_number(d.membrane.foil.stiffness_ratio));
+    in.emplace_back("membrane.spacing", json_number(d.membrane.spacing));
+    in.emplace_back("membrane.vacancies", d.membrane.vacancies ? "true" : "false");
+    in.emplace_back("membrane.stiffness_factor", json_number(d.membrane.stiffness_factor));
+    in.emplace_back("air.pump_speed", json_number(d.air.line.speed));
+    in.emplace_back("air.bleed_rate", json_number(d.air.line.bleed));
+    in.emplace_back("air.leak_rate", json_number(d.air.line.leak));
+    in.emplace_back("output.energy", d.energy ? "true" : "false");
+    static const char* kinds[] = {"move", "hold", "force", "cycle", "force_hold"};
+    for (const DeviceTool& t : d.tools) {
+        const std::string key = "tools." + t.name;
+        shape(key, t.shape);
+        in.emplace_back(key + ".young", json_number(t.young));
+        in.emplace_back(key + ".friction", json_number(t.friction));
+        in.emplace_back(key + ".stiffness_ratio", json_number(t.stiffness_ratio));
+        std::string prog = "[";
+        for (const dem::ToolSegment& g : t.program) {
+            prog += std::string(prog.size() > 1 ? ", " : "") + "{\"stage\": " +
+                    json_string(device_stage_name(DeviceStage(g.stage))) + ", \"kind\": " + json_string(kinds[int(g.kind)]) +
+                    ", \"to\": " + json_number(g.to) + ", \"speed\": " + json_number(g.speed) +
+                    ", \"duration\": " + json_number(g.duration) + ", \"force\": " + json_number(g.force) +
+                    ", \"max_travel\": " + json_number(g.max_travel) + ", \"amplitude\": " + json_number(g.amplitude) +
+                    ", \"cycles\": " + json_number(g.cycles) + "}";
+        }
+        in.emplace_back(key + ".program", prog + "]");
+    }
     return in;
 }
 

@@ -116,6 +116,11 @@ struct DeviceState {
     std::map<std::string, double> report;  // "volume_seal", "volume_vacuum", "fill_settled", "fill_time"
     std::vector<std::string> warnings;
     std::string inputs;                // the device's inputs (device_inputs) the run was started with
+    // Where the running stage stands (a checkpoint within a stage resumes from it); reset by
+    // next_stage().
+    double next_check = 0;             // [s] the fill's next rest check (0: not set)
+    int64_t free_steps = 0;            // load: steps the object has been free
+    int32_t tools_done = 0;            // vacuum: the tools' segments were done at the last step
 
     template <class A, class S> static void fields(A& a, S& r) {
         a.section("DEVS", [&](A& s) {
@@ -132,6 +137,9 @@ struct DeviceState {
             s.numbers(r.report);
             s.strings(r.warnings);
             s.str(r.inputs);
+            s.pod(r.next_check);
+            s.pod(r.free_steps);
+            s.pod(r.tools_done);
         });
     }
     std::string save() const {
@@ -168,6 +176,9 @@ private:
     void add_grains(const dem::SurfaceMesh& surface, uint32_t material);
     void start_output(const std::string& resumed_from);
     void checkpoint();
+    // Before each step within a stage: a checkpoint every o_.checkpoint_every seconds of wall
+    // clock, and the stop that o_.stop_at_time asks for (checkpoint, records; true: stop now).
+    bool pause_point();
     // One step of `stage` with the regulator at dp_set [Pa]; true when the tools' segments of the
     // stage are done.
     bool step(DeviceStage stage, double dp_set);
@@ -195,6 +206,8 @@ private:
     fs::path out_;
     dem::FolderLock lock_;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+    std::chrono::steady_clock::time_point last_ckpt_ = start_;
+    bool stopped_ = false;
 };
 
 DeviceRun::DeviceRun(const DeviceDef& d, const DeviceOptions& o) : d_(d), o_(o) {
@@ -393,12 +406,13 @@ void DeviceRun::stage_fill() {
     const double scale = double(g1_ - g0_) * w_.particles.mass[g0_] * norm(d_.gravity) * 2.0 * d_.grain_radius;
     scene::Progress prog("fill", uint64_t(d_.fill_time / w_.params.dt), o_.quiet);
     uint64_t n = 0;
-    double next = st_.stage_t0 + check;
+    if (st_.next_check == 0) st_.next_check = st_.stage_t0 + check;
     for (;;) {
+        if (pause_point()) return;
         step(DeviceStage::Fill, 0.0);
         prog.update(++n, w_.time);
-        if (w_.time < next) continue;
-        next += check;
+        if (w_.time < st_.next_check) continue;
+        st_.next_check += check;
         const double t = w_.time - st_.stage_t0;
         const double ke = grains_kinetic_energy();
         if (t >= d_.fill_min_time && ke < 1e-4 * scale) {
@@ -447,12 +461,13 @@ void DeviceRun::stage_tools(DeviceStage stage) {
     const dem::Tool* obj = nullptr;
     for (const dem::Tool& t : tools_)
         if (t.name == d_.object && stage == DeviceStage::Load && d_.release_time > 0) obj = &t;
-    uint64_t free_steps = 0;
-    while (!step(stage, dp)) {
+    for (;;) {
+        if (pause_point()) return;
+        if (step(stage, dp)) break;
         prog.update(++n, w_.time);
         if (!obj) continue;
-        free_steps = dem::tool_force(w_, *obj) == Vec3{} ? free_steps + 1 : 0;
-        if (double(free_steps) * w_.params.dt >= d_.release_time) {
+        st_.free_steps = dem::tool_force(w_, *obj) == Vec3{} ? st_.free_steps + 1 : 0;
+        if (double(st_.free_steps) * w_.params.dt >= d_.release_time) {
             char msg[160];
             std::snprintf(msg, sizeof msg, "load: the object '%s' let go; the load stage ends at t = %.6g s",
                           d_.object.c_str(), w_.time);
@@ -465,13 +480,14 @@ void DeviceRun::stage_tools(DeviceStage stage) {
 
 void DeviceRun::stage_vacuum() {
     const double t_end = d_.ramp_time + d_.vacuum_hold;
+    if (!st_.report.count("volume_press")) st_.report["volume_press"] = enclosed();  // the vacuum's start
     scene::Progress prog("vacuum", uint64_t(t_end / w_.params.dt) + 1, o_.quiet);
     uint64_t n = 0;
-    bool tools_done = false;
     for (;;) {
         const double t = w_.time - st_.stage_t0;
-        if (t >= t_end - 0.5 * w_.params.dt && tools_done) break;
-        tools_done = step(DeviceStage::Vacuum, d_.underpressure * std::min(1.0, t / d_.ramp_time));
+        if (t >= t_end - 0.5 * w_.params.dt && st_.tools_done) break;
+        if (pause_point()) return;
+        st_.tools_done = step(DeviceStage::Vacuum, d_.underpressure * std::min(1.0, t / d_.ramp_time));
         prog.update(++n, w_.time);
     }
     st_.report["volume_vacuum"] = enclosed();
@@ -484,9 +500,27 @@ void DeviceRun::stage_vacuum() {
     log(msg);
 }
 
+bool DeviceRun::pause_point() {
+    if (o_.stop_at_time >= 0.0 && w_.time >= o_.stop_at_time) {
+        checkpoint();
+        write_records();
+        stopped_ = true;
+        return true;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (!out_.empty() && std::chrono::duration<double>(now - last_ckpt_).count() >= o_.checkpoint_every) {
+        checkpoint();
+        last_ckpt_ = now;
+    }
+    return false;
+}
+
 void DeviceRun::next_stage() {
     ++st_.stage;
     st_.stage_t0 = w_.time;
+    st_.next_check = 0;
+    st_.free_steps = 0;
+    st_.tools_done = 0;
     checkpoint();
     write_records();
 }
@@ -518,6 +552,7 @@ void DeviceRun::run() {
         case DeviceStage::Load: stage_tools(s); break;
         case DeviceStage::Done: break;
         }
+        if (stopped_) return;
         next_stage();
     }
 }
@@ -547,7 +582,9 @@ DeviceResult DeviceRun::result() const {
     auto rep = [&](const char* k) { return st_.report.count(k) ? st_.report.at(k) : 0.0; };
     r.volume_seal = rep("volume_seal");
     r.volume_vacuum = rep("volume_vacuum");
+    r.volume_press = rep("volume_press");
     if (r.volume_seal > 0 && r.volume_vacuum > 0) r.volume_change = (r.volume_vacuum - r.volume_seal) / r.volume_seal;
+    if (r.volume_press > 0 && r.volume_vacuum > 0) r.volume_change_vacuum = (r.volume_vacuum - r.volume_press) / r.volume_press;
     r.fill_settled = rep("fill_settled") != 0.0;
     for (std::size_t s = 0; s + kEnergyColumns <= st_.energy.size(); s += kEnergyColumns)
         for (int c = 1; c < kEnergyColumns - 1; ++c) r.energy_scale = std::max(r.energy_scale, std::abs(st_.energy[s + c]));
@@ -595,6 +632,8 @@ void DeviceRun::write_records() const {
         .num("volume_seal", r.volume_seal)
         .num("volume_vacuum", r.volume_vacuum)
         .num("volume_change", r.volume_change)
+        .num("volume_press", r.volume_press)
+        .num("volume_change_vacuum", r.volume_change_vacuum)
         .boolean("fill_settled", r.fill_settled)
         .boolean("released", st_.report.count("released") > 0)
         .num("membrane_z_min", st_.report.count("membrane_z_min") ? st_.report.at("membrane_z_min") : 0.0)
@@ -623,8 +662,8 @@ DeviceResult run_device(const DeviceDef& d, const DeviceOptions& o) {
     run.write_records();
     const DeviceResult r = run.result();
     if (!o.quiet)
-        std::fprintf(stderr, "[device] %s: holding force %.6g N, volume change on jamming %.4g%%, %.1f s\n",
-                     r.stage.c_str(), r.holding_force, 100.0 * r.volume_change, r.run_seconds);
+        std::fprintf(stderr, "[device] %s: holding force %.6g N, volume change %.4g%% from the seal, %.4g%% in the vacuum stage, %.1f s\n",
+                     r.stage.c_str(), r.holding_force, 100.0 * r.volume_change, 100.0 * r.volume_change_vacuum, r.run_seconds);
     return r;
 }
 

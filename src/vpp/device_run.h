@@ -12,8 +12,9 @@
 // (per tool its z displacement and the particles' force on it, averaged over the sample
 // interval), air.csv (enclosed volume, gas volume, dp), energy.csv (the ledger from the seal on),
 // summary.json (the holding force, the volume change on jamming, the inputs). A checkpoint
-// (DIR/run.ckpt) after every stage: `--from DIR/run.ckpt`, or the same command again, resumes
-// from it, and the records come out as an uninterrupted run's, bit for bit.
+// (DIR/run.ckpt) after every stage and every minute of wall clock within one: `--from
+// DIR/run.ckpt`, or the same command again, resumes from it, and the records come out as an
+// uninterrupted run's, bit for bit.
 #pragma once
 
 #include <string>
@@ -28,8 +29,12 @@ struct DeviceOptions {
     std::string from;      // a run.ckpt to resume ("" : DIR/run.ckpt when it exists, else a new run)
     bool quiet = false;
     bool overwrite = false;  // replace files in a non-empty out_dir that holds no run.ckpt
+    double checkpoint_every = 60.0;  // [s] wall clock between checkpoints within a stage (one ends every stage)
     // Stop after this stage and its checkpoint (Done: run to the end); the resume tests use it.
     DeviceStage stop_after = DeviceStage::Done;
+    // [s] simulated: stop at the first step boundary at or past it, with a checkpoint (< 0: never);
+    // the resume tests use it to stop within a stage.
+    double stop_at_time = -1.0;
 };
 
 struct DeviceResult {
@@ -41,7 +46,9 @@ struct DeviceResult {
     double press_force = 0;         // [N] largest push (-F_z) on result.object before the load stage
     double volume_seal = 0;         // [m^3] enclosed by the membrane at the seal
     double volume_vacuum = 0;       // [m^3] at the end of the vacuum stage
-    double volume_change = 0;       // [-] (volume_vacuum - volume_seal) / volume_seal
+    double volume_change = 0;       // [-] (volume_vacuum - volume_seal) / volume_seal: the press's and the vacuum's
+    double volume_press = 0;        // [m^3] at the start of the vacuum stage (after the press)
+    double volume_change_vacuum = 0;// [-] (volume_vacuum - volume_press) / volume_press: the vacuum's alone
     double energy_residual = 0;     // [J] the ledger's residual at the last sample (0 without the ledger)
     double energy_scale = 0;        // [J] the largest |term| of the ledger over the run (its residual's scale)
     bool fill_settled = false;      // the fill came to rest before stages.fill_time

@@ -331,6 +331,7 @@ TEST(Device, EnergyLedgerClosesOnTheGripper) {
 }
 
 TEST(Device, ResumedRunWritesTheRecordsOfAnUninterruptedOne) {
+    // Stopped after the press stage, resumed, stopped within the vacuum stage, resumed to the end.
     const vpp::DeviceResult& full = tiny_run(true);
     ASSERT_EQ(full.stage, "done");
     const fs::path whole = run_dir("vacuum");
@@ -340,8 +341,16 @@ TEST(Device, ResumedRunWritesTheRecordsOfAnUninterruptedOne) {
     o.out_dir = split.string();
     o.quiet = true;
     o.stop_after = vpp::DeviceStage::Press;
-    EXPECT_EQ(vpp::run_device(d, o).stage, "vacuum");
+    EXPECT_EQ(vpp::run_device(d, o).stage, "vacuum");  // stopped after the press's checkpoint
+    // Resumed, and stopped again within the vacuum stage (a checkpoint mid-stage), 2 ms in.
+    double t_vacuum = -1;
+    for (const auto& row : read_csv(whole / "tools.csv"))
+        if (t_vacuum < 0 && int(row[1]) == int(vpp::DeviceStage::Vacuum)) t_vacuum = row[0];
+    ASSERT_GT(t_vacuum, 0);
     o.stop_after = vpp::DeviceStage::Done;
+    o.stop_at_time = t_vacuum + 2e-3;
+    EXPECT_EQ(vpp::run_device(d, o).stage, "vacuum");
+    o.stop_at_time = -1;
     EXPECT_EQ(vpp::run_device(d, o).stage, "done");  // resumes from split/run.ckpt
     for (const char* f : {"tools.csv", "air.csv", "energy.csv"}) {
         const std::string a = read_file(whole / f), b = read_file(split / f);
