@@ -223,7 +223,9 @@ DeviceRun::DeviceRun(const DeviceDef& d, const DeviceOptions& o) : d_(d), o_(o) 
             throw std::runtime_error("checkpoint '" + from + "' was made with another device file (its inputs differ from '" +
                                      d_.path + "'): run into a new --out, or give the device file it was made with");
         if (st_.sealed) w_.pressure.fans = membrane_pressure_fans(m_);
-        log("resuming from " + from + " at the stage '" + device_stage_name(DeviceStage(st_.stage)) + "'");
+        char at[64];
+        std::snprintf(at, sizeof at, "t = %.6g s", w_.time);
+        log("resuming from " + from + " at " + at + " in the stage '" + device_stage_name(DeviceStage(st_.stage)) + "'");
     } else {
         st_.inputs = inputs_text(d_);
         st_.tools.assign(tools_.size(), dem::ToolState{});
