@@ -12,6 +12,7 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -284,6 +285,97 @@ TEST(DeviceTool, ReactionIsTheSumOfItsContactForcesAndAForcePressStopsAtItsTarge
     // It stopped on the first reaction at or beyond the target (the one of the step before).
     EXPECT_GE(f_stop, 0.5);
     EXPECT_LT(f_before, 0.5);
+}
+
+TEST(DeviceTool, ProgramsFollowTheirKnotsAndTheServoHoldsItsForce) {
+    // Displacement control against the closed form: move 1 mm down at 10 mm/s (0.1 s), hold
+    // 0.05 s, two triangles of 0.5 mm up at 10 mm/s (0.05 s a leg), then stand still; within
+    // 1e-12 m at every step (the segments start on the step their predecessor ends).
+    {
+        dem::World w;
+        w.add_material(dem::Material{});
+        dem::SphereDef far;
+        far.position = {1, 1, 1};
+        w.add_sphere(far);
+        w.params.gravity = {0, 0, 0};
+        w.params.dt = 1e-4;
+        dem::Tool t;
+        dem::Facet f;
+        f.vertices = {Vec3{0, 0, 0}, Vec3{0.01, 0, 0}, Vec3{0, 0.01, 0}};
+        dem::add_tool_facets(w, t, {f});
+        dem::ToolSegment move, hold, cycle;
+        move.kind = dem::SegmentKind::Move;
+        move.to = -1e-3;
+        move.speed = 0.01;
+        hold.kind = dem::SegmentKind::Hold;
+        hold.duration = 0.05;
+        cycle.kind = dem::SegmentKind::Cycle;
+        cycle.amplitude = 5e-4;
+        cycle.speed = 0.01;
+        cycle.cycles = 2;
+        t.program = {move, hold, cycle};
+        auto expected = [](double time) {
+            if (time <= 0.1) return -0.01 * time;
+            if (time <= 0.15) return -1e-3;
+            if (time >= 0.35) return -1e-3;
+            const double p = std::fmod(time - 0.15, 0.1);  // one cycle: 2 x 0.5 mm at 10 mm/s
+            return -1e-3 + (p <= 0.05 ? 0.01 * p : 0.01 * (0.1 - p));
+        };
+        dem::ToolState s;
+        double worst = 0;
+        bool done = false;
+        for (int n = 0; n < 6000; ++n) {
+            done = dem::drive_tool(w, t, s, 0);
+            w.step();
+            worst = std::max(worst, std::abs(dem::tool_displacement(w, t, w.time) - expected(w.time)));
+        }
+        EXPECT_TRUE(done);
+        EXPECT_LT(worst, 1e-12);
+        EXPECT_NEAR(dem::program_duration(t, 0, 0.0), 0.35, 1e-15);
+    }
+    // Force control: a press servoed to 0.2 N on a grain lying on a fixed floor settles there
+    // (within 1%) and holds it.
+    {
+        dem::World w;
+        dem::Material m;
+        m.young = 1e7;
+        w.add_material(m);
+        dem::Tool floor, press;
+        auto plate = [](double z, bool up) {
+            dem::Facet a, b;
+            a.vertices = {Vec3{-0.01, -0.01, z}, Vec3{0.01, -0.01, z}, Vec3{0.01, 0.01, z}};
+            b.vertices = {Vec3{-0.01, -0.01, z}, Vec3{0.01, 0.01, z}, Vec3{-0.01, 0.01, z}};
+            if (!up) {
+                std::swap(a.vertices[1], a.vertices[2]);
+                std::swap(b.vertices[1], b.vertices[2]);
+            }
+            return std::vector<dem::Facet>{a, b};
+        };
+        dem::add_tool_facets(w, floor, plate(0.0, true));
+        dem::add_tool_facets(w, press, plate(0.0021, false));
+        dem::SphereDef g;
+        g.position = {0, 0, 0.001};
+        g.radius = 1e-3;
+        w.add_sphere(g);
+        dem::ToolSegment servo;
+        servo.kind = dem::SegmentKind::ForceHold;
+        servo.force = 0.2;
+        servo.speed = 0.01;
+        servo.duration = 0.05;
+        press.program = {servo};
+        w.params.gravity = {0, 0, 0};
+        w.params.local_damping = 0.3;
+        w.params.dt = 0.2 * w.critical_dt();
+        dem::ToolState sf, sp;
+        bool done = false;
+        while (!done) {
+            dem::drive_tool(w, floor, sf, 0);
+            done = dem::drive_tool(w, press, sp, 0);
+            w.step();
+        }
+        EXPECT_NEAR(dem::tool_force(w, press).z, 0.2, 0.002);
+        EXPECT_NEAR(dem::tool_force(w, floor).z, -0.2, 0.002);  // the floor carries the same load, down
+    }
 }
 
 TEST(Device, TinyGripperRunsEveryStageWithFiniteRecords) {

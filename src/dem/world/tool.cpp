@@ -22,8 +22,8 @@ const Motion* tool_motion(const World& w, const Tool& t) {
 
 DisplacementSample knot(double time, double z) { return {time, Vec3{0.0, 0.0, z}}; }
 
-// Seconds of one triangle cycle of segment g.
-double cycle_period(const ToolSegment& g) { return 4.0 * std::abs(g.amplitude) / g.speed; }
+// Seconds of one triangle cycle of segment g: out by the amplitude and back.
+double cycle_period(const ToolSegment& g) { return 2.0 * std::abs(g.amplitude) / g.speed; }
 
 }  // namespace
 
