@@ -57,6 +57,7 @@ const std::vector<NumberKey>& number_keys() {
         {"stages.vacuum_hold", "s", 0.02, kNonNeg, &DeviceDef::vacuum_hold},
         {"membrane.clamp_height", "m", 0.0, kNonNeg, &DeviceDef::clamp_height},
         {"output.sample_interval", "s", 1e-3, kPos, &DeviceDef::sample_interval},
+        {"output.vtk_interval", "s", 0.0, kNonNeg, &DeviceDef::vtk_interval},
         {"result.release_time", "s", 2e-3, kNonNeg, &DeviceDef::release_time},
     };
     return keys;
@@ -226,6 +227,7 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     Section out = top.table("output");
     read_numbers(out, "output", d);
     d.energy = out.boolean("energy", true);
+    d.vtk = out.boolean("vtk", true);
     out.finish();
 
     Section res = top.table("result");

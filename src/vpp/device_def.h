@@ -94,6 +94,8 @@ struct DeviceDef {
     // [output]
     double sample_interval = 1e-3;  // [s] between rows of the records (forces averaged over it)
     bool energy = true;             // energy.csv from the seal on
+    bool vtk = true;                // VTK frames (particles with bonds, tool facets) at the end of every stage
+    double vtk_interval = 0.0;      // [s] and every vtk_interval of simulated time (0: none)
 
     // [result]
     std::string object;             // the tool whose pull in the load stage is the holding force ("" none)

@@ -20,6 +20,7 @@
 #include "dem/io/csv.h"
 #include "dem/io/folder_lock.h"
 #include "dem/io/json.h"
+#include "dem/io/vtk.h"
 #include "dem/world/tool.h"
 #include "dem/world/world.h"
 #include "scene/config.h"
@@ -121,6 +122,7 @@ struct DeviceState {
     double next_check = 0;             // [s] the fill's next rest check (0: not set)
     int64_t free_steps = 0;            // load: steps the object has been free
     int32_t tools_done = 0;            // vacuum: the tools' segments were done at the last step
+    int64_t vtk_frames = 0;            // frames written at output.vtk_interval
 
     template <class A, class S> static void fields(A& a, S& r) {
         a.section("DEVS", [&](A& s) {
@@ -140,6 +142,7 @@ struct DeviceState {
             s.pod(r.next_check);
             s.pod(r.free_steps);
             s.pod(r.tools_done);
+            s.pod(r.vtk_frames);
         });
     }
     std::string save() const {
@@ -176,6 +179,8 @@ private:
     void add_grains(const dem::SurfaceMesh& surface, uint32_t material);
     void start_output(const std::string& resumed_from);
     void checkpoint();
+    // VTK frame DIR/vtk/NAME.vtk (particles and bonds) and NAME_tools.vtk (the tools' facets).
+    void vtk_frame(const std::string& name) const;
     // Before each step within a stage: a checkpoint every o_.checkpoint_every seconds of wall
     // clock, and the stop that o_.stop_at_time asks for (checkpoint, records; true: stop now).
     bool pause_point();
@@ -393,6 +398,12 @@ bool DeviceRun::step(DeviceStage stage, double dp_set) {
         st_.air.insert(st_.air.end(), {w_.time, double(int(stage)), v, v - grain_volume_, w_.pressure.dp});
     }
     w_.integrate();
+    if (d_.vtk_interval > 0.0 && w_.time >= double(st_.vtk_frames + 1) * d_.vtk_interval - 0.5 * w_.params.dt) {
+        ++st_.vtk_frames;
+        char name[32];
+        std::snprintf(name, sizeof name, "frame_%06lld", (long long)st_.vtk_frames);
+        vtk_frame(name);
+    }
     if (sample && w_.params.track_energy) {
         const dem::EnergyLedger& L = w_.energy();
         st_.energy.insert(st_.energy.end(),
@@ -517,7 +528,15 @@ bool DeviceRun::pause_point() {
     return false;
 }
 
+void DeviceRun::vtk_frame(const std::string& name) const {
+    if (out_.empty()) return;
+    fs::create_directories(out_ / "vtk");
+    dem::write_particles_vtk((out_ / "vtk" / (name + ".vtk")).string(), w_, true);
+    if (!w_.facets.empty()) dem::write_walls_vtk((out_ / "vtk" / (name + "_tools.vtk")).string(), w_, 0.0);
+}
+
 void DeviceRun::next_stage() {
+    if (d_.vtk) vtk_frame("stage_" + std::to_string(st_.stage) + "_" + device_stage_name(DeviceStage(st_.stage)));
     ++st_.stage;
     st_.stage_t0 = w_.time;
     st_.next_check = 0;
