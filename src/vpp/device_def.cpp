@@ -155,7 +155,14 @@ dem::ToolSegment read_segment(Section& s) {
 std::string json_number(double v) { return dem::json_double(v); }
 std::string json_string(const std::string& s) { return dem::json_string(s); }
 std::string json_vec(const dem::Vec3& v) {
-    return "[" + json_number(v.x) + ", " + json_number(v.y) + ", " + json_number(v.z) + "]";
+    // Appended piece by piece: "[" + a temporary trips GCC 12's -Wrestrict (a false positive).
+    std::string s = "[";
+    s += json_number(v.x);
+    s += ", ";
+    s += json_number(v.y);
+    s += ", ";
+    s += json_number(v.z);
+    return s + "]";
 }
 
 }  // namespace
