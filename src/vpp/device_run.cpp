@@ -228,6 +228,7 @@ DeviceRun::DeviceRun(const DeviceDef& d, const DeviceOptions& o) : d_(d), o_(o) 
             throw std::runtime_error("checkpoint '" + from + "' was made with another device file (its inputs differ from '" +
                                      d_.path + "'): run into a new --out, or give the device file it was made with");
         if (st_.sealed) w_.pressure.fans = membrane_pressure_fans(m_);
+        w_.params.threads = d_.threads;  // this machine's, not the checkpoint's (the results do not depend on it)
         char at[64];
         std::snprintf(at, sizeof at, "t = %.6g s", w_.time);
         log("resuming from " + from + " at " + at + " in the stage '" + device_stage_name(DeviceStage(st_.stage)) + "'");

@@ -424,16 +424,18 @@ TEST(Device, EnergyLedgerClosesOnTheGripper) {
 
 TEST(Device, ResumedRunWritesTheRecordsOfAnUninterruptedOne) {
     // Stopped after the press stage, resumed, stopped within the vacuum stage, resumed to the end.
+    // The first leg on two threads, the others on one.
     const vpp::DeviceResult& full = tiny_run(true);
     ASSERT_EQ(full.stage, "done");
     const fs::path whole = run_dir("vacuum");
     const fs::path split = temp_dir("split");
+    const vpp::DeviceDef d2 = vpp::load_device(tiny_gripper_file().string(), {"simulation.threads=2"});
     const vpp::DeviceDef d = vpp::load_device(tiny_gripper_file().string());
     vpp::DeviceOptions o;
     o.out_dir = split.string();
     o.quiet = true;
     o.stop_after = vpp::DeviceStage::Press;
-    EXPECT_EQ(vpp::run_device(d, o).stage, "vacuum");  // stopped after the press's checkpoint
+    EXPECT_EQ(vpp::run_device(d2, o).stage, "vacuum");  // stopped after the press's checkpoint
     // Resumed, and stopped again within the vacuum stage (a checkpoint mid-stage), 2 ms in.
     double t_vacuum = -1;
     for (const auto& row : read_csv(whole / "tools.csv"))
