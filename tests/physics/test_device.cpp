@@ -473,6 +473,15 @@ TEST(Device, BadFilesAndMeshesAreRefusedNamingTheKeyAndNothingIsWritten) {
         write_file(p, text);
         return p;
     };
+    // ... or the object's.
+    auto object_from = [&](const std::string& file) {
+        std::string text = kTinyGripper;
+        const std::string sphere = "shape = \"sphere\"\nradius = 0.004\ncenter = [0, 0, 0]\nresolution = 5\n";
+        text.replace(text.find(sphere), sphere.size(), "shape = \"mesh\"\nfile = \"" + file + "\"\n");
+        const fs::path p = dir / ("object_" + file + ".toml");
+        write_file(p, text);
+        return p;
+    };
     struct Case {
         fs::path file;
         std::string set;       // --set arguments
@@ -488,6 +497,8 @@ TEST(Device, BadFilesAndMeshesAreRefusedNamingTheKeyAndNothingIsWritten) {
         {bag_from("open.stl"), "", {"config key 'membrane.file' = \"open.stl\"", "open.stl", "open: "}},
         {bag_from("inverted.obj"), "", {"config key 'membrane.file' = \"inverted.obj\"", "inverted: "}},
         {bag_from("missing.stl"), "", {"config key 'membrane.file' = \"missing.stl\"", "missing.stl"}},
+        {object_from("open.stl"), "", {"config key 'tools[1].file' = \"open.stl\"", "open: "}},
+        {object_from("inverted.obj"), "", {"config key 'tools[1].file' = \"inverted.obj\"", "inverted: "}},
     };
     for (const Case& c : cases) {
         const fs::path out = dir / "out";
