@@ -134,7 +134,7 @@ int main(int argc, char** argv) {
     device->add_option("--out", device_out, "Output directory (running into it again resumes from its run.ckpt)")->required();
     device->add_option("--from", device_from, "Resume from this checkpoint (a run.ckpt)")->check(CLI::ExistingFile);
     device->add_option("--set", device_sets, "Override a device key: section.key=value (repeatable)")->allow_extra_args(false);
-    device->add_flag("--overwrite", device_overwrite, "Replace files in a non-empty output directory without a run.ckpt");
+    device->add_flag("--overwrite", device_overwrite, "Start afresh in a non-empty output directory, replacing its files (its run.ckpt too)");
     device->add_flag("--quiet", device_quiet, "No progress output");
     double device_ckpt_every = 60.0;
     device->add_option("--checkpoint-every", device_ckpt_every, "[s] wall-clock time between checkpoints within a stage")

@@ -43,6 +43,7 @@ const std::vector<NumberKey>& number_keys() {
         {"grains.density", "kg/m^3", 1500.0, kPos, &DeviceDef::grain_density},
         {"grains.young", "Pa", 1e8, kPos, &DeviceDef::grain_young},
         {"grains.friction", "-", 0.5, kNonNeg, &DeviceDef::grain_friction},
+        {"grains.fill_friction", "-", 0.0, kNonNeg, &DeviceDef::fill_friction},
         {"grains.stiffness_ratio", "-", 0.5, {Check::Range, 0.0, 1.0, true, false, "must be in (0, 1]"},
          &DeviceDef::grain_stiffness_ratio},
         {"grains.fill", "-", 0.8, {Check::Range, 0.0, 1.0, true, false, "must be in (0, 1]: the fraction of the fill lattice's sites inside the membrane that get a grain"},

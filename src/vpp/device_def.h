@@ -77,6 +77,7 @@ struct DeviceDef {
     double grain_density = 1500.0;     // [kg/m^3]
     double grain_young = 1e8;          // [Pa]
     double grain_friction = 0.5;       // [-]
+    double fill_friction = 0.0;        // [-] the grains' friction while they settle in the fill (0: a frictionless pour, as the damper's)
     double grain_stiffness_ratio = 0.5;// [-]
     double fill = 0.8;                 // [-] fraction of the lattice sites inside the membrane filled, lowest first
     double lattice_spacing = 2.2;      // [-] the fill lattice's spacing in grain radii (> 2; the jitter keeps 5% of the gap)

@@ -206,6 +206,7 @@ private:
     Membrane m_;
     std::vector<dem::Tool> tools_;
     uint32_t g0_ = 0, g1_ = 0;  // the grains' particle range
+    uint32_t grain_mat_ = 0;
     double grain_volume_ = 0;   // [m^3]
     DeviceState st_;
     fs::path out_;
@@ -219,7 +220,7 @@ DeviceRun::DeviceRun(const DeviceDef& d, const DeviceOptions& o) : d_(d), o_(o) 
     base_ = fs::path(d.path).parent_path().string();
     build();
     std::string from = o.from;
-    if (from.empty() && !o.out_dir.empty() && fs::exists(fs::path(o.out_dir) / kCheckpointName))
+    if (from.empty() && !o.overwrite && !o.out_dir.empty() && fs::exists(fs::path(o.out_dir) / kCheckpointName))
         from = (fs::path(o.out_dir) / kCheckpointName).string();
     if (!from.empty()) {
         const std::string blob = dem::load_checkpoint(from, w_);
@@ -258,9 +259,10 @@ void DeviceRun::build() {
     gm.name = "grains";
     gm.density = d_.grain_density;
     gm.young = d_.grain_young;
-    gm.friction = d_.grain_friction;
+    gm.friction = d_.fill_friction;  // grains.friction from the seal on
     gm.stiffness_ratio = d_.grain_stiffness_ratio;
     const uint32_t grain_mat = w_.add_material(gm);
+    grain_mat_ = grain_mat;
 
     for (std::size_t k = 0; k < d_.tools.size(); ++k) {
         const DeviceTool& t = d_.tools[k];
@@ -449,6 +451,10 @@ void DeviceRun::stage_fill() {
 }
 
 void DeviceRun::stage_seal() {
+    if (w_.materials[grain_mat_].friction != d_.grain_friction) {  // the fill's friction ends with the fill
+        w_.materials[grain_mat_].friction = d_.grain_friction;
+        w_.invalidate_contact_physics();
+    }
     w_.pressure.fans = membrane_pressure_fans(m_);
     w_.pressure.dp = 0.0;
     st_.sealed = 1;

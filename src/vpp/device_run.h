@@ -28,7 +28,7 @@ struct DeviceOptions {
     std::string out_dir;   // "" : nothing written
     std::string from;      // a run.ckpt to resume ("" : DIR/run.ckpt when it exists, else a new run)
     bool quiet = false;
-    bool overwrite = false;  // replace files in a non-empty out_dir that holds no run.ckpt
+    bool overwrite = false;  // start afresh in a non-empty out_dir, replacing its files (its run.ckpt too)
     double checkpoint_every = 60.0;  // [s] wall clock between checkpoints within a stage (one ends every stage)
     // Stop after this stage and its checkpoint (Done: run to the end); the resume tests use it.
     DeviceStage stop_after = DeviceStage::Done;

@@ -83,7 +83,8 @@ Result run_vppdem(const std::string& args) {
 }
 
 // A small jamming gripper (examples/devices/gripper.toml scaled down): a bag of 7 mm radius
-// with about 280 grains of 0.7 mm pressed with 1 N onto an object of 4 mm radius; about 7 s of CPU.
+// with about 280 grains of 0.7 mm (poured frictionless) pressed with 1 N onto an object of 4 mm
+// radius; about 7 s of CPU.
 const char* kTinyGripper = R"(
 [simulation]
 dt = "auto"
