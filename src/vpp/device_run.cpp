@@ -437,9 +437,10 @@ void DeviceRun::stage_fill() {
         }
         if (t >= d_.fill_time) {
             st_.report["fill_settled"] = 0.0;
-            char msg[200];
-            std::snprintf(msg, sizeof msg, "fill: the grains are not at rest after stages.fill_time = %g s (kinetic energy %.3g J)",
-                          d_.fill_time, ke);
+            char msg[320];
+            std::snprintf(msg, sizeof msg, "fill: the grains are not at rest after stages.fill_time = %g s (kinetic energy %.3g J; "
+                          "at rest below %.3g J, 1e-4 N m g 2r): the next stage starts on moving grains",
+                          d_.fill_time, ke, 1e-4 * scale);
             warn(msg);
             break;
         }
