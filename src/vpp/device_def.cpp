@@ -212,6 +212,9 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
 
     Section gr = top.table("grains");
     read_numbers(gr, "grains", d);
+    d.lattice = gr.string("lattice", "cubic");
+    if (d.lattice != "cubic" && d.lattice != "fcc")
+        gr.fail("lattice", "must be \"cubic\" or \"fcc\" (the fill lattice)");
     gr.finish();
 
     Section st = top.table("stages");
@@ -240,6 +243,7 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
 
     Section res = top.table("result");
     d.object = res.string("object", "");
+    d.cycle_tool = res.string("cycle_tool", "");
     read_numbers(res, "result", d);
     res.finish();
 
@@ -269,6 +273,16 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     if (!d.clamp_tool.empty() && !names.count(d.clamp_tool))
         mem.fail("clamp_tool", "must name one of the [[tools]]");
     if (!d.object.empty() && !names.count(d.object)) res.fail("object", "must name one of the [[tools]]");
+    if (!d.cycle_tool.empty()) {
+        const DeviceTool* ct = nullptr;
+        for (const DeviceTool& t : d.tools)
+            if (t.name == d.cycle_tool) ct = &t;
+        bool cycles = false;
+        if (ct)
+            for (const dem::ToolSegment& s : ct->program)
+                cycles = cycles || (s.stage == int32_t(DeviceStage::Load) && s.kind == dem::SegmentKind::Cycle);
+        if (!cycles) res.fail("cycle_tool", "must name one of the [[tools]] with a cycle segment in the \"load\" stage");
+    }
     top.finish();
 
     // The meshes are read and checked now, so that a bad one is refused before anything is built.
@@ -337,6 +351,8 @@ std::vector<std::pair<std::string, std::string>> device_inputs(const DeviceDef& 
     in.emplace_back("membrane.clamp_tool", json_string(d.clamp_tool));
     in.emplace_back("air.model", json_string(d.air.model == PressureModel::Pump ? "pump" : "constant"));
     in.emplace_back("result.object", json_string(d.object));
+    in.emplace_back("result.cycle_tool", json_string(d.cycle_tool));
+    in.emplace_back("grains.lattice", json_string(d.lattice));
     in.emplace_back("membrane.density", json_number(d.membrane.foil.density));
     in.emplace_back("membrane.stiffness_ratio", json_number(d.membrane.foil.stiffness_ratio));
     in.emplace_back("membrane.spacing", json_number(d.membrane.spacing));

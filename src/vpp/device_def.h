@@ -81,6 +81,7 @@ struct DeviceDef {
     double grain_stiffness_ratio = 0.5;// [-]
     double fill = 0.8;                 // [-] fraction of the lattice sites inside the membrane filled, lowest first
     double lattice_spacing = 2.2;      // [-] the fill lattice's spacing in grain radii (> 2; the jitter keeps 5% of the gap)
+    std::string lattice = "cubic";     // the fill lattice: "cubic" (packing 0.52 (2/s)^3) or "fcc" (0.74 (2/s)^3), s the spacing
 
     // [stages]
     double fill_time = 0.1;      // [s] the fill settles for at most this long
@@ -101,6 +102,7 @@ struct DeviceDef {
     // [result]
     std::string object;             // the tool whose pull in the load stage is the holding force ("" none)
     double release_time = 2e-3;     // [s] the load stage ends once the object has been free this long (0: never early)
+    std::string cycle_tool;         // the tool whose load-stage cycle is analysed (stiffness, work per cycle; "" none)
 
     std::vector<DeviceTool> tools;
 };

@@ -328,17 +328,29 @@ void DeviceRun::add_grains(const dem::SurfaceMesh& surface, uint32_t material) {
         if (d_.tools[k].shape.kind != "none")
             tool_surfaces.push_back(device_surface(d_.tools[k].shape, "tools[" + std::to_string(k) + "]", base_));
     std::vector<Vec3> sites;
-    const int nx = int((hi.x - lo.x) / h) + 1, ny = int((hi.y - lo.y) / h) + 1, nz = int((hi.z - lo.z) / h) + 1;
+    // cubic: a cell of edge h, one site; fcc: a cell of edge h sqrt(2), four sites (nearest
+    // neighbours h apart along face diagonals).
+    const bool fcc = d_.lattice == "fcc";
+    const double a = fcc ? h * std::numbers::sqrt2 : h;
+    const std::vector<Vec3> basis = fcc ? std::vector<Vec3>{{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}}
+                                        : std::vector<Vec3>{{0, 0, 0}};
+    // The lattice's first site: half a spacing in from the surface's bounding box (cubic); fcc:
+    // at the clearance (and a hundredth of a radius), so that a box is filled up to its faces
+    // on its low sides (and on its high sides too where its edges are 2 clear + 0.01 r + a
+    // multiple of h / sqrt 2).
+    const double off = fcc ? (clear + 0.01 * r) / a : 0.5 * h / a;
+    const int nx = int((hi.x - lo.x) / a) + 1, ny = int((hi.y - lo.y) / a) + 1, nz = int((hi.z - lo.z) / a) + 1;
     for (int k = 0; k < nz; ++k)
         for (int j = 0; j < ny; ++j)
-            for (int i = 0; i < nx; ++i) {
-                const Vec3 p = lo + Vec3{(i + 0.5) * h, (j + 0.5) * h, (k + 0.5) * h};
-                if (!inside(surface, p) || distance_to_surface(surface, p) < clear) continue;
-                bool free = true;
-                for (const dem::SurfaceMesh& ts : tool_surfaces)
-                    if (inside(ts, p) || distance_to_surface(ts, p) < r + 0.1 * r) free = false;
-                if (free) sites.push_back(p);
-            }
+            for (int i = 0; i < nx; ++i)
+                for (const Vec3& b : basis) {
+                    const Vec3 p = lo + a * Vec3{i + off + b.x, j + off + b.y, k + off + b.z};
+                    if (!inside(surface, p) || distance_to_surface(surface, p) < clear) continue;
+                    bool free = true;
+                    for (const dem::SurfaceMesh& ts : tool_surfaces)
+                        if (inside(ts, p) || distance_to_surface(ts, p) < r + 0.1 * r) free = false;
+                    if (free) sites.push_back(p);
+                }
     if (sites.empty())
         throw cfg::ConfigError("config key 'grains.radius' = " + cfg::number_text(r) +
                                ": no grain fits inside the membrane (a clearance of " + cfg::number_text(clear) +
@@ -347,9 +359,10 @@ void DeviceRun::add_grains(const dem::SurfaceMesh& surface, uint32_t material) {
     const std::size_t n = std::max<std::size_t>(1, std::size_t(std::llround(d_.fill * double(sites.size()))));
     std::stable_sort(sites.begin(), sites.end(), [](const Vec3& a, const Vec3& b) { return a.z < b.z; });
     sites.resize(std::min(n, sites.size()));
-    // A jitter of up to 0.1 (h - 2r) / 2 per axis: loose, random, never overlapping.
+    // A jitter of up to 0.9 (h - 2r) / 2 per axis (fcc: / sqrt 2, as its neighbours lie along face
+    // diagonals): loose, random, never overlapping.
     uint64_t rng = 0x5eed0000ull + d_.seed;
-    const double jit = 0.5 * (h - 2.0 * r) * 0.9;
+    const double jit = 0.5 * (h - 2.0 * r) * 0.9 / (fcc ? std::numbers::sqrt2 : 1.0);
     dem::SphereDef s;
     s.radius = r;
     s.material = material;
@@ -419,7 +432,9 @@ bool DeviceRun::step(DeviceStage stage, double dp_set) {
 
 void DeviceRun::stage_fill() {
     const double check = 2e-3;  // [s] between the rest checks, at fixed times from the stage start
-    const double scale = double(g1_ - g0_) * w_.particles.mass[g0_] * norm(d_.gravity) * 2.0 * d_.grain_radius;
+    // The grains' weight lifted by a diameter (with g = 9.81 m/s^2 where the device has no gravity).
+    const double g = norm(d_.gravity) > 0.0 ? norm(d_.gravity) : 9.81;
+    const double scale = double(g1_ - g0_) * w_.particles.mass[g0_] * g * 2.0 * d_.grain_radius;
     scene::Progress prog("fill", uint64_t(d_.fill_time / w_.params.dt), o_.quiet);
     uint64_t n = 0;
     if (st_.next_check == 0) st_.next_check = st_.stage_t0 + check;
@@ -482,9 +497,29 @@ void DeviceRun::stage_tools(DeviceStage stage) {
     const dem::Tool* obj = nullptr;
     for (const dem::Tool& t : tools_)
         if (t.name == d_.object && stage == DeviceStage::Load && d_.release_time > 0) obj = &t;
+    // The cycle tool's first load-stage cycle segment: where and when it starts is the cycle
+    // analysis's origin (recorded once it has started; kept over a resume).
+    std::size_t ck = tools_.size();
+    int32_t cseg = -1;
+    for (std::size_t k = 0; k < tools_.size(); ++k)
+        if (stage == DeviceStage::Load && tools_[k].name == d_.cycle_tool)
+            for (std::size_t s = 0; s < tools_[k].program.size() && cseg < 0; ++s)
+                if (tools_[k].program[s].stage == int32_t(stage) && tools_[k].program[s].kind == dem::SegmentKind::Cycle) {
+                    ck = k;
+                    cseg = int32_t(s);
+                }
+    auto note_cycle = [&] {
+        if (ck == tools_.size() || st_.report.count("cycle_t0")) return;
+        const dem::ToolState& ts = st_.tools[ck];
+        if (ts.segment != cseg || !ts.started) return;
+        st_.report["cycle_t0"] = ts.t0;
+        st_.report["cycle_d0"] = ts.d0;
+    };
     for (;;) {
         if (pause_point()) return;
-        if (step(stage, dp)) break;
+        const bool done = step(stage, dp);
+        note_cycle();
+        if (done) break;
         prog.update(++n, w_.time);
         if (!obj) continue;
         st_.free_steps = dem::tool_force(w_, *obj) == Vec3{} ? st_.free_steps + 1 : 0;
@@ -609,6 +644,61 @@ DeviceResult DeviceRun::result() const {
             if (int(row[1]) < int(DeviceStage::Load)) r.press_force = std::max(r.press_force, -fz);
         }
     auto rep = [&](const char* k) { return st_.report.count(k) ? st_.report.at(k) : 0.0; };
+    // The cycle tool's loops: P = -sign(a) F_z, the load it puts on the sample along the cycle's
+    // first leg, against u = sign(a) (z - z0), the displacement along it. Rows are assigned to
+    // cycles by time (period 2 |a| / speed from the load stage's start); each cycle's loop is
+    // closed by the row before it (or u = 0, P = its first row's at the start).
+    for (std::size_t k = 0; k < tools_.size(); ++k) {
+        if (tools_[k].name != d_.cycle_tool || !st_.report.count("cycle_t0")) continue;
+        const dem::ToolSegment* seg = nullptr;
+        for (const dem::ToolSegment& s : tools_[k].program)
+            if (!seg && s.stage == int32_t(DeviceStage::Load) && s.kind == dem::SegmentKind::Cycle) seg = &s;
+        if (!seg) break;
+        const double sg = seg->amplitude < 0 ? -1.0 : 1.0, amp = std::abs(seg->amplitude);
+        const double period = 2.0 * amp / seg->speed, t0 = rep("cycle_t0"), z0 = rep("cycle_d0");
+        std::vector<std::vector<std::pair<double, double>>> loops(std::size_t(seg->cycles));
+        std::pair<double, double> prev{0.0, 0.0};
+        bool have_prev = false;
+        for (std::size_t s = 0; s < r.samples; ++s) {
+            const double* row = &st_.rows[s * cols];
+            if (int(row[1]) != int(DeviceStage::Load)) continue;
+            const double t = row[0] - t0;
+            const long c = t <= 0.0 ? -1 : long(std::floor((t - 1e-12) / period));
+            const std::pair<double, double> up{sg * (row[2 + kToolColumns * k] - z0), -sg * row[2 + kToolColumns * k + 3]};
+            if (c >= 0 && c < long(loops.size())) {
+                auto& L = loops[std::size_t(c)];
+                if (L.empty()) L.push_back(have_prev ? prev : std::pair<double, double>{0.0, up.second});
+                L.push_back(up);
+            }
+            prev = up;
+            have_prev = true;
+        }
+        for (const auto& L : loops) {
+            if (L.size() < 4) continue;
+            double w = 0, peak = 0;
+            double su = 0, sp = 0, suu = 0, sup = 0;
+            int n = 0;
+            for (std::size_t i = 1; i < L.size(); ++i) {
+                w += 0.5 * (L[i].second + L[i - 1].second) * (L[i].first - L[i - 1].first);
+                peak = std::max(peak, L[i].second);
+            }
+            // The loading branch: the first leg (u rising to its largest).
+            std::size_t top = 0;
+            for (std::size_t i = 0; i < L.size(); ++i)
+                if (L[i].first > L[top].first) top = i;
+            for (std::size_t i = 0; i <= top; ++i) {
+                su += L[i].first;
+                sp += L[i].second;
+                suu += L[i].first * L[i].first;
+                sup += L[i].first * L[i].second;
+                ++n;
+            }
+            const double den = double(n) * suu - su * su;
+            r.cycle_stiffness.push_back(n >= 2 && den > 0 ? (double(n) * sup - su * sp) / den : 0.0);
+            r.cycle_work.push_back(w);
+            r.cycle_peak_force.push_back(peak);
+        }
+    }
     r.volume_seal = rep("volume_seal");
     r.volume_vacuum = rep("volume_vacuum");
     r.volume_press = rep("volume_press");
@@ -621,6 +711,13 @@ DeviceResult DeviceRun::result() const {
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     r.warnings = st_.warnings;
     return r;
+}
+
+// A JSON array of numbers on one line.
+std::string number_array(const std::vector<double>& v) {
+    std::string out = "[";
+    for (std::size_t k = 0; k < v.size(); ++k) out += (k ? ", " : "") + dem::json_double(v[k]);
+    return out + "]";
 }
 
 void DeviceRun::write_records() const {
@@ -676,6 +773,15 @@ void DeviceRun::write_records() const {
         .num("steps", double(w_.steps))
         .num("time", w_.time)
         .num("samples", double(r.samples))
+        .str("cycle_tool", d_.cycle_tool)
+        .num("stiffness", r.cycle_stiffness.empty() ? 0.0 : r.cycle_stiffness.back())
+        .num("work_per_cycle", r.cycle_work.empty() ? 0.0 : r.cycle_work.back())
+        .num("peak_force", r.cycle_peak_force.empty() ? 0.0 : r.cycle_peak_force.back())
+        .raw("cycle_stiffness", number_array(r.cycle_stiffness))
+        .raw("cycle_work", number_array(r.cycle_work))
+        .raw("cycle_peak_force", number_array(r.cycle_peak_force))
+        .num("packing_seal", r.volume_seal > 0 ? grain_volume_ / r.volume_seal : 0.0)
+        .num("packing_vacuum", r.volume_vacuum > 0 ? grain_volume_ / r.volume_vacuum : 0.0)
         .num("energy_residual", r.energy_residual)
         .num("energy_scale", r.energy_scale)
         .raw("warnings", dem::json_string_array(r.warnings))

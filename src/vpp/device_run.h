@@ -54,6 +54,10 @@ struct DeviceResult {
     bool fill_settled = false;      // the fill came to rest before stages.fill_time
     double run_seconds = 0;         // [s] wall clock of this call
     std::vector<std::string> warnings;
+    // result.cycle_tool's load-stage cycles, one entry per complete cycle: the loading branch's
+    // least-squares slope [N/m], the loop's area (work done on the sample per cycle) [J], the
+    // largest load [N]
+    std::vector<double> cycle_stiffness, cycle_work, cycle_peak_force;
 };
 
 // Builds the device, runs (or resumes) its stages and writes the records. Throws
