@@ -531,7 +531,8 @@ TEST(Device, GripperExampleIsAValidDeviceFile) {
 namespace {
 
 // A tiny VPP beam (examples/devices/beam.toml's layout, 25 x 9.4 x 9.4 mm, ~120 grains): two
-// supports, a loader that comes down to 0.1 N and cycles twice 0.3 mm down and back.
+// supports, a loader that comes down to 0.1 N, keeps 0.1 N on the floating sleeve (no gravity)
+// for 0.01 s and cycles twice 0.3 mm down and back.
 const char* kTinyBeam = R"([simulation]
 gravity = [0, 0, 0]
 seed = 1
@@ -584,6 +585,12 @@ kind = "force"
 force = 0.1
 speed = 0.05
 max_travel = 0.003
+[[tools.program]]
+stage = "load"
+kind = "force_hold"
+force = 0.1
+speed = 0.05
+duration = 0.01
 [[tools.program]]
 stage = "load"
 kind = "cycle"
