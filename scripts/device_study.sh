@@ -3,10 +3,12 @@
 # at a time, each into out/devices/<study>/<case>_s<seed>/ from the example's device file with
 # --set overrides; a finished run (its `done` marker) is skipped and an interrupted one resumes
 # from its run.ckpt, so rerunning the script picks up where it stopped. After each run its small
-# records (summary.json, tools.csv, air.csv, the case's command) are published into
+# records (summary.json, tools.csv from the press on as tools.csv.gz, the case's command) are
+# published into
 # docs/data/devices/<study>/<case>_s<seed>/.
 #   scripts/device_study.sh gripper      # then /usr/bin/python3 tools/device_report.py gripper
-# env: VPPDEM (build/vppdem), SEEDS ("1 2 3 4 5"), NICE (10), ONLY (a case name: run only it)
+# env: VPPDEM (build/vppdem), SEEDS ("1 2 3 4 5"), NICE (10), ONLY (a case name: run only it),
+#      PUBLISH_ONLY (1: run nothing, publish the finished runs again)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 study=${1:?usage: scripts/device_study.sh gripper|beam}
@@ -40,6 +42,21 @@ beam)
 *) echo "device_study: unknown study '$study' (gripper, beam)" >&2; exit 2 ;;
 esac
 
+# The small records: summary.json, and tools.csv from the press on (stage >= 2), six digits, gzipped.
+publish() {
+    mkdir -p "$2"
+    cp "$1/summary.json" "$2/"
+    python3 - "$1/tools.csv" "$2/tools.csv.gz" <<'PY'
+import csv, gzip, sys
+with open(sys.argv[1]) as f, gzip.open(sys.argv[2], "wt", compresslevel=9) as g:
+    r = csv.reader(f)
+    g.write(",".join(next(r)) + "\n")
+    for row in r:
+        if float(row[1]) >= 2:
+            g.write(",".join("%.6g" % float(v) for v in row) + "\n")
+PY
+}
+
 # seed-major: every case gets seed 1 before any gets seed 2, so a study cut short is balanced
 for seed in $SEEDS; do
     for i in "${!names[@]}"; do
@@ -47,7 +64,11 @@ for seed in $SEEDS; do
         [ -n "${ONLY:-}" ] && [ "$ONLY" != "$name" ] && continue
         run=out/devices/$study/${name}_s$seed
         pub=docs/data/devices/$study/${name}_s$seed
-        if [ -f "$run/done" ]; then continue; fi
+        if [ -f "$run/done" ]; then
+            [ -n "${PUBLISH_ONLY:-}" ] && publish "$run" "$pub"
+            continue
+        fi
+        [ -n "${PUBLISH_ONLY:-}" ] && continue
         args=(device "$file" --out "$run" --set simulation.seed=$seed --set output.vtk=false)
         for s in ${sets[$i]}; do args+=(--set "$s"); done
         mkdir -p "$(dirname "$run")"
@@ -57,7 +78,7 @@ for seed in $SEEDS; do
         echo "$(( $(date +%s) - start ))" > "$run/done"
         cp "$run.log" "$run/stderr.log"
         mkdir -p "$pub"
-        cp "$run/summary.json" "$run/tools.csv" "$run/air.csv" "$pub/"
+        publish "$run" "$pub"
         { echo "# $(date -u +%Y-%m-%dT%H:%M:%SZ), wall $(cat "$run/done") s"
           printf '%q ' "$VPPDEM" "${args[@]}"; echo; } > "$pub/command.txt"
     done

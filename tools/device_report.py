@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The device studies' report (issue 47, docs/devices.md).
 
-Reads the published records docs/data/devices/<study>/<case>_s<seed>/ (summary.json, tools.csv,
+Reads the published records docs/data/devices/<study>/<case>_s<seed>/ (summary.json, tools.csv.gz,
 as scripts/device_study.sh leaves them), computes each case's mean and 95% Student-t interval
 over its seeds, draws docs/devices_<study>_study.png and writes the table into docs/devices.md
 between the markers <!-- device_report:<study> begin --> and <!-- ... end -->.
@@ -10,6 +10,7 @@ between the markers <!-- device_report:<study> begin --> and <!-- ... end -->.
     /usr/bin/python3 tools/device_report.py beam
 """
 import csv
+import gzip
 import json
 import math
 import os
@@ -49,7 +50,12 @@ def fmt(m, h, digits=3, scale=1.0):
 
 
 def read_tools(path):
-    with open(path) as f:
+    """tools.csv of a run's folder (published: tools.csv.gz, the rows from the press on)."""
+    if not os.path.exists(path) and os.path.exists(path + ".gz"):
+        f = gzip.open(path + ".gz", "rt")
+    else:
+        f = open(path)
+    with f:
         r = csv.DictReader(f)
         return [{k: float(v) for k, v in row.items()} for row in r]
 
