@@ -127,6 +127,18 @@ def gripper(runs):
     table = ["| case | | dp [kPa] | press [N] | n | holding force [N] | wrap depth [mm] | holder travel in the press [mm] | volume change in the vacuum [%] | per seed (seeds in order) [N] |",
              "|---|---|---|---|---|---|---|---|---|---|"] + rows
     n_done = sum(len(runs.get(c[0], [])) for c in GRIPPER_CASES)
+    # Paired differences: a seed's cases share its fill (the jitter), so they differ by the case alone.
+    pairs = [("dp25", "dp0"), ("dp50", "dp25"), ("press4_dp50", "dp50"), ("dp50", "press1_dp50"),
+             ("dp50", "mu_membrane0_dp50"), ("dp50", "mu_grains0_dp50")]
+    ptable = ["| difference (same seeds) | n | mean ± 95% [N] | seeds with a positive difference | resolved from 0 |",
+              "|---|---|---|---|---|"]
+    for a, b in pairs:
+        da = dict(zip(stats[a]["seeds"], stats[a]["hf_all"]))
+        db = dict(zip(stats[b]["seeds"], stats[b]["hf_all"]))
+        d = [da[k] - db[k] for k in sorted(set(da) & set(db))]
+        m, h, n = mean_ci(d)
+        res = "yes" if n > 1 and math.isfinite(h) and abs(m) > h else "no"
+        ptable.append(f"| `{a}` - `{b}` | {n} | {fmt(m, h)} | {sum(x > 0 for x in d)} of {n} | {res} |")
 
     fig, ax = plt.subplots(1, 3, figsize=(13, 4))
     for k, names, xkey, xlabel in ((0, ["dp0", "dp25", "dp50"], "dp", "underpressure dp [kPa]"),
@@ -174,6 +186,7 @@ def gripper(runs):
          f"{len(GRIPPER_CASES)} cases x seeds 1-5). Mean ± the 95% Student-t half-width over the seeds; "
          f"wrap depth: how far the membrane's lowest particle centre reaches below the object's top at the "
          f"end of the vacuum (6 mm - `membrane_z_min`).", "", *table, "",
+         "Paired by seed (Student t on the per-seed differences):", "", *ptable, "",
          "![The gripper study](devices_gripper_study.png)"])
     replace_block("gripper", text)
     return stats
