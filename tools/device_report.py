@@ -223,7 +223,7 @@ def beam(runs):
                        lw=0.8, label=f"{stats[nm]['dp']} kPa, seed {r['_seed']}")
     ax[0].set_xlabel("mid-span deflection from the load stage's start [mm]")
     ax[0].set_ylabel("mid-span force [N]")
-    ax[0].set_title("load stage (contact, then 3 cycles)")
+    ax[0].set_title("load stage: contact, preload, 2 cycles")
     ax[0].legend(fontsize=8)
     for k, key, lab, sc in ((1, "k", "bending stiffness [N/m]", 1.0), (2, "w", "work per cycle [µJ]", 1e6)):
         xs, ms, hs = [], [], []
@@ -245,7 +245,7 @@ def beam(runs):
     text = "\n".join(
         [f"Made by `scripts/device_study.sh beam` and `/usr/bin/python3 tools/device_report.py beam` from the "
          f"records in `docs/data/devices/beam/` ({n_done} of {3 * len(BEAM_CASES)} runs: {len(BEAM_CASES)} "
-         f"underpressures x seeds 1-3). The last of the 3 cycles; mean ± the 95% Student-t half-width over the seeds.",
+         f"underpressures x seeds 1-3). The second (last) of the 2 cycles; mean ± the 95% Student-t half-width over the seeds.",
          "", *table, "", "![The beam study](devices_beam_study.png)"])
     replace_block("beam", text)
     return stats
