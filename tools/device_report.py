@@ -218,12 +218,17 @@ def beam(runs):
             ld = [row for row in t if int(row["stage"]) == 4]
             if not ld:
                 continue
+            # the cycles: the last cycles x 2 |a| / speed of the load stage (the loader's program)
+            cyc = [g for g in r["inputs"]["tools.loader.program"] if g.get("kind") == "cycle"][0]
+            period = 2 * abs(cyc["amplitude"]) / cyc["speed"]
+            ncyc = cyc["cycles"]
+            ld = [row for row in ld if row["time"] >= ld[-1]["time"] - ncyc * period - 1e-9]
             z0 = ld[0]["loader_z"]
             ax[0].plot([-(row["loader_z"] - z0) * 1e3 for row in ld], [row["loader_fz"] for row in ld], color=col,
                        lw=0.8, label=f"{stats[nm]['dp']} kPa, seed {r['_seed']}")
-    ax[0].set_xlabel("mid-span deflection from the load stage's start [mm]")
+    ax[0].set_xlabel("mid-span deflection from the cycles' start [mm]")
     ax[0].set_ylabel("mid-span force [N]")
-    ax[0].set_title("load stage: contact, preload, 2 cycles")
+    ax[0].set_title("the 2 cycles (after contact and preload)")
     ax[0].legend(fontsize=8)
     for k, key, lab, sc in ((1, "k", "bending stiffness [N/m]", 1.0), (2, "w", "work per cycle [µJ]", 1e6)):
         xs, ms, hs = [], [], []
