@@ -18,6 +18,8 @@
 #include "vpp/analyze_command.h"
 #include "vpp/calibrate.h"
 #include "vpp/damper.h"
+#include "vpp/device_def.h"
+#include "vpp/device_run.h"
 #include "vpp/envelope.h"
 #include "vpp/plot.h"
 #include "vpp/settings.h"
@@ -121,6 +123,21 @@ int main(int argc, char** argv) {
     bool damper_profile = false;
     damper.app->add_flag("--profile", damper_profile, "Print the time per phase of the cycling");
     damper.app->add_option("--checkpoint-every", ckpt_every, "[s] wall-clock time between checkpoints")
+        ->check(kPositive);
+
+    // vppdem device FILE --out DIR [--from CKPT]: a vacuum-packed device from a device file (docs/devices.md).
+    auto* device = app.add_subcommand("device", "Run a vacuum-packed device from meshes: fill, seal, press, vacuum, load (docs/devices.md)");
+    std::string device_file, device_out, device_from;
+    std::vector<std::string> device_sets;
+    bool device_overwrite = false, device_quiet = false;
+    device->add_option("file", device_file, "Device file (TOML)")->required()->check(CLI::ExistingFile);
+    device->add_option("--out", device_out, "Output directory (running into it again resumes from its run.ckpt)")->required();
+    device->add_option("--from", device_from, "Resume from this checkpoint (a run.ckpt)")->check(CLI::ExistingFile);
+    device->add_option("--set", device_sets, "Override a device key: section.key=value (repeatable)")->allow_extra_args(false);
+    device->add_flag("--overwrite", device_overwrite, "Start afresh in a non-empty output directory, replacing its files (its run.ckpt too)");
+    device->add_flag("--quiet", device_quiet, "No progress output");
+    double device_ckpt_every = 60.0;
+    device->add_option("--checkpoint-every", device_ckpt_every, "[s] wall-clock time between checkpoints within a stage")
         ->check(kPositive);
 
     // vppdem analyze FORCES.csv: cycles.csv from any force-displacement record.
@@ -277,6 +294,15 @@ int main(int argc, char** argv) {
             // Fewer cycles recorded than asked is a failed run (exit 1), not a refusal (2): the
             // records are written, summary.json says so under "warnings".
             if (vpp::run_damper(c, o).incomplete) return 1;
+        } else if (*device) {
+            const vpp::DeviceDef d = vpp::load_device(device_file, device_sets);
+            vpp::DeviceOptions o;
+            o.out_dir = device_out;
+            o.from = device_from;
+            o.quiet = device_quiet;
+            o.overwrite = device_overwrite;
+            o.checkpoint_every = device_ckpt_every;
+            vpp::run_device(d, o);
         } else if (*analyze) {
             ao.disp_scale = dunit == "mm" ? 1e-3 : 1.0;
             ao.force_scale = funit == "kN" ? 1e3 : 1.0;

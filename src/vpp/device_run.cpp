@@ -1,0 +1,805 @@
+// The device run (vpp/device_run.h): the device's world from its file, the stages, the records
+// and the checkpoints. Built the way the damper's run is (vpp/damper_*.cpp): a run object that
+// owns the World and a run state that the checkpoint carries (DeviceState), stages that step
+// until their end, records written under a temporary name and renamed.
+#include "vpp/device_run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <map>
+#include <numbers>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include "dem/io/archive.h"
+#include "dem/io/checkpoint.h"
+#include "dem/io/csv.h"
+#include "dem/io/folder_lock.h"
+#include "dem/io/json.h"
+#include "dem/io/vtk.h"
+#include "dem/world/tool.h"
+#include "dem/world/world.h"
+#include "scene/config.h"
+#include "scene/progress.h"
+#include "scene/setting.h"
+#include "scene/scene_runner.h"
+#include "vpp/foil.h"
+
+namespace vpp {
+
+namespace {
+
+namespace fs = std::filesystem;
+using dem::Vec3;
+
+constexpr const char* kCheckpointName = "run.ckpt";
+constexpr int kToolColumns = 4;  // z, fx, fy, fz
+constexpr int kAirColumns = 5;   // time, stage, enclosed, gas, dp
+constexpr int kEnergyColumns = 11;
+constexpr const char* kEnergyHeader =
+    "time,boundary_work,pressure_work,gravity_work,kinetic,elastic_contacts,elastic_bonds,"
+    "friction_dissipation,damping_dissipation,viscous_dissipation,residual";
+
+// ---- geometry of the fill
+
+// Distance from p to triangle (a, b, c) [m] (the closest point by region, Ericson's
+// "Real-Time Collision Detection" 5.1.5).
+double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 ab = b - a, ac = c - a, ap = p - a;
+    const double d1 = dot(ab, ap), d2 = dot(ac, ap);
+    if (d1 <= 0 && d2 <= 0) return norm(p - a);
+    const Vec3 bp = p - b;
+    const double d3 = dot(ab, bp), d4 = dot(ac, bp);
+    if (d3 >= 0 && d4 <= d3) return norm(p - b);
+    const double vc = d1 * d4 - d3 * d2;
+    if (vc <= 0 && d1 >= 0 && d3 <= 0) return norm(p - (a + ab * (d1 / (d1 - d3))));
+    const Vec3 cp = p - c;
+    const double d5 = dot(ab, cp), d6 = dot(ac, cp);
+    if (d6 >= 0 && d5 <= d6) return norm(p - c);
+    const double vb = d5 * d2 - d1 * d6;
+    if (vb <= 0 && d2 >= 0 && d6 <= 0) return norm(p - (a + ac * (d2 / (d2 - d6))));
+    const double va = d3 * d6 - d5 * d4;
+    if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        return norm(p - (b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)))));
+    const double den = 1.0 / (va + vb + vc);
+    return norm(p - (a + ab * (vb * den) + ac * (vc * den)));
+}
+
+// Whether p lies inside the closed, outward surface m: its winding number, the triangles' solid
+// angles summed (van Oosterom and Strackee), is 1 inside and 0 outside; robust for any shape.
+bool inside(const dem::SurfaceMesh& m, const Vec3& p) {
+    double omega = 0.0;
+    for (const auto& t : m.triangles) {
+        const Vec3 a = m.vertices[t[0]] - p, b = m.vertices[t[1]] - p, c = m.vertices[t[2]] - p;
+        const double la = norm(a), lb = norm(b), lc = norm(c);
+        const double num = dot(a, cross(b, c));
+        const double den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+        omega += 2.0 * std::atan2(num, den);
+    }
+    return omega > 2.0 * std::numbers::pi;  // winding > 1/2
+}
+
+double distance_to_surface(const dem::SurfaceMesh& m, const Vec3& p) {
+    double d = 1e300;
+    for (const auto& t : m.triangles)
+        d = std::min(d, point_triangle_distance(p, m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]));
+    return d;
+}
+
+// A uniform double in [0, 1) from 53 bits of the generator: the same draw on every platform
+// (std::uniform_real_distribution is left to the library).
+double uniform(uint64_t& s) {
+    // splitmix64
+    uint64_t z = (s += 0x9e3779b97f4a7c15ull);
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    z ^= z >> 31;
+    return double(z >> 11) * 0x1.0p-53;
+}
+
+// ---- the run state the checkpoint carries
+
+struct DeviceState {
+    int32_t stage = 0;                 // DeviceStage: the stage to run next
+    double stage_t0 = 0;               // [s] its start
+    int32_t sealed = 0;                // pressure fans and air on
+    std::vector<dem::ToolState> tools;
+    MembraneGas gas;
+    std::vector<double> window;        // [N] per tool: sums of fx, fy, fz over the sample window
+    int64_t window_n = 0;              // steps in the window
+    std::vector<double> rows;          // tools.csv, row after row (2 + 4 per tool columns)
+    std::vector<double> air;           // air.csv, row after row (kAirColumns)
+    std::vector<double> energy;        // energy.csv, row after row (kEnergyColumns)
+    std::map<std::string, double> report;  // "volume_seal", "volume_vacuum", "fill_settled", "fill_time"
+    std::vector<std::string> warnings;
+    std::string inputs;                // the device's inputs (device_inputs) the run was started with
+    // Where the running stage stands (a checkpoint within a stage resumes from it); reset by
+    // next_stage().
+    double next_check = 0;             // [s] the fill's next rest check (0: not set)
+    int64_t free_steps = 0;            // load: steps the object has been free
+    int32_t tools_done = 0;            // vacuum: the tools' segments were done at the last step
+    int64_t vtk_frames = 0;            // frames written at output.vtk_interval
+
+    template <class A, class S> static void fields(A& a, S& r) {
+        a.section("DEVS", [&](A& s) {
+            s.pod(r.stage);
+            s.pod(r.stage_t0);
+            s.pod(r.sealed);
+            s.vec(r.tools);
+            s.pod(r.gas);
+            s.vec(r.window);
+            s.pod(r.window_n);
+            s.vec(r.rows);
+            s.vec(r.air);
+            s.vec(r.energy);
+            s.numbers(r.report);
+            s.strings(r.warnings);
+            s.str(r.inputs);
+            s.pod(r.next_check);
+            s.pod(r.free_steps);
+            s.pod(r.tools_done);
+            s.pod(r.vtk_frames);
+        });
+    }
+    std::string save() const {
+        dem::io::Writer w;
+        fields(w, *this);
+        return w.buf;
+    }
+    static DeviceState load(const std::string& blob, const std::string& path) {
+        DeviceState r;
+        dem::io::Reader rd(blob.data(), blob.size(), path);
+        fields(rd, r);
+        if (!rd.done()) dem::io::corrupt(path, "unread bytes after the device's run state");
+        if (r.stage < 0 || r.stage > int32_t(DeviceStage::Done)) dem::io::corrupt(path, "stage out of range");
+        return r;
+    }
+};
+
+std::string inputs_text(const DeviceDef& d) {
+    std::string s;
+    for (const auto& [k, v] : device_inputs(d))
+        if (k != "file") s += k + "=" + v + "\n";  // the same device from another folder resumes
+    return s;
+}
+
+class DeviceRun {
+public:
+    DeviceRun(const DeviceDef& d, const DeviceOptions& o);
+    void run();
+    DeviceResult result() const;
+    void write_records() const;
+
+private:
+    void build();
+    void add_grains(const dem::SurfaceMesh& surface, uint32_t material);
+    void start_output(const std::string& resumed_from);
+    void checkpoint();
+    // VTK frame DIR/vtk/NAME.vtk (particles and bonds) and NAME_tools.vtk (the tools' facets).
+    void vtk_frame(const std::string& name) const;
+    // Before each step within a stage: a checkpoint every o_.checkpoint_every seconds of wall
+    // clock, and the stop that o_.stop_at_time asks for (checkpoint, records; true: stop now).
+    bool pause_point();
+    // One step of `stage` with the regulator at dp_set [Pa]; true when the tools' segments of the
+    // stage are done.
+    bool step(DeviceStage stage, double dp_set);
+    void stage_fill();
+    void stage_seal();
+    void stage_tools(DeviceStage stage);
+    void stage_vacuum();
+    void next_stage();
+    double grains_kinetic_energy() const;
+    double enclosed() const { return enclosed_volume(m_, w_.particles.pos); }
+    void warn(const std::string& what);
+    void log(const std::string& what) const {
+        if (!o_.quiet) std::fprintf(stderr, "[device] %s\n", what.c_str());
+    }
+
+    DeviceDef d_;
+    DeviceOptions o_;
+    std::string base_;
+    dem::World w_;
+    Membrane m_;
+    std::vector<dem::Tool> tools_;
+    uint32_t g0_ = 0, g1_ = 0;  // the grains' particle range
+    uint32_t grain_mat_ = 0;
+    double grain_volume_ = 0;   // [m^3]
+    DeviceState st_;
+    fs::path out_;
+    dem::FolderLock lock_;
+    std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
+    std::chrono::steady_clock::time_point last_ckpt_ = start_;
+    bool stopped_ = false;
+};
+
+DeviceRun::DeviceRun(const DeviceDef& d, const DeviceOptions& o) : d_(d), o_(o) {
+    base_ = fs::path(d.path).parent_path().string();
+    build();
+    std::string from = o.from;
+    if (from.empty() && !o.overwrite && !o.out_dir.empty() && fs::exists(fs::path(o.out_dir) / kCheckpointName))
+        from = (fs::path(o.out_dir) / kCheckpointName).string();
+    if (!from.empty()) {
+        const std::string blob = dem::load_checkpoint(from, w_);
+        st_ = DeviceState::load(blob, from);
+        if (st_.inputs != inputs_text(d_))
+            throw std::runtime_error("checkpoint '" + from + "' was made with another device file (its inputs differ from '" +
+                                     d_.path + "'): run into a new --out, or give the device file it was made with");
+        if (st_.sealed) w_.pressure.fans = membrane_pressure_fans(m_);
+        w_.params.threads = d_.threads;  // this machine's, not the checkpoint's (the results do not depend on it)
+        char at[64];
+        std::snprintf(at, sizeof at, "t = %.6g s", w_.time);
+        log("resuming from " + from + " at " + at + " in the stage '" + device_stage_name(DeviceStage(st_.stage)) + "'");
+    } else {
+        st_.inputs = inputs_text(d_);
+        st_.tools.assign(tools_.size(), dem::ToolState{});
+        st_.window.assign(3 * tools_.size(), 0.0);
+    }
+    start_output(from);
+}
+
+void DeviceRun::start_output(const std::string& resumed_from) {
+    if (o_.out_dir.empty()) return;
+    out_ = o_.out_dir;
+    const bool own = !resumed_from.empty() && fs::exists(out_ / kCheckpointName) &&
+                     fs::equivalent(fs::path(resumed_from), out_ / kCheckpointName);
+    lock_ = own ? scene::lock_output_dir(o_.out_dir) : scene::prepare_output_dir(o_.out_dir, o_.overwrite);
+}
+
+void DeviceRun::build() {
+    const dem::SurfaceMesh surface = device_surface(d_.membrane_shape, "membrane", base_);
+    MembraneDef md = d_.membrane;
+    md.seed = d_.seed == 0 ? 1 : d_.seed;
+    m_ = build_membrane(w_, md, surface);  // the foil's material is 0
+
+    dem::Material gm;
+    gm.name = "grains";
+    gm.density = d_.grain_density;
+    gm.young = d_.grain_young;
+    gm.friction = d_.fill_friction;  // grains.friction from the seal on
+    gm.stiffness_ratio = d_.grain_stiffness_ratio;
+    const uint32_t grain_mat = w_.add_material(gm);
+    grain_mat_ = grain_mat;
+
+    for (std::size_t k = 0; k < d_.tools.size(); ++k) {
+        const DeviceTool& t = d_.tools[k];
+        dem::Tool tool;
+        tool.name = t.name;
+        tool.program = t.program;
+        if (t.shape.kind != "none") {
+            dem::Material tm;
+            tm.name = "tool " + t.name;
+            tm.young = t.young;
+            tm.friction = t.friction;
+            tm.stiffness_ratio = t.stiffness_ratio;
+            const uint32_t mat = w_.add_material(tm);
+            const dem::SurfaceMesh s = device_surface(t.shape, "tools[" + std::to_string(k) + "]", base_);
+            std::vector<dem::Facet> facets;
+            for (const auto& tri : s.triangles) {
+                dem::Facet f;
+                f.vertices = {s.vertices[tri[0]], s.vertices[tri[1]], s.vertices[tri[2]]};
+                f.material = mat;
+                f.mask = kMaskGrainFoil;  // grains and membrane; the grains' mask shares the bit
+                facets.push_back(f);
+            }
+            dem::add_tool_facets(w_, tool, facets);
+        }
+        tools_.push_back(std::move(tool));
+    }
+    if (!d_.clamp_tool.empty()) {
+        double z_top = -1e300;
+        for (uint32_t i : m_.particles) z_top = std::max(z_top, w_.particles.pos[i].z);
+        std::vector<uint32_t> clamp;
+        for (uint32_t i : m_.particles)
+            if (w_.particles.pos[i].z >= z_top - d_.clamp_height) clamp.push_back(i);
+        for (dem::Tool& t : tools_)
+            if (t.name == d_.clamp_tool) dem::clamp_to_tool(w_, t, clamp);
+    }
+
+    g0_ = uint32_t(w_.particles.size());
+    add_grains(surface, grain_mat);
+    g1_ = uint32_t(w_.particles.size());
+    grain_volume_ = 0.0;
+    for (uint32_t i = g0_; i < g1_; ++i) grain_volume_ += 4.0 / 3.0 * std::numbers::pi * std::pow(w_.particles.radius[i], 3);
+
+    w_.params.gravity = d_.gravity;
+    w_.params.local_damping = d_.local_damping;
+    w_.params.threads = d_.threads;
+    w_.params.dt = d_.dt > 0.0 ? d_.dt : d_.dt_safety * w_.critical_dt();
+    if (!(w_.params.dt > 0.0) || !std::isfinite(w_.params.dt))
+        throw std::runtime_error("device: no usable time step (" + std::to_string(w_.params.dt) + " s)");
+}
+
+void DeviceRun::add_grains(const dem::SurfaceMesh& surface, uint32_t material) {
+    const double r = d_.grain_radius, h = d_.lattice_spacing * r;
+    // The grains' surfaces clear the membrane particles' (their centres sit on the surface) by a
+    // tenth of a radius, and the tools'.
+    const double clear = r + d_.membrane.foil.particle_radius + 0.1 * r;
+    Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
+    for (const Vec3& v : surface.vertices) {
+        lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
+        hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
+    }
+    std::vector<dem::SurfaceMesh> tool_surfaces;
+    for (std::size_t k = 0; k < d_.tools.size(); ++k)
+        if (d_.tools[k].shape.kind != "none")
+            tool_surfaces.push_back(device_surface(d_.tools[k].shape, "tools[" + std::to_string(k) + "]", base_));
+    std::vector<Vec3> sites;
+    // cubic: a cell of edge h, one site; fcc: a cell of edge h sqrt(2), four sites (nearest
+    // neighbours h apart along face diagonals).
+    const bool fcc = d_.lattice == "fcc";
+    const double a = fcc ? h * std::numbers::sqrt2 : h;
+    const std::vector<Vec3> basis = fcc ? std::vector<Vec3>{{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}}
+                                        : std::vector<Vec3>{{0, 0, 0}};
+    // The lattice's first site: half a spacing in from the surface's bounding box (cubic); fcc:
+    // at the clearance (and a hundredth of a radius), so that a box is filled up to its faces
+    // on its low sides (and on its high sides too where its edges are 2 clear + 0.01 r + a
+    // multiple of h / sqrt 2).
+    const double off = fcc ? (clear + 0.01 * r) / a : 0.5 * h / a;
+    const int nx = int((hi.x - lo.x) / a) + 1, ny = int((hi.y - lo.y) / a) + 1, nz = int((hi.z - lo.z) / a) + 1;
+    for (int k = 0; k < nz; ++k)
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i)
+                for (const Vec3& b : basis) {
+                    const Vec3 p = lo + a * Vec3{i + off + b.x, j + off + b.y, k + off + b.z};
+                    if (!inside(surface, p) || distance_to_surface(surface, p) < clear) continue;
+                    bool free = true;
+                    for (const dem::SurfaceMesh& ts : tool_surfaces)
+                        if (inside(ts, p) || distance_to_surface(ts, p) < r + 0.1 * r) free = false;
+                    if (free) sites.push_back(p);
+                }
+    if (sites.empty())
+        throw cfg::ConfigError("config key 'grains.radius' = " + cfg::number_text(r) +
+                               ": no grain fits inside the membrane (a clearance of " + cfg::number_text(clear) +
+                               " m from it is needed)");
+    // Lowest first (poured), lattice order within a layer; n of them.
+    const std::size_t n = std::max<std::size_t>(1, std::size_t(std::llround(d_.fill * double(sites.size()))));
+    std::stable_sort(sites.begin(), sites.end(), [](const Vec3& a, const Vec3& b) { return a.z < b.z; });
+    sites.resize(std::min(n, sites.size()));
+    // A jitter of up to 0.9 (h - 2r) / 2 per axis (fcc: / sqrt 2, as its neighbours lie along face
+    // diagonals): loose, random, never overlapping.
+    uint64_t rng = 0x5eed0000ull + d_.seed;
+    const double jit = 0.5 * (h - 2.0 * r) * 0.9 / (fcc ? std::numbers::sqrt2 : 1.0);
+    dem::SphereDef s;
+    s.radius = r;
+    s.material = material;
+    s.mask = kGrainMask;
+    w_.reserve(w_.particles.size() + sites.size());
+    for (const Vec3& p : sites) {
+        const Vec3 j{(2 * uniform(rng) - 1) * jit, (2 * uniform(rng) - 1) * jit, (2 * uniform(rng) - 1) * jit};
+        s.position = p + j;
+        w_.add_sphere(s);
+    }
+}
+
+void DeviceRun::warn(const std::string& what) {
+    st_.warnings.push_back(what);
+    if (!o_.quiet) std::fprintf(stderr, "[device] warning: %s\n", what.c_str());
+}
+
+double DeviceRun::grains_kinetic_energy() const {
+    double e = 0;
+    for (uint32_t i = g0_; i < g1_; ++i) e += 0.5 * w_.particles.mass[i] * norm2(w_.particles.vel[i]);
+    return e;
+}
+
+bool DeviceRun::step(DeviceStage stage, double dp_set) {
+    bool done = true;
+    for (std::size_t k = 0; k < tools_.size(); ++k) done = dem::drive_tool(w_, tools_[k], st_.tools[k], int32_t(stage)) && done;
+    if (st_.sealed) membrane_air_step(w_, m_, grain_volume_, dp_set, d_.air, st_.gas);
+    w_.compute_forces();
+    for (std::size_t k = 0; k < tools_.size(); ++k) {
+        const Vec3 f = dem::tool_force(w_, tools_[k]);
+        st_.window[3 * k] += f.x;
+        st_.window[3 * k + 1] += f.y;
+        st_.window[3 * k + 2] += f.z;
+    }
+    ++st_.window_n;
+    const std::size_t cols = 2 + kToolColumns * tools_.size();
+    const std::size_t taken = st_.rows.size() / cols;
+    const bool sample = w_.time >= double(taken + 1) * d_.sample_interval - 0.5 * w_.params.dt;
+    if (sample) {
+        st_.rows.push_back(w_.time);
+        st_.rows.push_back(double(int(stage)));
+        for (std::size_t k = 0; k < tools_.size(); ++k) {
+            st_.rows.push_back(dem::tool_displacement(w_, tools_[k], w_.time));
+            for (int c = 0; c < 3; ++c) st_.rows.push_back(st_.window[3 * k + c] / double(st_.window_n));
+        }
+        std::fill(st_.window.begin(), st_.window.end(), 0.0);
+        st_.window_n = 0;
+        const double v = enclosed();
+        st_.air.insert(st_.air.end(), {w_.time, double(int(stage)), v, v - grain_volume_, w_.pressure.dp});
+    }
+    w_.integrate();
+    if (d_.vtk_interval > 0.0 && w_.time >= double(st_.vtk_frames + 1) * d_.vtk_interval - 0.5 * w_.params.dt) {
+        ++st_.vtk_frames;
+        char name[32];
+        std::snprintf(name, sizeof name, "frame_%06lld", (long long)st_.vtk_frames);
+        vtk_frame(name);
+    }
+    if (sample && w_.params.track_energy) {
+        const dem::EnergyLedger& L = w_.energy();
+        st_.energy.insert(st_.energy.end(),
+                          {L.time, L.boundary_work, L.pressure_work, L.gravity_work, L.kinetic, L.elastic_contacts,
+                           L.elastic_bonds, L.friction_dissipation(), L.damping_dissipation, L.viscous_dissipation,
+                           L.residual()});
+    }
+    return done;
+}
+
+void DeviceRun::stage_fill() {
+    const double check = 2e-3;  // [s] between the rest checks, at fixed times from the stage start
+    // The grains' weight lifted by a diameter (with g = 9.81 m/s^2 where the device has no gravity).
+    const double g = norm(d_.gravity) > 0.0 ? norm(d_.gravity) : 9.81;
+    const double scale = double(g1_ - g0_) * w_.particles.mass[g0_] * g * 2.0 * d_.grain_radius;
+    scene::Progress prog("fill", uint64_t(d_.fill_time / w_.params.dt), o_.quiet);
+    uint64_t n = 0;
+    if (st_.next_check == 0) st_.next_check = st_.stage_t0 + check;
+    for (;;) {
+        if (pause_point()) return;
+        step(DeviceStage::Fill, 0.0);
+        prog.update(++n, w_.time);
+        if (w_.time < st_.next_check) continue;
+        st_.next_check += check;
+        const double t = w_.time - st_.stage_t0;
+        const double ke = grains_kinetic_energy();
+        if (t >= d_.fill_min_time && ke < 1e-4 * scale) {
+            st_.report["fill_settled"] = 1.0;
+            break;
+        }
+        if (t >= d_.fill_time) {
+            st_.report["fill_settled"] = 0.0;
+            char msg[320];
+            std::snprintf(msg, sizeof msg, "fill: the grains are not at rest after stages.fill_time = %g s (kinetic energy %.3g J; "
+                          "at rest below %.3g J, 1e-4 N m g 2r): the next stage starts on moving grains",
+                          d_.fill_time, ke, 1e-4 * scale);
+            warn(msg);
+            break;
+        }
+    }
+    st_.report["fill_time"] = w_.time - st_.stage_t0;
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "fill: %u grains settled in %.4g s", unsigned(g1_ - g0_), w_.time - st_.stage_t0);
+    log(msg);
+}
+
+void DeviceRun::stage_seal() {
+    if (w_.materials[grain_mat_].friction != d_.grain_friction) {  // the fill's friction ends with the fill
+        w_.materials[grain_mat_].friction = d_.grain_friction;
+        w_.invalidate_contact_physics();
+    }
+    w_.pressure.fans = membrane_pressure_fans(m_);
+    w_.pressure.dp = 0.0;
+    st_.sealed = 1;
+    st_.gas = MembraneGas{};
+    st_.report["volume_seal"] = enclosed();
+    if (d_.energy) {
+        w_.params.track_energy = true;
+        w_.reset_energy();
+    }
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "seal: enclosed volume %.6g m^3 (grains %.6g m^3)", enclosed(), grain_volume_);
+    log(msg);
+}
+
+void DeviceRun::stage_tools(DeviceStage stage) {
+    double longest = 0;
+    for (const dem::Tool& t : tools_)
+        longest = std::max(longest, dem::program_duration(t, int32_t(stage), dem::tool_displacement(w_, t, w_.time)));
+    scene::Progress prog(device_stage_name(stage), uint64_t(longest / w_.params.dt) + 1, o_.quiet);
+    uint64_t n = 0;
+    const double dp = st_.sealed && stage > DeviceStage::Vacuum ? d_.underpressure : 0.0;
+    // The load stage ends early once the object has carried no force for result.release_time
+    // (it has let go: the rest of the lift would record zeros).
+    const dem::Tool* obj = nullptr;
+    for (const dem::Tool& t : tools_)
+        if (t.name == d_.object && stage == DeviceStage::Load && d_.release_time > 0) obj = &t;
+    // The cycle tool's first load-stage cycle segment: where and when it starts is the cycle
+    // analysis's origin (recorded once it has started; kept over a resume).
+    std::size_t ck = tools_.size();
+    int32_t cseg = -1;
+    for (std::size_t k = 0; k < tools_.size(); ++k)
+        if (stage == DeviceStage::Load && tools_[k].name == d_.cycle_tool)
+            for (std::size_t s = 0; s < tools_[k].program.size() && cseg < 0; ++s)
+                if (tools_[k].program[s].stage == int32_t(stage) && tools_[k].program[s].kind == dem::SegmentKind::Cycle) {
+                    ck = k;
+                    cseg = int32_t(s);
+                }
+    auto note_cycle = [&] {
+        if (ck == tools_.size() || st_.report.count("cycle_t0")) return;
+        const dem::ToolState& ts = st_.tools[ck];
+        if (ts.segment != cseg || !ts.started) return;
+        st_.report["cycle_t0"] = ts.t0;
+        st_.report["cycle_d0"] = ts.d0;
+    };
+    for (;;) {
+        if (pause_point()) return;
+        const bool done = step(stage, dp);
+        note_cycle();
+        if (done) break;
+        prog.update(++n, w_.time);
+        if (!obj) continue;
+        st_.free_steps = dem::tool_force(w_, *obj) == Vec3{} ? st_.free_steps + 1 : 0;
+        if (double(st_.free_steps) * w_.params.dt >= d_.release_time) {
+            char msg[160];
+            std::snprintf(msg, sizeof msg, "load: the object '%s' let go; the load stage ends at t = %.6g s",
+                          d_.object.c_str(), w_.time);
+            log(msg);
+            st_.report["released"] = 1.0;
+            break;
+        }
+    }
+}
+
+void DeviceRun::stage_vacuum() {
+    const double t_end = d_.ramp_time + d_.vacuum_hold;
+    if (!st_.report.count("volume_press")) st_.report["volume_press"] = enclosed();  // the vacuum's start
+    scene::Progress prog("vacuum", uint64_t(t_end / w_.params.dt) + 1, o_.quiet);
+    uint64_t n = 0;
+    for (;;) {
+        const double t = w_.time - st_.stage_t0;
+        if (t >= t_end - 0.5 * w_.params.dt && st_.tools_done) break;
+        if (pause_point()) return;
+        st_.tools_done = step(DeviceStage::Vacuum, d_.underpressure * std::min(1.0, t / d_.ramp_time));
+        prog.update(++n, w_.time);
+    }
+    st_.report["volume_vacuum"] = enclosed();
+    double z_min = 1e300;
+    for (uint32_t i : m_.particles) z_min = std::min(z_min, w_.particles.pos[i].z);
+    st_.report["membrane_z_min"] = z_min;
+    char msg[160];
+    std::snprintf(msg, sizeof msg, "vacuum: dp %.6g Pa, enclosed volume %.6g m^3, the membrane's lowest point at z = %.6g m",
+                  w_.pressure.dp, enclosed(), z_min);
+    log(msg);
+}
+
+bool DeviceRun::pause_point() {
+    if (o_.stop_at_time >= 0.0 && w_.time >= o_.stop_at_time) {
+        checkpoint();
+        write_records();
+        stopped_ = true;
+        return true;
+    }
+    const auto now = std::chrono::steady_clock::now();
+    if (!out_.empty() && std::chrono::duration<double>(now - last_ckpt_).count() >= o_.checkpoint_every) {
+        checkpoint();
+        last_ckpt_ = now;
+    }
+    return false;
+}
+
+void DeviceRun::vtk_frame(const std::string& name) const {
+    if (out_.empty()) return;
+    fs::create_directories(out_ / "vtk");
+    dem::write_particles_vtk((out_ / "vtk" / (name + ".vtk")).string(), w_, true);
+    if (!w_.facets.empty()) dem::write_walls_vtk((out_ / "vtk" / (name + "_tools.vtk")).string(), w_, 0.0);
+}
+
+void DeviceRun::next_stage() {
+    if (d_.vtk) vtk_frame("stage_" + std::to_string(st_.stage) + "_" + device_stage_name(DeviceStage(st_.stage)));
+    ++st_.stage;
+    st_.stage_t0 = w_.time;
+    st_.next_check = 0;
+    st_.free_steps = 0;
+    st_.tools_done = 0;
+    checkpoint();
+    write_records();
+}
+
+void DeviceRun::checkpoint() {
+    if (out_.empty()) return;
+    // The checkpoint format has no place for pressure fans (dem/io/checkpoint.h): they follow
+    // from the membrane, which the device file rebuilds; saved without them, restored on load.
+    dem::PressureFans fans;
+    std::swap(fans, w_.pressure.fans);
+    try {
+        dem::save_checkpoint((out_ / kCheckpointName).string(), w_, st_.save());
+    } catch (...) {
+        std::swap(fans, w_.pressure.fans);
+        throw;
+    }
+    std::swap(fans, w_.pressure.fans);
+}
+
+void DeviceRun::run() {
+    while (st_.stage < int32_t(DeviceStage::Done)) {
+        const DeviceStage s = DeviceStage(st_.stage);
+        if (int32_t(s) > int32_t(o_.stop_after)) break;
+        switch (s) {
+        case DeviceStage::Fill: stage_fill(); break;
+        case DeviceStage::Seal: stage_seal(); break;
+        case DeviceStage::Press: stage_tools(s); break;
+        case DeviceStage::Vacuum: stage_vacuum(); break;
+        case DeviceStage::Load: stage_tools(s); break;
+        case DeviceStage::Done: break;
+        }
+        if (stopped_) return;
+        next_stage();
+    }
+}
+
+DeviceResult DeviceRun::result() const {
+    DeviceResult r;
+    r.stage = device_stage_name(DeviceStage(st_.stage));
+    r.grains = g1_ - g0_;
+    r.membrane_particles = m_.particles.size();
+    r.bonds = m_.bonds.size();
+    r.dt = w_.params.dt;
+    const std::size_t cols = 2 + kToolColumns * tools_.size();
+    r.samples = st_.rows.size() / cols;
+    std::size_t obj = tools_.size();
+    for (std::size_t k = 0; k < tools_.size(); ++k)
+        if (tools_[k].name == d_.object) obj = k;
+    if (obj < tools_.size())
+        for (std::size_t s = 0; s < r.samples; ++s) {
+            const double* row = &st_.rows[s * cols];
+            const double fz = row[2 + kToolColumns * obj + 3];
+            if (int(row[1]) == int(DeviceStage::Load) && fz > r.holding_force) {
+                r.holding_force = fz;
+                r.holding_time = row[0];
+            }
+            if (int(row[1]) < int(DeviceStage::Load)) r.press_force = std::max(r.press_force, -fz);
+        }
+    auto rep = [&](const char* k) { return st_.report.count(k) ? st_.report.at(k) : 0.0; };
+    // The cycle tool's loops: P = -sign(a) F_z, the load it puts on the sample along the cycle's
+    // first leg, against u = sign(a) (z - z0), the displacement along it. Rows are assigned to
+    // cycles by time (period 2 |a| / speed from the load stage's start); each cycle's loop is
+    // closed by the row before it (or u = 0, P = its first row's at the start).
+    for (std::size_t k = 0; k < tools_.size(); ++k) {
+        if (tools_[k].name != d_.cycle_tool || !st_.report.count("cycle_t0")) continue;
+        const dem::ToolSegment* seg = nullptr;
+        for (const dem::ToolSegment& s : tools_[k].program)
+            if (!seg && s.stage == int32_t(DeviceStage::Load) && s.kind == dem::SegmentKind::Cycle) seg = &s;
+        if (!seg) break;
+        const double sg = seg->amplitude < 0 ? -1.0 : 1.0, amp = std::abs(seg->amplitude);
+        const double period = 2.0 * amp / seg->speed, t0 = rep("cycle_t0"), z0 = rep("cycle_d0");
+        std::vector<std::vector<std::pair<double, double>>> loops(std::size_t(seg->cycles));
+        std::pair<double, double> prev{0.0, 0.0};
+        bool have_prev = false;
+        for (std::size_t s = 0; s < r.samples; ++s) {
+            const double* row = &st_.rows[s * cols];
+            if (int(row[1]) != int(DeviceStage::Load)) continue;
+            const double t = row[0] - t0;
+            const long c = t <= 0.0 ? -1 : long(std::floor((t - 1e-12) / period));
+            const std::pair<double, double> up{sg * (row[2 + kToolColumns * k] - z0), -sg * row[2 + kToolColumns * k + 3]};
+            if (c >= 0 && c < long(loops.size())) {
+                auto& L = loops[std::size_t(c)];
+                if (L.empty()) L.push_back(have_prev ? prev : std::pair<double, double>{0.0, up.second});
+                L.push_back(up);
+            }
+            prev = up;
+            have_prev = true;
+        }
+        for (const auto& L : loops) {
+            if (L.size() < 4) continue;
+            double w = 0, peak = 0;
+            double su = 0, sp = 0, suu = 0, sup = 0;
+            int n = 0;
+            for (std::size_t i = 1; i < L.size(); ++i) {
+                w += 0.5 * (L[i].second + L[i - 1].second) * (L[i].first - L[i - 1].first);
+                peak = std::max(peak, L[i].second);
+            }
+            // The loading branch: the first leg (u rising to its largest).
+            std::size_t top = 0;
+            for (std::size_t i = 0; i < L.size(); ++i)
+                if (L[i].first > L[top].first) top = i;
+            for (std::size_t i = 0; i <= top; ++i) {
+                su += L[i].first;
+                sp += L[i].second;
+                suu += L[i].first * L[i].first;
+                sup += L[i].first * L[i].second;
+                ++n;
+            }
+            const double den = double(n) * suu - su * su;
+            r.cycle_stiffness.push_back(n >= 2 && den > 0 ? (double(n) * sup - su * sp) / den : 0.0);
+            r.cycle_work.push_back(w);
+            r.cycle_peak_force.push_back(peak);
+        }
+    }
+    r.volume_seal = rep("volume_seal");
+    r.volume_vacuum = rep("volume_vacuum");
+    r.volume_press = rep("volume_press");
+    if (r.volume_seal > 0 && r.volume_vacuum > 0) r.volume_change = (r.volume_vacuum - r.volume_seal) / r.volume_seal;
+    if (r.volume_press > 0 && r.volume_vacuum > 0) r.volume_change_vacuum = (r.volume_vacuum - r.volume_press) / r.volume_press;
+    r.fill_settled = rep("fill_settled") != 0.0;
+    for (std::size_t s = 0; s + kEnergyColumns <= st_.energy.size(); s += kEnergyColumns)
+        for (int c = 1; c < kEnergyColumns - 1; ++c) r.energy_scale = std::max(r.energy_scale, std::abs(st_.energy[s + c]));
+    if (!st_.energy.empty()) r.energy_residual = st_.energy.back();
+    r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+    r.warnings = st_.warnings;
+    return r;
+}
+
+// A JSON array of numbers on one line.
+std::string number_array(const std::vector<double>& v) {
+    std::string out = "[";
+    for (std::size_t k = 0; k < v.size(); ++k) out += (k ? ", " : "") + dem::json_double(v[k]);
+    return out + "]";
+}
+
+void DeviceRun::write_records() const {
+    if (out_.empty()) return;
+    std::string header = "time,stage";
+    for (const dem::Tool& t : tools_) header += "," + t.name + "_z," + t.name + "_fx," + t.name + "_fy," + t.name + "_fz";
+    const std::size_t cols = 2 + kToolColumns * tools_.size();
+    {
+        dem::CsvWriter csv((out_ / "tools.csv").string(), header);
+        for (std::size_t s = 0; s + cols <= st_.rows.size(); s += cols)
+            csv.row(std::vector<double>(st_.rows.begin() + long(s), st_.rows.begin() + long(s + cols)));
+        csv.close();
+    }
+    {
+        dem::CsvWriter csv((out_ / "air.csv").string(), "time,stage,enclosed_volume,gas_volume,dp");
+        for (std::size_t s = 0; s + kAirColumns <= st_.air.size(); s += kAirColumns)
+            csv.row(std::vector<double>(st_.air.begin() + long(s), st_.air.begin() + long(s + kAirColumns)));
+        csv.close();
+    }
+    if (d_.energy) {
+        dem::CsvWriter csv((out_ / "energy.csv").string(), kEnergyHeader);
+        for (std::size_t s = 0; s + kEnergyColumns <= st_.energy.size(); s += kEnergyColumns)
+            csv.row(std::vector<double>(st_.energy.begin() + long(s), st_.energy.begin() + long(s + kEnergyColumns)));
+        csv.close();
+    }
+    const DeviceResult r = result();
+    dem::JsonObject inputs;
+    for (const auto& [k, v] : device_inputs(d_)) inputs.raw(k, v);
+    std::vector<std::string> names;
+    for (const dem::Tool& t : tools_) names.push_back(t.name);
+    dem::JsonObject j;
+    j.str("stage", r.stage)
+        .str("object", d_.object)
+        .num("holding_force", r.holding_force)
+        .num("holding_time", r.holding_time)
+        .num("press_force", r.press_force)
+        .num("underpressure", d_.underpressure)
+        .num("volume_seal", r.volume_seal)
+        .num("volume_vacuum", r.volume_vacuum)
+        .num("volume_change", r.volume_change)
+        .num("volume_press", r.volume_press)
+        .num("volume_change_vacuum", r.volume_change_vacuum)
+        .boolean("fill_settled", r.fill_settled)
+        .boolean("released", st_.report.count("released") > 0)
+        .num("membrane_z_min", st_.report.count("membrane_z_min") ? st_.report.at("membrane_z_min") : 0.0)
+        .num("fill_time", st_.report.count("fill_time") ? st_.report.at("fill_time") : 0.0)
+        .num("grains", double(r.grains))
+        .num("grain_volume", grain_volume_)
+        .num("membrane_particles", double(r.membrane_particles))
+        .num("bonds", double(r.bonds))
+        .raw("tools", dem::json_string_array(names))
+        .num("dt", r.dt)
+        .num("steps", double(w_.steps))
+        .num("time", w_.time)
+        .num("samples", double(r.samples))
+        .str("cycle_tool", d_.cycle_tool)
+        .num("stiffness", r.cycle_stiffness.empty() ? 0.0 : r.cycle_stiffness.back())
+        .num("work_per_cycle", r.cycle_work.empty() ? 0.0 : r.cycle_work.back())
+        .num("peak_force", r.cycle_peak_force.empty() ? 0.0 : r.cycle_peak_force.back())
+        .raw("cycle_stiffness", number_array(r.cycle_stiffness))
+        .raw("cycle_work", number_array(r.cycle_work))
+        .raw("cycle_peak_force", number_array(r.cycle_peak_force))
+        .num("packing_seal", r.volume_seal > 0 ? grain_volume_ / r.volume_seal : 0.0)
+        .num("packing_vacuum", r.volume_vacuum > 0 ? grain_volume_ / r.volume_vacuum : 0.0)
+        .num("energy_residual", r.energy_residual)
+        .num("energy_scale", r.energy_scale)
+        .raw("warnings", dem::json_string_array(r.warnings))
+        .raw("inputs", inputs.value());
+    dem::write_text_atomic((out_ / "summary.json").string(), j.text());
+}
+
+}  // namespace
+
+DeviceResult run_device(const DeviceDef& d, const DeviceOptions& o) {
+    DeviceRun run(d, o);
+    run.run();
+    run.write_records();
+    const DeviceResult r = run.result();
+    if (!o.quiet)
+        std::fprintf(stderr, "[device] %s: holding force %.6g N, volume change %.4g%% from the seal, %.4g%% in the vacuum stage, %.1f s\n",
+                     r.stage.c_str(), r.holding_force, 100.0 * r.volume_change, 100.0 * r.volume_change_vacuum, r.run_seconds);
+    return r;
+}
+
+}  // namespace vpp

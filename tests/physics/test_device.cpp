@@ -1,0 +1,672 @@
+// Devices from meshes (issue 47; vpp/device_def.h, vpp/device_run.h, dem/world/tool.h), each
+// against a known answer:
+//   a tool's reaction is the sum of the contact forces on it (to round-off), and a force-controlled
+//   press stops where its reaction reaches the target;
+//   the energy ledger closes on a small gripper;
+//   bad device files and bad meshes are refused (exit 2) naming the key or file and the defect,
+//   with nothing written;
+//   a small gripper runs every stage, its records are finite, and it holds the object with the
+//   vacuum and less without it;
+//   a run stopped after a stage and resumed writes the records of an uninterrupted run, bit for bit.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "dem/mesh/mesh_read.h"
+#include "dem/mesh/mesh_shapes.h"
+#include "dem/world/tool.h"
+#include "dem/world/world.h"
+#include "vpp/device_def.h"
+#include "vpp/device_run.h"
+
+#ifndef VPPDEM_BINARY
+#error "VPPDEM_BINARY must name the built vppdem executable"
+#endif
+
+namespace {
+
+namespace fs = std::filesystem;
+using dem::Vec3;
+
+fs::path temp_dir(const std::string& name) {
+    const fs::path p = fs::path(::testing::TempDir()) / ("device_" + name);
+    fs::remove_all(p);
+    return p;
+}
+
+// The folder of a tiny_run (not cleared).
+fs::path run_dir(const std::string& name) { return fs::path(::testing::TempDir()) / ("device_" + name); }
+
+void write_file(const fs::path& p, const std::string& text) {
+    fs::create_directories(p.parent_path());
+    std::ofstream(p, std::ios::binary) << text;
+}
+
+std::string read_file(const fs::path& p) {
+    std::ifstream in(p, std::ios::binary);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+
+struct Result {
+    int rc = -1;
+    std::string output;
+};
+
+Result run_vppdem(const std::string& args) {
+    const std::string cmd = quote(VPPDEM_BINARY) + " " + args + " 2>&1";
+    Result r;
+    FILE* p = ::popen(cmd.c_str(), "r");
+    if (!p) return r;
+    char buf[4096];
+    std::size_t n;
+    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+    const int status = ::pclose(p);
+    r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    return r;
+}
+
+// A small jamming gripper (examples/devices/gripper.toml scaled down): a bag of 7 mm radius
+// with about 280 grains of 0.7 mm (poured frictionless) pressed with 1 N onto an object of 4 mm
+// radius; about 7 s of CPU.
+const char* kTinyGripper = R"(
+[simulation]
+dt = "auto"
+dt_safety = 0.3
+local_damping = 0.3
+[membrane]
+shape = "sphere"
+radius = 0.007
+center = [0, 0, 0.0115]
+resolution = 6
+young = 2e6
+thickness = 5e-4
+particle_radius = 5e-4
+density = 1000
+friction = 0.8
+clamp_tool = "holder"
+clamp_height = 0.002
+[grains]
+radius = 7e-4
+density = 1500
+young = 1e8
+friction = 0.5
+fill = 1.0
+lattice_spacing = 2.02
+[stages]
+fill_time = 0.03
+fill_min_time = 0.01
+underpressure = 5e4
+ramp_time = 0.005
+vacuum_hold = 0.005
+[output]
+sample_interval = 5e-4
+energy = true
+[result]
+object = "object"
+release_time = 0.002
+[[tools]]
+name = "holder"
+shape = "none"
+[[tools.program]]
+stage = "press"
+kind = "force"
+force = 1.0
+speed = 0.1
+max_travel = 0.008
+[[tools.program]]
+stage = "vacuum"
+kind = "force_hold"
+force = 1.0
+speed = 0.05
+duration = 0.01
+[[tools.program]]
+stage = "load"
+kind = "move"
+to = 0.006
+speed = 0.2
+[[tools]]
+name = "object"
+shape = "sphere"
+radius = 0.004
+center = [0, 0, 0]
+resolution = 5
+young = 1e8
+friction = 0.8
+)";
+
+fs::path tiny_gripper_file() {
+    const fs::path p = fs::path(::testing::TempDir()) / "device_tiny" / "gripper.toml";
+    write_file(p, kTinyGripper);
+    return p;
+}
+
+// The tiny gripper run once into `name` (with the vacuum, or with dp = 0), shared by the tests.
+const vpp::DeviceResult& tiny_run(bool vacuum) {
+    static vpp::DeviceResult with, without;
+    static bool ran_with = false, ran_without = false;
+    vpp::DeviceResult& r = vacuum ? with : without;
+    bool& ran = vacuum ? ran_with : ran_without;
+    if (!ran) {
+        const vpp::DeviceDef d =
+            vpp::load_device(tiny_gripper_file().string(), vacuum ? std::vector<std::string>{}
+                                                                  : std::vector<std::string>{"stages.underpressure=0"});
+        vpp::DeviceOptions o;
+        o.out_dir = temp_dir(vacuum ? "vacuum" : "no_vacuum").string();
+        o.quiet = true;
+        r = vpp::run_device(d, o);
+        ran = true;
+    }
+    return r;
+}
+
+std::vector<std::vector<double>> read_csv(const fs::path& p, std::string* header = nullptr) {
+    std::ifstream in(p);
+    std::string line;
+    std::getline(in, line);
+    if (header) *header = line;
+    std::vector<std::vector<double>> rows;
+    while (std::getline(in, line)) {
+        std::vector<double> row;
+        std::stringstream s(line);
+        std::string cell;
+        while (std::getline(s, cell, ',')) row.push_back(std::stod(cell));
+        rows.push_back(row);
+    }
+    return rows;
+}
+
+}  // namespace
+
+TEST(DeviceTool, ReactionIsTheSumOfItsContactForcesAndAForcePressStopsAtItsTarget) {
+    // Five grains on a floor (a box mesh tool), pressed from above by a second box tool that
+    // carries a clamped particle beside it; the press is force-controlled to 0.5 N. At every
+    // step, each tool's reaction must be the sum of the contact forces on its facets and clamped
+    // particle, summed independently from the touching contacts (to round-off: 1e-12 of the
+    // largest force).
+    dem::World w;
+    dem::Material gm;
+    gm.young = 1e7;
+    gm.density = 2800;
+    w.add_material(gm);
+    const double r = 1e-3;
+    auto facets_of = [](const dem::SurfaceMesh& m) {
+        std::vector<dem::Facet> f;
+        for (const auto& t : m.triangles) {
+            dem::Facet x;
+            x.vertices = {m.vertices[t[0]], m.vertices[t[1]], m.vertices[t[2]]};
+            f.push_back(x);
+        }
+        return f;
+    };
+    dem::Tool floor, press;
+    floor.name = "floor";
+    press.name = "press";
+    dem::add_tool_facets(w, floor, facets_of(dem::make_box_mesh({-0.01, -0.01, -0.002}, {0.01, 0.01, 0.0}, 2)));
+    dem::add_tool_facets(w, press, facets_of(dem::make_box_mesh({-0.004, -0.004, 0.0032}, {0.004, 0.004, 0.005}, 2)));
+    for (Vec3 p : {Vec3{-0.002, 0, 0.00099}, Vec3{0, 0, 0.00099}, Vec3{0.002, 0, 0.00099}, Vec3{0, 0.002, 0.00099},
+                   Vec3{0.006, 0, 0.00099}}) {
+        dem::SphereDef s;
+        s.position = p;
+        s.radius = r;
+        w.add_sphere(s);
+    }
+    dem::SphereDef c;  // clamped to the press, above the grain at x = 6 mm
+    c.position = {0.006, 0, 0.0031};
+    c.radius = r;
+    const uint32_t clamped = w.add_sphere(c);
+    dem::clamp_to_tool(w, press, {clamped});
+    dem::ToolSegment g;
+    g.kind = dem::SegmentKind::Force;
+    g.force = 0.5;
+    g.speed = 0.02;
+    g.max_travel = 0.002;
+    press.program = {g};
+    w.params.local_damping = 0.3;
+    w.params.dt = 0.2 * w.critical_dt();
+    dem::ToolState sf, sp;
+    const std::vector<const dem::Tool*> tools = {&floor, &press};
+    double largest = 0, worst = 0;
+    bool pressed = false;
+    double d_end = 0, f_stop = 0, f_before = 0;
+    for (int n = 0; n < 40000; ++n) {
+        dem::drive_tool(w, floor, sf, 0);
+        const double f_last = n > 0 ? dem::tool_force(w, press).z : 0.0;  // the reaction drive_tool reads
+        const bool done = dem::drive_tool(w, press, sp, 0);
+        if (done && !pressed) {
+            pressed = true;
+            d_end = dem::tool_displacement(w, press, w.time);
+            f_stop = f_last;
+        }
+        if (!pressed) f_before = f_last;
+        w.compute_forces();
+        // The contact forces, summed per tool from the touching pairs.
+        std::vector<Vec3> sum(2);
+        w.for_each_touching([&](const dem::TouchingContact& t) {
+            if (t.wall) {
+                const uint32_t f = t.j - uint32_t(w.planes.size());
+                for (int k = 0; k < 2; ++k)
+                    if (f >= tools[k]->facet0 && f < tools[k]->facet1) sum[k] -= t.force;  // t.force acts on the particle
+                if (t.i == clamped) sum[1] += t.force;
+            } else {
+                if (t.j == clamped) sum[1] += t.force;  // on body 2
+                if (t.i == clamped) sum[1] -= t.force;
+            }
+        });
+        for (int k = 0; k < 2; ++k) {
+            const Vec3 f = dem::tool_force(w, *tools[k]);
+            largest = std::max(largest, norm(f));
+            worst = std::max(worst, norm(f - sum[k]));
+        }
+        w.integrate();
+        if (pressed && n > 0 && w.time > 0.2) break;
+    }
+    ASSERT_GT(largest, 0.4);
+    EXPECT_LE(worst, 1e-12 * largest) << "largest reaction " << largest << " N";
+    // The press stopped on its first step at or beyond 0.5 N and stood still after.
+    ASSERT_TRUE(pressed);
+    EXPECT_LT(std::abs(d_end), g.max_travel);
+    EXPECT_EQ(dem::tool_displacement(w, press, w.time), d_end);
+    // It stopped on the first reaction at or beyond the target (the one of the step before).
+    EXPECT_GE(f_stop, 0.5);
+    EXPECT_LT(f_before, 0.5);
+}
+
+TEST(DeviceTool, ProgramsFollowTheirKnotsAndTheServoHoldsItsForce) {
+    // Displacement control against the closed form: move 1 mm down at 10 mm/s (0.1 s), hold
+    // 0.05 s, two triangles of 0.5 mm up at 10 mm/s (0.05 s a leg), then stand still; within
+    // 1e-12 m at every step (the segments start on the step their predecessor ends).
+    {
+        dem::World w;
+        w.add_material(dem::Material{});
+        dem::SphereDef far;
+        far.position = {1, 1, 1};
+        w.add_sphere(far);
+        w.params.gravity = {0, 0, 0};
+        w.params.dt = 1e-4;
+        dem::Tool t;
+        dem::Facet f;
+        f.vertices = {Vec3{0, 0, 0}, Vec3{0.01, 0, 0}, Vec3{0, 0.01, 0}};
+        dem::add_tool_facets(w, t, {f});
+        dem::ToolSegment move, hold, cycle;
+        move.kind = dem::SegmentKind::Move;
+        move.to = -1e-3;
+        move.speed = 0.01;
+        hold.kind = dem::SegmentKind::Hold;
+        hold.duration = 0.05;
+        cycle.kind = dem::SegmentKind::Cycle;
+        cycle.amplitude = 5e-4;
+        cycle.speed = 0.01;
+        cycle.cycles = 2;
+        t.program = {move, hold, cycle};
+        auto expected = [](double time) {
+            if (time <= 0.1) return -0.01 * time;
+            if (time <= 0.15) return -1e-3;
+            if (time >= 0.35) return -1e-3;
+            const double p = std::fmod(time - 0.15, 0.1);  // one cycle: 2 x 0.5 mm at 10 mm/s
+            return -1e-3 + (p <= 0.05 ? 0.01 * p : 0.01 * (0.1 - p));
+        };
+        dem::ToolState s;
+        double worst = 0;
+        bool done = false;
+        for (int n = 0; n < 6000; ++n) {
+            done = dem::drive_tool(w, t, s, 0);
+            w.step();
+            worst = std::max(worst, std::abs(dem::tool_displacement(w, t, w.time) - expected(w.time)));
+        }
+        EXPECT_TRUE(done);
+        EXPECT_LT(worst, 1e-12);
+        EXPECT_NEAR(dem::program_duration(t, 0, 0.0), 0.35, 1e-15);
+    }
+    // Force control: a press servoed to 0.2 N on a grain lying on a fixed floor settles there
+    // (within 1%) and holds it.
+    {
+        dem::World w;
+        dem::Material m;
+        m.young = 1e7;
+        w.add_material(m);
+        dem::Tool floor, press;
+        auto plate = [](double z, bool up) {
+            dem::Facet a, b;
+            a.vertices = {Vec3{-0.01, -0.01, z}, Vec3{0.01, -0.01, z}, Vec3{0.01, 0.01, z}};
+            b.vertices = {Vec3{-0.01, -0.01, z}, Vec3{0.01, 0.01, z}, Vec3{-0.01, 0.01, z}};
+            if (!up) {
+                std::swap(a.vertices[1], a.vertices[2]);
+                std::swap(b.vertices[1], b.vertices[2]);
+            }
+            return std::vector<dem::Facet>{a, b};
+        };
+        dem::add_tool_facets(w, floor, plate(0.0, true));
+        dem::add_tool_facets(w, press, plate(0.0021, false));
+        dem::SphereDef g;
+        g.position = {0, 0, 0.001};
+        g.radius = 1e-3;
+        w.add_sphere(g);
+        dem::ToolSegment servo;
+        servo.kind = dem::SegmentKind::ForceHold;
+        servo.force = 0.2;
+        servo.speed = 0.01;
+        servo.duration = 0.05;
+        press.program = {servo};
+        w.params.gravity = {0, 0, 0};
+        w.params.local_damping = 0.3;
+        w.params.dt = 0.2 * w.critical_dt();
+        dem::ToolState sf, sp;
+        bool done = false;
+        while (!done) {
+            dem::drive_tool(w, floor, sf, 0);
+            done = dem::drive_tool(w, press, sp, 0);
+            w.step();
+        }
+        EXPECT_NEAR(dem::tool_force(w, press).z, 0.2, 0.002);
+        EXPECT_NEAR(dem::tool_force(w, floor).z, -0.2, 0.002);  // the floor carries the same load, down
+    }
+}
+
+TEST(Device, TinyGripperRunsEveryStageWithFiniteRecords) {
+    const vpp::DeviceResult& r = tiny_run(true);
+    EXPECT_EQ(r.stage, "done");
+    EXPECT_GT(r.grains, 200u);
+    const fs::path out = run_dir("vacuum");
+    std::string header;
+    const auto rows = read_csv(out / "tools.csv", &header);
+    EXPECT_EQ(header, "time,stage,holder_z,holder_fx,holder_fy,holder_fz,object_z,object_fx,object_fy,object_fz");
+    ASSERT_GT(rows.size(), 20u);
+    int last_stage = 0;
+    for (const auto& row : rows) {
+        ASSERT_EQ(row.size(), 10u);
+        for (double v : row) EXPECT_TRUE(std::isfinite(v));
+        EXPECT_GE(int(row[1]), last_stage);  // stages in order
+        last_stage = int(row[1]);
+    }
+    EXPECT_EQ(last_stage, int(vpp::DeviceStage::Load));
+    for (const auto& row : read_csv(out / "air.csv"))
+        for (double v : row) EXPECT_TRUE(std::isfinite(v));
+    EXPECT_TRUE(fs::exists(out / "summary.json"));
+    EXPECT_TRUE(fs::exists(out / "run.ckpt"));
+    // The vacuum draws the bag in: a loss of volume between the seal and the end of the vacuum.
+    EXPECT_LT(r.volume_change, 0.0);
+    EXPECT_GT(r.press_force, 0.0);
+}
+
+TEST(Device, TinyGripperHoldsTheObjectWithTheVacuumAndLessWithout) {
+    const vpp::DeviceResult& with = tiny_run(true);
+    const vpp::DeviceResult& without = tiny_run(false);
+    std::printf("holding force: %.6g N with dp = 5e4 Pa, %.6g N with dp = 0\n", with.holding_force, without.holding_force);
+    EXPECT_GT(with.holding_force, 0.0);
+    EXPECT_LT(without.holding_force, with.holding_force);
+}
+
+TEST(Device, EnergyLedgerClosesOnTheGripper) {
+    // From the seal to the end: boundary, pressure and gravity work against the stored energy and
+    // the dissipation. The residual measures the contact law's non-smoothness (docs/energy.md);
+    // on the gripper it stays below 2% of the largest term.
+    const vpp::DeviceResult& r = tiny_run(true);
+    ASSERT_GT(r.energy_scale, 0.0);
+    std::printf("energy residual %.3g J of %.3g J\n", r.energy_residual, r.energy_scale);
+    EXPECT_LT(std::abs(r.energy_residual), 0.02 * r.energy_scale);
+}
+
+TEST(Device, ResumedRunWritesTheRecordsOfAnUninterruptedOne) {
+    // Stopped after the press stage, resumed, stopped within the vacuum stage, resumed to the end.
+    // The first leg on two threads, the others on one.
+    const vpp::DeviceResult& full = tiny_run(true);
+    ASSERT_EQ(full.stage, "done");
+    const fs::path whole = run_dir("vacuum");
+    const fs::path split = temp_dir("split");
+    const vpp::DeviceDef d2 = vpp::load_device(tiny_gripper_file().string(), {"simulation.threads=2"});
+    const vpp::DeviceDef d = vpp::load_device(tiny_gripper_file().string());
+    vpp::DeviceOptions o;
+    o.out_dir = split.string();
+    o.quiet = true;
+    o.stop_after = vpp::DeviceStage::Press;
+    EXPECT_EQ(vpp::run_device(d2, o).stage, "vacuum");  // stopped after the press's checkpoint
+    // Resumed, and stopped again within the vacuum stage (a checkpoint mid-stage), 2 ms in.
+    double t_vacuum = -1;
+    for (const auto& row : read_csv(whole / "tools.csv"))
+        if (t_vacuum < 0 && int(row[1]) == int(vpp::DeviceStage::Vacuum)) t_vacuum = row[0];
+    ASSERT_GT(t_vacuum, 0);
+    o.stop_after = vpp::DeviceStage::Done;
+    o.stop_at_time = t_vacuum + 2e-3;
+    EXPECT_EQ(vpp::run_device(d, o).stage, "vacuum");
+    o.stop_at_time = -1;
+    EXPECT_EQ(vpp::run_device(d, o).stage, "done");  // resumes from split/run.ckpt
+    for (const char* f : {"tools.csv", "air.csv", "energy.csv"}) {
+        const std::string a = read_file(whole / f), b = read_file(split / f);
+        EXPECT_FALSE(a.empty()) << f;
+        EXPECT_TRUE(a == b) << f << " differs after a resume";
+    }
+}
+
+TEST(Device, BadFilesAndMeshesAreRefusedNamingTheKeyAndNothingIsWritten) {
+    const fs::path dir = temp_dir("bad");
+    fs::create_directories(dir);
+    // An open mesh (one triangle of a sphere taken out) and an inverted one (every winding reversed).
+    dem::SurfaceMesh open = dem::make_icosphere(0.007, 4, {0, 0, 0.0115});
+    open.triangles.pop_back();
+    dem::write_surface_mesh((dir / "open.stl").string(), open);
+    dem::SurfaceMesh inverted = dem::make_icosphere(0.004, 4);
+    for (auto& t : inverted.triangles) std::swap(t[1], t[2]);
+    dem::write_surface_mesh((dir / "inverted.obj").string(), inverted);
+    const fs::path good = tiny_gripper_file();
+    // The gripper with its bag read from `file` (beside the device file).
+    auto bag_from = [&](const std::string& file) {
+        std::string text = kTinyGripper;
+        const std::string sphere = "shape = \"sphere\"\nradius = 0.007\ncenter = [0, 0, 0.0115]\nresolution = 6\n";
+        text.replace(text.find(sphere), sphere.size(), "shape = \"mesh\"\nfile = \"" + file + "\"\n");
+        const fs::path p = dir / (file + ".toml");
+        write_file(p, text);
+        return p;
+    };
+    // ... or the object's.
+    auto object_from = [&](const std::string& file) {
+        std::string text = kTinyGripper;
+        const std::string sphere = "shape = \"sphere\"\nradius = 0.004\ncenter = [0, 0, 0]\nresolution = 5\n";
+        text.replace(text.find(sphere), sphere.size(), "shape = \"mesh\"\nfile = \"" + file + "\"\n");
+        const fs::path p = dir / ("object_" + file + ".toml");
+        write_file(p, text);
+        return p;
+    };
+    struct Case {
+        fs::path file;
+        std::string set;       // --set arguments
+        std::vector<std::string> expected;  // in the message
+    };
+    const std::vector<Case> cases = {
+        {good, "--set grains.radius=-1", {"config key 'grains.radius' = -1: must be > 0"}},
+        {good, "--set grains.fill=1.5", {"config key 'grains.fill' = 1.5: must be in (0, 1]"}},
+        {good, "--set stages.colour=1", {"unknown config key 'stages.colour'"}},
+        {good, "--set membrane.clamp_tool=arm", {"config key 'membrane.clamp_tool' = 'arm': must name one of the [[tools]]"}},
+        {good, "--set membrane.shape=cube", {"config key 'membrane.shape' = 'cube': must be"}},
+        {good, "--set stages.underpressure=2e5", {"config key 'stages.underpressure' = 2e+05: must be in [0, 101325)"}},
+        {bag_from("open.stl"), "", {"config key 'membrane.file' = \"open.stl\"", "open.stl", "open: "}},
+        {bag_from("inverted.obj"), "", {"config key 'membrane.file' = \"inverted.obj\"", "inverted: "}},
+        {bag_from("missing.stl"), "", {"config key 'membrane.file' = \"missing.stl\"", "missing.stl"}},
+        {object_from("open.stl"), "", {"config key 'tools[1].file' = \"open.stl\"", "open: "}},
+        {object_from("inverted.obj"), "", {"config key 'tools[1].file' = \"inverted.obj\"", "inverted: "}},
+    };
+    for (const Case& c : cases) {
+        const fs::path out = dir / "out";
+        const Result r = run_vppdem("device " + quote(c.file.string()) + " --out " + quote(out.string()) + " --quiet " + c.set);
+        EXPECT_EQ(r.rc, 2) << c.set << "\n" << r.output;
+        for (const std::string& e : c.expected) EXPECT_NE(r.output.find(e), std::string::npos) << c.file << " " << c.set << "\n" << r.output;
+        EXPECT_FALSE(fs::exists(out)) << c.set << ": something was written";
+    }
+    // A tool's program with an unknown kind names the segment.
+    std::string text = kTinyGripper;
+    text.replace(text.find("kind = \"force\""), 14, "kind = \"jump\"");
+    write_file(dir / "jump.toml", text);
+    const Result j = run_vppdem("device " + quote((dir / "jump.toml").string()) + " --out " + quote((dir / "out").string()));
+    EXPECT_EQ(j.rc, 2);
+    EXPECT_NE(j.output.find("config key 'tools[0].program[0].kind' = 'jump': must be \"move\""), std::string::npos) << j.output;
+    EXPECT_FALSE(fs::exists(dir / "out"));
+}
+
+TEST(Device, GripperExampleIsAValidDeviceFile) {
+    // examples/devices/ is not among the top-level examples that test_examples.cpp runs: its
+    // file is checked here (the full run takes about a minute: docs/devices.md).
+    const vpp::DeviceDef d = vpp::load_device(std::string(VPPDEM_SOURCE_DIR) + "/examples/devices/gripper.toml");
+    ASSERT_EQ(d.tools.size(), 2u);
+    EXPECT_EQ(d.object, "object");
+    EXPECT_EQ(d.clamp_tool, "holder");
+    EXPECT_EQ(d.tools[0].program.size(), 3u);
+}
+
+namespace {
+
+// A tiny VPP beam (examples/devices/beam.toml's layout, 25 x 9.4 x 9.4 mm, ~120 grains): two
+// supports, a loader that comes down to 0.1 N, keeps 0.1 N on the floating sleeve (no gravity)
+// for 0.01 s and cycles twice 0.3 mm down and back.
+const char* kTinyBeam = R"([simulation]
+gravity = [0, 0, 0]
+seed = 1
+[membrane]
+shape = "box"
+size = [0.0250, 0.00943, 0.00943]
+center = [0, 0, 0.008]
+resolution = 4
+young = 2e6
+friction = 0.8
+[grains]
+radius = 1e-3
+friction = 0.5
+fill_friction = 0.5
+fill = 1.0
+lattice = "fcc"
+lattice_spacing = 2.2
+[stages]
+fill_time = 0.01
+fill_min_time = 0.002
+underpressure = 5e4
+ramp_time = 0.005
+vacuum_hold = 0.005
+[output]
+sample_interval = 2.5e-4
+vtk = false
+[result]
+cycle_tool = "loader"
+[[tools]]
+name = "support_left"
+shape = "box"
+size = [0.004, 0.016, 0.004]
+center = [-0.009, 0, 0.000585]
+young = 1e8
+[[tools]]
+name = "support_right"
+shape = "box"
+size = [0.004, 0.016, 0.004]
+center = [0.009, 0, 0.000585]
+young = 1e8
+[[tools]]
+name = "loader"
+shape = "box"
+size = [0.004, 0.016, 0.004]
+center = [0, 0, 0.015415]
+young = 1e8
+[[tools.program]]
+stage = "load"
+kind = "force"
+force = 0.1
+speed = 0.05
+max_travel = 0.003
+[[tools.program]]
+stage = "load"
+kind = "force_hold"
+force = 0.1
+speed = 0.05
+duration = 0.01
+[[tools.program]]
+stage = "load"
+kind = "cycle"
+amplitude = -3e-4
+speed = 0.03
+cycles = 2
+)";
+
+const vpp::DeviceResult& tiny_beam(bool vacuum) {
+    static vpp::DeviceResult with, without;
+    static bool ran_with = false, ran_without = false;
+    vpp::DeviceResult& r = vacuum ? with : without;
+    bool& ran = vacuum ? ran_with : ran_without;
+    if (!ran) {
+        const fs::path p = fs::path(::testing::TempDir()) / "device_tiny_beam" / "beam.toml";
+        write_file(p, kTinyBeam);
+        const vpp::DeviceDef d = vpp::load_device(
+            p.string(), vacuum ? std::vector<std::string>{} : std::vector<std::string>{"stages.underpressure=0"});
+        vpp::DeviceOptions o;
+        o.out_dir = temp_dir(vacuum ? "beam_vacuum" : "beam_no_vacuum").string();
+        o.quiet = true;
+        r = vpp::run_device(d, o);
+        ran = true;
+    }
+    return r;
+}
+
+}  // namespace
+
+TEST(Device, TinyBeamIsStifferWithTheVacuumAndItsLoopsAreFinite) {
+    const vpp::DeviceResult& with = tiny_beam(true);
+    const vpp::DeviceResult& without = tiny_beam(false);
+    for (const vpp::DeviceResult* r : {&with, &without}) {
+        EXPECT_EQ(r->stage, "done");
+        ASSERT_EQ(r->cycle_stiffness.size(), 2u);  // both cycles analysed
+        ASSERT_EQ(r->cycle_work.size(), 2u);
+        for (std::size_t c = 0; c < 2; ++c) {
+            EXPECT_TRUE(std::isfinite(r->cycle_stiffness[c]));
+            EXPECT_GT(r->cycle_work[c], 0.0);  // a loop dissipates: the work done on the sample per cycle
+            EXPECT_GT(r->cycle_peak_force[c], 0.0);
+        }
+    }
+    const fs::path out = run_dir("beam_vacuum");
+    std::string header;
+    for (const auto& row : read_csv(out / "tools.csv", &header))
+        for (double v : row) EXPECT_TRUE(std::isfinite(v));
+    EXPECT_EQ(header.substr(0, 40), "time,stage,support_left_z,support_left_f");
+    const std::string summary = read_file(out / "summary.json");
+    for (const char* key : {"\"stiffness\"", "\"work_per_cycle\"", "\"cycle_stiffness\"", "\"packing_vacuum\""})
+        EXPECT_NE(summary.find(key), std::string::npos) << key;
+    std::printf("tiny beam: stiffness %.6g N/m, work per cycle %.6g J with dp = 5e4 Pa; %.6g N/m, %.6g J with dp = 0\n",
+                with.cycle_stiffness.back(), with.cycle_work.back(), without.cycle_stiffness.back(),
+                without.cycle_work.back());
+    // The vacuum jams the sleeve: a beam, many times stiffer than the loose bag (830 and 38 N/m
+    // when written).
+    EXPECT_GT(with.cycle_stiffness.back(), 5.0 * without.cycle_stiffness.back());
+    EXPECT_LT(with.volume_change, -0.1);
+}
+
+TEST(Device, BeamExampleIsAValidDeviceFileAndACycleToolNeedsACycle) {
+    const vpp::DeviceDef d = vpp::load_device(std::string(VPPDEM_SOURCE_DIR) + "/examples/devices/beam.toml");
+    ASSERT_EQ(d.tools.size(), 3u);
+    EXPECT_EQ(d.cycle_tool, "loader");
+    EXPECT_EQ(d.lattice, "fcc");
+    const fs::path p = fs::path(::testing::TempDir()) / "device_tiny_beam" / "bad.toml";
+    write_file(p, kTinyBeam);
+    try {
+        vpp::load_device(p.string(), {"result.cycle_tool=support_left"});
+        ADD_FAILURE() << "a cycle tool without a cycle was accepted";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("result.cycle_tool"), std::string::npos) << e.what();
+    }
+    try {
+        vpp::load_device(p.string(), {"grains.lattice=hcp"});
+        ADD_FAILURE() << "grains.lattice = hcp was accepted";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("grains.lattice"), std::string::npos) << e.what();
+    }
+}

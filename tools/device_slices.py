@@ -1,0 +1,64 @@
+#!/usr/bin/env python3
+"""Side views of a device run: the particles of VTK frames in a slab about the plane y = 0.
+
+    /usr/bin/python3 tools/device_slices.py OUT.png FRAME.vtk [FRAME.vtk ...]
+        [--titles "a,b,..."] [--sphere R] [--grain-radius r]
+
+Grains (radius above --grain-radius, orange) within 1.1 of their radius of the plane, the
+membrane (blue) within 1.1 of its; --sphere R draws the gripper's object, a sphere of radius R
+[mm] about the origin. docs/devices_gripper.png is
+
+    tools/device_slices.py docs/devices_gripper.png out/gripper/vtk/stage_{0_fill,2_press,3_vacuum,4_load}.vtk \\
+        --sphere 6 --titles "after the fill,after the press (2 N),after the vacuum (50 kPa),the object let go"
+"""
+import argparse
+
+import matplotlib
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.patches import Circle
+
+
+def load(path):
+    """Points [m] and radii [m] of a vppdem particles frame (legacy ASCII VTK)."""
+    lines = open(path).read().split("\n")
+    start = next(k for k, l in enumerate(lines) if l.startswith("POINTS"))
+    n = int(lines[start].split()[1])
+    pts = np.array([[float(v) for v in lines[start + 1 + k].split()] for k in range(n)])
+    at = next(k for k, l in enumerate(lines) if l.startswith("SCALARS radius")) + 2  # after LOOKUP_TABLE
+    radius = np.array([float(lines[at + k]) for k in range(n)])
+    return pts, radius
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("out")
+    ap.add_argument("frames", nargs="+")
+    ap.add_argument("--titles", default="")
+    ap.add_argument("--sphere", type=float, default=0.0, help="[mm] the object's radius (0: none)")
+    ap.add_argument("--grain-radius", type=float, default=0.6, help="[mm] particles larger than this are grains")
+    a = ap.parse_args()
+    titles = a.titles.split(",") if a.titles else [f.split("/")[-1] for f in a.frames]
+    frames = [load(f) for f in a.frames]
+    lo = np.min([p.min(axis=0) for p, _ in frames], axis=0) * 1e3  # one scale for every panel
+    hi = np.max([p.max(axis=0) for p, _ in frames], axis=0) * 1e3
+    fig, axs = plt.subplots(1, len(a.frames), figsize=(4 * len(a.frames), 4.5))
+    for ax, (p, r), title in zip(np.atleast_1d(axs), frames, titles):
+        p, r = p * 1e3, r * 1e3
+        for q, rr in zip(p[np.abs(p[:, 1]) < 1.1 * r], r[np.abs(p[:, 1]) < 1.1 * r]):
+            ax.add_patch(Circle((q[0], q[2]), rr, color="tab:orange" if rr > a.grain_radius else "tab:blue", alpha=0.7))
+        if a.sphere > 0:
+            ax.add_patch(Circle((0, 0), a.sphere, fill=False, color="k"))
+        ax.set_xlim(min(lo[0], -a.sphere) - 2, max(hi[0], a.sphere) + 2)
+        ax.set_ylim(min(lo[2], -a.sphere) - 2, hi[2] + 2)
+        ax.set_aspect("equal")
+        ax.set_title(title, fontsize=10)
+        ax.set_xlabel("x [mm]")
+        ax.set_ylabel("z [mm]")
+    plt.tight_layout()
+    plt.savefig(a.out, dpi=70)
+
+
+if __name__ == "__main__":
+    main()
