@@ -33,6 +33,8 @@
 #include "vpp/calibrate.h"
 #include "vpp/config.h"
 #include "vpp/damper.h"
+#include "vpp/device_def.h"
+#include "vpp/device_run.h"
 #include "vpp/settings.h"
 #include "vpp/records.h"
 #include "vpp/study.h"
@@ -687,6 +689,53 @@ PYBIND11_MODULE(_core, m) {
                 dem::load_checkpoint(fspath(path), *w);
                 return w;
             }, py::arg("path"));
+
+    // --- devices from meshes (docs/devices.md) --------------------------------------------------------
+    // `vppdem device FILE --out DIR`: runs (or resumes) the device; returns its result as a dict
+    // (summary.json's numbers). The GIL is released while it steps.
+    m.def(
+        "device",
+        [](const std::string& file, const std::string& out, const std::vector<std::string>& sets, const std::string& from,
+           bool overwrite, bool quiet, double checkpoint_every) {
+            const vpp::DeviceDef d = vpp::load_device(file, sets);
+            vpp::DeviceOptions o;
+            o.out_dir = out;
+            o.from = from;
+            o.overwrite = overwrite;
+            o.quiet = quiet;
+            o.checkpoint_every = checkpoint_every;
+            vpp::DeviceResult r;
+            {
+                py::gil_scoped_release release;
+                r = vpp::run_device(d, o);
+            }
+            py::dict res;
+            res["stage"] = r.stage;
+            res["grains"] = r.grains;
+            res["membrane_particles"] = r.membrane_particles;
+            res["bonds"] = r.bonds;
+            res["samples"] = r.samples;
+            res["dt"] = r.dt;
+            res["holding_force"] = r.holding_force;
+            res["holding_time"] = r.holding_time;
+            res["press_force"] = r.press_force;
+            res["volume_seal"] = r.volume_seal;
+            res["volume_press"] = r.volume_press;
+            res["volume_vacuum"] = r.volume_vacuum;
+            res["volume_change"] = r.volume_change;
+            res["volume_change_vacuum"] = r.volume_change_vacuum;
+            res["energy_residual"] = r.energy_residual;
+            res["energy_scale"] = r.energy_scale;
+            res["fill_settled"] = r.fill_settled;
+            res["run_seconds"] = r.run_seconds;
+            res["warnings"] = r.warnings;
+            res["cycle_stiffness"] = r.cycle_stiffness;
+            res["cycle_work"] = r.cycle_work;
+            res["cycle_peak_force"] = r.cycle_peak_force;
+            return res;
+        },
+        py::arg("file"), py::arg("out"), py::arg("sets") = std::vector<std::string>{}, py::arg("from_checkpoint") = "",
+        py::arg("overwrite") = false, py::arg("quiet") = true, py::arg("checkpoint_every") = 60.0);
 
     // --- studies ------------------------------------------------------------------------------------
     m.def(

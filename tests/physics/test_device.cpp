@@ -85,71 +85,8 @@ Result run_vppdem(const std::string& args) {
 // A small jamming gripper (examples/devices/gripper.toml scaled down): a bag of 7 mm radius
 // with about 280 grains of 0.7 mm (poured frictionless) pressed with 1 N onto an object of 4 mm
 // radius; about 7 s of CPU.
-const char* kTinyGripper = R"(
-[simulation]
-dt = "auto"
-dt_safety = 0.3
-local_damping = 0.3
-[membrane]
-shape = "sphere"
-radius = 0.007
-center = [0, 0, 0.0115]
-resolution = 6
-young = 2e6
-thickness = 5e-4
-particle_radius = 5e-4
-density = 1000
-friction = 0.8
-clamp_tool = "holder"
-clamp_height = 0.002
-[grains]
-radius = 7e-4
-density = 1500
-young = 1e8
-friction = 0.5
-fill = 1.0
-lattice_spacing = 2.02
-[stages]
-fill_time = 0.03
-fill_min_time = 0.01
-underpressure = 5e4
-ramp_time = 0.005
-vacuum_hold = 0.005
-[output]
-sample_interval = 5e-4
-energy = true
-[result]
-object = "object"
-release_time = 0.002
-[[tools]]
-name = "holder"
-shape = "none"
-[[tools.program]]
-stage = "press"
-kind = "force"
-force = 1.0
-speed = 0.1
-max_travel = 0.008
-[[tools.program]]
-stage = "vacuum"
-kind = "force_hold"
-force = 1.0
-speed = 0.05
-duration = 0.01
-[[tools.program]]
-stage = "load"
-kind = "move"
-to = 0.006
-speed = 0.2
-[[tools]]
-name = "object"
-shape = "sphere"
-radius = 0.004
-center = [0, 0, 0]
-resolution = 5
-young = 1e8
-friction = 0.8
-)";
+// tests/data/devices/tiny_gripper.toml, shared with the Python tests.
+const std::string kTinyGripper = read_file(fs::path(VPPDEM_SOURCE_DIR) / "tests/data/devices/tiny_gripper.toml");
 
 fs::path tiny_gripper_file() {
     const fs::path p = fs::path(::testing::TempDir()) / "device_tiny" / "gripper.toml";

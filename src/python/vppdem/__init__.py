@@ -69,7 +69,7 @@ except ImportError as _error:
             return _core.World(*args, **kwargs)
 
 
-__all__ = ["Damper", "World", "ConfigError", "load_config", "settings", "record_columns", "sweep", "calibrate"]
+__all__ = ["Damper", "World", "ConfigError", "load_config", "settings", "record_columns", "sweep", "calibrate", "device"]
 
 
 def __getattr__(name):
@@ -512,6 +512,23 @@ def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None
     extra = _study_sets(sets, settings)
     return _run(_core.sweep, progress, os.fspath(study_path), os.fspath(out), extra, int(seeds),
                 _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), callback=_CaseProgress, backend=str(backend))
+
+
+def device(device_file, out, sets=None, settings=None, from_checkpoint=None, overwrite=False, quiet=True,
+           checkpoint_every=60.0):
+    """`vppdem device FILE --out OUT`: builds the device of the device file (membrane and tools
+    from meshes, docs/devices.md), runs (or resumes: the same call again, or from_checkpoint=a
+    run.ckpt) its stages fill, seal, press, vacuum, load, and writes its records to `out`.
+    sets: ["key=value", ...] or `settings` (a dict), as the command's --set. Returns summary.json's
+    numbers as a dict (holding_force [N], volume_change [-], cycle_stiffness [N/m], ...).
+    Bad keys and values raise vppdem.ConfigError, a bad mesh RuntimeError, before anything is
+    written."""
+    extra = _study_sets(sets, settings)
+    if not float(checkpoint_every) > 0.0 or not math.isfinite(float(checkpoint_every)):
+        raise ValueError(f"checkpoint_every = {checkpoint_every!r}: must be a finite number of seconds > 0")
+    return _core.device(os.fspath(device_file), os.fspath(out), extra,
+                        os.fspath(from_checkpoint) if from_checkpoint is not None else "", bool(overwrite),
+                        bool(quiet), float(checkpoint_every))
 
 
 def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None,

@@ -1,0 +1,50 @@
+# vppdem.device(): the `vppdem device` command from Python (issue 47, docs/devices.md), on the
+# tiny gripper of the C++ device tests (tests/data/devices/tiny_gripper.toml, ~7 s of CPU).
+import json
+import math
+import os
+
+import pytest
+
+import vppdem
+from conftest import SOURCE_DIR
+
+TINY = os.path.join(SOURCE_DIR, "tests", "data", "devices", "tiny_gripper.toml")
+
+
+def test_a_device_runs_from_python_and_its_result_is_its_summary(tmp_path):
+    out = tmp_path / "gripper"
+    r = vppdem.device(TINY, out)
+    assert r["stage"] == "done"
+    # The vacuum holds the object (the C++ test: 0.032 N with 50 kPa, 0 without).
+    assert r["holding_force"] > 0.0
+    assert r["volume_change"] < 0.0
+    for k in ("holding_force", "press_force", "volume_seal", "volume_vacuum", "dt"):
+        assert math.isfinite(r[k]), k
+    # The returned numbers are summary.json's, to the digit written there.
+    with open(out / "summary.json") as f:
+        summary = json.load(f)
+    assert _find(summary, "holding_force") == pytest.approx(r["holding_force"], rel=1e-9)
+    # Called again, the finished run is not run again: its result comes back the same.
+    again = vppdem.device(TINY, out)
+    assert again["holding_force"] == r["holding_force"]
+
+
+def _find(d, key):
+    if isinstance(d, dict):
+        for k, v in d.items():
+            if k == key:
+                return v
+            found = _find(v, key)
+            if found is not None:
+                return found
+    return None
+
+
+def test_bad_device_keys_raise_config_error_and_write_nothing(tmp_path):
+    out = tmp_path / "bad"
+    with pytest.raises(vppdem.ConfigError, match="stages.underpressure"):
+        vppdem.device(TINY, out, settings={"stages.underpressure": -1.0})
+    assert not out.exists()
+    with pytest.raises(ValueError, match="checkpoint_every"):
+        vppdem.device(TINY, out, checkpoint_every=float("nan"))
