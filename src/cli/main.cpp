@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
     scene->add_flag("--quiet", quiet, "No progress output");
 
     // vppdem bench SCENE ...
-    auto* bench = app.add_subcommand("bench", "Time a shared benchmark scene (../shared/bench/README.md)");
+    auto* bench = app.add_subcommand("bench", "Time a shared benchmark scene (docs/benchmarks.md)");
     scene::BenchOptions bo;
     bench->add_option("scene", bo.scene, "grains-in-cylinder | foil-plus-grains | checkpoint (the World saved in --state)")
         ->required()
