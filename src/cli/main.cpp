@@ -9,6 +9,7 @@
 #include <CLI/CLI.hpp>
 
 #include "scene/bench_scenes.h"
+#include "scene/build_info.h"
 #include "scene/config.h"
 #include "scene/scene_runner.h"
 #include "scene/suggest.h"
@@ -51,6 +52,8 @@ const CLI::Validator kNonNegative = finite_at_least(0.0, false, "NONNEGATIVE");
 int main(int argc, char** argv) {
     CLI::App app{"vppdem: discrete element simulation of vacuum-packed particle dampers"};
     app.require_subcommand(1);
+    // The build a run's build.json records (scene/build_info.h).
+    app.set_version_flag("--version", std::string("vppdem ") + scene::build_commit() + " (build " + scene::build_id() + ")");
 
     // vppdem scene FILE.toml --out DIR [--set key=value ...] [--overwrite]
     auto* scene = app.add_subcommand("scene", "Run a generic DEM scene described in TOML (docs/scene.md)");
@@ -66,7 +69,7 @@ int main(int argc, char** argv) {
     scene->add_flag("--quiet", quiet, "No progress output");
 
     // vppdem bench SCENE ...
-    auto* bench = app.add_subcommand("bench", "Time a shared benchmark scene (../shared/bench/README.md)");
+    auto* bench = app.add_subcommand("bench", "Time a shared benchmark scene (docs/benchmarks.md)");
     scene::BenchOptions bo;
     bench->add_option("scene", bo.scene, "grains-in-cylinder | foil-plus-grains | checkpoint (the World saved in --state)")
         ->required()
@@ -171,7 +174,7 @@ int main(int argc, char** argv) {
         std::vector<std::string> sets;
         int jobs = 0, seeds = 0;
         CLI::Option* seeds_opt = nullptr;
-        bool quiet = false, no_plot = false;
+        bool quiet = false, no_plot = false, mix_builds = false;
         double ckpt_every = 60.0;
         std::string backend = "cpu";
     };
@@ -196,6 +199,9 @@ int main(int argc, char** argv) {
                           "running cases in lockstep through the batch engine's host backend, the same bits), cuda "
                           "(the batch engine on a GPU; docs/gpu.md)")
             ->check(CLI::IsMember({"cpu", "batch", "cuda"}));
+        c.app->add_flag("--mix-builds", c.mix_builds,
+                        "Continue in a folder whose cases another build ran (refused without it: their build.json "
+                        "names the builds; docs/studies.md, \"Resuming\")");
     };
     StudyCommand sweep, calib;
     add_study("sweep", "Run a parameter study: every combination of a grid of config values (docs/studies.md)", sweep);
@@ -318,6 +324,7 @@ int main(int argc, char** argv) {
             so.rank = rank;
             so.ranks = ranks;
             so.backend = sc.backend;
+            so.mix_builds = sc.mix_builds;
             int rc = 0;
             if (*sweep.app && list_only) {
                 const auto cases = vpp::expand_study(st);

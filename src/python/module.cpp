@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/build_info.h"
 #include "scene/config.h"
 #include "scene/scene_settings.h"
 #include "dem/world/world.h"
@@ -242,6 +243,12 @@ py::object default_value(cfg::SettingType type, double v) {
 
 PYBIND11_MODULE(_core, m) {
     m.doc() = "vppdem's compiled core; use the vppdem package";
+    m.def("build", [] {
+        py::dict d;
+        d["commit"] = scene::build_commit();
+        d["id"] = scene::build_id();
+        return d;
+    });
 
     // C++ errors with the command line's messages: bad config keys and values (cfg::ConfigError)
     // as vppdem.ConfigError (a ValueError), the others as RuntimeError (pybind11's default for
@@ -741,13 +748,14 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "sweep",
         [](const std::string& study, const std::string& out, const std::vector<std::string>& sets, int seeds, int jobs,
-           bool quiet, py::object progress, const std::string& backend) {
+           bool quiet, py::object progress, const std::string& backend, bool mix_builds) {
             const vpp::Study st = vpp::load_study(study, sets, seeds);
             vpp::SweepOptions so;
             so.out_dir = out;
             so.jobs = jobs;
             so.quiet = quiet;
             so.backend = backend;  // "cpu", "batch" or "cuda" (vppdem sweep --backend)
+            so.mix_builds = mix_builds;  // vppdem sweep --mix-builds
             return run_stoppable(progress, [&](auto hook) {
                 vpp::SweepOptions o = so;
                 o.progress = hook;
@@ -755,19 +763,21 @@ PYBIND11_MODULE(_core, m) {
             });
         },
         py::arg("study"), py::arg("out"), py::arg("sets") = std::vector<std::string>{}, py::arg("seeds") = 0,
-        py::arg("jobs") = 0, py::arg("quiet") = true, py::arg("progress") = py::none(), py::arg("backend") = "cpu");
+        py::arg("jobs") = 0, py::arg("quiet") = true, py::arg("progress") = py::none(), py::arg("backend") = "cpu",
+        py::arg("mix_builds") = false);
     m.def(
         "calibrate",
         [](const std::string& study, const std::string& experiment, const std::string& out,
            const std::vector<std::string>& sets, int seeds, int jobs, bool quiet, double disp_scale, double force_scale,
            bool compression_negative, const std::string& simulated_force, int points, bool plot,
            const std::string& time_column, const std::string& displacement_column, const std::string& force_column,
-           py::object progress) {
+           py::object progress, bool mix_builds) {
             vpp::Study st = vpp::load_study(study, sets, seeds);
             vpp::CalibrateOptions co;
             co.sweep.out_dir = out;
             co.sweep.jobs = jobs;
             co.sweep.quiet = quiet;
+            co.sweep.mix_builds = mix_builds;  // vppdem calibrate --mix-builds
             co.experiment = experiment;
             co.format.disp_scale = disp_scale;
             co.format.force_scale = force_scale;
@@ -789,5 +799,5 @@ PYBIND11_MODULE(_core, m) {
         py::arg("force_scale") = 1.0, py::arg("compression_negative") = false,
         py::arg("simulated_force") = "force_zeroed", py::arg("points") = 50, py::arg("plot") = false,
         py::arg("time_column") = "time", py::arg("displacement_column") = "displacement", py::arg("force_column") = "force",
-        py::arg("progress") = py::none());
+        py::arg("progress") = py::none(), py::arg("mix_builds") = false);
 }

@@ -10,7 +10,7 @@
 
 #include <sys/resource.h>
 
-#include "dem/core/kernels.h"
+#include "dem/kernels/kernels.h"
 #include "dem/world/world.h"
 #include "dem/batch/batch_systems.h"
 #include "dem/batch/device_batch.h"

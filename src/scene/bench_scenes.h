@@ -1,4 +1,4 @@
-// `vppdem bench`: the shared benchmark scenes of ../shared/bench/README.md, timed.
+// `vppdem bench`: the benchmark scenes shared with other DEM codes (docs/benchmarks.md), timed.
 #pragma once
 
 #include <string>

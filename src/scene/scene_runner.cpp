@@ -9,6 +9,7 @@
 #include <numbers>
 #include <optional>
 
+#include "scene/build_info.h"
 #include "scene/clump_template.h"
 #include "scene/config.h"
 #include "scene/initial_overlaps.h"
@@ -392,6 +393,7 @@ dem::FolderLock prepare_output_dir(const std::string& dir, bool overwrite) {
         for (const auto& e : fs::directory_iterator(dir))
             if (e.path().filename() != dem::FolderLock::kFileName)
                 throw ConfigError("--out '" + dir + "' exists and is not empty; pass --overwrite to replace its files");
+    record_build(dir, true);  // a new run: this build made it
     return lock;
 }
 

@@ -57,7 +57,9 @@ dem::FolderLock lock_output_dir(const std::string& dir);
 
 // lock_output_dir(), then refuses a non-empty directory unless overwrite (the lock file alone,
 // perhaps left by a killed run, does not count). The lock comes first: a second run into a
-// folder in use is refused as such, before anything in it is looked at or removed.
+// folder in use is refused as such, before anything in it is looked at or removed. Then records
+// this build as the folder's (build.json, scene/build_info.h): a run resuming in its folder calls
+// lock_output_dir() and record_build(dir, false) instead.
 dem::FolderLock prepare_output_dir(const std::string& dir, bool overwrite);
 
 }  // namespace scene

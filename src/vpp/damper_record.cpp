@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "scene/build_info.h"
 #include "scene/scene_runner.h"
 #include "dem/detect/cell_grid.h"
 #include "dem/io/archive.h"
@@ -222,6 +223,7 @@ void DamperRun::start_output_dir(bool resuming) {
     // files.
     if (resuming) {
         lock_ = scene::lock_output_dir(o_.out_dir);
+        scene::record_build(o_.out_dir, false);  // another build resuming the run is listed
         return;
     }
     lock_ = scene::prepare_output_dir(o_.out_dir, o_.overwrite);

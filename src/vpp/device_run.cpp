@@ -23,6 +23,7 @@
 #include "dem/io/vtk.h"
 #include "dem/world/tool.h"
 #include "dem/world/world.h"
+#include "scene/build_info.h"
 #include "scene/config.h"
 #include "scene/progress.h"
 #include "scene/setting.h"
@@ -247,6 +248,7 @@ void DeviceRun::start_output(const std::string& resumed_from) {
     const bool own = !resumed_from.empty() && fs::exists(out_ / kCheckpointName) &&
                      fs::equivalent(fs::path(resumed_from), out_ / kCheckpointName);
     lock_ = own ? scene::lock_output_dir(o_.out_dir) : scene::prepare_output_dir(o_.out_dir, o_.overwrite);
+    if (own) scene::record_build(o_.out_dir, false);  // another build resuming the run is listed
 }
 
 void DeviceRun::build() {

@@ -15,6 +15,7 @@
 #include "dem/batch/device_api.h"
 
 #include "dem/io/csv.h"
+#include "scene/build_info.h"
 #include "scene/config.h"
 #include "scene/scene_runner.h"
 #include "scene/threads.h"
@@ -74,6 +75,23 @@ SweepResult report_sweep(const Study& s, const SweepOptions& opt, SweepResult re
     return res;
 }
 
+// Refuses a study folder holding runs that another build made or resumed (SweepOptions::mix_builds).
+void refuse_other_builds(const fs::path& out, const std::vector<StudyCase>& cases) {
+    std::string list;
+    std::size_t n = 0;
+    for (const StudyCase& c : cases) {
+        const std::vector<scene::BuildStamp> other = scene::other_builds((out / c.name).string());
+        if (other.empty()) continue;
+        if (++n <= 3) list += std::string(n > 1 ? "; " : "") + c.name + " (commit " + other.front().commit + ", build " + other.front().id + ")";
+    }
+    if (!n) return;
+    throw ConfigError("--out '" + out.string() + "' holds " + std::to_string(n) + " case(s) run by another build: " + list +
+                      (n > 3 ? "; ..." : "") + ". This vppdem is commit " + scene::build_commit() + ", build " +
+                      scene::build_id() + ": its results would be mixed with theirs in one study. Run the study with " +
+                      "the build that made them, use another --out, or pass --mix-builds to continue anyway (each " +
+                      "case's build.json lists the builds that ran it)");
+}
+
 }  // namespace
 
 SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
@@ -103,6 +121,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     // The ranks share the folder, so one lock serves them all: rank 0's. The others wait for it
     // at the barrier; if rank 0 is refused, its error aborts them there, before they write.
     if (opt.rank == 0) res.lock = scene::lock_output_dir(opt.out_dir);
+    if (opt.rank == 0 && !opt.mix_builds) refuse_other_builds(out, cases);
     mpi_barrier();
     fs::create_directories(out);
     res.outcomes.assign(cases.size(), CaseOutcome{});

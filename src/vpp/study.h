@@ -45,6 +45,10 @@ struct SweepOptions {
     // engine's host backend (the same bits as "cpu"); "cuda", the batch engine on a GPU (a build
     // with VPPDEM_CUDA and a device; refused otherwise). Preparations run as with "cpu".
     std::string backend = "cpu";
+    // Continue in a folder whose runs another build made (their build.json, scene/build_info.h).
+    // Without it such a sweep is refused before anything runs (ConfigError naming the cases and
+    // both builds): a study's table would mix the results of two builds unknowingly.
+    bool mix_builds = false;
 };
 
 // Thrown by run_sweep (and run_calibration) when SweepOptions::progress asked to stop.

@@ -3,11 +3,16 @@
 #   scene  (configs, generic scenes)      may include dem/, scene/
 #   vpp    (the damper)                   may include dem/, scene/, vpp/
 # cli/ (the command) and a Python module on top may include anything below them.
-# Inside dem the World sits on its parts and the file formats on the World:
-#   core, bonds, clumps, contact, detect, walls, integrate (the parts)  may not include dem/world, dem/io
-#   world (the World, its step and its rules)                   may not include dem/io, dem/batch
-#   io (file formats), batch (the batch engine: systems packed from Worlds) sit on the World. A lower layer
-# that included a higher one would tie the core to one application (or a cycle of libraries).
+# Inside dem the folders are ranked; a folder includes itself and folders of a lower rank only,
+# so no two folders include each other, directly or round a loop:
+#   0  core                             vectors, lanes, particles, materials, threads, the shear spring, pressure
+#   1  bonds, walls, mesh, clumps       each on the core alone
+#   2  detect, integrate                the broad phase and pair geometry; the integrator and time step
+#   3  contact                          the contact laws, the live contacts' stores, interaction lists
+#   4  kernels                          the step's SIMD kernels and their shared bodies, the work split
+#   5  world                            the World, its step, its contacts' lifecycle, the walls' state
+#   6  io, batch                        file formats; the batch engine (systems packed from Worlds)
+# A folder of src/dem that is not in this table is refused until it is given a rank here.
 # Usage: cmake -DROOT=<folder that holds src/> -P check_layers.cmake
 # Fails naming each offending file:line; quoted includes must name their layer folder.
 if(NOT DEFINED ROOT)
@@ -21,6 +26,27 @@ set(known dem scene vpp cli python)
 set(allowed_dem dem)
 set(allowed_scene dem scene)
 set(allowed_vpp dem scene vpp)
+
+# The rank of a folder of src/dem ("" when it has none).
+function(dem_rank folder out)
+  set(r "")
+  if(folder STREQUAL "core")
+    set(r 0)
+  elseif(folder MATCHES "^(bonds|walls|mesh|clumps)$")
+    set(r 1)
+  elseif(folder MATCHES "^(detect|integrate)$")
+    set(r 2)
+  elseif(folder STREQUAL "contact")
+    set(r 3)
+  elseif(folder STREQUAL "kernels")
+    set(r 4)
+  elseif(folder STREQUAL "world")
+    set(r 5)
+  elseif(folder MATCHES "^(io|batch)$")
+    set(r 6)
+  endif()
+  set(${out} "${r}" PARENT_SCOPE)
+endfunction()
 
 set(bad "")
 set(checked 0)
@@ -62,20 +88,12 @@ foreach(layer dem scene vpp)
       if(layer STREQUAL "dem" AND path MATCHES "^dem/([^/]+)/")
         set(to "${CMAKE_MATCH_1}")
         string(REGEX REPLACE "^src/dem/([^/]+)/.*" "\\1" from "${rel}")
-        set(rank_from 0)
-        set(rank_to 0)
-        if(from STREQUAL "world")
-          set(rank_from 1)
-        elseif(from STREQUAL "io" OR from STREQUAL "batch")
-          set(rank_from 2)
-        endif()
-        if(to STREQUAL "world")
-          set(rank_to 1)
-        elseif(to STREQUAL "io" OR to STREQUAL "batch")
-          set(rank_to 2)
-        endif()
-        if(rank_to GREATER rank_from)
-          list(APPEND bad "${rel}:${n}: dem/${from} includes ${path}, which sits above it (parts <- world <- io, batch)")
+        dem_rank("${from}" rank_from)
+        dem_rank("${to}" rank_to)
+        if(rank_from STREQUAL "" OR rank_to STREQUAL "")
+          list(APPEND bad "${rel}:${n}: dem/${from} includes ${path}: a folder of src/dem without a rank (give it one in tests/layers/check_layers.cmake)")
+        elseif(NOT from STREQUAL to AND NOT rank_to LESS rank_from)
+          list(APPEND bad "${rel}:${n}: dem/${from} (rank ${rank_from}) includes ${path} (dem/${to}, rank ${rank_to}): a folder includes only itself and lower ranks (core <- bonds, walls, mesh, clumps <- detect, integrate <- contact <- kernels <- world <- io, batch)")
         endif()
       endif()
       list(FIND allowed_${layer} "${top}" a)

@@ -38,10 +38,16 @@ file(WRITE "${WORK}/src/vpp/bad.cpp" "#include \"vpp/good.h\"\n\n\n#include \"cl
 file(WRITE "${WORK}/src/vpp/bad_relative.cpp" "#include \"damper.h\"\n")
 file(WRITE "${WORK}/src/dem/contact/bad3.h" "#pragma once\n#include \"dem/world/world.h\"\n")
 file(WRITE "${WORK}/src/dem/world/bad4.cpp" "#include \"dem/world/good.h\"\n#include \"dem/io/checkpoint.h\"\n")
+# Inside dem: the kernels' folder under the contacts (a loop with contact -> kernels), two folders
+# of one rank, a folder without a rank.
+file(WRITE "${WORK}/src/dem/contact/bad5.h" "#pragma once\n#include \"dem/core/vec3.h\"\n#include \"dem/kernels/kernels.h\"\n")
+file(WRITE "${WORK}/src/dem/bonds/bad6.h" "#pragma once\n#include \"dem/walls/wall.h\"\n")
+file(WRITE "${WORK}/src/dem/extra/bad7.h" "#pragma once\n#include \"dem/core/vec3.h\"\n")
 run_checker(FALSE "bad tree")
 foreach(expected
     "src/dem/core/bad.h:3:" "src/dem/io/bad2.cpp:2:" "src/scene/bad.cpp:2:" "src/vpp/bad.cpp:4:"
-    "src/vpp/bad_relative.cpp:1:" "src/dem/contact/bad3.h:2:" "src/dem/world/bad4.cpp:2:")
+    "src/vpp/bad_relative.cpp:1:" "src/dem/contact/bad3.h:2:" "src/dem/world/bad4.cpp:2:"
+    "src/dem/contact/bad5.h:3:" "src/dem/bonds/bad6.h:2:" "src/dem/extra/bad7.h:2:")
   string(FIND "${checker_output}" "${expected}" at)
   if(at EQUAL -1)
     message(FATAL_ERROR "check_layers_selftest: the refusal does not name ${expected}:\n${checker_output}")

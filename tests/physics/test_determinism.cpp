@@ -11,7 +11,7 @@
 #include <random>
 #include <vector>
 
-#include "dem/core/kernels.h"
+#include "dem/kernels/kernels.h"
 #include "helpers.h"
 
 using namespace dem;

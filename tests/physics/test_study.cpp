@@ -22,6 +22,7 @@
 #include <thread>
 #include <vector>
 
+#include "scene/build_info.h"
 #include "scene/config.h"
 #include "cli_helpers.h"
 #include "dem/io/csv.h"
@@ -263,11 +264,45 @@ TEST_F(Study, CalibrationRefusesAnExperimentOfTheOtherSignAndRunsNothing) {
     EXPECT_FALSE(fs::exists(out));
 }
 
+// Issue 46: a study refuses a folder whose cases another build ran (their build.json), naming the
+// cases and both builds, before it runs or writes anything; --mix-builds is the way on. Every run
+// records its build: `vppdem --version` names the same one.
+TEST_F(Study, AFolderOfAnotherBuildsRunsIsRefusedUnlessMixBuildsIsGiven) {
+    const fs::path study = scratch("builds.toml"), out = scratch("builds_out");
+    write_file(study, kTwoFrictions);
+    const std::string other = R"({"commit": "0123abcd-dirty", "id": "00000000000000aa"})";
+    write_file(out / "grains.friction=0.6" / "build.json", other + "\n");
+    const Outcome r = run("sweep " + study.string() + " --out " + out.string() + " --jobs 1 --no-plot");
+    EXPECT_EQ(WEXITSTATUS(r.status), 2) << r.output;
+    EXPECT_NE(r.output.find("grains.friction=0.6 (commit 0123abcd-dirty, build 00000000000000aa)"), std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find(std::string("build ") + scene::build_id()), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("--mix-builds"), std::string::npos) << r.output;
+    // Nothing run or written: the other case has no folder, this one only its record.
+    EXPECT_FALSE(fs::exists(out / "grains.friction=0.3"));
+    EXPECT_EQ(entries(out / "grains.friction=0.6"), std::vector<std::string>{"build.json"});
+    EXPECT_EQ(slurp(out / "grains.friction=0.6" / "build.json"), other + "\n");
+    // --list and --report-only read, they do not refuse.
+    EXPECT_EQ(run("sweep " + study.string() + " --out " + out.string() + " --list").status, 0);
+
+    const Outcome v = run("--version");
+    EXPECT_EQ(v.status, 0) << v.output;
+    EXPECT_NE(v.output.find(std::string(scene::build_commit()) + " (build " + scene::build_id() + ")"), std::string::npos)
+        << v.output;
+}
+
 TEST_F(Study, SweepSharesOnePreparationAndWritesTheSummary) {
     const fs::path study = scratch("two.toml"), out = scratch("sweep");
     write_file(study, kTwoFrictions);
     const Outcome r = run("sweep " + study.string() + " --out " + out.string() + " --jobs 2 --no-plot");
     ASSERT_EQ(r.status, 0) << r.output;
+    // Every case records the build that ran it (build.json).
+    for (const char* c : {"grains.friction=0.3", "grains.friction=0.6"}) {
+        const auto b = scene::read_build_record((out / c).string());
+        ASSERT_TRUE(b.has_value()) << c;
+        ASSERT_EQ(b->size(), 1u) << c;
+        EXPECT_EQ(b->front().id, scene::build_id()) << c;
+    }
     const std::string summary = slurp(out / "summary.csv"), summary_cases = slurp(out / "summary_cases.csv");
     EXPECT_FALSE(fs::exists(out / "summary_paired.csv"));  // no seeds, nothing to pair
     const auto rows = lines_of(out / "summary.csv");

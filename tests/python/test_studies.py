@@ -50,6 +50,24 @@ def test_sweep_backend_batch_gives_the_cpu_backends_loops(tmp_path):
     assert not (tmp_path / "cuda").exists()
 
 
+def test_a_sweep_refuses_another_builds_cases_unless_mix_builds(tmp_path):
+    # Every run records its build (build.json); a study in a folder another build ran refuses,
+    # naming it and --mix-builds, before anything runs (docs/studies.md, "One build per study").
+    b = vppdem.build()
+    assert set(b) == {"commit", "id"}
+    assert len(b["id"]) == 16 and all(c in "0123456789abcdef" for c in b["id"])
+    study = tmp_path / "tiny.toml"
+    study.write_text(TINY)
+    case = tmp_path / "out" / "grains.friction=0.3"
+    case.mkdir(parents=True)
+    (case / "build.json").write_text('{"commit": "0123abcd", "id": "00000000000000aa"}\n')
+    with pytest.raises(vppdem.ConfigError, match="--mix-builds") as e:
+        vppdem.sweep(study, tmp_path / "out", jobs=1)
+    assert "00000000000000aa" in str(e.value) and b["id"] in str(e.value)
+    assert sorted(os.listdir(case)) == ["build.json"]
+    assert not (tmp_path / "out" / "grains.friction=0.6").exists()
+
+
 def test_sweep_errors_carry_the_command_message(tmp_path):
     study = tmp_path / "bad.toml"
     study.write_text('[grid]\n"grains.fricton" = [0.3]\n')

@@ -23,9 +23,15 @@
 #error "VPPDEM_BINARY must name the built vppdem executable"
 #endif
 
+#include "../physics/cli_helpers.h"
+
 namespace fs = std::filesystem;
 
 namespace {
+
+using cli_test::json_number;
+using cli_test::write_file;
+const auto& read_file = cli_test::slurp;
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kG = 9.81;
@@ -86,18 +92,6 @@ Result run_scene(const fs::path& file, const fs::path& out, const std::string& e
     return run_vppdem("scene " + quote(file) + " --out " + quote(out) + " --quiet " + extra);
 }
 
-void write_file(const fs::path& p, const std::string& text) {
-    fs::create_directories(p.parent_path());
-    std::ofstream(p, std::ios::binary) << text;
-}
-
-std::string read_file(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
-
 std::string first_line(const fs::path& p) {
     std::ifstream in(p);
     std::string line;
@@ -132,13 +126,6 @@ std::map<int, std::vector<double>> last_wall_rows(const Csv& walls) {
     for (const auto& r : walls.rows)
         if (r[0] == t_end) out[int(r[1])] = r;
     return out;
-}
-
-// A number after "key": in summary.json.
-double json_number(const std::string& json, const std::string& key) {
-    const auto k = json.find("\"" + key + "\":");
-    if (k == std::string::npos) return std::nan("");
-    return std::strtod(json.c_str() + k + key.size() + 3, nullptr);
 }
 
 std::set<std::string> listing(const fs::path& dir) {
@@ -179,26 +166,29 @@ friction = 0.5
 restitution = 0.2
 )";
 
+// A scene file from its blocks (docs/scene.md), so that each test writes only what it varies.
+// [simulation]: dt, duration and output interval as written in TOML; `more`: further lines
+// (gravity by default).
+std::string simulation_block(const std::string& dt, const std::string& duration, const std::string& interval,
+                             const std::string& more = "gravity = [0.0, 0.0, -9.81]\n") {
+    return "\n[simulation]\ndt = " + dt + "\nduration = " + duration + "\n" + more + "output_interval = " + interval +
+           "\n";
+}
+// A [[spheres]] entry; `more`: further lines (track = true, velocity = [...], ...).
+std::string sphere_block(const std::string& material, const std::string& radius, const std::string& position,
+                         const std::string& more = "") {
+    return "[[spheres]]\nmaterial = \"" + material + "\"\nradius = " + radius + "\nposition = " + position + "\n" + more;
+}
+// A [[planes]] entry: by default the floor z = 0, normal +z.
+std::string plane_block(const std::string& material, const std::string& point = "[0.0, 0.0, 0.0]",
+                        const std::string& normal = "[0.0, 0.0, 1.0]") {
+    return "[[planes]]\nmaterial = \"" + material + "\"\npoint = " + point + "\nnormal = " + normal + "\n";
+}
+
 // One free sphere in space, tracked, with a few steps.
 std::string tiny_scene() {
-    return std::string(R"(
-[simulation]
-dt = 1.0e-6
-duration = 2.0e-5
-gravity = [0.0, 0.0, -9.81]
-output_interval = 1.0e-5
-)") + kGlass + R"(
-[[spheres]]
-material = "glass"
-radius = 0.01
-position = [0.0, 0.0, 1.0]
-track = true
-
-[[planes]]
-material = "glass"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-)";
+    return simulation_block("1.0e-6", "2.0e-5", "1.0e-5") + kGlass +
+           sphere_block("glass", "0.01", "[0.0, 0.0, 1.0]", "track = true\n") + plane_block("glass");
 }
 
 }  // namespace
@@ -220,11 +210,12 @@ TEST(SceneCli, HeadersAreExact) {
 
 TEST(SceneCli, TrackedIdsFollowInputOrder) {
     TempDir d;
-    std::string s = std::string("[simulation]\ndt = 1e-6\nduration = 1e-5\noutput_interval = 5e-6\n") + kGlass;
+    std::string s = simulation_block("1e-6", "1e-5", "5e-6", "") + kGlass;
     const char* track[] = {"true", "false", "true"};
-    for (int k = 0; k < 3; ++k)
-        s += "[[spheres]]\nmaterial = \"glass\"\nradius = 0.01\nposition = [" + std::to_string(k) +
-             ".0, 0.0, 0.0]\ntrack = " + track[k] + "\n";
+    for (int k = 0; k < 3; ++k) {
+        const std::string at = std::to_string(k);  // x = the sphere's index
+        s += sphere_block("glass", "0.01", "[" + at + ".0, 0.0, 0.0]", std::string("track = ") + track[k] + "\n");
+    }
     write_file(d / "s.toml", s);
     const Result r = run_scene(d / "s.toml", d / "out");
     ASSERT_EQ(r.rc, 0) << r.output;
@@ -241,26 +232,10 @@ TEST(SceneCli, TrackedIdsFollowInputOrder) {
 TEST(SceneCli, RowTimesAreMultiplesOfOutputInterval) {
     TempDir d;
     const double interval = 1e-5;
-    write_file(d / "s.toml", std::string(R"(
-[simulation]
-dt = 1.0e-6
-duration = 1.0e-4
-output_interval = 1.0e-5
-)") + kGlass + R"(
-[[spheres]]
-material = "glass"
-radius = 0.01
-position = [0.0, 0.0, 0.5]
-track = true
-[[spheres]]
-material = "glass"
-radius = 0.01
-position = [0.5, 0.0, 0.5]
-track = true
-[[planes]]
-material = "glass"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
+    write_file(d / "s.toml", simulation_block("1.0e-6", "1.0e-4", "1.0e-5", "") + kGlass +
+                                 sphere_block("glass", "0.01", "[0.0, 0.0, 0.5]", "track = true\n") +
+                                 sphere_block("glass", "0.01", "[0.5, 0.0, 0.5]", "track = true\n") +
+                                 plane_block("glass") + R"(
 [[facets]]
 material = "glass"
 vertices = [[0.0, 0.0, -1.0], [1.0, 0.0, -1.0], [0.0, 1.0, -1.0]]
@@ -283,20 +258,8 @@ vertices = [[0.0, 0.0, -1.0], [1.0, 0.0, -1.0], [0.0, 1.0, -1.0]]
 TEST(SceneCli, FreeFallMatchesConstantAcceleration) {
     TempDir d;
     const double z0 = 2.0, vx = 0.5, dt = 1e-5;
-    write_file(d / "s.toml", std::string(R"(
-[simulation]
-dt = 1.0e-5
-duration = 0.02
-gravity = [0.0, 0.0, -9.81]
-output_interval = 1.0e-3
-)") + kGlass + R"(
-[[spheres]]
-material = "glass"
-radius = 0.01
-position = [0.0, 0.0, 2.0]
-velocity = [0.5, 0.0, 0.0]
-track = true
-)");
+    write_file(d / "s.toml", simulation_block("1.0e-5", "0.02", "1.0e-3") + kGlass +
+                                 sphere_block("glass", "0.01", "[0.0, 0.0, 2.0]", "velocity = [0.5, 0.0, 0.0]\ntrack = true\n"));
     const Result r = run_scene(d / "s.toml", d / "out");
     ASSERT_EQ(r.rc, 0) << r.output;
     const Csv c = read_csv(d / "out/tracked.csv");
@@ -319,23 +282,8 @@ TEST(SceneCli, RestingSpherePushesPlaneDownWithItsWeight) {
     // with normal +z pushes it along -z with its weight, fz = -m g.
     TempDir d;
     const double r = 0.01, x = 0.1;
-    write_file(d / "s.toml", std::string(R"(
-[simulation]
-dt = 2.0e-6
-duration = 4.0e-3
-gravity = [0.0, 0.0, -9.81]
-output_interval = 1.0e-3
-)") + kSoftDamped + R"(
-[[spheres]]
-material = "grain"
-radius = 0.01
-position = [0.1, 0.0, 0.01]
-track = true
-[[planes]]
-material = "steel"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-)");
+    write_file(d / "s.toml", simulation_block("2.0e-6", "4.0e-3", "1.0e-3") + kSoftDamped +
+                                 sphere_block("grain", "0.01", "[0.1, 0.0, 0.01]", "track = true\n") + plane_block("steel"));
     const Result res = run_scene(d / "s.toml", d / "out");
     ASSERT_EQ(res.rc, 0) << res.output;
     const double m = sphere_mass(2000.0, r), w = m * kG;
@@ -363,13 +311,7 @@ TEST(SceneCli, WallsArePlanesThenFacetsThenFacetSetsInInputOrder) {
     // the file, but walls.csv lists planes first, then facets, then facet sets.
     TempDir d;
     const double radii[4] = {0.010, 0.012, 0.014, 0.016};  // on plane 0, plane 1, facet 0, facet 1
-    write_file(d / "s.toml", std::string(R"(
-[simulation]
-dt = 2.0e-6
-duration = 4.0e-3
-gravity = [0.0, 0.0, -9.81]
-output_interval = 1.0e-3
-)") + kSoftDamped + R"(
+    write_file(d / "s.toml", simulation_block("2.0e-6", "4.0e-3", "1.0e-3") + kSoftDamped + R"(
 [[facets]]
 material = "steel"
 vertices = [[-0.1, -0.1, 0.0], [0.1, -0.1, 0.0], [0.0, 0.1, 0.0]]
@@ -383,31 +325,11 @@ base = [5.0, 5.0, -3.0]
 radius = 0.1
 height = 0.5
 segments = 12
-[[planes]]
-material = "steel"
-point = [0.0, 0.0, -1.0]
-normal = [0.0, 0.0, 1.0]
-[[planes]]
-material = "steel"
-point = [0.0, 0.0, -2.0]
-normal = [0.0, 0.0, 1.0]
-[[spheres]]
-material = "grain"
-radius = 0.010
-position = [0.0, 0.0, -0.990]
-[[spheres]]
-material = "grain"
-radius = 0.012
-position = [0.0, 0.0, -1.988]
-[[spheres]]
-material = "grain"
-radius = 0.014
-position = [0.0, 0.0, 0.014]
-[[spheres]]
-material = "grain"
-radius = 0.016
-position = [0.0, 0.0, 1.016]
-)");
+)" + plane_block("steel", "[0.0, 0.0, -1.0]") + plane_block("steel", "[0.0, 0.0, -2.0]") +
+                                 sphere_block("grain", "0.010", "[0.0, 0.0, -0.990]") +
+                                 sphere_block("grain", "0.012", "[0.0, 0.0, -1.988]") +
+                                 sphere_block("grain", "0.014", "[0.0, 0.0, 0.014]") +
+                                 sphere_block("grain", "0.016", "[0.0, 0.0, 1.016]"));
     const Result res = run_scene(d / "s.toml", d / "out");
     ASSERT_EQ(res.rc, 0) << res.output;
     const Csv walls = read_csv(d / "out/walls.csv");
@@ -432,19 +354,9 @@ TEST(SceneCli, SphereFilesWithAndWithoutHeaderAndRelativePaths) {
     TempDir d;
     write_file(d / "scene/data/with_header.csv", "x,y,z,r\n1.0,0.0,0.0,0.01\n2.0,0.0,0.0,0.02\n");
     write_file(d / "scene/data/plain.csv", "# a comment line\n3.0, 0.0, 0.0, 0.03\r\n4.0,0.0,0.0,0.04\n");
-    write_file(d / "scene/s.toml", std::string(R"(
-[simulation]
-dt = 1.0e-6
-duration = 2.0e-6
-gravity = [0.0, 0.0, 0.0]
-output_interval = 1.0e-6
-[output]
-vtk_interval = 1.0e-6
-)") + kGlass + R"(
-[[spheres]]
-material = "glass"
-radius = 0.01
-position = [0.0, 0.0, 0.0]
+    write_file(d / "scene/s.toml", simulation_block("1.0e-6", "2.0e-6", "1.0e-6", "gravity = [0.0, 0.0, 0.0]\n") +
+                                       "[output]\nvtk_interval = 1.0e-6\n" + kGlass +
+                                       sphere_block("glass", "0.01", "[0.0, 0.0, 0.0]") + R"(
 [[sphere_files]]
 path = "data/with_header.csv"
 material = "glass"
@@ -486,19 +398,8 @@ track = true
 
 TEST(SceneCli, DtAutoIsReportedInSummary) {
     TempDir d;
-    write_file(d / "s.toml", std::string(R"(
-[simulation]
-dt = "auto"
-dt_safety = 0.25
-duration = 1.0e-4
-output_interval = 1.0e-12
-)") + kGlass + R"(
-[[spheres]]
-material = "glass"
-radius = 0.01
-position = [0.0, 0.0, 0.0]
-track = true
-)");
+    write_file(d / "s.toml", simulation_block("\"auto\"", "1.0e-4", "1.0e-12", "dt_safety = 0.25\n") + kGlass +
+                                 sphere_block("glass", "0.01", "[0.0, 0.0, 0.0]", "track = true\n"));
     const Result r = run_scene(d / "s.toml", d / "out");
     ASSERT_EQ(r.rc, 0) << r.output;
     const std::string s = read_file(d / "out/summary.json");
@@ -522,7 +423,7 @@ track = true
 }
 
 TEST(SceneCli, ErrorsNameTheKeyAndWriteNothing) {
-    const std::string sphere = "[[spheres]]\nmaterial = \"glass\"\nradius = 0.01\nposition = [0.0, 0.0, 0.0]\n";
+    const std::string sphere = sphere_block("glass", "0.01", "[0.0, 0.0, 0.0]");
     const std::string ok = std::string(kGlass) + sphere;
     struct Case {
         const char* name;
@@ -539,12 +440,8 @@ TEST(SceneCli, ErrorsNameTheKeyAndWriteNothing) {
         {"unknown key in [[materials]]", "[[materials]]\nname = \"glass\"\npoisson = 0.3\n" + sphere, "",
          "materials[0].poisson"},
         {"unknown key in [output]", "[output]\nvtk = 1e-3\n" + ok, "", "output.vtk"},
-        {"unknown material", std::string(kGlass) + "[[spheres]]\nmaterial = \"steel\"\nradius = 0.01\n"
-                                                   "position = [0.0, 0.0, 0.0]\n",
-         "", "spheres[0].material"},
-        {"negative radius", std::string(kGlass) + "[[spheres]]\nmaterial = \"glass\"\nradius = -0.01\n"
-                                                  "position = [0.0, 0.0, 0.0]\n",
-         "", "spheres[0].radius"},
+        {"unknown material", kGlass + sphere_block("steel", "0.01", "[0.0, 0.0, 0.0]"), "", "spheres[0].material"},
+        {"negative radius", kGlass + sphere_block("glass", "-0.01", "[0.0, 0.0, 0.0]"), "", "spheres[0].radius"},
         {"dt = 0", "[simulation]\ndt = 0.0\n" + ok, "", "simulation.dt"},
         {"dt = -1", "[simulation]\ndt = -1\n" + ok, "", "simulation.dt"},
         {"dt = fast", "[simulation]\ndt = \"fast\"\n" + ok, "", "simulation.dt"},
@@ -600,12 +497,12 @@ TEST(SceneCli, OverlapsAndNonFiniteNumbersAreRefusedBeforeAnythingIsWritten) {
     // inf in a number runs on NaN or fails deep inside. All are refused up front, naming the
     // bodies (or the key) and the overlap, exit status 2, one line, nothing written.
     auto sphere = [](double x, double y, double z, double r = 0.01) {
-        std::ostringstream os;
-        os << "[[spheres]]\nmaterial = \"glass\"\nradius = " << r << "\nposition = [" << x << ", " << y << ", " << z
-           << "]\n";
-        return os.str();
+        std::ostringstream radius, at;
+        radius << r;
+        at << "[" << x << ", " << y << ", " << z << "]";
+        return sphere_block("glass", radius.str(), at.str());
     };
-    const std::string floor = "[[planes]]\nmaterial = \"glass\"\npoint = [0.0, 0.0, 0.0]\nnormal = [0.0, 0.0, 1.0]\n";
+    const std::string floor = plane_block("glass");
     const std::string cylinder = "[[facet_sets]]\ntype = \"cylinder\"\nmaterial = \"glass\"\nradius = 0.05\n"
                                  "height = 0.2\nsegments = 12\n";
     const std::string files = "[[sphere_files]]\npath = \"g.csv\"\nmaterial = \"glass\"\n";
@@ -626,8 +523,8 @@ TEST(SceneCli, OverlapsAndNonFiniteNumbersAreRefusedBeforeAnythingIsWritten) {
         {"nan in a sphere file", sphere(0, 0, 1) + files, "x,y,z,r\n0.5,nan,1,0.01\n", "sphere_files[0].path",
          "finite"},
         {"nan velocity", sphere(0, 0, 1) + "velocity = [nan, 0.0, 0.0]\n", "", "spheres[0].velocity", "finite"},
-        {"inf position", sphere(0, 0, 1) + "[[spheres]]\nmaterial = \"glass\"\nradius = 0.01\nposition = [inf, 0.0, 1.0]\n",
-         "", "spheres[1].position", "finite"},
+        {"inf position", sphere(0, 0, 1) + sphere_block("glass", "0.01", "[inf, 0.0, 1.0]"), "", "spheres[1].position",
+         "finite"},
         {"nan gravity", "[simulation]\ngravity = [0.0, 0.0, nan]\n" + sphere(0, 0, 1), "", "simulation.gravity", "finite"},
         {"nan in a displacement history", sphere(0, 0, 1) + "displacement = [[0.0, 0.0, 0.0, 0.0], [1.0, nan, 0.0, 0.0]]\n",
          "", "spheres[0].displacement", "finite"},
@@ -754,34 +651,14 @@ TEST(SceneCli, PrescribedSpheresFollowTheirMotionAndPushOthers) {
     // A prescribed sphere keeps its velocity under gravity and while it pushes a free sphere
     // ahead of it; a sphere with a displacement history follows it exactly.
     TempDir d;
-    write_file(d / "s.toml", std::string(R"(
-[simulation]
-dt = 1.0e-6
-duration = 0.02
-gravity = [0.0, 0.0, -9.81]
-output_interval = 1.0e-3
-)") + kGlass + R"(
-[[spheres]]
-material = "glass"
-radius = 0.01
-position = [0.0, 0.0, 0.0]
-velocity = [1.0, 0.0, 0.0]
-prescribed = true
-track = true
-
-[[spheres]]
-material = "glass"
-radius = 0.01
-position = [0.0205, 0.0, 0.0]
-track = true
-
-[[spheres]]
-material = "glass"
-radius = 0.01
-position = [0.0, 0.5, 0.0]
-displacement = [[0.0, 0.0, 0.0, 0.0], [0.01, 0.0, 0.0, 0.002], [0.02, 0.0, 0.0, 0.0]]
-track = true
-)");
+    write_file(d / "s.toml",
+               simulation_block("1.0e-6", "0.02", "1.0e-3") + kGlass +
+                   sphere_block("glass", "0.01", "[0.0, 0.0, 0.0]",
+                                "velocity = [1.0, 0.0, 0.0]\nprescribed = true\ntrack = true\n") +
+                   sphere_block("glass", "0.01", "[0.0205, 0.0, 0.0]", "track = true\n") +
+                   sphere_block("glass", "0.01", "[0.0, 0.5, 0.0]",
+                                "displacement = [[0.0, 0.0, 0.0, 0.0], [0.01, 0.0, 0.0, 0.002], [0.02, 0.0, 0.0, 0.0]]\n"
+                                "track = true\n"));
     const Result r = run_scene(d / "s.toml", d / "out");
     ASSERT_EQ(r.rc, 0) << r.output;
     const Csv c = read_csv(d / "out/tracked.csv");
@@ -812,19 +689,8 @@ track = true
 TEST(SceneCli, ClumpsRestOnAPlaneWithTheirWeight) {
     TempDir d;
     write_file(d / "pellet.csv", "x,y,z,r\n0,0,0,0.004\n0.004,0,0,0.004\n0,0.004,0,0.004\n");
-    const std::string head = std::string(R"(
-[simulation]
-dt = 2.0e-6
-duration = 0.3
-gravity = [0.0, 0.0, -9.81]
-local_damping = 0.4
-output_interval = 0.05
-)") + kSoftDamped + R"(
-[[planes]]
-material = "steel"
-point = [0.0, 0.0, 0.0]
-normal = [0.0, 0.0, 1.0]
-)";
+    const std::string head = simulation_block("2.0e-6", "0.3", "0.05", "gravity = [0.0, 0.0, -9.81]\nlocal_damping = 0.4\n") +
+                             kSoftDamped + plane_block("steel");
     write_file(d / "s.toml", head + R"(
 [[clumps]]
 material = "grain"

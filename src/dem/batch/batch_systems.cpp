@@ -8,7 +8,7 @@
 #include "dem/batch/lane_sums.h"
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
-#include "dem/core/kernels.h"
+#include "dem/kernels/kernels.h"
 #include "dem/core/parallel.h"
 #include "dem/core/thread_team.h"
 

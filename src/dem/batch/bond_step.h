@@ -1,6 +1,6 @@
 // The batch engine's per-bond and per-node kernel bodies (docs/gpu.md) for the host backend and
 // the CUDA kernels: one bond at a time on doubles, through the body World's bond kernel runs on
-// SIMD lanes (dem/core/step_bodies.h, bond_lanes), and the follower pressure's node force
+// SIMD lanes (dem/kernels/step_bodies.h, bond_lanes), and the follower pressure's node force
 // (dem/core/pressure.h, pressure_force, World's too), so that a batch gives World's bits
 // (tests/unit/test_batch.cpp).
 #pragma once
@@ -9,7 +9,7 @@
 #include "dem/core/hd.h"
 #include "dem/core/lanes.h"
 #include "dem/core/pressure.h"
-#include "dem/core/step_bodies.h"
+#include "dem/kernels/step_bodies.h"
 #include "dem/core/vec3.h"
 
 namespace dem::batch {

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "dem/core/kernels.h"
+#include "dem/kernels/kernels.h"
 #include "dem/core/parallel.h"
 
 namespace dem::batch {

@@ -12,7 +12,7 @@
 #include "dem/batch/lane_sums.h"
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
-#include "dem/contact/candidates.h"
+#include "dem/detect/candidates.h"
 #include "dem/contact/interaction_lists.h"
 
 namespace dem::batch::dev {

@@ -1,4 +1,4 @@
-// The energy ledger's block sums as World's SIMD kernels form them (dem/core/kernels.h, for_blocks):
+// The energy ledger's block sums as World's SIMD kernels form them (dem/kernels/kernels.h, for_blocks):
 // within a block of kernels::kBlock entries, entry e adds its K terms to virtual lane e % 8 in entry
 // order, then the 8 lanes are added in order. One source for the batch engine's host backend
 // (batch_systems.cpp) and its device kernels (device_kernels.inl).

@@ -1,6 +1,6 @@
 // The batch engine's per-contact kernel bodies (docs/gpu.md) for the host backend and the CUDA
 // kernels: one pair at a time on doubles, through the bodies World's kernels run on SIMD lanes
-// (dem/core/step_bodies.h: frictional_pair_lanes, smooth_pair_lanes, spheres_touch_lanes) and
+// (dem/kernels/step_bodies.h: frictional_pair_lanes, smooth_pair_lanes, spheres_touch_lanes) and
 // World's wall body (wall_pair), so that a batch gives World's bits (tests/unit/test_batch.cpp).
 // With kEnergy the bodies also give the energy ledger's terms of the contact (PairEnergy), as the
 // kernels do.
@@ -9,7 +9,7 @@
 #include "dem/contact/linear_law.h"
 #include "dem/core/hd.h"
 #include "dem/core/lanes.h"
-#include "dem/core/step_bodies.h"
+#include "dem/kernels/step_bodies.h"
 #include "dem/core/vec3.h"
 
 namespace dem::batch {

@@ -1,12 +1,12 @@
 // The batch engine's per-particle kernel body (docs/gpu.md) for the host backend and the CUDA
 // kernels: one free particle's leapfrog step with Yade's local damping, on doubles, through the
-// body World's SIMD kernel runs on lanes (dem/core/step_bodies.h, advance_lanes), so that a batch
+// body World's SIMD kernel runs on lanes (dem/kernels/step_bodies.h, advance_lanes), so that a batch
 // gives World's bits (tests/unit/test_batch.cpp).
 #pragma once
 
 #include "dem/core/hd.h"
 #include "dem/core/lanes.h"
-#include "dem/core/step_bodies.h"
+#include "dem/kernels/step_bodies.h"
 #include "dem/core/vec3.h"
 
 namespace dem::batch {
@@ -15,7 +15,7 @@ struct ParticleState {
     Vec3 x, v, w;  // [m], [m/s] and [rad/s] at t - dt/2 (v, w)
 };
 
-// The energy ledger's terms of one particle's step (dem/core/kernels.h, ParticleTerm): the work of
+// The energy ledger's terms of one particle's step (dem/kernels/kernels.h, ParticleTerm): the work of
 // each force over the back and forward half steps [J], then the kinetic energy [J].
 struct ParticleEnergy {
     double back[5] = {}, fwd[5] = {}, kinetic = 0;

@@ -1,6 +1,6 @@
 // The bond law over lanes (see dem/bonds/bond_law.h). No include guard and no namespace:
 // included into namespace dem by bond_law.h and into each SIMD target's namespace by
-// dem/core/kernels.cpp (the same reason as dem/core/lanes-inl.h).
+// dem/kernels/kernels.cpp (the same reason as dem/core/lanes-inl.h).
 
 // `n` unit vector from 1 to 2, `dist` [m] centre distance, `vrel` velocity of 2 relative to 1
 // at the bond point [m/s], `fs`, `prev` the shear history. Returns the force on body 2 [N];

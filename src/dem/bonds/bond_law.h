@@ -6,7 +6,7 @@
 // and in the SIMD bond kernel with the same bits.
 #pragma once
 
-#include "dem/contact/linear_law.h"
+#include "dem/core/shear_spring.h"
 
 namespace dem {
 

@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "dem/contact/candidates.h"
+#include "dem/detect/candidates.h"
 #include "dem/contact/linear_law.h"
 #include "dem/core/vec3.h"
 

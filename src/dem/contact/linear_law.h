@@ -15,6 +15,7 @@
 #include "dem/core/energy.h"
 #include "dem/core/lanes.h"
 #include "dem/core/material.h"
+#include "dem/core/shear_spring.h"
 #include "dem/core/vec3.h"
 #include "dem/detect/geometry.h"
 
@@ -56,22 +57,9 @@ inline ContactPhys make_contact_phys(const Material& a, double r1, const Materia
     return p;
 }
 
-// Tangential state carried while a contact lives.
-struct ShearHistory {
-    Vec3 shear;        // [N] elastic shear force in the global frame (acts on body 1 as -shear)
-    Vec3 prev_normal;  // unit normal of the previous step; zero before the first step
-};
-
 #include "dem/contact/linear_law-inl.h"  // IWYU pragma: export
 
 // ---- scalar forms
-
-inline void rotate_shear(ShearHistory& h, const Vec3& n, double spin_n, double dt) {
-    V3<double> fs = lanes(h.shear), prev = lanes(h.prev_normal);
-    rotate_shear_lanes(fs, prev, lanes(n), spin_n, dt);
-    h.shear = vec3(fs);
-    h.prev_normal = vec3(prev);
-}
 
 // One step of the law for one contact (see linear_contact_force_lanes). With `e` the step's
 // energy terms are written there (release = 0).

@@ -1,5 +1,5 @@
 // Lane templates shared by the scalar code (namespace dem, via dem/core/lanes.h) and each SIMD
-// target of the kernels (namespace dem::HWY_NAMESPACE, dem/core/kernels.cpp). No include
+// target of the kernels (namespace dem::HWY_NAMESPACE, dem/kernels/kernels.cpp). No include
 // guard and no namespace on purpose: it is included once into each of those namespaces, so
 // that in the kernels these templates are compiled with the target's instruction set.
 // Needs, declared before it: lit, neg, lane_sqrt, select, both for the lane type in use, and

@@ -1,6 +1,6 @@
 // Lane arithmetic: the contact and bond laws are written once, as templates over a "lane" type
 // R, and run both on plain doubles (R = double: tests, tails of loops, rare paths) and on SIMD
-// vectors of doubles (R = a Highway vector, dem/core/simd_lanes-inl.h: the hot kernels).
+// vectors of doubles (R = a Highway vector, dem/kernels/kernels.cpp: the hot kernels).
 //
 // Why one source: the scalar and the vector path must give the same bits (results may not
 // depend on the machine's vector width). Every operation used here is exactly rounded in IEEE
@@ -10,7 +10,7 @@
 // compiler cannot fuse either), reassociated sums, approximate reciprocals.
 //
 // The R = double functions are here; each SIMD target gets the same names for its vectors
-// (dem/core/kernels.cpp), and both include the generic templates of dem/core/lanes-inl.h.
+// (dem/kernels/kernels.cpp), and both include the generic templates of dem/core/lanes-inl.h.
 #pragma once
 
 #include <cmath>

@@ -28,22 +28,6 @@ inline std::pair<int64_t, int64_t> thread_range(int64_t n, int tid, int nt) {
     return {begin, begin + q + (tid < r ? 1 : 0)};
 }
 
-// Thread t's contiguous share of n items weighted by `prefix` (size n + 1, non-decreasing: the
-// work before each item): the split points divide the total work evenly. For loops whose items
-// cost very different amounts (particles with 2 or 20 contacts).
-template <class T> inline std::pair<int64_t, int64_t> weighted_range(const std::vector<T>& prefix, int tid, int nt) {
-    const int64_t n = int64_t(prefix.size()) - 1;
-    if (n <= 0) return {0, 0};
-    const double total = double(prefix.back() - prefix.front());
-    const auto split = [&](int t) -> int64_t {
-        if (t <= 0) return 0;
-        if (t >= nt) return n;
-        const T target = T(double(prefix.front()) + total * t / nt);
-        return std::lower_bound(prefix.begin(), prefix.end() - 1, target) - prefix.begin();
-    };
-    return {split(tid), split(tid + 1)};
-}
-
 // Runs [begin, end) of blocks each thread works on: runs[t] for thread t, ascending.
 using BlockRuns = std::vector<std::vector<std::pair<int64_t, int64_t>>>;
 

@@ -56,7 +56,7 @@ bool BroadPhase::needs_rebuild(std::size_t n, const std::vector<Plane>& planes, 
 
 void BroadPhase::record_moves(double max_d2) { max_disp = std::sqrt(max_d2) + ref_round; }
 
-void BroadPhase::rebuild(const Scene& s, ContactSet& cs) {
+void BroadPhase::rebuild(const Scene& s, CandidateList& pp, CandidateList& pw) {
     const std::vector<Plane>& planes = *s.planes;
     const std::vector<Facet>& facets = *s.facets;
     const std::vector<Vec3>& plane_point = *s.plane_point;
@@ -123,11 +123,11 @@ void BroadPhase::rebuild(const Scene& s, ContactSet& cs) {
     // pairs again through the stores' (i, j). The per-thread lists get room for about as many
     // candidates as last time (first time: 6 per particle, a dense packing's half list), so
     // they do not grow by doubling: up to twice the memory, in the largest arrays of the step.
-    const std::size_t hint = cs.pp.other.empty() ? 6 * n : cs.pp.other.size() + cs.pp.other.size() / 8;
-    cs.pp.clear();
-    cs.pw.clear();
-    cs.pp.start.assign(n + 1, 0);
-    cs.pw.start.assign(n + 1, 0);
+    const std::size_t hint = pp.other.empty() ? 6 * n : pp.other.size() + pp.other.size() / 8;
+    pp.clear();
+    pw.clear();
+    pp.start.assign(n + 1, 0);
+    pw.start.assign(n + 1, 0);
     const int nt = std::max(1, s.threads);
     std::vector<std::vector<uint32_t>> pp_other(nt), pw_other(nt);
     std::vector<std::vector<float>> pp_gap(nt), pw_gap(nt);
@@ -160,7 +160,7 @@ void BroadPhase::rebuild(const Scene& s, ContactSet& cs) {
                 pp_other[tid].push_back(j);
                 pp_gap[tid].push_back(g);
             }
-            cs.pp.start[i + 1] = uint32_t(local.size());
+            pp.start[i + 1] = uint32_t(local.size());
 
             if (!moves(p, i) && !(p.flags[i] & kPrescribed)) continue;  // fixed: no wall contacts
             uint32_t nw = 0;
@@ -188,20 +188,17 @@ void BroadPhase::rebuild(const Scene& s, ContactSet& cs) {
                     }
                 }
             }
-            cs.pw.start[i + 1] = nw;
+            pw.start[i + 1] = nw;
         }
     });
-    for (CandidateList* cl : {&cs.pp, &cs.pw})
+    for (CandidateList* cl : {&pp, &pw})
         for (std::size_t i = 0; i < n; ++i) cl->start[i + 1] += cl->start[i];
-    concatenate(pp_other, cs.pp.other);
-    concatenate(pw_other, cs.pw.other);
-    concatenate(pp_gap, cs.pp.gap);
-    concatenate(pw_gap, cs.pw.gap);
-    cs.pp.slot.assign(cs.pp.size(), kNoSlot);
-    cs.pw.slot.assign(cs.pw.size(), kNoSlot);
-
-    // The live contacts find their pairs again.
-    cs.reattach();
+    concatenate(pp_other, pp.other);
+    concatenate(pw_other, pw.other);
+    concatenate(pp_gap, pp.gap);
+    concatenate(pw_gap, pw.gap);
+    pp.slot.assign(pp.size(), kNoSlot);
+    pw.slot.assign(pw.size(), kNoSlot);
 
     ref_pos.resize(n);
     double big = 0.0;

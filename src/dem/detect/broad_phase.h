@@ -9,10 +9,10 @@
 #include <vector>
 
 #include "dem/bonds/bond_tables.h"
-#include "dem/contact/contact_set.h"
 #include "dem/core/particles.h"
 #include "dem/core/thread_team.h"
 #include "dem/core/vec3.h"
+#include "dem/detect/candidates.h"
 #include "dem/detect/cell_grid.h"
 #include "dem/walls/wall.h"
 
@@ -46,8 +46,10 @@ struct BroadPhase {
         int threads = 1;
         ThreadTeam* team = nullptr;
     };
-    // New candidate lists in `c` (live contacts re-attached to them) and the reference state.
-    void rebuild(const Scene& s, ContactSet& c);
+    // New candidate lists `pp` (particle pairs) and `pw` (particle-wall pairs), every slot
+    // kNoSlot, and the reference state. The caller re-attaches its live contacts to them
+    // (ContactSet::reattach): detection sits below the contacts and knows nothing of them.
+    void rebuild(const Scene& s, CandidateList& pp, CandidateList& pw);
     // After an integration step: the largest squared move of a particle from ref_pos [m^2].
     void record_moves(double max_d2);
 };

@@ -27,7 +27,6 @@ public:
     // Flush, then rename PATH.part -> PATH. A failed write (a full disk) removes PATH.part and
     // throws std::runtime_error; PATH is then left as it was.
     void close();
-    bool is_open() const { return file_ != nullptr; }
 
 private:
     std::string path_;

@@ -1,4 +1,4 @@
-// A wall as the wall bodies read it (dem/core/step_bodies.h, wall_pair and wall_geometry): World's
+// A wall as the wall bodies read it (dem/kernels/step_bodies.h, wall_pair and wall_geometry): World's
 // wall kernel and touch test and the batch engine's kernels (WallState::now). Plain data, also
 // for the device (docs/gpu.md).
 #pragma once

@@ -1,6 +1,6 @@
 #include "dem/world/energy_book.h"
 
-#include "dem/core/kernels.h"
+#include "dem/kernels/kernels.h"
 
 namespace dem {
 

@@ -7,13 +7,13 @@
 #include <cstdint>
 #include <vector>
 
-#include "dem/contact/contact_set.h"
+#include "dem/world/contact_set.h"
 #include "dem/core/energy.h"
 #include "dem/core/material.h"
 #include "dem/core/particles.h"
 #include "dem/core/vec3.h"
 #include "dem/walls/wall.h"
-#include "dem/walls/wall_state.h"
+#include "dem/world/wall_state.h"
 
 namespace dem {
 

@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "dem/core/kernels.h"
+#include "dem/kernels/kernels.h"
 #include "dem/integrate/critical_dt.h"
 #include "dem/clumps/rigid_rotation.h"
 #include "dem/core/parallel.h"
@@ -282,7 +282,8 @@ void World::update_candidates() {
         scene.time = time;
         scene.threads = threads();
         scene.team = &*team_;
-        broad_.rebuild(scene, contacts_);
+        broad_.rebuild(scene, contacts_.pp, contacts_.pw);
+        contacts_.reattach();  // the live contacts find their pairs again
         // Holes dropped, slots in candidate order.
         contacts_.compact(physics_dirty_, contact_physics(), bond_tables_, n);
         // The work moves with the particles (grains settle, contacts gather at the bottom): the

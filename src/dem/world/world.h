@@ -9,10 +9,10 @@
 //     for translation and a symplectic rotation, members placed) -> prescribed particles ->
 //     clock -> energy ledger (params.track_energy).
 // The phases' state and code live with their concept: the contact lifecycle in
-// dem/contact/contact_set, the broad phase in dem/detect/broad_phase, the work sharing in
-// dem/core/work_share, the force and integration kernels in dem/core/kernels (walls:
+// dem/world/contact_set, the broad phase in dem/detect/broad_phase, the work sharing in
+// dem/kernels/work_share, the force and integration kernels in dem/core/kernels (walls:
 // wall_kernel.cpp), the clumps' state and rotation in dem/clumps, the pressure in dem/core/pressure, the walls' motion and reactions in
-// dem/walls/wall_state, the time step estimate in dem/integrate/critical_dt, the ledger in
+// dem/world/wall_state, the time step estimate in dem/integrate/critical_dt, the ledger in
 // dem/world/energy_book. World owns them and keeps the rules that tie them together
 // (check_invariants()).
 #pragma once
@@ -26,21 +26,21 @@
 #include "dem/bonds/bond_tables.h"
 #include "dem/clumps/clump_shape.h"
 #include "dem/clumps/clumps.h"
-#include "dem/contact/contact_set.h"
+#include "dem/world/contact_set.h"
 #include "dem/core/energy.h"
-#include "dem/core/kernels.h"
+#include "dem/kernels/kernels.h"
 #include "dem/core/material.h"
 #include "dem/core/particles.h"
 #include "dem/core/pressure.h"
 #include "dem/core/profile.h"
 #include "dem/core/thread_team.h"
 #include "dem/core/vec3.h"
-#include "dem/core/work_share.h"
+#include "dem/kernels/work_share.h"
 #include "dem/detect/broad_phase.h"
 #include "dem/integrate/step_clock.h"
 #include "dem/walls/motion.h"
 #include "dem/walls/wall.h"
-#include "dem/walls/wall_state.h"
+#include "dem/world/wall_state.h"
 #include "dem/world/energy_book.h"
 
 namespace dem {

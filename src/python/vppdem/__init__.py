@@ -69,7 +69,8 @@ except ImportError as _error:
             return _core.World(*args, **kwargs)
 
 
-__all__ = ["Damper", "World", "ConfigError", "load_config", "settings", "record_columns", "sweep", "calibrate", "device"]
+__all__ = ["Damper", "World", "ConfigError", "load_config", "settings", "record_columns", "sweep", "calibrate", "device",
+           "build"]
 
 
 def __getattr__(name):
@@ -500,18 +501,29 @@ def _study_sets(sets, settings):
     return list(sets) + extra
 
 
-def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None, progress=None, backend="cpu"):
+def build():
+    """The build of the compiled core, as every run's build.json records it and `vppdem
+    --version` prints it: {"commit": git describe of its sources, "id": 16 hex digits, the same
+    for the same sources built the same way}."""
+    return dict(_core.build())
+
+
+def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None, progress=None, backend="cpu",
+          mix_builds=False):
     """`vppdem sweep STUDY --out OUT`: runs (or resumes) the study; returns the failed cases'
     count. sets: ["key=value", ...] or `settings` (a dict) fixed for every case.
     backend: "cpu", "batch" or "cuda", as the command's --backend (docs/studies.md, docs/gpu.md).
     jobs: cases at once, as --jobs (0: the free cores / threads per case; >= 0).
+    mix_builds: continue in a folder whose cases another build ran, as --mix-builds (refused,
+    ConfigError, without it).
     progress: None, True (a tqdm bar over the cases, else a line per case on stderr) or a
     callable progress(done, total, case) called after each finished case. Ctrl-C, or an
     exception of the callable, stops the sweep and is raised; finished cases stay, and the
     same call resumes it."""
     extra = _study_sets(sets, settings)
     return _run(_core.sweep, progress, os.fspath(study_path), os.fspath(out), extra, int(seeds),
-                _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), callback=_CaseProgress, backend=str(backend))
+                _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), callback=_CaseProgress, backend=str(backend),
+                mix_builds=bool(mix_builds))
 
 
 def device(device_file, out, sets=None, settings=None, from_checkpoint=None, overwrite=False, quiet=True,
@@ -534,7 +546,7 @@ def device(device_file, out, sets=None, settings=None, from_checkpoint=None, ove
 def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None,
               displacement_unit="m", force_unit="N", compression_negative=False, simulated_force="force_zeroed",
               points=50, plot=False, time_column="time", displacement_column="displacement", force_column="force",
-              progress=None):
+              progress=None, mix_builds=False):
     """`vppdem calibrate STUDY --experiment EXP --out OUT`: returns calibration.json as a dict;
     raises RuntimeError when the calibration failed (cases failed or none could be compared).
     The keywords are the command's options (--displacement-unit, --force-column, ...);
@@ -545,7 +557,8 @@ def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=Tru
     rc = _run(_core.calibrate, progress, os.fspath(study_path), os.fspath(experiment), os.fspath(out), extra,
               int(seeds), _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), 1e-3 if displacement_unit == "mm" else 1.0,
               1e3 if force_unit == "kN" else 1.0, bool(compression_negative), simulated_force,
-              int(points), bool(plot), time_column, displacement_column, force_column, callback=_CaseProgress)
+              int(points), bool(plot), time_column, displacement_column, force_column, callback=_CaseProgress,
+              mix_builds=bool(mix_builds))
     path = os.path.join(os.fspath(out), "calibration.json")
     if rc != 0 or not os.path.exists(path):
         raise RuntimeError(f"calibrate: no calibration (exit status {rc}); see {out}")

@@ -1,9 +1,9 @@
-#include "dem/contact/contact_set.h"
+#include "dem/world/contact_set.h"
 
 #include <algorithm>
 
 #include "dem/core/parallel.h"
-#include "dem/core/step_bodies.h"
+#include "dem/kernels/step_bodies.h"
 #include "dem/detect/geometry.h"
 
 namespace dem {
@@ -84,7 +84,7 @@ void ContactSet::find_new(const FindArgs& a) {
             return spheres_touch_lanes(lanes(p.pos[i]), p.radius[i], lanes(p.pos[j]), p.radius[j]);
         }, npp);
         scan(pw, i0, i1, a.wall_reach, [&](uint32_t i, uint32_t w) {
-            ContactGeom g;  // the touch test of the wall body (dem/core/step_bodies.h), the batch engine's too
+            ContactGeom g;  // the touch test of the wall body (dem/kernels/step_bodies.h), the batch engine's too
             return wall_geometry(p.pos[i], p.radius[i], wall_now[w], g);
         }, npw);
     }

@@ -1,8 +1,8 @@
 // The per-index bodies of the step, written once for World's kernels and the batch engine's
 // (host backend, device kernels: VPPDEM_HD, docs/gpu.md). The lane templates of
-// dem/core/step_bodies-inl.h (pairs, bonds, the integrator, the touch test) run on SIMD vectors in
-// World's kernels (dem/core/kernels.cpp) and on doubles here; the wall contact, which World runs
-// in scalar code (dem/core/wall_kernel.cpp), is a scalar function here. Both engines call these
+// dem/kernels/step_bodies-inl.h (pairs, bonds, the integrator, the touch test) run on SIMD vectors in
+// World's kernels (dem/kernels/kernels.cpp) and on doubles here; the wall contact, which World runs
+// in scalar code (dem/kernels/wall_kernel.cpp), is a scalar function here. Both engines call these
 // same functions, so that they give the same bits (tests/unit/test_batch.cpp).
 #pragma once
 
@@ -16,7 +16,7 @@
 
 namespace dem {
 
-#include "dem/core/step_bodies-inl.h"  // IWYU pragma: export
+#include "dem/kernels/step_bodies-inl.h"  // IWYU pragma: export
 
 // One body of a particle pair as a scalar body reads it (position, half-step velocities, radius).
 struct PairEnd {
@@ -33,7 +33,7 @@ struct PairOut {
     bool touch = false;
 };
 
-// A contact's terms for the energy ledger (dem/core/kernels.h, PairSum): zero but for a touching
+// A contact's terms for the energy ledger (dem/kernels/kernels.h, PairSum): zero but for a touching
 // pair (elastic, slip, viscous and the dashpot force) or one found apart with a loaded shear
 // spring (release).
 struct PairEnergy {

@@ -1,6 +1,6 @@
-#include "dem/walls/wall_state.h"
+#include "dem/world/wall_state.h"
 
-#include "dem/contact/candidates.h"
+#include "dem/detect/candidates.h"
 
 namespace dem {
 

@@ -27,7 +27,7 @@ struct WallState {
     void sum_reactions(const ActiveContacts& walls, std::size_t nw);
 };
 
-// Wall k (planes first, then facets) as the wall bodies read it (dem/core/step_bodies.h):
+// Wall k (planes first, then facets) as the wall bodies read it (dem/kernels/step_bodies.h):
 // WallState::now, which World's wall kernel and touch test and the batch engine's kernels read.
 inline WallNow wall_now(const std::vector<Plane>& planes, const std::vector<Facet>& facets,
                         const std::vector<Vec3>& plane_point, const std::vector<std::array<Vec3, 3>>& facet_now,

@@ -13,10 +13,10 @@
 
 #include "dem/bonds/bond_tables.h"
 #include "dem/contact/active_contacts.h"
-#include "dem/contact/candidates.h"
+#include "dem/detect/candidates.h"
 #include "dem/contact/contact_physics.h"
 #include "dem/contact/interaction_lists.h"
-#include "dem/core/kernels.h"
+#include "dem/kernels/kernels.h"
 #include "dem/core/particles.h"
 #include "dem/core/vec3.h"
 #include "dem/walls/wall.h"

@@ -1,8 +1,8 @@
-#include "dem/core/work_share.h"
+#include "dem/kernels/work_share.h"
 
 #include <algorithm>
 
-#include "dem/core/kernels.h"
+#include "dem/kernels/kernels.h"
 
 namespace dem {
 

@@ -1,11 +1,11 @@
 // The per-index bodies of the step over lanes (dem/core/lanes.h), written once: World's SIMD
-// kernels (dem/core/kernels.cpp, R = a Highway vector, M its mask) and the batch engine's host
-// and device kernels (dem/core/step_bodies.h and dem/batch, R = double, M = bool) call these
+// kernels (dem/kernels/kernels.cpp, R = a Highway vector, M its mask) and the batch engine's host
+// and device kernels (dem/kernels/step_bodies.h and dem/batch, R = double, M = bool) call these
 // same functions, so that a batch gives World's bits by construction. Each body takes what was
 // loaded for its index (or lanes of indices) and gives what is to be stored; the loads, the
 // stores, the masks of live slots and the energy sums stay with the callers.
-// No include guard and no namespace: included into namespace dem by dem/core/step_bodies.h and
-// into each SIMD target's namespace by dem/core/kernels.cpp (as dem/core/lanes-inl.h). Needs,
+// No include guard and no namespace: included into namespace dem by dem/kernels/step_bodies.h and
+// into each SIMD target's namespace by dem/kernels/kernels.cpp (as dem/core/lanes-inl.h). Needs,
 // included before it: dem/core/lanes-inl.h, dem/contact/linear_law-inl.h,
 // dem/bonds/bond_law-inl.h.
 // VPPDEM_BODY: the bodies are inlined into their kernels' loops whatever the compiler's estimate
@@ -28,7 +28,7 @@ template <class R> struct PairLanes {
 };
 
 // What a contact body gives besides its force: the torques (frictional pairs), and with kEnergy
-// the energy ledger's terms (dem/core/kernels.h, PairSum) and the dashpot force. All zero for a
+// the energy ledger's terms (dem/kernels/kernels.h, PairSum) and the dashpot force. All zero for a
 // pair found apart, but for `release` (a loaded shear spring lost by a live pair that opened).
 template <class R> struct PairLanesOut {
     V3<R> force, torque1, torque2;          // [N] on body 2 (body 1: the opposite), [N m]
@@ -222,7 +222,7 @@ VPPDEM_BODY AdvanceStepLanes<R> advance_lanes(const M& free, AdvanceLanes<R>& s,
 }
 
 // The energy ledger's terms of that step (World::particle terms, docs/energy.md: trapezoid halves
-// of each force's work; dem/core/kernels.h, ParticleTerm), zero for a particle not `free`: the
+// of each force's work; dem/kernels/kernels.h, ParticleTerm), zero for a particle not `free`: the
 // work of each force over the back half step [J] in t[0..5), over the forward half step in
 // t[5..10), the kinetic energy [J] in t[10]. s the particle as advance_lanes left it (its mass,
 // inertia, external force and torque are read), fp the pressure's force [N], r the radius [m],

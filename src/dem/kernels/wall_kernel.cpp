@@ -1,10 +1,10 @@
-// The wall contacts' kernel (dem/core/kernels.h, wall_pairs): few contacts (caps, a funnel), so
+// The wall contacts' kernel (dem/kernels/kernels.h, wall_pairs): few contacts (caps, a funnel), so
 // scalar code over the calling thread's blocks of slots, with the same contact law as the pair
 // kernels and the energy terms summed per block in slot order.
 #include <algorithm>
 
-#include "dem/core/kernels.h"
-#include "dem/core/step_bodies.h"
+#include "dem/kernels/kernels.h"
+#include "dem/kernels/step_bodies.h"
 
 namespace dem::kernels {
 
@@ -24,7 +24,7 @@ template <bool kEnergy> void wall_pairs_impl(const WallPairArgs& a) {
         for (int64_t s = b * kBlock; s < std::min(ns, (b + 1) * kBlock); ++s) {
             if (ws.cand[s] == kNoSlot) continue;
             const uint32_t i = ws.i[s], w = ws.j[s];
-            // The wall body of dem/core/step_bodies.h (the batch engine's too).
+            // The wall body of dem/kernels/step_bodies.h (the batch engine's too).
             const WallNow& wl = now[w];
             PairEnergy en;
             const PairOut o = wall_pair<kEnergy>({p.pos[i], p.vel[i], p.angvel[i], p.radius[i]}, wl, ws.phys[s], dt,

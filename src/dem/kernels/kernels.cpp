@@ -1,9 +1,9 @@
-// SIMD kernels of the step (dem/core/kernels.h). Compiled once per Highway target through
+// SIMD kernels of the step (dem/kernels/kernels.h). Compiled once per Highway target through
 // foreach_target.h; the physics comes from the lane templates of the bodies
-// (dem/core/step_bodies-inl.h, the batch engine's too) and of the laws they call
+// (dem/kernels/step_bodies-inl.h, the batch engine's too) and of the laws they call
 // (dem/contact/linear_law.h, dem/bonds/bond_law.h), so this file only loads, stores and masks.
 #undef HWY_TARGET_INCLUDE
-#define HWY_TARGET_INCLUDE "dem/core/kernels.cpp"
+#define HWY_TARGET_INCLUDE "dem/kernels/kernels.cpp"
 #include <hwy/foreach_target.h>  // IWYU pragma: keep
 
 #include <hwy/highway.h>
@@ -12,7 +12,7 @@
 #include <array>
 #include <cstring>
 
-#include "dem/core/kernels.h"
+#include "dem/kernels/kernels.h"
 
 // Lane functions of dem/core/lanes.h for Highway vectors. They live in Highway's namespace
 // because the law templates find them by argument-dependent lookup.
@@ -38,9 +38,10 @@ using kernels::kBlock;
 
 // The laws, compiled for this target.
 #include "dem/core/lanes-inl.h"
+#include "dem/core/shear_spring-inl.h"
 #include "dem/contact/linear_law-inl.h"
 #include "dem/bonds/bond_law-inl.h"
-#include "dem/core/step_bodies-inl.h"
+#include "dem/kernels/step_bodies-inl.h"
 
 template <class D> using VecD = hn::Vec<D>;
 template <class D> using V3D = V3<VecD<D>>;
@@ -246,7 +247,7 @@ template <class D> HWY_INLINE auto live_mask(D d, const uint32_t* cand) {
     return hn::RebindMask(d, hn::Ne(load_index(d, cand), hn::Set(di, -1)));
 }
 
-// The pair kernels: loads, the body of dem/core/step_bodies-inl.h (the batch engine's too), stores.
+// The pair kernels: loads, the body of dem/kernels/step_bodies-inl.h (the batch engine's too), stores.
 template <bool kEnergy, class D>
 HWY_INLINE void store_pair_terms(D d, const PairLanesOut<VecD<D>>& o, VecD<D>* terms, Vec3* fv) {
     if constexpr (kEnergy) {
