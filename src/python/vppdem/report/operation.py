@@ -1,7 +1,6 @@
-#!/usr/bin/env python3
 """docs/operation.md and its figures from the operation study's records (issue 23).
 
-usage: operation_report.py DATA DOCS
+usage: python3 -m vppdem.report operation DATA DOCS
   DATA  the records of examples/operation/run.sh (docs/data/operation: pump/<case>/ and
         constant/<case>/ with summary.json, cycles.csv, case.toml; forces_last_cycle.csv for seed
         1 at 10 and 20 Hz)
@@ -10,7 +9,7 @@ usage: operation_report.py DATA DOCS
 Every number comes from the runs' summary.json: W and peak force of the testing machine's loop
 (summary.json "air", W_machine and peak_force_machine: grains + foil + the lid's -dp A, the
 machine force that an experiment measures) of the last cycle, and the underpressure's range over
-the samples. Means and 95% intervals over the seeds with Student's t (tools/paired_velocity.py);
+the samples. Means and 95% intervals over the seeds with Student's t (vppdem.report.stats);
 pump minus constant paired by seed (the same prepared sample). Runs under /usr/bin/python3.
 """
 import json
@@ -18,12 +17,8 @@ import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from paired_velocity import interval  # noqa: E402  (one Student t for the tools)
-
-# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
-from vppdem.records import fail, read_csv  # noqa: E402
+from ..records import fail, read_csv
+from .stats import interval
 
 P_ATM = 101325.0
 COMMAND = "bash examples/operation/run.sh"
@@ -183,9 +178,10 @@ def reversal_text(pump, f):
             f"({1e3 * c['displacement'][k]:.1f} mm).")
 
 
-def main(argv):
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
     if len(argv) != 2:
-        fail("usage: operation_report.py DATA DOCS", 2)
+        fail("usage: python3 -m vppdem.report operation DATA DOCS", 2)
     data, docs = argv
     pump, const = load(data, "pump"), load(data, "constant")
     if not pump:
@@ -413,7 +409,7 @@ def main(argv):
     with open(path + ".part", "w") as f:
         f.write(md)
     os.replace(path + ".part", path)
-    print(f"operation_report.py: wrote {path} ({len(pump)} pump runs, {len(const)} constant runs)")
+    print(f"vppdem.report operation: wrote {path} ({len(pump)} pump runs, {len(const)} constant runs)")
 
 
 if __name__ == "__main__":
