@@ -30,7 +30,8 @@ from ..records import fail
 from . import source_dir
 from .stats import LEVEL, interval, log_ratio, ratio, satterthwaite, t_quantile
 
-COMMAND = ("bash scripts/grain_shapes.sh, then /usr/bin/python3 tools/grain_shapes_report.py docs/data/grains/shapes docs "
+COMMAND = ("bash scripts/grain_shapes.sh, then PYTHONPATH=src/python /usr/bin/python3 -m vppdem.report grain_shapes "
+           "docs/data/grains/shapes docs "
            "--pressure docs/data/paper/radius_underpressure --bench docs/data/grains/cost_per_step.md")
 ORDER = ["sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"]
 
@@ -353,7 +354,7 @@ def main(argv=None):
     with open(path + ".part", "w") as f:
         f.write("\n".join(L) + "\n")
     os.replace(path + ".part", path)
-    print(f"grain_shapes_report.py: {len(runs)} runs of {len(shapes)} shapes -> {path}, {fig}")
+    print(f"vppdem.report grain_shapes: {len(runs)} runs of {len(shapes)} shapes -> {path}, {fig}")
 
 
 if __name__ == "__main__":

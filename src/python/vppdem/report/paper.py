@@ -1712,7 +1712,7 @@ def write(data, out_md, figdir, command):
         "",
         "## Decision rules",
         "",
-        "Written once and applied by `tools/paper_report.py` (`tools/paper_rules.py`, one function per rule) to every "
+        "Written once and applied by `vppdem.report.paper` (`vppdem.report.paper_rules`, one function per rule) to every "
         "claim alike; each claim's row names the rules it uses.",
         "",
         "- **Test for a difference** (95%, two-sided): **paired t** on the per-seed differences where the cases of a "
