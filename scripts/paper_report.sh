@@ -2,7 +2,7 @@
 # Re-analyses the paper's studies (the runs scripts/paper_studies.sh published into
 # docs/data/paper/) with the current build and writes docs/paper_comparison.md and its figures
 # (docs/paper_*.png). Nothing is simulated: each study's finished runs are laid out as a study
-# folder (tools/paper_report.py assemble; cases another study ran are taken from it) and
+# folder (python3 -m vppdem.report paper assemble; cases another study ran are taken from it) and
 # `vppdem sweep --report-only` writes its tables (stationary W, means and 95% intervals over the
 # seeds, paired differences), which are published into docs/data/paper/report/<study>/.
 # Knobs: VPPDEM (default build/vppdem), DATA (default docs/data/paper), DOCS (default docs).
@@ -15,11 +15,13 @@ DOCS=${DOCS:-docs}
 [ -x "$VPPDEM" ] || { echo "paper_report.sh: no vppdem binary at $VPPDEM (build it: bash scripts/build.sh vppdem)" >&2; exit 2; }
 PY=/usr/bin/python3
 [ -x "$PY" ] || PY=$(command -v python3)
+# The report: the package vppdem.report from the source tree (it needs no compiled module).
+REPORT=(env PYTHONPATH=src/python "$PY" -m vppdem.report)
 source scripts/publish.sh
 
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-VPPDEM=$VPPDEM "$PY" tools/paper_report.py assemble "$DATA" "$tmp" > "$tmp/studies.txt"
+VPPDEM=$VPPDEM "${REPORT[@]}" paper assemble "$DATA" "$tmp" > "$tmp/studies.txt"
 while read -r name toml n; do
   [ "$n" -gt 0 ] || continue
   "$VPPDEM" sweep "$toml" --out "$tmp/$name" --report-only --quiet
@@ -30,5 +32,5 @@ while read -r name toml n; do
   for f in "$DATA/$name/COMMAND"; do [ -f "$f" ] && publish "$f" "$DATA/report/$name/COMMAND"; done
   echo "paper_report.sh: $name: $n finished runs" >&2
 done < "$tmp/studies.txt"
-"$PY" tools/paper_report.py write "$DATA/report" "$DOCS/paper_comparison.md" "$DOCS" --command "bash scripts/paper_report.sh"
+"${REPORT[@]}" paper write "$DATA/report" "$DOCS/paper_comparison.md" "$DOCS" --command "bash scripts/paper_report.sh"
 echo "paper_report.sh: wrote $DOCS/paper_comparison.md" >&2

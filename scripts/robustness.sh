@@ -2,7 +2,7 @@
 # The long version of the settings table's property test (issue 48, item 2; docs/robustness.md,
 # "The settings table"): the CI test SettingsProperty.EveryValueIsRefusedOrRunsEveryCycleFinite
 # (tests/physics/test_settings_property.cpp) with more draws, the type's extremes and no budget,
-# every (key, value, outcome) written to a CSV; then tools/robustness_report.py draws the outcomes
+# every (key, value, outcome) written to a CSV; then python3 -m vppdem.report robustness draws the outcomes
 # per key into docs/robustness.md.
 # usage: scripts/robustness.sh
 # Knobs: SEED (48), DRAWS (values within each range per key, 4), JOBS (runs at once, 2),
@@ -38,4 +38,4 @@ VPPDEM_PROPERTY_EXTREMES=1 VPPDEM_PROPERTY_JOBS=$JOBS VPPDEM_PROPERTY_TIMEOUT=$T
 VPPDEM_PROPERTY_LONG=1 VPPDEM_PROPERTY_CSV=$PWD/$CSV \
   "$BUILD/vppdem_tests" --gtest_filter=SettingsProperty.EveryValueIsRefusedOrRunsEveryCycleFinite
 COMMAND="SEED=$SEED DRAWS=$DRAWS FRESH=$FRESH TIMEOUT=$TIMEOUT FRESH_TIMEOUT=$FRESH_TIMEOUT bash scripts/robustness.sh"
-/usr/bin/python3 tools/robustness_report.py "$CSV" "$DOCS" "$COMMAND" "$(git rev-parse --short HEAD)"
+PYTHONPATH=src/python /usr/bin/python3 -m vppdem.report robustness "$CSV" "$DOCS" "$COMMAND" "$(git rev-parse --short HEAD)"

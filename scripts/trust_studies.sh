@@ -38,6 +38,8 @@ SETS=${SETS:-}
 PY=/usr/bin/python3  # Debian's, with matplotlib and numpy
 # The figures: the package's vppdem.plot from the source tree (it needs no compiled module).
 PLOT="env PYTHONPATH=src/python $PY -m vppdem.plot"
+# The reports: the package's vppdem.report, likewise.
+REPORT="env PYTHONPATH=src/python $PY -m vppdem.report"
 
 [ -x "$VPPDEM" ] || { echo "trust_studies.sh: no vppdem binary at $VPPDEM (build it: bash scripts/build.sh)" >&2; exit 2; }
 # publish FILE DEST, record FILES COMMAND, whole_knobs WHO NAME...
@@ -84,7 +86,7 @@ for s in "${studies[@]}"; do
     damping) sweep damping examples/study_energy_split.toml study_damping $velocity_set ;;
     velocity)
       sweep velocity examples/study_velocity.toml study_velocity
-      cmd="$PY tools/paired_velocity.py $OUT/velocity --out $OUT/velocity/study_velocity_paired"
+      cmd="$REPORT paired_velocity $OUT/velocity --out $OUT/velocity/study_velocity_paired"
       echo "== velocity, paired: $cmd"
       $cmd --caption "$cmd"
       publish "$OUT/velocity/study_velocity_paired.csv" "$DOCS/data/study_velocity_paired.csv"

@@ -29,6 +29,8 @@ SEEDS_PAPER=${SEEDS_PAPER:-1}
 JOBS=${JOBS:-}
 DOCS=${DOCS:-docs}
 PY=/usr/bin/python3  # Debian's, with matplotlib and numpy
+# The report: the package's vppdem.report from the source tree (it needs no compiled module).
+REPORT="env PYTHONPATH=src/python $PY -m vppdem.report"
 
 [ -x "$VPPDEM" ] || { echo "velocity_convergence.sh: no vppdem binary at $VPPDEM (build it: bash scripts/build.sh)" >&2; exit 2; }
 # publish FILE DEST, record FILES COMMAND, whole_knobs WHO NAME...
@@ -47,7 +49,7 @@ mkdir -p "$OUT" "$DOCS/data"
 analyse() {  # NAME SWEEP_DIR [--extra DIRS...]
   local name=$1 dir=$2
   shift 2
-  local cmd="$PY tools/velocity_cycles.py $dir $* --out $dir/$name"
+  local cmd="$REPORT velocity_cycles $dir $* --out $dir/$name"
   echo "== $name: $cmd"
   $cmd --caption "$cmd"
   publish "$dir/$name.csv" "$DOCS/data/$name.csv"

@@ -3,7 +3,7 @@
 # examples/operation/pump.toml (a 2 m^3/h pump, triangle and sine, 1-20 Hz, 3 seeds), its
 # constant-model twin constant.toml (1, 5, 10, 20 Hz: where the pump may fall behind, and one where
 # it should not),
-# then tools/operation_report.py: docs/operation.md's tables and figures from the records, which
+# then python3 -m vppdem.report operation: docs/operation.md's tables and figures from the records, which
 # are kept in docs/data/operation/ (case.toml, summary.json, cycles.csv of every run; the last
 # cycle of forces.csv for seed 1 at 10 and 20 Hz).
 #
@@ -84,4 +84,4 @@ if [ $report_only -eq 0 ]; then
     publish "$OUT/$study/COMMAND" "$DATA/$study/COMMAND"
   done
 fi
-"$PY" tools/operation_report.py "$DATA" docs
+PYTHONPATH=src/python "$PY" -m vppdem.report operation "$DATA" docs

@@ -1,6 +1,6 @@
-// The Python tools and the regeneration script of the studies (tools/paired_velocity.py,
-// tools/synthetic_experiment.py, scripts/trust_studies.sh, scripts/paper_report.sh), run as the lead runs them, against
-// hand-computed answers or on the tests' small damper.
+// The Python reports and tools and the regeneration script of the studies (vppdem.report's paired_velocity,
+// paper, paper_rules, grain_shapes; tools/synthetic_experiment.py, tools/kill_resume.py, scripts/trust_studies.sh,
+// scripts/paper_report.sh), run as the lead runs them, against hand-computed answers or on the tests' small damper.
 #include <gtest/gtest.h>
 
 #include <chrono>
@@ -19,6 +19,8 @@ using namespace cli_test;
 
 const std::string kPython = "/usr/bin/python3 ";
 const fs::path kSource = VPPDEM_SOURCE_DIR;
+// `python3 -m vppdem.report NAME ...`: the package's reports from the source tree (no compiled module).
+const std::string kReport = "PYTHONPATH=" + (kSource / "src" / "python").string() + " " + kPython + "-m vppdem.report ";
 
 std::vector<std::string> fields(const std::string& line) {
     std::vector<std::string> out;
@@ -66,7 +68,7 @@ TEST(Tools, PairedVelocityIntervalsByHand) {
             csv += "60000," + v + "," + std::to_string(s + 1) + "," + std::to_string(base[s] + off[std::size_t(s)]) +
                    ",1,500,1,ok,c" + v + "_" + std::to_string(s) + ",,0,,,,60,0.6,\n";
     write_file(d / "summary.csv", csv);
-    const Outcome r = shell(kPython + (kSource / "tools/paired_velocity.py").string() + " " + d.string());
+    const Outcome r = shell(kReport + "paired_velocity " + d.string());
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("W: fastest velocity within the paired 95% interval of 0.005 m/s (and every slower one): "
                             "0.05 m/s"), std::string::npos) << r.output;
@@ -98,7 +100,7 @@ TEST(Tools, PairedVelocityIntervalsByHand) {
     EXPECT_TRUE(fs::exists(d / "paired_velocity.png"));
     // A sweep without seeds cannot be paired: said so, nonzero exit.
     write_file(d / "noseed" / "summary.csv", "process.velocity,W,status\n0.1,5,ok\n");
-    const Outcome bad = shell(kPython + (kSource / "tools/paired_velocity.py").string() + " " + (d / "noseed").string());
+    const Outcome bad = shell(kReport + "paired_velocity " + (d / "noseed").string());
     EXPECT_NE(bad.status, 0);
     EXPECT_NE(bad.output.find("simulation.seed"), std::string::npos) << bad.output;
     fs::remove_all(d);
@@ -172,14 +174,14 @@ TEST(Tools, TrustStudiesScriptRunsAStudyAndPublishesIt) {
 // Every dp is higher than 0.02 MPa beyond its interval: C1 is reproduced, provisionally (the
 // repository's radius study plans 5 seeds; its means say '(n 3 of 5)'). The page, its figure
 // and the published tables are written; the study without runs stays open.
-// tools/paper_report.py's verdicts against a tolerance (a fraction of the reference's mean), on
+// vppdem.report.paper's verdicts against a tolerance (a fraction of the reference's mean), on
 // hand-made paired rows with a reference of 1000 J/m^2 and 5% (50 J/m^2): 10 +- 20 lies within,
 // 100 +- 20 beyond, 60 +- 40 is resolved but reaches inside, 30 +- 40 unresolved, one seed pending.
 // The planned runs come from the repository's study files (friction: 7 frictions x 3 seeds).
 // A mean says how many of the planned seeds it holds; one run has no interval.
 TEST(Tools, PaperReportBandsADifferenceAgainstATolerance) {
     const std::string code =
-        "import sys; sys.path.insert(0, 'tools'); import paper_report as p\n"
+        "import sys; sys.path.insert(0, 'src/python'); from vppdem.report import paper as p\n"
         "row = lambda d, h, n=3: {'n': str(n), 'diff_mean': str(d), 'diff_ci95': str(h), 'ref_mean': '1000'}\n"
         "print([p.band(row(10, 20), 0.05), p.band(row(100, 20), 0.05), p.band(row(60, 40), 0.05),\n"
         "       p.band(row(30, 40), 0.05), p.band(row(10, 20, 1), 0.05), p.band(None, 0.05)])\n"
@@ -198,7 +200,8 @@ TEST(Tools, PaperReportBandsADifferenceAgainstATolerance) {
     fs::remove(scratch_path("tools", "band.py"));
 }
 
-// tools/paper_rules.py, the page's decision rules (issue 44), against hand-computed values.
+// vppdem.report's statistics (stats: Welch, paired) and the page's decision rules (paper_rules, issue 44),
+// against hand-computed values.
 // Welch-Satterthwaite: sds 1 and sqrt(10) over 3 and 5 runs ({1, 2, 3} against {2, 4, 6, 8, 10}):
 // v = 1/3 and 2, dof = (7/3)^2 / ((1/3)^2 / 2 + 2^2 / 4) = 98/19 = 5.1579; sds 2 and 4 over 3 and 5:
 // (68/15)^2 / ((4/3)^2 / 2 + (16/5)^2 / 4) = 4624/776 = 5.9588. The difference 6 - 2 = 4 with the
@@ -206,11 +209,11 @@ TEST(Tools, PaperReportBandsADifferenceAgainstATolerance) {
 // Paired: differences {1, 2, 3}: 2 +- 4.303 / sqrt(3) = 2 +- 2.484.
 TEST(Tools, PaperRulesWelchAndPairedByHand) {
     const std::string code =
-        "import sys; sys.path.insert(0, 'tools'); import paper_rules as r\n"
-        "print('dof %.10f %.10f' % (r.welch_dof(1, 3, 10 ** 0.5, 5), r.welch_dof(2, 3, 4, 5)))\n"
-        "d = r.welch([1, 2, 3], [2, 4, 6, 8, 10])\n"
-        "print('welch %.10f %.10f %.10f %.6f' % (d.d, d.dof, d.h / (7 / 3) ** 0.5, r.t_quantile(0.975, 98 / 19)))\n"
-        "p = r.paired({1: 10, 2: 20, 3: 30}, {1: 11, 2: 22, 3: 33})\n"
+        "import sys; sys.path.insert(0, 'src/python'); from vppdem.report import paper_rules as r, stats as st\n"
+        "print('dof %.10f %.10f' % (st.welch_dof(1, 3, 10 ** 0.5, 5), st.welch_dof(2, 3, 4, 5)))\n"
+        "d = st.welch([1, 2, 3], [2, 4, 6, 8, 10])\n"
+        "print('welch %.10f %.10f %.10f %.6f' % (d.d, d.dof, d.h / (7 / 3) ** 0.5, st.t_quantile(0.975, 98 / 19)))\n"
+        "p = st.paired({1: 10, 2: 20, 3: 30}, {1: 11, 2: 22, 3: 33})\n"
         "print('paired %.6f %.6f %s %s' % (p.d, p.h, p.test, p.n))\n"
         "print('test', r.difference('Welch', {1: 1, 2: 2, 3: 3}, {1: 2, 2: 4, 3: 6, 4: 8, 5: 10}).test,\n"
         "      r.difference('paired', {1: 1}, {1: 2}).test)\n";
@@ -246,8 +249,8 @@ TEST(Tools, PaperRulesWelchAndPairedByHand) {
 // three such runs (different W_inf and a) is 0.6; a factor regression y = g + 2 x recovers 2.
 TEST(Tools, PaperRulesDecideSyntheticData) {
     const std::string code =
-        "import sys; sys.path.insert(0, 'tools'); import paper_rules as r, paper_report as p\n"
-        "D = lambda d, h: r.Diff('paired', 3, d, h, 2, 1000.0)\n"
+        "import sys; sys.path.insert(0, 'src/python'); from vppdem.report import paper_rules as r, paper as p, stats as st\n"
+        "D = lambda d, h: st.Diff('paired', 3, d, h, 2, 1000.0)\n"
         "print('band', [r.band(D(20, 30)), r.band(D(300, 50)), r.band(D(80, 50)), r.band(D(50, 80)), r.band(None)])\n"
         "o = [r.direction(D(-100, 50), -1), r.direction(D(100, 50), -1), r.direction(D(-10, 50), -1)]\n"
         "print('dir', o, p.v_direction(o[:1]), '|', p.v_direction(o), '|', p.v_direction([o[0], o[2]]), '|',\n"
@@ -309,7 +312,7 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
     EXPECT_NE(page.find("0.06: +1006 +- 15 (+193%)"), std::string::npos) << page;
     EXPECT_NE(page.find("0.02 MPa: 520 +- 25 (n 3 of 5)"), std::string::npos) << page;  // 510, 520, 530: t 10 / sqrt(3) = 24.8
     // The repository's modulus and radius studies run 5 seeds, 3 planned (seeds 4-5 added after a
-    // look): the verdicts are decided over the planned 3 (PLANNED in tools/paper_report.py).
+    // look): the verdicts are decided over the planned 3 (PLANNED in vppdem.report.paper).
     // C1 by the rules: paired, over the 3 seeds the study planned (no added seeds yet: nothing beside).
     EXPECT_NE(page.find("| reproduced: 0.04 MPa +506 +- 15 (+97%); 0.06 MPa +1006 +- 15 (+193%); 0.08 MPa +1506 +- 15 "
                         "(+290%) |"),
@@ -476,7 +479,7 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
     fs::remove_all(d);
 }
 
-// The time step's convergence (issue 44, item 2; tools/paper_report.py timestep_section, tools/paper_rules.py
+// The time step's convergence (issue 44, item 2; vppdem.report.paper timestep_section, vppdem.report.paper_rules
 // richardson / level_bias / converged_level) on synthetic runs with a known answer: W_i(s) = 1500 + 300 s^2 +
 // off_i + e_i(s), seed offsets off_i = 40 (i - 3) (mean 0), a deterministic noise e within +-0.5 J/m2. The
 // converged W0_i = 1500 + off_i, mean 1500; the order 2; the biases 300 s^2 / W0_i: 0.45 +4.1%, 0.3 +1.8%,
@@ -488,7 +491,7 @@ TEST(Tools, PaperReportExtrapolatesTheTimeStep) {
     // The rules alone, to more digits: the model above, and a first-order one (W0 1500, a 250: biases
     // 0.45 +7.5%, 0.1 +1.7%: the default 0.1).
     const std::string code =
-        "import sys; sys.path.insert(0, 'tools'); import paper_rules as r\n"
+        "import sys; sys.path.insert(0, 'src/python'); from vppdem.report import paper_rules as r, stats as st\n"
         "L = [0.45, 0.3, 0.25, 0.2, 0.1]\n"
         "e = lambda i, k: 0.25 * ((3 * i + 7 * k) % 5 - 2)\n"
         "for p, a in ((2, 300), (1, 250)):\n"
@@ -603,7 +606,7 @@ TEST(Tools, PaperReportExtrapolatesTheTimeStep) {
     fs::remove_all(d);
 }
 
-// The radius at equal packing (issue 44, item 3; tools/paper_report.py radius_packing_section, C26 / C28 /
+// The radius at equal packing (issue 44, item 3; vppdem.report.paper radius_packing_section, C26 / C28 /
 // C29) on synthetic runs of known W, 5 flat cycles each (every run stationary: W_settled), 5 seeds with the
 // offsets 10 (s - 3) J/m2 (sd 15.81; a radius's mean +- 2.776 * 15.81 / sqrt(5) = 20; two radii by Welch:
 // se 10, dof 8, +- 2.306 * 10 = 23). At equal packing (radius_packing): at 0.02 MPa W = 800 at every radius
@@ -774,7 +777,7 @@ TEST(Tools, KillResumeResumesEveryCheckpointARunForces) {
         << r.output;
 }
 
-// tools/grain_shapes_report.py by hand: spheres W = 100, 110, 120 and dimers 210, 220, 230 J/m^2
+// vppdem.report.grain_shapes by hand: spheres W = 100, 110, 120 and dimers 210, 220, 230 J/m^2
 // (3 seeds, sd 10 each): the dimers' difference is +110 (+100% of 110) with Welch's interval
 // t_{0.975,4} sqrt(100/3 + 100/3) = 2.7764 * 8.165 = 22.67 (20.6% of 110), printed "+100 +- 21";
 // the pressure study's W doubles from 0.02 to 0.08 MPa for every seed: 2.00 +- 0.00. Against a
@@ -808,7 +811,7 @@ TEST(Tools, GrainShapesReportByHand) {
     fs::create_directories(d / "docs");
     write_file(d / "plan.toml", "seeds = 3\n[grid]\n\"grains.shape\" = [\"sphere\", \"dimer\"]\n");
     const auto report = [&](const std::string& args) {
-        return shell(kPython + (kSource / "tools/grain_shapes_report.py").string() + " " + (d / "data").string() + " " +
+        return shell(kReport + "grain_shapes " + (d / "data").string() + " " +
                      (d / "docs").string() + args);
     };
     const std::string with_plan = " --pressure " + (d / "pressure").string() + " --study " + (d / "plan.toml").string();
@@ -851,7 +854,7 @@ TEST(Tools, GrainShapesReportByHand) {
     EXPECT_NE(pmd.find("| pellet | 0 of 3 | pending"), std::string::npos) << pmd;
     // A folder without runs is refused naming it.
     fs::create_directories(d / "empty");
-    const Outcome bad = shell(kPython + (kSource / "tools/grain_shapes_report.py").string() + " " + (d / "empty").string() +
+    const Outcome bad = shell(kReport + "grain_shapes " + (d / "empty").string() +
                               " " + (d / "docs").string());
     EXPECT_NE(bad.status, 0);
     EXPECT_NE(bad.output.find("no finished runs"), std::string::npos) << bad.output;

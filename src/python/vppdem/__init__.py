@@ -16,7 +16,8 @@ it first: ``settings={**base, "process.underpressure": dp}``.
 A bad key or value raises ``vppdem.ConfigError`` (a ValueError) with the command's message.
 
 Plots of output folders (no compiled module needed): ``vppdem.plot.damper(dir)``, ``.sweep(dir)``,
-``.calibration(dir)``, or ``python3 -m vppdem.plot DIR``; CSV records: ``vppdem.records``.
+``.calibration(dir)``, or ``python3 -m vppdem.plot DIR``; CSV records: ``vppdem.records``; the
+studies' reports (docs/ pages) and their statistics: ``vppdem.report`` (``python3 -m vppdem.report``).
 Without the compiled module (``_core``, e.g. PYTHONPATH=src/python), ``import vppdem`` still
 works for those; what runs the C++ (Damper, World, load_config, settings, sweep, calibrate)
 raises ImportError.
@@ -74,9 +75,9 @@ __all__ = ["Damper", "World", "ConfigError", "load_config", "settings", "record_
 
 
 def __getattr__(name):
-    # vppdem.plot (matplotlib) and vppdem.records, imported when first named, so that `import
-    # vppdem` stays as quick as before.
-    if name in ("plot", "records"):
+    # vppdem.plot (matplotlib), vppdem.records and vppdem.report, imported when first named, so
+    # that `import vppdem` stays as quick as before.
+    if name in ("plot", "records", "report"):
         return importlib.import_module(f".{name}", __name__)
     raise AttributeError(f"module 'vppdem' has no attribute '{name}'")
 

@@ -1,8 +1,9 @@
 """The records of vppdem's runs as Python reads them: CSV tables (forces.csv, cycles.csv,
 summary.csv, ...) and the one way a tool stops on a bad one.
 
-Needs numpy only (not the compiled module), so the plots (vppdem.plot) and the scripts of tools/
-share it: ``sys.path.insert(0, "<repo>/src/python")`` then ``from vppdem.records import ...``.
+Needs numpy only (not the compiled module), so the plots (vppdem.plot), the reports (vppdem.report)
+and the scripts of tools/ share it: ``sys.path.insert(0, "<repo>/src/python")`` then
+``from vppdem.records import ...``.
 """
 
 import csv

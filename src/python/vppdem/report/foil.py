@@ -1,12 +1,12 @@
-#!/usr/bin/env python3
 """Renders a foil VTK frame (legacy PolyData written by vppdem: points + bond lines) to PNG.
 
 Two panels: a perspective view of the membrane (bonds as lines, coloured by distance from the
 axis) and a top view, so folds and the collapse of the cross-section are both visible.
-usage: render_foil.py FRAME.vtk OUT.png [--title TEXT]
+usage: python3 -m vppdem.report foil FRAME.vtk OUT.png [--title TEXT]
 Runs under Debian's /usr/bin/python3 (matplotlib, numpy).
 """
 import argparse
+import sys
 
 import matplotlib
 
@@ -36,12 +36,12 @@ def read_vtk(path):
     return pts, np.array(lines, dtype=int).reshape(-1, 2)
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("frame")
     ap.add_argument("out")
     ap.add_argument("--title", default="")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     pts, lines = read_vtk(a.frame)
     r = np.hypot(pts[:, 0], pts[:, 1])
     fig = plt.figure(figsize=(11, 5.2))
@@ -73,4 +73,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -1,8 +1,7 @@
-#!/usr/bin/env python3
 """Velocity convergence of a `vppdem sweep` with seeds: paired differences against the slowest
 velocity (docs/studies.md, "Velocity convergence").
 
-usage: paired_velocity.py DIR [--key process.velocity] [--quantities W,peak_force,W_settled]
+usage: python3 -m vppdem.report paired_velocity DIR [--key process.velocity] [--quantities W,peak_force,W_settled]
                               [--out PREFIX] [--caption TEXT]
 
 Reads DIR/summary.csv of a sweep over `--key` (default process.velocity) x simulation.seed (and
@@ -21,79 +20,19 @@ Writes PREFIX.csv (default DIR/paired_velocity.csv), one row per group, velocity
 (mean, sd, ci95: Q over the seeds, unpaired; diff_*: the paired differences; within 1/0, empty
 with fewer than 2 pairs; converged 1 on the group's converged velocity) and PREFIX.png (per
 quantity: Q against velocity with its interval, and the paired difference with its interval),
-and prints the converged velocity of each group. Runs under /usr/bin/python3 (matplotlib, numpy).
+and prints the converged velocity of each group. The intervals are vppdem.report.stats'. Runs under
+/usr/bin/python3 (matplotlib, numpy).
 """
 import argparse
 import math
 import os
 import sys
 
-# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
-from vppdem.records import fail, read_table  # noqa: E402
-from vppdem.records import finite_number as number  # noqa: E402
+from ..records import fail, read_table
+from ..records import finite_number as number
+from .stats import interval
 
 SEED = "simulation.seed"
-
-
-# ---- Student t quantile (no SciPy on the Debian base): bisection on the tail probability, the
-# tail from the regularised incomplete beta function (continued fraction, modified Lentz).
-def _betacf(x, a, b):
-    tiny, eps = 1e-300, 1e-15
-    c, d = 1.0, 1.0 - (a + b) * x / (a + 1.0)
-    d = 1.0 / (d if abs(d) > tiny else tiny)
-    h = d
-    for m in range(1, 10001):
-        m2 = 2 * m
-        for aa in (m * (b - m) * x / ((a + m2 - 1) * (a + m2)), -(a + m) * (a + b + m) * x / ((a + m2) * (a + m2 + 1))):
-            d = 1.0 + aa * d
-            d = 1.0 / (d if abs(d) > tiny else tiny)
-            c = 1.0 + aa / c
-            c = c if abs(c) > tiny else tiny
-            h *= d * c
-        if abs(d * c - 1.0) < eps:
-            break
-    return h
-
-
-def incomplete_beta(x, a, b):
-    if x <= 0.0 or x >= 1.0:
-        return max(0.0, min(1.0, x))
-    front = math.exp(math.lgamma(a + b) - math.lgamma(a) - math.lgamma(b) + a * math.log(x) + b * math.log1p(-x))
-    if x < (a + 1.0) / (a + b + 2.0):
-        return front * _betacf(x, a, b) / a
-    return 1.0 - front * _betacf(1.0 - x, b, a) / b
-
-
-def t_quantile(p, dof):
-    """t with P(T <= t) = p for Student's t with dof degrees of freedom (p > 0.5)."""
-    tail = 1.0 - p
-    upper = lambda t: 0.5 * incomplete_beta(dof / (dof + t * t), 0.5 * dof, 0.5)  # noqa: E731
-    lo, hi = 0.0, 1.0
-    while upper(hi) > tail:
-        lo, hi = hi, 2.0 * hi
-    for _ in range(200):
-        mid = 0.5 * (lo + hi)
-        if upper(mid) > tail:
-            lo = mid
-        else:
-            hi = mid
-        if hi - lo <= 1e-15 * hi:
-            break
-    return 0.5 * (lo + hi)
-
-
-def interval(xs):
-    """(n, mean, sd, half width of the 95% interval); NaN where undefined."""
-    xs = [x for x in xs if x is not None and math.isfinite(x)]
-    n = len(xs)
-    if n == 0:
-        return 0, math.nan, math.nan, math.nan
-    mean = sum(xs) / n
-    if n < 2:
-        return n, mean, math.nan, math.nan
-    sd = math.sqrt(sum((x - mean) ** 2 for x in xs) / (n - 1))
-    return n, mean, sd, t_quantile(0.975, n - 1) * sd / math.sqrt(n)
 
 
 def fmt(v):
@@ -146,14 +85,14 @@ def analyse(rows, keys, vkey, quantities):
     return results
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description="paired velocity convergence of a vppdem sweep with seeds")
     ap.add_argument("dir")
     ap.add_argument("--key", default="process.velocity")
     ap.add_argument("--quantities", default="W,peak_force,W_settled")
     ap.add_argument("--out", default="")
     ap.add_argument("--caption", default="")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     path = os.path.join(a.dir, "summary.csv")
     if not os.path.exists(path):
         fail(f"{path} not found (not a sweep folder)")
@@ -232,4 +171,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

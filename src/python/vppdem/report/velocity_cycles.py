@@ -1,13 +1,12 @@
-#!/usr/bin/env python3
 """Velocity convergence cycle by cycle: paired differences of W (and of the energy ledger's
 friction and local-damping dissipation, where the runs recorded them) against a reference
 velocity, per underpressure and per cycle (docs/studies.md, "Velocity convergence: results").
 
-usage: velocity_cycles.py SWEEP_DIR [--extra RUN_DIR ...] [--reference V] [--out PREFIX]
+usage: python3 -m vppdem.report velocity_cycles SWEEP_DIR [--extra RUN_DIR ...] [--reference V] [--out PREFIX]
                           [--caption TEXT]
 
 SWEEP_DIR: a `vppdem sweep` over process.velocity x simulation.seed (and process.underpressure);
-every run's cycles.csv is read (not only the last cycle, as tools/paired_velocity.py does), so
+every run's cycles.csv is read (not only the last cycle, as vppdem.report.paired_velocity does), so
 cycle k at one velocity is compared with cycle k at the reference velocity from the same prepared
 sample. --extra: further damper runs branched from the same samples (e.g. one cycle at the
 paper's 3.33e-4 m/s); their summary.json gives velocity, underpressure and the seed is read from
@@ -26,17 +25,12 @@ import argparse
 import csv
 import glob
 import json
-import math
 import os
 import re
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from paired_velocity import interval  # noqa: E402  (n, mean, sd, ci95 half width; Student t)
-
-# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
-from vppdem.records import fail, read_table  # noqa: E402
+from ..records import fail, read_table
+from .stats import interval, mean  # interval: (n, mean, sd, ci95 half width; Student t)
 
 QUANTITIES = ["W", "friction_dissipation", "damping_dissipation", "peak_force"]
 
@@ -74,14 +68,14 @@ def run_of_extra(d):
     return (float(dp), float(v), int(s), read_table(os.path.join(d, "cycles.csv"))[1])
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("sweep")
     ap.add_argument("--extra", nargs="*", default=[])
     ap.add_argument("--reference", type=float)
     ap.add_argument("--out")
     ap.add_argument("--caption", default="")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     runs = runs_of_sweep(a.sweep) + [run_of_extra(d) for d in a.extra]
     if not runs:
         fail(f"no finished runs in {a.sweep}")
@@ -109,7 +103,7 @@ def main():
                     common = sorted(set(cur) & set(base))
                     d = [cur[s] - base[s] for s in common]
                     _, dm, dsd, dci = interval(d) if d else (0,) + (float("nan"),) * 3
-                    bm = sum(base[s] for s in common) / len(common) if common else float("nan")
+                    bm = mean([base[s] for s in common])
                     within = "" if len(d) < 2 else int(abs(dm) <= dci)
                     rows.append([dp, k, v, q, len(cur), m, sd, ref, len(d), dm, dci,
                                  dm / bm if bm else float("nan"), within])
@@ -129,7 +123,7 @@ def main():
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
     except ImportError:
-        print("velocity_cycles.py: no matplotlib (run under /usr/bin/python3): no figure", file=sys.stderr)
+        print("vppdem.report velocity_cycles: no matplotlib (run under /usr/bin/python3): no figure", file=sys.stderr)
         return
     dps = sorted({t[0] for t in table})
     fig, axes = plt.subplots(1, len(dps), figsize=(5.5 * len(dps), 4.2), squeeze=False)
@@ -145,12 +139,12 @@ def main():
             # as a trend.
             full = max(len(table[(dp, k, v, "W")]) for v in vs)
             on = [v for v in vs if len(table[(dp, k, v, "W")]) == full]
-            means = [sum(table[(dp, k, v, "W")].values()) / len(table[(dp, k, v, "W")]) for v in on]
+            means = [mean(table[(dp, k, v, "W")].values()) for v in on]
             ax.plot(on, means, "o-", lw=2, color=f"C{k - 1}", label=f"cycle {k}")
             for v in vs:
                 if v not in on:
                     runs_v = table[(dp, k, v, "W")]
-                    ax.plot([v], [sum(runs_v.values()) / len(runs_v)], "o", mfc="none", ms=9, color=f"C{k - 1}",
+                    ax.plot([v], [mean(runs_v.values())], "o", mfc="none", ms=9, color=f"C{k - 1}",
                             label=f"cycle {k}, {len(runs_v)} of {full} seeds")
         ax.set_xscale("log")
         ax.set_xlabel("loading velocity v_z [m/s]")
@@ -165,4 +159,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

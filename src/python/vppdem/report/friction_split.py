@@ -1,8 +1,7 @@
-#!/usr/bin/env python3
 """Where the dissipated energy goes, against grain friction: stacked bars of the friction,
 local-damping and viscous dissipation of one cycle, read from damper runs' cycles.csv.
 
-usage: plot_friction_split.py OUT.png DIR [DIR ...] [--cycle N]
+usage: python3 -m vppdem.report friction_split OUT.png DIR [DIR ...] [--cycle N]
 Each DIR is a `vppdem damper` output folder; its grain friction is read from summary.json.
 Runs under Debian's /usr/bin/python3 (matplotlib, numpy).
 """
@@ -16,17 +15,15 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
-from vppdem.records import fail, read_table  # noqa: E402
+from ..records import fail, read_table
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser()
     ap.add_argument("out")
     ap.add_argument("dirs", nargs="+")
     ap.add_argument("--cycle", type=int, default=-1, help="cycle to show (default: the last)")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     rows = []
     for d in a.dirs:
         with open(os.path.join(d, "summary.json")) as f:
@@ -71,4 +68,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

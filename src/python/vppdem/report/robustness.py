@@ -1,7 +1,6 @@
-#!/usr/bin/env python3
 """docs/robustness.md's section on the settings table, and its figure, from the property test's CSV.
 
-usage: robustness_report.py CSV DOCS COMMAND COMMIT
+usage: python3 -m vppdem.report robustness CSV DOCS COMMAND COMMIT
   CSV      the outcomes written by scripts/robustness.sh (VPPDEM_PROPERTY_CSV of the test
            SettingsProperty.EveryValueIsRefusedOrRunsEveryCycleFinite): one row per (key, value)
   DOCS     the folder of robustness.md; the figure goes to DOCS/robustness_settings.png
@@ -56,14 +55,15 @@ def outcome_of(row):
     return row["outcome"]
 
 
-def main():
-    if len(sys.argv) != 5:
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
+    if len(argv) != 4:
         sys.exit(__doc__)
-    path, docs, command, commit = sys.argv[1:]
+    path, docs, command, commit = argv
     with open(path, newline="") as f:
         rows = list(csv.DictReader(f))
     if not rows:
-        sys.exit("robustness_report.py: %s holds no cases" % path)
+        sys.exit("vppdem.report robustness: %s holds no cases" % path)
     per_key = OrderedDict()
     for r in rows:
         per_key.setdefault(r["key"], {o: 0 for o in OUTCOMES})[outcome_of(r)] += 1
@@ -144,4 +144,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    main(sys.argv[1:])

@@ -1,9 +1,11 @@
-#!/usr/bin/env python3
 """The decision rules of docs/paper_comparison.md (issue 44), written once and applied to every claim
-alike by tools/paper_report.py: one function per rule, on per-run values (one number per run, from
+alike by vppdem.report.paper: one function per rule, on per-run values (one number per run, from
 the runs' cycles.csv), with no claim-specific arithmetic.
 
 Rules (the page's head states them in words, from RULES below):
+The statistics they use (Student t, intervals, the paired and Welch differences, least squares)
+are vppdem.report.stats'.
+
   difference   paired(): Student t on the per-seed differences where the cases of a seed branch from
                one prepared sample (underpressure, friction, time step, loading velocity);
                welch(): Welch's t with the Welch-Satterthwaite degrees of freedom where each case
@@ -20,7 +22,7 @@ Rules (the page's head states them in words, from RULES below):
                stationary by the settle criterion); stationary(): a run's stationary W, its
                W_settled where it settled, else extrapolated from its cycles (geometric decay with
                a rate pooled over the 8-cycle runs), with an uncertainty.
-  seeds        the seeds fixed before a study ran decide (PLANNED in paper_report.py); seeds added
+  seeds        the seeds fixed before a study ran decide (PLANNED in vppdem.report.paper); seeds added
                after a look are reported beside the verdict, never in it.
   convergence  richardson(): W(s) = W0_i + a_i s^p per seed i in a numerical parameter s (the time
                step's safety factor), the order p shared by the seeds, by profile least squares over
@@ -30,13 +32,9 @@ Rules (the page's head states them in words, from RULES below):
                the largest level whose mean bias lies within CONVERGED.
 """
 import math
-import os
-import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from paired_velocity import interval, t_quantile  # noqa: E402,F401  (one Student t for the tools)
+from .stats import LEVEL, interval, ols, paired, profile_range, t_quantile, welch
 
-LEVEL = 0.975       # two-sided 95%
 MARGIN = 0.10       # equivalence margin: a fraction of the reference's mean
 SATURATION = 0.5    # a later step's change under half the earlier one's: saturating
 CONVERGED = 0.02    # a numerical level whose mean bias lies within 2% of the converged W
@@ -55,88 +53,6 @@ VERDICTS = [
     ("not decidable", "the repository lacks what would decide it (the experiment's measured loops)"),
     ("open", "runs pending"),
 ]
-
-
-def welch_dof(s1, n1, s2, n2):
-    """Welch-Satterthwaite degrees of freedom of the difference of two means (sample sds s1, s2 over
-    n1, n2 runs): (v1 + v2)^2 / (v1^2 / (n1 - 1) + v2^2 / (n2 - 1)) with v = s^2 / n."""
-    v1, v2 = s1 * s1 / n1, s2 * s2 / n2
-    den = v1 * v1 / (n1 - 1) + v2 * v2 / (n2 - 1)
-    return (v1 + v2) ** 2 / den if den > 0 else float(n1 + n2 - 2)
-
-
-class Diff:
-    """A difference b - a with its 95% half width: test ('paired' or 'Welch'), n (seeds paired, or
-    (n_a, n_b)), d, h, dof, ref (the mean of a)."""
-
-    def __init__(self, test, n, d, h, dof, ref):
-        self.test, self.n, self.d, self.h, self.dof, self.ref = test, n, d, h, dof, ref
-
-    @property
-    def ok(self):
-        return self.d is not None and self.h is not None and math.isfinite(self.d) and math.isfinite(self.h)
-
-    @property
-    def resolved(self):
-        return self.ok and abs(self.d) > self.h
-
-    @property
-    def rel(self):
-        return self.d / self.ref if self.ok and self.ref else math.nan
-
-    def text(self, digits=0, pct=True):
-        if not self.ok:
-            return "pending"
-        s = f"{self.d:+.{digits}f} +- {self.h:.{digits}f}"
-        if pct and self.ref:
-            s += f" ({100 * self.rel:+.0f}%)"
-        return s
-
-    def rel_interval(self):
-        return f"{100 * (self.d - self.h) / self.ref:+.0f}% to {100 * (self.d + self.h) / self.ref:+.0f}%"
-
-
-def paired(a, b):
-    """b - a seed for seed ({seed: value}; the seeds both have): Student t on the differences."""
-    seeds = sorted(s for s in a if s in b and a[s] is not None and b[s] is not None)
-    n, m, _, h = interval([b[s] - a[s] for s in seeds])
-    _, ref, _, _ = interval([a[s] for s in seeds])
-    return Diff("paired", n, m if n else None, h if n >= 2 else None, n - 1, ref)
-
-
-def welch(a, b):
-    """mean(b) - mean(a) of independent samples (lists, or {seed: value}): Welch's t, its degrees
-    of freedom by Welch-Satterthwaite."""
-    a = [x for x in (a.values() if isinstance(a, dict) else a) if x is not None]
-    b = [x for x in (b.values() if isinstance(b, dict) else b) if x is not None]
-    na, ma, sa, _ = interval(a)
-    nb, mb, sb, _ = interval(b)
-    if na < 2 or nb < 2:
-        return Diff("Welch", (na, nb), mb - ma if na and nb else None, None, None, ma)
-    dof = welch_dof(sa, na, sb, nb)
-    se = math.sqrt(sa * sa / na + sb * sb / nb)
-    return Diff("Welch", (na, nb), mb - ma, t_quantile(LEVEL, dof) * se if se > 0 else 0.0, dof, ma)
-
-
-def contrast(groups, ref=None):
-    """sum c_k mean(x_k) over independent samples (groups: (c_k, list or {seed: value})), its 95% half
-    width by the Welch-Satterthwaite degrees of freedom of the sum, (sum c_k^2 s_k^2 / n_k)^2 /
-    sum (c_k^2 s_k^2 / n_k)^2 / (n_k - 1): welch() is the contrast (-1, a), (+1, b). Used for a
-    difference of differences (the radius effect at equal packing against the unadjusted one)."""
-    stats = []
-    for c, x in groups:
-        x = [v for v in (x.values() if isinstance(x, dict) else x) if v is not None]
-        stats.append((c, interval(x)))
-    ns = tuple(st[0] for _, st in stats)
-    if any(n == 0 for n in ns):
-        return Diff("Welch", ns, None, None, None, ref)
-    d = sum(c * st[1] for c, st in stats)
-    if any(n < 2 for n in ns):
-        return Diff("Welch", ns, d, None, None, ref)
-    v = [c * c * st[2] ** 2 / st[0] for c, st in stats]
-    den = sum(vk * vk / (st[0] - 1) for vk, (_, st) in zip(v, stats))
-    dof = sum(v) ** 2 / den if den > 0 else float(sum(ns) - len(ns))
-    return Diff("Welch", ns, d, t_quantile(LEVEL, dof) * math.sqrt(sum(v)), dof, ref)
 
 
 def difference(test, a, b):
@@ -223,21 +139,6 @@ def pooled_rate(runs, first=2, grid=None):
     return qb, lo, hi, math.sqrt(var)
 
 
-def profile_range(ss, dof):
-    """One parameter's profile least squares: ss {value: summed squared residuals with the other
-    parameters fitted}, dof the residual degrees of freedom at the best value. (best, lowest and
-    largest value inside the 95% range, residual variance): the range holds the values whose summed
-    residuals exceed the least by less than F_{1, dof} (= t_{0.975, dof}^2) times the residual
-    variance; without dof it is the whole grid (variance NaN)."""
-    best = min(ss, key=ss.get)
-    if dof <= 0:
-        return best, min(ss), max(ss), math.nan
-    var = ss[best] / dof
-    lim = ss[best] + t_quantile(LEVEL, dof) ** 2 * var
-    inside = [v for v in ss if ss[v] <= lim]
-    return best, min(inside), max(inside), var
-
-
 def stationary(w, q, settled_mean=None, rel_sd=None, first=2):
     """A run's stationary W: (value, standard uncertainty, 'settled' | 'extrapolated'). Settled runs
     (W_settled given): their W_settled, its uncertainty rel_sd / sqrt(cycles) not counted (0).
@@ -258,43 +159,6 @@ def stationary(w, q, settled_mean=None, rel_sd=None, first=2):
 
 # ---------------------------------------------------------------------------------------------
 # Regression
-
-
-def solve(a, b):
-    """Gaussian elimination with partial pivoting: x with a x = b (a square, lists)."""
-    n = len(a)
-    m = [row[:] + [v] for row, v in zip(a, b)]
-    scale = [max(abs(row[i]) for row in a) or 1.0 for i in range(n)]
-    for i in range(n):
-        p = max(range(i, n), key=lambda r: abs(m[r][i]))
-        m[i], m[p] = m[p], m[i]
-        if abs(m[i][i]) <= 1e-12 * scale[i]:  # a column a combination of the others
-            raise ValueError("singular")
-        for r in range(n):
-            if r != i:
-                f = m[r][i] / m[i][i]
-                m[r] = [x - f * y for x, y in zip(m[r], m[i])]
-    return [m[i][n] / m[i][i] for i in range(n)]
-
-
-def inverse(a):
-    n = len(a)
-    cols = [solve(a, [1.0 if i == j else 0.0 for i in range(n)]) for j in range(n)]
-    return [[cols[j][i] for j in range(n)] for i in range(n)]
-
-
-def ols(x, y):
-    """Ordinary least squares y = X b (x: rows of regressors, the intercepts included by the caller):
-    (b, standard errors, residual dof, residual sd)."""
-    k = len(x[0])
-    xtx = [[sum(r[i] * r[j] for r in x) for j in range(k)] for i in range(k)]
-    xty = [sum(r[i] * v for r, v in zip(x, y)) for i in range(k)]
-    b = solve(xtx, xty)
-    res = [v - sum(bi * ri for bi, ri in zip(b, r)) for r, v in zip(x, y)]
-    dof = len(y) - k
-    s2 = sum(e * e for e in res) / dof if dof > 0 else math.nan
-    inv = inverse(xtx)
-    return b, [math.sqrt(s2 * inv[i][i]) for i in range(k)], dof, math.sqrt(s2)
 
 
 def factor_regression(groups, x, y, extra=None):

@@ -1,7 +1,6 @@
-#!/usr/bin/env python3
 """docs/grains.md and its figure from the grain-shape study's records (issue 24, item 4).
 
-usage: grain_shapes_report.py DATA DOCS [--bench FILE] [--pressure DIR] [--study FILE]
+usage: python3 -m vppdem.report grain_shapes DATA DOCS [--bench FILE] [--pressure DIR] [--study FILE]
   DATA   the records of scripts/grain_shapes.sh (docs/data/grains/shapes: one folder per case,
          grains.shape=S_simulation.seed=K, with summary.json and cycles.csv)
   DOCS   where grains.md and grains_shapes.png go (docs)
@@ -27,13 +26,12 @@ import os
 import sys
 import tomllib
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from paired_velocity import interval, t_quantile  # noqa: E402  (one Student t for the tools)
+from ..records import fail
+from . import source_dir
+from .stats import LEVEL, interval, log_ratio, ratio, satterthwaite, t_quantile
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
-from vppdem.records import fail  # noqa: E402
-
-COMMAND = ("bash scripts/grain_shapes.sh, then /usr/bin/python3 tools/grain_shapes_report.py docs/data/grains/shapes docs "
+COMMAND = ("bash scripts/grain_shapes.sh, then PYTHONPATH=src/python /usr/bin/python3 -m vppdem.report grain_shapes "
+           "docs/data/grains/shapes docs "
            "--pressure docs/data/paper/radius_underpressure --bench docs/data/grains/cost_per_step.md")
 ORDER = ["sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"]
 
@@ -133,29 +131,6 @@ def pressure_effect(root, radius=0.0255):
     return out, info
 
 
-def log_effect(a, b):
-    """ln(mean b / mean a) of unpaired samples with its standard error and Welch-Satterthwaite
-    degrees of freedom: the delta method, var(ln R) = sd_a^2 / (n_a m_a^2) + sd_b^2 / (n_b m_b^2).
-    None when a side has fewer than 2 runs."""
-    na, ma, sa, _ = interval(a)
-    nb, mb, sb, _ = interval(b)
-    if na < 2 or nb < 2:
-        return None
-    va, vb = sa * sa / (na * ma * ma), sb * sb / (nb * mb * mb)
-    dof = (va + vb) ** 2 / (va * va / (na - 1) + vb * vb / (nb - 1)) if va + vb > 0 else math.inf
-    return math.log(mb / ma), math.sqrt(va + vb), dof
-
-
-def ratio(a, b):
-    """b's mean over a's (unpaired samples) as (R, half width of its 95% interval, n_a, n_b): R t se
-    of log_effect (first order). NaN half width when a side has one run."""
-    (na, ma, _, _), (nb, mb, _, _) = interval(a), interval(b)
-    R, e = mb / ma, log_effect(a, b)
-    if e is None:
-        return R, math.nan, na, nb
-    return R, (R * t_quantile(0.975, e[2]) * e[1] if e[1] > 0 else 0.0), na, nb
-
-
 def ratio_text(R, h, n):
     return f"{R:.2f} +- {h:.2f}" if math.isfinite(h) else f"{R:.2f} (no interval: {n} run{'s' if n != 1 else ''})"
 
@@ -199,7 +174,8 @@ def figure(runs, shapes, docs, note=""):
     return "grains_shapes.png"
 
 
-def main(argv):
+def main(argv=None):
+    argv = ["grain_shapes"] + (sys.argv[1:] if argv is None else list(argv))
     args = [a for a in argv[1:] if not a.startswith("--")]
     bench = pressure = None
     if "--bench" in argv:
@@ -214,7 +190,7 @@ def main(argv):
             fail("--pressure needs a DIR", 2)
         pressure = argv[i + 1]
         args = [a for a in args if a != pressure]
-    study = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "studies", "grains", "shapes.toml")
+    study = os.path.join(source_dir(), "studies", "grains", "shapes.toml")
     if "--study" in argv:
         i = argv.index("--study")
         if i + 1 >= len(argv) or not os.path.isfile(argv[i + 1]):
@@ -332,7 +308,7 @@ def main(argv):
             peaks.append((sh, P, ph))
             L.append(f"- {sh}: W {ratio_text(R, h, nb)} times the spheres'{flag}; peak force over the stroke "
                      f"{ratio_text(P, ph, nb)} times{pk_res}.")
-            e = log_effect(ref, vals)
+            e = log_ratio(ref, vals)
             if peff is None or e is None:
                 verdicts.append((sh, None, None, None))
                 continue
@@ -340,8 +316,8 @@ def main(argv):
             # the Welch-Satterthwaite interval of the two standard errors.
             d = abs(peff[0]) - abs(e[0])
             v1, v2 = peff[1] ** 2, e[1] ** 2
-            dof = (v1 + v2) ** 2 / (v1 * v1 / peff[2] + (v2 * v2 / e[2] if math.isfinite(e[2]) else 0))
-            verdicts.append((sh, d, t_quantile(0.975, dof) * math.sqrt(v1 + v2), math.exp(abs(e[0]))))
+            dof = satterthwaite([(v1, peff[2]), (v2, e[2])])
+            verdicts.append((sh, d, t_quantile(LEVEL, dof) * math.sqrt(v1 + v2), math.exp(abs(e[0]))))
     if verdicts and peff is not None:
         parts, decided = [], []
         for sh, d, h, _ in verdicts:
@@ -378,8 +354,8 @@ def main(argv):
     with open(path + ".part", "w") as f:
         f.write("\n".join(L) + "\n")
     os.replace(path + ".part", path)
-    print(f"grain_shapes_report.py: {len(runs)} runs of {len(shapes)} shapes -> {path}, {fig}")
+    print(f"vppdem.report grain_shapes: {len(runs)} runs of {len(shapes)} shapes -> {path}, {fig}")
 
 
 if __name__ == "__main__":
-    main(sys.argv)
+    main(sys.argv[1:])

@@ -1,8 +1,7 @@
-#!/usr/bin/env python3
 """The paper's studies, assembled and written up (issue 20; driven by scripts/paper_report.sh).
 
-usage: paper_report.py assemble DATA TMP
-       paper_report.py write DATA OUT.md FIGDIR --command TEXT
+usage: python3 -m vppdem.report paper assemble DATA TMP
+       python3 -m vppdem.report paper write DATA OUT.md FIGDIR --command TEXT
 
 assemble: the published runs of scripts/paper_studies.sh (DATA/<study>/<case>/ with summary.json
   and cycles.csv) are laid out as finished study folders under TMP, one per study that
@@ -28,14 +27,12 @@ import subprocess
 import sys
 import tomllib
 
-# The package's records (vppdem/records.py): one CSV reader and one way to stop for the tools.
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "src", "python"))
-from vppdem.records import fail, read_table  # noqa: E402
-from vppdem.records import finite_number as fnum  # noqa: E402
+from ..records import fail, read_table
+from ..records import finite_number as fnum
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from paired_velocity import interval  # noqa: E402  (one Student t for the tools)
-import paper_rules as rules  # noqa: E402  (the page's decision rules, issue 44)
+from . import paper_rules as rules  # the page's decision rules (issue 44)
+from . import stats  # the one Student t of the reports
+from .stats import interval
 
 SEED = "simulation.seed"
 # The seeds each study planned before it ran (its first commit of studies/paper/*.toml; git log):
@@ -606,7 +603,7 @@ def compare(st, q, test, key, ref, value, planned=True, **common):
     sd = seeds_of(st, planned)
     a, b = st.vals(q, sd, **dict(common, **{key: ref})), st.vals(q, sd, **dict(common, **{key: value}))
     if planned and min(len(a), len(b)) < st.planned:  # the planned seeds not all in: pending
-        return rules.Diff(test, min(len(a), len(b)), None, None, None, None)
+        return stats.Diff(test, min(len(a), len(b)), None, None, None, None)
     return rules.difference(test, a, b)
 
 
@@ -711,7 +708,7 @@ def set_rate(S):
     if q is not None and eight:
         e = [rules.geometric_fit(w[:5], q)[0] / (sum(w[5:8]) / 3) - 1 for w in eight]
         last = [w[4] / (sum(w[5:8]) / 3) - 1 for w in eight]
-        RATE.update(check=(len(eight), rules.interval(e), rules.interval(last), max(abs(x) for x in e),
+        RATE.update(check=(len(eight), stats.interval(e), stats.interval(last), max(abs(x) for x in e),
                            max(abs(x) for x in last)))
         RATE["q8"] = rules.pooled_rate(eight)[:3]
 
@@ -802,16 +799,16 @@ def packing_section(S, figdir, caption):
         cols = [[1.0, float(gg == "0.0205"), float(gg == "0.0305"), xx] for gg, xx in zip(g, x)]
         try:
             b, bh, bdof, coef = rules.factor_regression(g, x, y)
-            cb, cse, cdof, _ = rules.ols(cols, y)
+            cb, cse, cdof, _ = stats.ols(cols, y)
         except ValueError:
             continue
         # the radius effects at equal packing: W = c + d_20.5 + d_30.5 + b packing (25.5 mm the
         # reference), the d's with their OLS intervals (the slope's uncertainty included)
-        tq = rules.t_quantile(rules.LEVEL, cdof)
+        tq = stats.t_quantile(stats.LEVEL, cdof)
         raw = {r: [yy for gg, yy in zip(g, y) if gg == f"{r:.4f}"] for r in RADII}
-        r25 = sum(raw[0.0255]) / len(raw[0.0255])
-        da = {r: rules.Diff("OLS", cdof, cb[i], tq * cse[i], cdof, r25) for i, r in ((1, 0.0205), (2, 0.0305))}
-        dr = {r: rules.welch(raw[0.0255], raw[r]) for r in (0.0205, 0.0305)}
+        r25 = stats.mean(raw[0.0255])
+        da = {r: stats.Diff("OLS", cdof, cb[i], tq * cse[i], cdof, r25) for i, r in ((1, 0.0205), (2, 0.0305))}
+        dr = {r: stats.welch(raw[0.0255], raw[r]) for r in (0.0205, 0.0305)}
         per.append(f"{dp / 1e6:g} MPa: slope {b * 0.01:+.0f} +- {bh * 0.01:.0f} J/m2 per +0.01 ({bdof} dof); 20.5 mm "
                    f"against 25.5 mm {dr[0.0205].text()} unadjusted, {da[0.0205].text()} at equal packing; 30.5 mm "
                    f"{dr[0.0305].text()} unadjusted, {da[0.0305].text()} at equal packing")
@@ -917,7 +914,7 @@ def radius_claims(rp, q, planned=True):
 
 def mean_text(v, seeds, digits=0):
     """'mean +- half width' of {seed: value}, '(n k of N)' while fewer than the N planned seeds."""
-    n, m, _, h = rules.interval(list(v.values()))
+    n, m, _, h = stats.interval(list(v.values()))
     if n == 0:
         return "pending"
     if n == 1:
@@ -980,8 +977,8 @@ def radius_packing_section(S):
         n_min = min(len(v) for v in w.values())
         tag = f" (provisional: {n_min} of {seeds} seeds)" if 2 <= n_min < seeds else ""
         ref = w.get(RP_REF, {})
-        d = {r: rules.welch(ref, w[r]) for r in radii if r != RP_REF}
-        de = {r: rules.welch(e.get(RP_REF, {}), e[r]) for r in radii if r != RP_REF}
+        d = {r: stats.welch(ref, w[r]) for r in radii if r != RP_REF}
+        de = {r: stats.welch(e.get(RP_REF, {}), e[r]) for r in radii if r != RP_REF}
         shape = peak_of(d.get(0.0205), d.get(0.0305)) if n_min >= 2 else None
         shapes[dp] = shape
         answer = {None: "pending (a radius with fewer than 2 runs)", "peak": "W peaks at 25.5 mm (both below it, resolved)",
@@ -999,13 +996,13 @@ def radius_packing_section(S):
         u = {r: ru.vals(qc, None, **{"damper.radius": r, "process.underpressure": dp}) for r in radii}
         wc = {r: rp.vals(qc, None, **{"damper.radius": r, "process.underpressure": dp}) for r in radii}
         if all(len(v) >= 2 for v in u.values()):
-            per = "; ".join(f"{r * 1e3:g} mm {rules.welch(u[r], wc[r]).text()}" for r in radii)
+            per = "; ".join(f"{r * 1e3:g} mm {stats.welch(u[r], wc[r]).text()}" for r in radii)
             eff = []
             for r in radii:
                 if r == RP_REF:
                     continue
-                du, dq = rules.welch(u[RP_REF], u[r]), rules.welch(wc[RP_REF], wc[r])
-                ch = rules.contrast([(+1, wc[r]), (-1, wc[RP_REF]), (-1, u[r]), (+1, u[RP_REF])])
+                du, dq = stats.welch(u[RP_REF], u[r]), stats.welch(wc[RP_REF], wc[r])
+                ch = stats.contrast([(+1, wc[r]), (-1, wc[RP_REF]), (-1, u[r]), (+1, u[RP_REF])])
                 # the packing's part of the unadjusted effect: (unadjusted - equal packing) / unadjusted
                 eff.append(f"{r * 1e3:g} - 25.5 mm {du.text()} unadjusted, {dq.text()} at equal packing, change "
                            f"{ch.text(pct=False)}" + (f" (the packing's part: {-100 * ch.d / du.d:.0f}% of the unadjusted "
@@ -1077,7 +1074,7 @@ def timestep_figure(figdir, caption, grid, runs, complete, fit):
         ax.plot(xs, [runs[i][s] for s in xs], "-o", ms=3, lw=0.8, alpha=0.45, label=f"seed {i}")
     if fit:
         n, m, _, h = fit["mean"]
-        iv = [rules.interval([runs[i][s] for i in complete]) for s in grid]
+        iv = [stats.interval([runs[i][s] for i in complete]) for s in grid]
         ax.errorbar(grid, [v[1] for v in iv], yerr=[v[3] for v in iv], fmt="ks", capsize=4,
                     label=f"mean, 95% CI ({n} seeds)")
         ma = sum(fit["a"][i] for i in complete) / n
@@ -1228,12 +1225,12 @@ def share_section(S, raw):
         if any(len(v) < 2 for v in vals.values()):
             lines.append(f"- mu {mu:g}: runs pending")
             continue
-        iv = {lam: rules.interval(list(v.values())) for lam, v in vals.items()}
-        dd = {lam: rules.welch(vals[0.2], vals[lam]) for lam in (0.1, 0.4)}
+        iv = {lam: stats.interval(list(v.values())) for lam, v in vals.items()}
+        dd = {lam: stats.welch(vals[0.2], vals[lam]) for lam in (0.1, 0.4)}
         xs = [lam for lam, v in vals.items() for _ in v]
         ys = [s for v in vals.values() for s in v.values()]
-        b, se, dof, _ = rules.ols([[1.0, x] for x in xs], ys)
-        bh = se[1] * rules.t_quantile(rules.LEVEL, dof)
+        b, se, dof, _ = stats.ols([[1.0, x] for x in xs], ys)
+        bh = se[1] * stats.t_quantile(stats.LEVEL, dof)
         resolved |= abs(b[1]) > bh
         lines.append(f"- Local damping, mu {mu:g} (0.06 MPa, cycle 5, 3 seeds per lambda, independent samples): friction "
                      "share at lambda 0.1 / 0.2 / 0.4: " + " / ".join(f"{iv[l][1]:.3f} +- {iv[l][3]:.3f}" for l in iv)
@@ -1249,23 +1246,23 @@ def share_section(S, raw):
         for r in rows:
             by.setdefault(fnum(r["process.velocity"]), {})[int(float(r[SEED]))] = fnum(r["friction_share"])
         vs = sorted(by)
-        iv = [(v, rules.interval(list(by[v].values()))) for v in vs]
+        iv = [(v, stats.interval(list(by[v].values()))) for v in vs]
         slow, fast = vs[0], vs[-1]
-        d = rules.paired(by[slow], by[fast])
+        d = stats.paired(by[slow], by[fast])
         seeds = sorted(set.intersection(*(set(by[v]) for v in vs)))
         slopes = []
         for s in seeds:
             xs = [math.log10(v) for v in vs]
-            b, _, _, _ = rules.ols([[1.0, x] for x in xs], [by[v][s] for v in vs])
+            b, _, _, _ = stats.ols([[1.0, x] for x in xs], [by[v][s] for v in vs])
             slopes.append(b[1])
-        n, m, _, h = rules.interval(slopes)
+        n, m, _, h = stats.interval(slopes)
         resolved |= abs(m) > h
         lines.append(f"- Loading velocity, small damper (r_p 12 mm, mu 0.6, lambda 0.2, {dp / 1e6:g} MPa, cycle 3, "
                      f"{n} seeds, the velocities of a seed from one sample): friction share "
                      + ", ".join(f"{v:g} m/s {i[1]:.3f} +- {i[3]:.3f}" for v, i in iv)
                      + f"; {fast:g} against {slow:g} m/s (paired) {d.text(3, False)}; slope per decade of velocity, "
                      f"per seed: {m:+.3f} +- {h:.3f}")
-    z = rules.interval(list(fr.vals("friction_share", None, **{"grains.friction": 0.6}).values()))
+    z = stats.interval(list(fr.vals("friction_share", None, **{"grains.friction": 0.6}).values()))
     return lines, z, resolved
 
 
@@ -1297,7 +1294,7 @@ def write(data, out_md, figdir, command):
     # ---- C2: stationary loops
     runs, stat, firsts, scatter = settle_stats(data, os.path.dirname(os.path.normpath(data)))
     if runs:
-        fm = sum(firsts) / len(firsts) if firsts else float("nan")
+        fm = stats.mean(firsts)
         c2 = (f"{stat} of {runs} finished 5-cycle runs are stationary by the criterion of docs/damper.md (no trend "
               f"or jump beyond a 3% scatter at 95%), from cycle {min(firsts) if firsts else '-'}-"
               f"{max(firsts) if firsts else '-'} (mean {fm:.1f}); the measured scatter of W within the "
@@ -1334,7 +1331,7 @@ def write(data, out_md, figdir, command):
             if len(w) >= 2 and w[-2]:
                 ch.append(100 * (w[-1] / w[-2] - 1))
         if ch:
-            drift.append(f"{dp / 1e6:g} MPa {sum(ch) / len(ch):+.1f}% ({min(ch):+.1f} to {max(ch):+.1f}%, {len(ch)} runs)")
+            drift.append(f"{dp / 1e6:g} MPa {stats.mean(ch):+.1f}% ({min(ch):+.1f} to {max(ch):+.1f}%, {len(ch)} runs)")
     if drift:
         c2 += "; change of W from cycle 4 to 5 at 25.5 mm, mean (range): " + ", ".join(drift)
 
@@ -1715,7 +1712,7 @@ def write(data, out_md, figdir, command):
         "",
         "## Decision rules",
         "",
-        "Written once and applied by `tools/paper_report.py` (`tools/paper_rules.py`, one function per rule) to every "
+        "Written once and applied by `vppdem.report.paper` (`vppdem.report.paper_rules`, one function per rule) to every "
         "claim alike; each claim's row names the rules it uses.",
         "",
         "- **Test for a difference** (95%, two-sided): **paired t** on the per-seed differences where the cases of a "
@@ -1837,7 +1834,8 @@ def write(data, out_md, figdir, command):
     os.replace(tmp, out_md)
 
 
-def main(argv):
+def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
     if len(argv) >= 3 and argv[0] == "assemble":
         assemble(argv[1], argv[2], os.environ.get("VPPDEM", "build/vppdem"))
     elif len(argv) >= 5 and argv[0] == "write" and argv[4] == "--command":
