@@ -431,8 +431,13 @@ void DeviceRun::open_membrane() {
         z_bottom = std::min(z_bottom, pos[i].z);
     }
     const std::string key = "config key 'grains.opening_height' = " + cfg::number_text(d_.opening_height);
+    auto mm = [](double v) {  // [m], three digits: a message's lengths
+        char b[32];
+        std::snprintf(b, sizeof b, "%.3g", v);
+        return std::string(b);
+    };
     if (d_.opening_height >= z_top - z_bottom)
-        throw cfg::ConfigError(key + ": must be less than the membrane's height, " + cfg::number_text(z_top - z_bottom) +
+        throw cfg::ConfigError(key + ": must be less than the membrane's height, " + mm(z_top - z_bottom) +
                                " m (its particles' centres from the lowest to the top): the opening is a part of its top");
     z_seal_ = z_top - d_.opening_height;
     double sx = 0, sy = 0;
@@ -454,9 +459,9 @@ void DeviceRun::open_membrane() {
     // grain's diameter and a tenth of its radius.
     if (!(ra - rf >= 2.1 * r))
         throw cfg::ConfigError(key + ": the opening's radius clear of the membrane particles is " +
-                               cfg::number_text(std::max(0.0, ra - rf)) + " m, less than a grain's diameter plus a tenth of its radius (" +
-                               cfg::number_text(2.1 * r) + " m): no room for a grain to pass; a larger opening_height (less than the "
-                               "membrane's height, " + cfg::number_text(z_top - z_bottom) + " m) or smaller grains are needed");
+                               mm(std::max(0.0, ra - rf)) + " m, less than a grain's diameter plus a tenth of its radius (" +
+                               mm(2.1 * r) + " m): no room for a grain to pass; a larger opening_height (less than the "
+                               "membrane's height, " + mm(z_top - z_bottom) + " m) or smaller grains are needed");
     column_radius_ = ra - clear;
     // Until the seal the grains pass through the opening; the rest of the membrane touches it.
     for (uint32_t i : m_.particles) w_.particles.mask[i] = kFoilMask | kMaskOpening;
