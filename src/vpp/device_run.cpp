@@ -455,6 +455,9 @@ void DeviceRun::open_membrane() {
     for (uint32_t i : m_.particles)
         if (pos[i].z < z_seal_ && pos[i].z >= z_seal_ - 2.0 * (r + rf))
             ra = std::min(ra, std::hypot(pos[i].x - axis_x_, pos[i].y - axis_y_));
+    if (ra == 1e300)  // no membrane below the opening: it would be the whole membrane
+        throw cfg::ConfigError(key + ": leaves no membrane within " + mm(2.0 * (r + rf)) +
+                               " m below the opening's edge (the rim the grains pass); a smaller opening_height is needed");
     // A grain passes the rim when the aperture, clear of the membrane particles, is wider than a
     // grain's diameter and a tenth of its radius.
     if (!(ra - rf >= 2.1 * r))
