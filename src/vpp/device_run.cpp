@@ -377,14 +377,14 @@ void DeviceRun::add_grains(const dem::SurfaceMesh& surface, uint32_t material) {
     const double a = fcc ? h * std::numbers::sqrt2 : h;
     const std::vector<Vec3> basis = fcc ? std::vector<Vec3>{{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}}
                                         : std::vector<Vec3>{{0, 0, 0}};
-    // The lattice's first site: half a spacing in from the surface's bounding box (cubic); fcc:
-    // at the clearance (and a hundredth of a radius), so that a box is filled up to its faces
-    // on its low sides (and on its high sides too where its edges are 2 clear + 0.01 r + a
-    // multiple of h / sqrt 2).
     // A jitter of up to 0.9 (h - 2r) / 2 per axis (fcc: / sqrt 2, as its neighbours lie along face
     // diagonals): loose, random, never overlapping.
     const double jit = 0.5 * (h - 2.0 * r) * 0.9 / (fcc ? std::numbers::sqrt2 : 1.0);
     if (pour_) sites = pour_sites(tool_surfaces, a, basis, jit);
+    // The lattice's first site: half a spacing in from the surface's bounding box (cubic); fcc:
+    // at the clearance (and a hundredth of a radius), so that a box is filled up to its faces
+    // on its low sides (and on its high sides too where its edges are 2 clear + 0.01 r + a
+    // multiple of h / sqrt 2).
     const double off = fcc ? (clear + 0.01 * r) / a : 0.5 * h / a;
     const int nx = int((hi.x - lo.x) / a) + 1, ny = int((hi.y - lo.y) / a) + 1, nz = int((hi.z - lo.z) / a) + 1;
     for (int k = 0; k < nz && !pour_; ++k)
