@@ -7,6 +7,7 @@ over its seeds, draws docs/devices_<study>_study.png and writes the table into d
 between the markers <!-- device_report:<study> begin --> and <!-- ... end -->.
 
     /usr/bin/python3 tools/device_report.py gripper
+    /usr/bin/python3 tools/device_report.py gripper_pour   # the pour against the gripper's dp50
     /usr/bin/python3 tools/device_report.py beam
 """
 import csv
@@ -192,6 +193,117 @@ def gripper(runs):
     return stats
 
 
+def welch(a, b):
+    """Mean of a - b and its 95% half-width for two independent samples (Welch; df rounded down)."""
+    ma, _, na = mean_ci(a)
+    mb, _, nb = mean_ci(b)
+    if na < 2 or nb < 2:
+        return ma - mb, float("nan")
+    va = sum((x - ma) ** 2 for x in a) / (na - 1) / na
+    vb = sum((x - mb) ** 2 for x in b) / (nb - 1) / nb
+    se = math.sqrt(va + vb)
+    if se == 0:
+        return ma - mb, 0.0
+    df = (va + vb) ** 2 / (va ** 2 / (na - 1) + vb ** 2 / (nb - 1))
+    return ma - mb, T975.get(max(1, int(df)), 1.96) * se
+
+
+def gripper_pour(runs):
+    """The pour (docs/data/devices/gripper_pour/pour_dp50_s*) against the lattice fill (the gripper
+    study's dp50_s*): the same device file, seeds and dp; the fills differ (a seed's jitter acts on
+    another lattice), so the two are compared as independent samples (Welch), not paired."""
+    lattice = load("gripper").get("dp50", [])
+    pour = runs.get("pour_dp50", [])
+
+    def packing_seal(r):  # the lattice's records predate summary.json's packing_seal
+        return r["grain_volume"] / r["volume_seal"]
+
+    def packing_vacuum(r):
+        return r["grain_volume"] / r["volume_vacuum"]
+
+    def fill_ke(r):  # [J] the grains' kinetic energy at the end of the fill (from the warning; nan: at rest)
+        for w in r.get("warnings", []):
+            m = re.search(r"kinetic energy ([0-9.eE+-]+) J", w)
+            if w.startswith("fill:") and m:
+                return float(m.group(1))
+        return float("nan")
+
+    metrics = [
+        # key, label, function, scale
+        ("hf", "holding force [N]", lambda r: r["holding_force"], 1.0),
+        ("dv", "volume change in the vacuum [%]", lambda r: r["volume_change_vacuum"], 100.0),
+        ("dvs", "volume change, seal to end of vacuum [%]", lambda r: r["volume_change"], 100.0),
+        ("ps", "packing at the seal", packing_seal, 1.0),
+        ("pv", "packing after the vacuum", packing_vacuum, 1.0),
+        ("n", "grains in the bag", lambda r: r["grains"], 1.0),
+        ("wrap", "wrap depth [mm]", lambda r: OBJECT_TOP - r["membrane_z_min"], 1e3),
+        ("ke", "grains' kinetic energy at the fill's end [µJ]", fill_ke, 1e6),
+    ]
+    cases = [("dp50", "lattice, settled at friction 0.5 (the gripper study's `dp50`)", lattice),
+             ("lattice_mu0_dp50", "lattice, settled frictionless (`lattice_mu0_dp50`)", runs.get("lattice_mu0_dp50", [])),
+             ("pour_dp50", "pour, frictionless (`pour_dp50`)", pour)]
+    stats = {}
+    head = "| fill | n | " + " | ".join(m[1] for m in metrics) + " |"
+    table = [head, "|" + "---|" * (2 + len(metrics))]
+    for name, label, rs in cases:
+        st = {"seeds": [r["_seed"] for r in rs]}
+        cells = []
+        for key, _, fn, sc in metrics:
+            vals = [fn(r) for r in rs]
+            st[key + "_all"] = vals
+            st[key] = mean_ci(vals)
+            cells.append(fmt(*st[key][:2], scale=sc) if key != "hf" else f"**{fmt(*st[key][:2], scale=sc)}**")
+        stats[name] = st
+        table.append(f"| {label} | {len(rs)} | " + " | ".join(cells) + " |")
+    dtable = ["| | pour - lattice frictionless: the fill's way (Welch 95%) | resolved | pour - lattice at 0.5 (Welch 95%) | resolved |",
+              "|---|---|---|---|---|"]
+    for key, lab, _, sc in metrics:
+        cells = []
+        for other in ("lattice_mu0_dp50", "dp50"):
+            m, h = welch(stats["pour_dp50"][key + "_all"], stats[other][key + "_all"])
+            res = "yes" if math.isfinite(h) and abs(m) > h else "no"
+            cells += [fmt(m, h, scale=sc), res]
+        dtable.append(f"| {lab} | " + " | ".join(cells) + " |")
+    extra = []
+    if pour:
+        placed = pour[0].get("grains_placed", float("nan"))
+        removed = [r.get("grains_removed_at_seal", 0) for r in pour]
+        spilled = [r.get("grains_spilled", 0) for r in pour]
+        overlap = [r.get("seal_max_overlap", 0) for r in pour]
+        settled = sum(bool(r.get("fill_settled")) for r in pour)
+        extra = [f"The pour: {placed:g} grains placed per seed; struck off at the seal "
+                 f"{', '.join(f'{x:g}' for x in removed)}, spilled over the rim in the pour "
+                 f"{', '.join(f'{x:g}' for x in spilled)} (seeds in order); the largest overlap of a grain with a "
+                 f"membrane particle at the seal {max(overlap) * 1e3:.2g} mm; at rest before `stages.fill_time` "
+                 f"in {settled} of {len(pour)} seeds."]
+
+    fig, ax = plt.subplots(1, 3, figsize=(12, 3.8))
+    for k, (key, lab, sc) in enumerate((("hf", "holding force [N]", 1.0), ("dv", "volume change in the vacuum [%]", 100.0),
+                                         ("ps", "packing at the seal", 1.0))):
+        ms, hs = [], []
+        for x, (name, _, _) in enumerate(cases):
+            st = stats[name]
+            ax[k].plot([x] * len(st[key + "_all"]), [v * sc for v in st[key + "_all"]], "o", color="0.5", ms=4)
+            ms.append(st[key][0] * sc if st[key][2] else 0)
+            hs.append(st[key][1] * sc if math.isfinite(st[key][1]) else 0)
+        ax[k].bar(range(len(cases)), ms, yerr=hs, capsize=4, color=["C0", "C2", "C1"], alpha=0.6)
+        ax[k].set_xticks(range(len(cases)), ["lattice\nfill μ 0.5", "lattice\nfill μ 0", "pour\nfill μ 0"])
+        ax[k].set_ylabel(lab)
+        ax[k].grid(alpha=0.3, axis="y")
+    fig.suptitle("the gripper at 50 kPa: the lattice fills against the pour (seeds 1-5; mean, 95% interval)")
+    fig.tight_layout()
+    fig.savefig(os.path.join(ROOT, "docs", "devices_gripper_pour_study.png"), dpi=110)
+    text = "\n".join(
+        [f"Made by `scripts/device_study.sh gripper_pour` and `/usr/bin/python3 tools/device_report.py gripper_pour` "
+         f"from the records in `docs/data/devices/gripper_pour/` ({len(pour) + len(runs.get('lattice_mu0_dp50', []))} of 10 runs: 2 cases x seeds 1-5) and the gripper study's `dp50` "
+         f"(`docs/data/devices/gripper/`, {len(lattice)} runs). Mean ± the 95% Student-t half-width over the seeds; "
+         f"packing: the grains' volume over the volume enclosed by the membrane particles' centres.",
+         "", *table, "", *extra, "", "The difference of the means (independent samples: a seed's jitter acts on "
+         "another lattice in the pour's column than in the bag):", "", *dtable, "", "![The pour against the lattice](devices_gripper_pour_study.png)"])
+    replace_block("gripper_pour", text)
+    return stats
+
+
 BEAM_CASES = [("dp0", "no vacuum", 0), ("dp25", "25 kPa", 25), ("dp50", "50 kPa", 50)]
 
 
@@ -259,7 +371,7 @@ def beam(runs):
 def main():
     study = sys.argv[1] if len(sys.argv) > 1 else "gripper"
     runs = load(study)
-    stats = {"gripper": gripper, "beam": beam}[study](runs)
+    stats = {"gripper": gripper, "gripper_pour": gripper_pour, "beam": beam}[study](runs)
     for name, st in stats.items():
         print(name, {k: v for k, v in st.items() if isinstance(v, tuple)})
 

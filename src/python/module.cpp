@@ -734,6 +734,13 @@ PYBIND11_MODULE(_core, m) {
             res["energy_residual"] = r.energy_residual;
             res["energy_scale"] = r.energy_scale;
             res["fill_settled"] = r.fill_settled;
+            // The fill (the pour's counts: docs/devices.md "The pour"; the lattice: placed = grains).
+            res["fill_mode"] = d.fill_mode;
+            res["grains_placed"] = r.grains_placed;
+            res["grains_spilled"] = r.grains_spilled;
+            res["grains_removed_at_seal"] = r.grains_removed_at_seal;
+            res["seal_max_overlap"] = r.seal_max_overlap;
+            res["packing_seal"] = r.packing_seal;
             res["run_seconds"] = r.run_seconds;
             res["warnings"] = r.warnings;
             res["cycle_stiffness"] = r.cycle_stiffness;

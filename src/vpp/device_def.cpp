@@ -215,6 +215,26 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     d.lattice = gr.string("lattice", "cubic");
     if (d.lattice != "cubic" && d.lattice != "fcc")
         gr.fail("lattice", "must be \"cubic\" or \"fcc\" (the fill lattice)");
+    d.fill_mode = gr.string("fill_mode", "lattice");
+    if (d.fill_mode != "lattice" && d.fill_mode != "pour")
+        gr.fail("fill_mode", "must be \"lattice\" (grains placed inside the closed membrane) or \"pour\" (poured through "
+                             "an opening at its top, then sealed)");
+    if (d.fill_mode == "pour") {
+        // Required, no default: the opening and the amount poured are the pour's design.
+        if (!gr.node("opening_height"))
+            gr.fail("opening_height", "is required with grains.fill_mode = \"pour\": the height [m] below the membrane's top "
+                                      "whose membrane particles form the opening");
+        d.opening_height = gr.positive("opening_height", gr.number("opening_height", 0.0));
+        if (!gr.node("pour_count"))
+            gr.fail("pour_count", "is required with grains.fill_mode = \"pour\": the number of grains poured (>= 1)");
+        d.pour_count = gr.integer("pour_count", 0);
+        if (d.pour_count < 1 || d.pour_count > 10000000)
+            gr.fail("pour_count", "must be an integer in [1, 10000000]: the number of grains poured");
+    } else {
+        // A pour key with the lattice fill would be silently ignored: refused instead.
+        for (const char* k : {"opening_height", "pour_count"})
+            if (gr.node(k)) gr.fail(k, "applies to grains.fill_mode = \"pour\" only (the fill mode is \"lattice\")");
+    }
     gr.finish();
 
     Section st = top.table("stages");
@@ -353,6 +373,13 @@ std::vector<std::pair<std::string, std::string>> device_inputs(const DeviceDef& 
     in.emplace_back("result.object", json_string(d.object));
     in.emplace_back("result.cycle_tool", json_string(d.cycle_tool));
     in.emplace_back("grains.lattice", json_string(d.lattice));
+    // The pour's keys only with the pour, so that a lattice fill's inputs (and so its checkpoints'
+    // identity, DeviceRun's inputs_text) are those of the builds before the pour existed.
+    if (d.fill_mode == "pour") {
+        in.emplace_back("grains.fill_mode", json_string(d.fill_mode));
+        in.emplace_back("grains.opening_height", json_number(d.opening_height));
+        in.emplace_back("grains.pour_count", json_number(double(d.pour_count)));
+    }
     in.emplace_back("membrane.density", json_number(d.membrane.foil.density));
     in.emplace_back("membrane.stiffness_ratio", json_number(d.membrane.foil.stiffness_ratio));
     in.emplace_back("membrane.spacing", json_number(d.membrane.spacing));

@@ -82,6 +82,13 @@ struct DeviceDef {
     double fill = 0.8;                 // [-] fraction of the lattice sites inside the membrane filled, lowest first
     double lattice_spacing = 2.2;      // [-] the fill lattice's spacing in grain radii (> 2; the jitter keeps 5% of the gap)
     std::string lattice = "cubic";     // the fill lattice: "cubic" (packing 0.52 (2/s)^3) or "fcc" (0.74 (2/s)^3), s the spacing
+    // How the grains get into the membrane: "lattice" (placed on the fill lattice inside the closed
+    // membrane) or "pour" (placed on the same lattice in a column above the membrane's top and
+    // poured under gravity through an opening, the membrane particles within opening_height of
+    // its top, which the grains pass through until the seal; docs/devices.md "The pour").
+    std::string fill_mode = "lattice";
+    double opening_height = 0.0;       // [m] pour: the membrane particles within this height of its top form the opening
+    int64_t pour_count = 0;            // [-] pour: the grains poured (the excess is struck off at the seal)
 
     // [stages]
     double fill_time = 0.1;      // [s] the fill settles for at most this long

@@ -38,6 +38,11 @@ namespace fs = std::filesystem;
 using dem::Vec3;
 
 constexpr const char* kCheckpointName = "run.ckpt";
+// The pour's opening (grains.fill_mode = "pour"): until the seal its membrane particles carry this
+// bit alone, the rest of the membrane this bit and kFoilMask, the grains kGrainMask. So the grains
+// pass through the opening (no bit shared) while the opening stays in contact with the rest of the
+// membrane and the tools do not see it. Bit 2: the foil's masks use bits 0 and 1 (vpp/foil.h).
+constexpr uint32_t kMaskOpening = 1u << 2;
 constexpr int kToolColumns = 4;  // z, fx, fy, fz
 constexpr int kAirColumns = 5;   // time, stage, enclosed, gas, dp
 constexpr int kEnergyColumns = 11;
@@ -82,6 +87,20 @@ bool inside(const dem::SurfaceMesh& m, const Vec3& p) {
         omega += 2.0 * std::atan2(num, den);
     }
     return omega > 2.0 * std::numbers::pi;  // winding > 1/2
+}
+
+// Whether p lies inside the membrane's closed triangulation of its particles at `pos` (the winding
+// number, as inside() above): the surface the seal closes.
+bool inside_membrane(const Membrane& m, const std::vector<Vec3>& pos, const Vec3& p) {
+    double omega = 0.0;
+    for (const auto& t : m.triangles) {
+        const Vec3 a = pos[t[0]] - p, b = pos[t[1]] - p, c = pos[t[2]] - p;
+        const double la = norm(a), lb = norm(b), lc = norm(c);
+        const double num = dot(a, cross(b, c));
+        const double den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
+        omega += 2.0 * std::atan2(num, den);
+    }
+    return omega > 2.0 * std::numbers::pi;
 }
 
 double distance_to_surface(const dem::SurfaceMesh& m, const Vec3& p) {
@@ -178,6 +197,24 @@ public:
 private:
     void build();
     void add_grains(const dem::SurfaceMesh& surface, uint32_t material);
+    // The pour: the opening's membrane particles (opening_) and their masks, the seal plane, the
+    // column's axis and radius; refuses an opening with no room for a grain.
+    void open_membrane();
+    // The pour's start: a lattice column above the opening (lowest pour_count sites).
+    std::vector<Vec3> pour_sites(const std::vector<dem::SurfaceMesh>& tool_surfaces, double a,
+                                 const std::vector<Vec3>& basis, double jit) const;
+    // Takes grain i out of the run: it interacts with nothing (mask 0) and stands still (fixed). The
+    // World has no removal of particles; a retired grain stays in its arrays, left out of the
+    // counts, the grains' volume and the VTK frames.
+    void retire_grain(uint32_t i);
+    bool active_grain(uint32_t i) const { return w_.particles.mask[i] != 0; }
+    std::size_t active_grains() const;
+    double active_grain_volume() const;
+    // The pour's seal: the grains outside the membrane or overlapping the opening are retired,
+    // the opening's masks restored; returns how many were retired.
+    std::size_t strike_off();
+    // [m] The largest overlap of a grain with a membrane particle now (0: none touches).
+    double largest_membrane_overlap() const;
     void start_output(const std::string& resumed_from);
     void checkpoint();
     // VTK frame DIR/vtk/NAME.vtk (particles and bonds) and NAME_tools.vtk (the tools' facets).
@@ -208,7 +245,11 @@ private:
     std::vector<dem::Tool> tools_;
     uint32_t g0_ = 0, g1_ = 0;  // the grains' particle range
     uint32_t grain_mat_ = 0;
-    double grain_volume_ = 0;   // [m^3]
+    double grain_volume_ = 0;   // [m^3] of the active grains (a pour's struck-off grains left out)
+    bool pour_ = false;         // grains.fill_mode = "pour"
+    std::vector<uint32_t> opening_;  // pour: the opening's membrane particles
+    double z_seal_ = 0;         // [m] pour: the membrane's top less opening_height (at the build)
+    double axis_x_ = 0, axis_y_ = 0, column_radius_ = 0;  // [m] pour: the column's axis and radius
     DeviceState st_;
     fs::path out_;
     dem::FolderLock lock_;
@@ -230,6 +271,7 @@ DeviceRun::DeviceRun(const DeviceDef& d, const DeviceOptions& o) : d_(d), o_(o) 
             throw std::runtime_error("checkpoint '" + from + "' was made with another device file (its inputs differ from '" +
                                      d_.path + "'): run into a new --out, or give the device file it was made with");
         if (st_.sealed) w_.pressure.fans = membrane_pressure_fans(m_);
+        if (pour_) grain_volume_ = active_grain_volume();  // the struck-off grains are in the World's masks
         w_.params.threads = d_.threads;  // this machine's, not the checkpoint's (the results do not depend on it)
         char at[64];
         std::snprintf(at, sizeof at, "t = %.6g s", w_.time);
@@ -301,11 +343,12 @@ void DeviceRun::build() {
             if (t.name == d_.clamp_tool) dem::clamp_to_tool(w_, t, clamp);
     }
 
+    pour_ = d_.fill_mode == "pour";
+    if (pour_) open_membrane();
     g0_ = uint32_t(w_.particles.size());
     add_grains(surface, grain_mat);
     g1_ = uint32_t(w_.particles.size());
-    grain_volume_ = 0.0;
-    for (uint32_t i = g0_; i < g1_; ++i) grain_volume_ += 4.0 / 3.0 * std::numbers::pi * std::pow(w_.particles.radius[i], 3);
+    grain_volume_ = active_grain_volume();
 
     w_.params.gravity = d_.gravity;
     w_.params.local_damping = d_.local_damping;
@@ -336,13 +379,17 @@ void DeviceRun::add_grains(const dem::SurfaceMesh& surface, uint32_t material) {
     const double a = fcc ? h * std::numbers::sqrt2 : h;
     const std::vector<Vec3> basis = fcc ? std::vector<Vec3>{{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}}
                                         : std::vector<Vec3>{{0, 0, 0}};
+    // A jitter of up to 0.9 (h - 2r) / 2 per axis (fcc: / sqrt 2, as its neighbours lie along face
+    // diagonals): loose, random, never overlapping.
+    const double jit = 0.5 * (h - 2.0 * r) * 0.9 / (fcc ? std::numbers::sqrt2 : 1.0);
+    if (pour_) sites = pour_sites(tool_surfaces, a, basis, jit);
     // The lattice's first site: half a spacing in from the surface's bounding box (cubic); fcc:
     // at the clearance (and a hundredth of a radius), so that a box is filled up to its faces
     // on its low sides (and on its high sides too where its edges are 2 clear + 0.01 r + a
     // multiple of h / sqrt 2).
     const double off = fcc ? (clear + 0.01 * r) / a : 0.5 * h / a;
     const int nx = int((hi.x - lo.x) / a) + 1, ny = int((hi.y - lo.y) / a) + 1, nz = int((hi.z - lo.z) / a) + 1;
-    for (int k = 0; k < nz; ++k)
+    for (int k = 0; k < nz && !pour_; ++k)
         for (int j = 0; j < ny; ++j)
             for (int i = 0; i < nx; ++i)
                 for (const Vec3& b : basis) {
@@ -357,14 +404,13 @@ void DeviceRun::add_grains(const dem::SurfaceMesh& surface, uint32_t material) {
         throw cfg::ConfigError("config key 'grains.radius' = " + cfg::number_text(r) +
                                ": no grain fits inside the membrane (a clearance of " + cfg::number_text(clear) +
                                " m from it is needed)");
-    // Lowest first (poured), lattice order within a layer; n of them.
-    const std::size_t n = std::max<std::size_t>(1, std::size_t(std::llround(d_.fill * double(sites.size()))));
-    std::stable_sort(sites.begin(), sites.end(), [](const Vec3& a, const Vec3& b) { return a.z < b.z; });
-    sites.resize(std::min(n, sites.size()));
-    // A jitter of up to 0.9 (h - 2r) / 2 per axis (fcc: / sqrt 2, as its neighbours lie along face
-    // diagonals): loose, random, never overlapping.
+    // Lowest first (poured), lattice order within a layer; n of them (the pour's column: its own).
+    if (!pour_) {
+        const std::size_t n = std::max<std::size_t>(1, std::size_t(std::llround(d_.fill * double(sites.size()))));
+        std::stable_sort(sites.begin(), sites.end(), [](const Vec3& a, const Vec3& b) { return a.z < b.z; });
+        sites.resize(std::min(n, sites.size()));
+    }
     uint64_t rng = 0x5eed0000ull + d_.seed;
-    const double jit = 0.5 * (h - 2.0 * r) * 0.9 / (fcc ? std::numbers::sqrt2 : 1.0);
     dem::SphereDef s;
     s.radius = r;
     s.material = material;
@@ -375,6 +421,142 @@ void DeviceRun::add_grains(const dem::SurfaceMesh& surface, uint32_t material) {
         s.position = p + j;
         w_.add_sphere(s);
     }
+}
+
+void DeviceRun::open_membrane() {
+    const double r = d_.grain_radius, rf = d_.membrane.foil.particle_radius;
+    const double clear = r + rf + 0.1 * r;  // as the lattice's
+    const std::vector<Vec3>& pos = w_.particles.pos;
+    double z_top = -1e300, z_bottom = 1e300;
+    for (uint32_t i : m_.particles) {
+        z_top = std::max(z_top, pos[i].z);
+        z_bottom = std::min(z_bottom, pos[i].z);
+    }
+    const std::string key = "config key 'grains.opening_height' = " + cfg::number_text(d_.opening_height);
+    auto mm = [](double v) {  // [m], three digits: a message's lengths
+        char b[32];
+        std::snprintf(b, sizeof b, "%.3g", v);
+        return std::string(b);
+    };
+    if (d_.opening_height >= z_top - z_bottom)
+        throw cfg::ConfigError(key + ": must be less than the membrane's height, " + mm(z_top - z_bottom) +
+                               " m (its particles' centres from the lowest to the top): the opening is a part of its top");
+    z_seal_ = z_top - d_.opening_height;
+    double sx = 0, sy = 0;
+    for (uint32_t i : m_.particles)
+        if (pos[i].z >= z_seal_) {
+            opening_.push_back(i);
+            sx += pos[i].x;
+            sy += pos[i].y;
+        }
+    axis_x_ = sx / double(opening_.size());
+    axis_y_ = sy / double(opening_.size());
+    // The aperture: the nearest membrane particle to the axis, of those in the band a grain
+    // diameter and a membrane particle's below the seal plane (the rim the grains pass).
+    double ra = 1e300;
+    for (uint32_t i : m_.particles)
+        if (pos[i].z < z_seal_ && pos[i].z >= z_seal_ - 2.0 * (r + rf))
+            ra = std::min(ra, std::hypot(pos[i].x - axis_x_, pos[i].y - axis_y_));
+    if (ra == 1e300)  // no membrane below the opening: it would be the whole membrane
+        throw cfg::ConfigError(key + ": leaves no membrane within " + mm(2.0 * (r + rf)) +
+                               " m below the opening's edge (the rim the grains pass); a smaller opening_height is needed");
+    // A grain passes the rim when the aperture, clear of the membrane particles, is wider than a
+    // grain's diameter and a tenth of its radius.
+    if (!(ra - rf >= 2.1 * r))
+        throw cfg::ConfigError(key + ": the opening's radius clear of the membrane particles is " +
+                               mm(std::max(0.0, ra - rf)) + " m, less than a grain's diameter plus a tenth of its radius (" +
+                               mm(2.1 * r) + " m): no room for a grain to pass; a larger opening_height (less than the "
+                               "membrane's height, " + mm(z_top - z_bottom) + " m) or smaller grains are needed");
+    column_radius_ = ra - clear;
+    // Until the seal the grains pass through the opening; the rest of the membrane touches it.
+    for (uint32_t i : m_.particles) w_.particles.mask[i] = kFoilMask | kMaskOpening;
+    for (uint32_t i : opening_) w_.particles.mask[i] = kMaskOpening;
+}
+
+std::vector<Vec3> DeviceRun::pour_sites(const std::vector<dem::SurfaceMesh>& tool_surfaces, double a,
+                                        const std::vector<Vec3>& basis, double jit) const {
+    const double r = d_.grain_radius, rf = d_.membrane.foil.particle_radius;
+    const double clear = r + rf + 0.1 * r;
+    // Sites above the seal plane by the clearance and the jitter: no membrane particle but the
+    // opening's (which the grains pass through) lies there, so no grain starts in contact. The
+    // column's radius keeps the jittered grains the clearance inside the rim.
+    const double z0 = z_seal_ + clear + jit * std::numbers::sqrt2;
+    const double rc = std::max(0.0, column_radius_ - jit * std::numbers::sqrt2);
+    const int n = int(rc / a) + 1;
+    const std::size_t want = std::size_t(d_.pour_count);
+    std::vector<Vec3> sites;
+    int empty_rows = 0;
+    for (int k = 0; sites.size() < want; ++k) {
+        const std::size_t before = sites.size();
+        for (int j = -n; j <= n; ++j)
+            for (int i = -n; i <= n; ++i)
+                for (const Vec3& b : basis) {
+                    const Vec3 p{axis_x_ + a * (i + b.x), axis_y_ + a * (j + b.y), z0 + a * (k + b.z)};
+                    if (std::hypot(p.x - axis_x_, p.y - axis_y_) > rc) continue;
+                    bool free = true;
+                    for (const dem::SurfaceMesh& ts : tool_surfaces)
+                        if (inside(ts, p) || distance_to_surface(ts, p) < r + 0.1 * r) free = false;
+                    if (free) sites.push_back(p);
+                }
+        empty_rows = sites.size() == before ? empty_rows + 1 : 0;
+        if (empty_rows > 100)
+            throw cfg::ConfigError("config key 'grains.pour_count' = " + std::to_string(d_.pour_count) +
+                                   ": the column above the opening has room for " + std::to_string(sites.size()) +
+                                   " grains only (a tool fills it)");
+    }
+    // Lowest first, lattice order within a layer.
+    std::stable_sort(sites.begin(), sites.end(), [](const Vec3& p, const Vec3& q) { return p.z < q.z; });
+    sites.resize(want);
+    return sites;
+}
+
+void DeviceRun::retire_grain(uint32_t i) {
+    w_.set_fixed(i);
+    w_.particles.mask[i] = 0;
+}
+
+std::size_t DeviceRun::active_grains() const {
+    std::size_t n = 0;
+    for (uint32_t i = g0_; i < g1_; ++i) n += active_grain(i);
+    return n;
+}
+
+double DeviceRun::active_grain_volume() const {
+    double v = 0.0;
+    for (uint32_t i = g0_; i < g1_; ++i)
+        if (active_grain(i)) v += 4.0 / 3.0 * std::numbers::pi * std::pow(w_.particles.radius[i], 3);
+    return v;
+}
+
+double DeviceRun::largest_membrane_overlap() const {
+    const dem::Particles& p = w_.particles;
+    double worst = 0.0;
+    for (uint32_t i = g0_; i < g1_; ++i) {
+        if (!active_grain(i)) continue;
+        for (uint32_t k : m_.particles)
+            worst = std::max(worst, p.radius[i] + p.radius[k] - norm(p.pos[i] - p.pos[k]));
+    }
+    return worst;
+}
+
+std::size_t DeviceRun::strike_off() {
+    const dem::Particles& p = w_.particles;
+    std::vector<uint32_t> out;
+    for (uint32_t i = g0_; i < g1_; ++i) {
+        if (!active_grain(i)) continue;
+        // Outside the membrane that the seal closes (above the opening, or spilled beside the bag).
+        bool off = !inside_membrane(m_, p.pos, p.pos[i]);
+        // Overlapping an opening particle: its contact would start deep, with a kick.
+        for (std::size_t k = 0; k < opening_.size() && !off; ++k)
+            off = norm(p.pos[i] - p.pos[opening_[k]]) < p.radius[i] + p.radius[opening_[k]];
+        if (off) out.push_back(i);
+    }
+    for (uint32_t i : out) retire_grain(i);
+    for (uint32_t i : m_.particles) w_.particles.mask[i] = kFoilMask;
+    // The pairs of the opening and the grains become candidates, the retired grains' contacts go:
+    // the next step's broad phase rebuilds the lists from the masks (ContactSet::reattach).
+    w_.invalidate_candidates();
+    return out.size();
 }
 
 void DeviceRun::warn(const std::string& what) {
@@ -436,7 +618,7 @@ void DeviceRun::stage_fill() {
     const double check = 2e-3;  // [s] between the rest checks, at fixed times from the stage start
     // The grains' weight lifted by a diameter (with g = 9.81 m/s^2 where the device has no gravity).
     const double g = norm(d_.gravity) > 0.0 ? norm(d_.gravity) : 9.81;
-    const double scale = double(g1_ - g0_) * w_.particles.mass[g0_] * g * 2.0 * d_.grain_radius;
+    const double scale = double(active_grains()) * w_.particles.mass[g0_] * g * 2.0 * d_.grain_radius;
     scene::Progress prog("fill", uint64_t(d_.fill_time / w_.params.dt), o_.quiet);
     uint64_t n = 0;
     if (st_.next_check == 0) st_.next_check = st_.stage_t0 + check;
@@ -446,6 +628,20 @@ void DeviceRun::stage_fill() {
         prog.update(++n, w_.time);
         if (w_.time < st_.next_check) continue;
         st_.next_check += check;
+        if (pour_) {
+            // Grains that missed the bag (or spilled over its rim) and fell below it would fall for
+            // ever and keep the pour from coming to rest: retired here, counted.
+            double z_min = 1e300;
+            for (uint32_t i : m_.particles) z_min = std::min(z_min, w_.particles.pos[i].z);
+            bool any = false;
+            for (uint32_t i = g0_; i < g1_; ++i)
+                if (active_grain(i) && w_.particles.pos[i].z < z_min - 2.0 * d_.grain_radius) {
+                    retire_grain(i);
+                    st_.report["grains_spilled"] += 1.0;
+                    any = true;
+                }
+            if (any) w_.invalidate_candidates();
+        }
         const double t = w_.time - st_.stage_t0;
         const double ke = grains_kinetic_energy();
         if (t >= d_.fill_min_time && ke < 1e-4 * scale) {
@@ -464,11 +660,21 @@ void DeviceRun::stage_fill() {
     }
     st_.report["fill_time"] = w_.time - st_.stage_t0;
     char msg[160];
-    std::snprintf(msg, sizeof msg, "fill: %u grains settled in %.4g s", unsigned(g1_ - g0_), w_.time - st_.stage_t0);
+    std::snprintf(msg, sizeof msg, "fill: %u grains settled in %.4g s", unsigned(active_grains()), w_.time - st_.stage_t0);
     log(msg);
 }
 
 void DeviceRun::stage_seal() {
+    if (pour_) {
+        const std::size_t n = strike_off();
+        st_.report["grains_removed_at_seal"] = double(n);
+        grain_volume_ = active_grain_volume();
+        char msg[200];
+        std::snprintf(msg, sizeof msg, "seal: the opening closed; %zu grains struck off (outside the membrane or overlapping "
+                      "the opening), %zu in the bag", n, active_grains());
+        log(msg);
+    }
+    st_.report["seal_max_overlap"] = largest_membrane_overlap();
     if (w_.materials[grain_mat_].friction != d_.grain_friction) {  // the fill's friction ends with the fill
         w_.materials[grain_mat_].friction = d_.grain_friction;
         w_.invalidate_contact_physics();
@@ -576,7 +782,12 @@ bool DeviceRun::pause_point() {
 void DeviceRun::vtk_frame(const std::string& name) const {
     if (out_.empty()) return;
     fs::create_directories(out_ / "vtk");
-    dem::write_particles_vtk((out_ / "vtk" / (name + ".vtk")).string(), w_, true);
+    // The retired grains (a pour's struck off) are left out; without any, every particle.
+    std::vector<uint32_t> shown;
+    if (pour_)
+        for (uint32_t i = 0; i < uint32_t(w_.particles.size()); ++i)
+            if (i < g0_ || i >= g1_ || active_grain(i)) shown.push_back(i);
+    dem::write_particles_vtk((out_ / "vtk" / (name + ".vtk")).string(), w_, true, pour_ ? &shown : nullptr);
     if (!w_.facets.empty()) dem::write_walls_vtk((out_ / "vtk" / (name + "_tools.vtk")).string(), w_, 0.0);
 }
 
@@ -626,7 +837,12 @@ void DeviceRun::run() {
 DeviceResult DeviceRun::result() const {
     DeviceResult r;
     r.stage = device_stage_name(DeviceStage(st_.stage));
-    r.grains = g1_ - g0_;
+    r.grains = active_grains();
+    r.grains_placed = g1_ - g0_;
+    r.grains_spilled = std::size_t(st_.report.count("grains_spilled") ? st_.report.at("grains_spilled") : 0.0);
+    r.grains_removed_at_seal =
+        std::size_t(st_.report.count("grains_removed_at_seal") ? st_.report.at("grains_removed_at_seal") : 0.0);
+    r.seal_max_overlap = st_.report.count("seal_max_overlap") ? st_.report.at("seal_max_overlap") : 0.0;
     r.membrane_particles = m_.particles.size();
     r.bonds = m_.bonds.size();
     r.dt = w_.params.dt;
@@ -707,6 +923,7 @@ DeviceResult DeviceRun::result() const {
     if (r.volume_seal > 0 && r.volume_vacuum > 0) r.volume_change = (r.volume_vacuum - r.volume_seal) / r.volume_seal;
     if (r.volume_press > 0 && r.volume_vacuum > 0) r.volume_change_vacuum = (r.volume_vacuum - r.volume_press) / r.volume_press;
     r.fill_settled = rep("fill_settled") != 0.0;
+    r.packing_seal = r.volume_seal > 0 ? grain_volume_ / r.volume_seal : 0.0;
     for (std::size_t s = 0; s + kEnergyColumns <= st_.energy.size(); s += kEnergyColumns)
         for (int c = 1; c < kEnergyColumns - 1; ++c) r.energy_scale = std::max(r.energy_scale, std::abs(st_.energy[s + c]));
     if (!st_.energy.empty()) r.energy_residual = st_.energy.back();
@@ -767,6 +984,11 @@ void DeviceRun::write_records() const {
         .num("membrane_z_min", st_.report.count("membrane_z_min") ? st_.report.at("membrane_z_min") : 0.0)
         .num("fill_time", st_.report.count("fill_time") ? st_.report.at("fill_time") : 0.0)
         .num("grains", double(r.grains))
+        .str("fill_mode", d_.fill_mode)
+        .num("grains_placed", double(g1_ - g0_))
+        .num("grains_spilled", st_.report.count("grains_spilled") ? st_.report.at("grains_spilled") : 0.0)
+        .num("grains_removed_at_seal", st_.report.count("grains_removed_at_seal") ? st_.report.at("grains_removed_at_seal") : 0.0)
+        .num("seal_max_overlap", st_.report.count("seal_max_overlap") ? st_.report.at("seal_max_overlap") : 0.0)
         .num("grain_volume", grain_volume_)
         .num("membrane_particles", double(r.membrane_particles))
         .num("bonds", double(r.bonds))

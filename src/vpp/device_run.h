@@ -39,7 +39,13 @@ struct DeviceOptions {
 
 struct DeviceResult {
     std::string stage;              // the stage the run stopped before ("done" at the end)
-    std::size_t grains = 0, membrane_particles = 0, bonds = 0, samples = 0;
+    std::size_t grains = 0, membrane_particles = 0, bonds = 0, samples = 0;  // grains: in the bag (after the seal)
+    // The pour (grains.fill_mode = "pour"): grains placed in the column, retired in the pour
+    // because they fell below the bag, and struck off at the seal (outside the membrane or
+    // overlapping the opening; the spilled ones not counted again). The lattice: placed = grains.
+    std::size_t grains_placed = 0, grains_spilled = 0, grains_removed_at_seal = 0;
+    double seal_max_overlap = 0;    // [m] the largest overlap of a grain with a membrane particle at the seal
+    double packing_seal = 0;        // [-] the grains' volume over the enclosed volume at the seal
     double dt = 0;                  // [s]
     double holding_force = 0;       // [N] largest pull (+z force of the particles) on result.object in the load stage
     double holding_time = 0;        // [s] when it was recorded

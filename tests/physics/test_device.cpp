@@ -7,7 +7,10 @@
 //   with nothing written;
 //   a small gripper runs every stage, its records are finite, and it holds the object with the
 //   vacuum and less without it;
-//   a run stopped after a stage and resumed writes the records of an uninterrupted run, bit for bit.
+//   a run stopped after a stage and resumed writes the records of an uninterrupted run, bit for bit;
+//   a poured fill (grains.fill_mode = "pour") keeps every grain inside the sealed membrane without
+//   deep overlaps, holds more grains at a higher packing than the lattice, resumes bit for bit
+//   across the pour and the seal, and its bad values are refused.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -21,12 +24,14 @@
 #include <string>
 #include <vector>
 
+#include "dem/io/checkpoint.h"
 #include "dem/mesh/mesh_read.h"
 #include "dem/mesh/mesh_shapes.h"
 #include "dem/world/tool.h"
 #include "dem/world/world.h"
 #include "vpp/device_def.h"
 #include "vpp/device_run.h"
+#include "vpp/membrane.h"
 
 #ifndef VPPDEM_BINARY
 #error "VPPDEM_BINARY must name the built vppdem executable"
@@ -605,5 +610,186 @@ TEST(Device, BeamExampleIsAValidDeviceFileAndACycleToolNeedsACycle) {
         ADD_FAILURE() << "grains.lattice = hcp was accepted";
     } catch (const std::exception& e) {
         EXPECT_NE(std::string(e.what()).find("grains.lattice"), std::string::npos) << e.what();
+    }
+}
+
+namespace {
+
+// The tiny gripper filled by a pour (grains.fill_mode = "pour", docs/devices.md "The pour"): 400
+// grains from a column above an opening of the bag's top 3 mm (the clamped neck and a ring
+// below it), poured frictionless through it; the excess struck off at the seal.
+const std::vector<std::string> kPour = {"grains.fill_mode=pour", "grains.opening_height=0.003", "grains.pour_count=400",
+                                        "stages.fill_time=0.2", "stages.fill_min_time=0.05"};
+
+std::vector<std::string> with_pour(std::vector<std::string> extra) {
+    std::vector<std::string> s = kPour;
+    s.insert(s.end(), extra.begin(), extra.end());
+    return s;
+}
+
+const vpp::DeviceResult& tiny_pour() {
+    static vpp::DeviceResult r;
+    static bool ran = false;
+    if (!ran) {
+        const vpp::DeviceDef d = vpp::load_device(tiny_gripper_file().string(), kPour);
+        vpp::DeviceOptions o;
+        o.out_dir = temp_dir("pour").string();
+        o.quiet = true;
+        r = vpp::run_device(d, o);
+        ran = true;
+    }
+    return r;
+}
+
+// A device's World from a checkpoint, with its membrane's triangulation (the device builds the
+// membrane first, so its particles are the World's first; the grains follow).
+struct SavedDevice {
+    dem::World w;
+    vpp::Membrane m;
+    double grain_radius = 0;
+};
+
+SavedDevice load_saved(const vpp::DeviceDef& d, const fs::path& ckpt) {
+    SavedDevice s;
+    dem::World scratch;
+    vpp::MembraneDef md = d.membrane;
+    md.seed = d.seed == 0 ? 1 : d.seed;
+    s.m = vpp::build_membrane(scratch, md, vpp::device_surface(d.membrane_shape, "membrane", ""));
+    dem::load_checkpoint(ckpt.string(), s.w);
+    s.grain_radius = d.grain_radius;
+    return s;
+}
+
+// Winding number of the closed triangulation (particle indices into pos) about p: 1 inside, 0 outside.
+double winding(const vpp::Membrane& m, const std::vector<Vec3>& pos, const Vec3& p) {
+    double omega = 0.0;
+    for (const auto& t : m.triangles) {
+        const Vec3 a = pos[t[0]] - p, b = pos[t[1]] - p, c = pos[t[2]] - p;
+        const double la = norm(a), lb = norm(b), lc = norm(c);
+        omega += 2.0 * std::atan2(dot(a, cross(b, c)),
+                                  la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la);
+    }
+    return omega / (4.0 * std::acos(-1.0));
+}
+
+// Of the saved device's grains in the run (mask != 0): how many lie outside the membrane, and the
+// largest overlap of one with a membrane particle [m].
+struct GrainsVsMembrane {
+    std::size_t grains = 0, outside = 0;
+    double overlap = 0;
+};
+
+GrainsVsMembrane grains_vs_membrane(const SavedDevice& s) {
+    GrainsVsMembrane g;
+    const dem::Particles& p = s.w.particles;
+    for (std::size_t i = s.m.particles.size(); i < p.size(); ++i) {
+        if (p.mask[i] == 0) continue;  // struck off
+        ++g.grains;
+        if (winding(s.m, p.pos, p.pos[i]) < 0.5) ++g.outside;
+        for (uint32_t k : s.m.particles) g.overlap = std::max(g.overlap, p.radius[i] + p.radius[k] - norm(p.pos[i] - p.pos[k]));
+    }
+    return g;
+}
+
+}  // namespace
+
+TEST(Device, PouredGripperKeepsEveryGrainInsideItsMembraneAndPacksDenserThanTheLattice) {
+    // The pour and the lattice fill of the same bag: every grain left after the seal lies inside
+    // the membrane (winding number of its particles' triangulation), at the seal and at the end of
+    // the run; none overlaps a membrane particle by more than 5% of its radius at the seal (the
+    // opening's restored contacts start without a kick); the pour fills the bag up to its opening,
+    // so it holds more grains than the lattice's every site, at a higher packing.
+    const vpp::DeviceResult& pour = tiny_pour();
+    const vpp::DeviceResult& lattice = tiny_run(true);
+    ASSERT_EQ(pour.stage, "done");
+    EXPECT_EQ(pour.grains_placed, 400u);
+    EXPECT_EQ(pour.grains + pour.grains_removed_at_seal + pour.grains_spilled, 400u);
+    EXPECT_GT(pour.grains_removed_at_seal, 0u);  // the column overfills the bag: the strike-off is exercised
+    std::printf("pour: %zu grains in the bag (%zu struck off at the seal, %zu spilled), packing %.4f at the seal, "
+                "largest overlap with the membrane %.3g m; lattice: %zu grains, packing %.4f\n",
+                pour.grains, pour.grains_removed_at_seal, pour.grains_spilled, pour.packing_seal, pour.seal_max_overlap,
+                lattice.grains, lattice.packing_seal);
+    EXPECT_GT(pour.grains, lattice.grains);
+    EXPECT_GT(pour.packing_seal, lattice.packing_seal);
+    EXPECT_LT(pour.seal_max_overlap, 0.05 * 7e-4);
+    // The ledger from the seal on closes as the lattice's does (the strike-off comes before it starts).
+    ASSERT_GT(pour.energy_scale, 0.0);
+    EXPECT_LT(std::abs(pour.energy_residual), 0.02 * pour.energy_scale);
+    // At the end of the run, from its last checkpoint: every grain in the run inside the membrane.
+    const vpp::DeviceDef d = vpp::load_device(tiny_gripper_file().string(), kPour);
+    const GrainsVsMembrane end = grains_vs_membrane(load_saved(d, run_dir("pour") / "run.ckpt"));
+    EXPECT_EQ(end.grains, pour.grains);
+    EXPECT_EQ(end.outside, 0u);
+}
+
+TEST(Device, ResumedPourWritesTheRecordsOfAnUninterruptedOne) {
+    // Stopped within the pour (on two threads), resumed to the seal (its checkpoint: every grain
+    // inside, no overlap beyond 5% of r), resumed into the press and stopped 3 ms in: the records
+    // are the uninterrupted run's up to there, bit for bit (their first rows: the same text).
+    const vpp::DeviceResult& full = tiny_pour();
+    ASSERT_EQ(full.stage, "done");
+    const fs::path whole = run_dir("pour"), split = temp_dir("pour_split");
+    const vpp::DeviceDef d2 = vpp::load_device(tiny_gripper_file().string(), with_pour({"simulation.threads=2"}));
+    const vpp::DeviceDef d = vpp::load_device(tiny_gripper_file().string(), kPour);
+    vpp::DeviceOptions o;
+    o.out_dir = split.string();
+    o.quiet = true;
+    o.stop_at_time = 0.04;  // grains still falling through the opening
+    EXPECT_EQ(vpp::run_device(d2, o).stage, "fill");
+    o.stop_at_time = -1;
+    o.stop_after = vpp::DeviceStage::Seal;
+    EXPECT_EQ(vpp::run_device(d, o).stage, "press");
+    const GrainsVsMembrane seal = grains_vs_membrane(load_saved(d, split / "run.ckpt"));
+    EXPECT_EQ(seal.grains, full.grains);
+    EXPECT_EQ(seal.outside, 0u);
+    EXPECT_LT(seal.overlap, 0.05 * 7e-4);
+    std::printf("at the seal: %zu grains, %zu outside, largest overlap with the membrane %.3g m (%.3g r)\n", seal.grains,
+                seal.outside, seal.overlap, seal.overlap / 7e-4);
+    double t_press = -1;
+    for (const auto& row : read_csv(whole / "tools.csv"))
+        if (t_press < 0 && int(row[1]) == int(vpp::DeviceStage::Press)) t_press = row[0];
+    ASSERT_GT(t_press, 0);
+    o.stop_after = vpp::DeviceStage::Done;
+    o.stop_at_time = t_press + 3e-3;
+    EXPECT_EQ(vpp::run_device(d, o).stage, "press");
+    for (const char* f : {"tools.csv", "air.csv", "energy.csv"}) {
+        const std::string a = read_file(whole / f), b = read_file(split / f);
+        ASSERT_GT(b.size(), 100u) << f;
+        EXPECT_TRUE(a.compare(0, b.size(), b) == 0) << f << " differs after a resume";
+        EXPECT_GT(a.size(), b.size()) << f;
+    }
+}
+
+TEST(Device, BadPourValuesAreRefusedNamingTheKeyAndNothingIsWritten) {
+    const fs::path dir = temp_dir("bad_pour");
+    fs::create_directories(dir);
+    const fs::path good = tiny_gripper_file();
+    const std::string pour = "--set grains.fill_mode=pour ";
+    struct Case {
+        std::string set;
+        std::string expected;
+    };
+    const std::vector<Case> cases = {
+        {"--set grains.fill_mode=heap", "config key 'grains.fill_mode' = 'heap': must be \"lattice\""},
+        {pour + "--set grains.pour_count=100", "config key 'grains.opening_height': is required"},
+        {pour + "--set grains.opening_height=0.003", "config key 'grains.pour_count': is required"},
+        {pour + "--set grains.opening_height=0.003 --set grains.pour_count=0",
+         "config key 'grains.pour_count' = 0: must be an integer in [1, 10000000]"},
+        {pour + "--set grains.opening_height=-0.001 --set grains.pour_count=10", "config key 'grains.opening_height' = -0.001: must be > 0"},
+        // The bag is 14 mm high: an opening of 20 mm would lie above its top.
+        {pour + "--set grains.opening_height=0.02 --set grains.pour_count=10",
+         "config key 'grains.opening_height' = 0.02: must be less than the membrane's height"},
+        // 0.1 mm of the top: its top particle alone, no room for a grain of 0.7 mm (0.3 mm would open a
+        // hole of 2 mm radius, room enough).
+        {pour + "--set grains.opening_height=0.0001 --set grains.pour_count=10",
+         "config key 'grains.opening_height' = 1e-04: the opening's radius clear of the membrane particles is"},
+        {"--set grains.opening_height=0.003", "config key 'grains.opening_height' = 0.003: applies to grains.fill_mode = \"pour\" only"},
+    };
+    for (const Case& c : cases) {
+        const fs::path out = dir / "out";
+        const Result r = run_vppdem("device " + quote(good.string()) + " --out " + quote(out.string()) + " --quiet " + c.set);
+        EXPECT_EQ(r.rc, 2) << c.set << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.expected), std::string::npos) << c.set << "\n" << r.output;
+        EXPECT_FALSE(fs::exists(out)) << c.set << ": something was written";
     }
 }

@@ -21,6 +21,10 @@ def test_a_device_runs_from_python_and_its_result_is_its_summary(tmp_path):
     assert r["volume_change"] < 0.0
     for k in ("holding_force", "press_force", "volume_seal", "volume_vacuum", "dt"):
         assert math.isfinite(r[k]), k
+    # The lattice fill (the default): every grain placed stays, none struck off at the seal.
+    assert r["fill_mode"] == "lattice"
+    assert r["grains_placed"] == r["grains"] and r["grains_removed_at_seal"] == 0
+    assert 0.0 < r["packing_seal"] < 1.0
     # The returned numbers are summary.json's, to the digit written there.
     with open(out / "summary.json") as f:
         summary = json.load(f)
