@@ -10,7 +10,7 @@
 //     clock -> energy ledger (params.track_energy).
 // The phases' state and code live with their concept: the contact lifecycle in
 // dem/world/contact_set, the broad phase in dem/detect/broad_phase, the work sharing in
-// dem/kernels/work_share, the force and integration kernels in dem/core/kernels (walls:
+// dem/kernels/work_share, the force and integration kernels in dem/kernels/kernels (walls:
 // wall_kernel.cpp), the clumps' state and rotation in dem/clumps, the pressure in dem/core/pressure, the walls' motion and reactions in
 // dem/world/wall_state, the time step estimate in dem/integrate/critical_dt, the ledger in
 // dem/world/energy_book. World owns them and keeps the rules that tie them together
