@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <atomic>
 #include <thread>
 #include <vector>
 
@@ -186,16 +187,22 @@ TEST_F(BatchDamper, TheStepperOnTheEmulatedDeviceGivesEachRunsBits) {
     for (int k = 0; k < 1500; ++k) ra.step();
     for (int k = 0; k < 700; ++k) rb.step();
     dem::batch::BatchStepper stepper(1, dem::batch::BatchStepper::Backend::kEmulated);
-    const auto run = [&](World& w, int skip, int steps) {
+    // a waits at its step 200 until b is about to join, so that the two overlap however the
+    // threads are scheduled (on a loaded machine b's thread could start after a had finished).
+    std::atomic<bool> b_joins{false};
+    const auto run = [&](World& w, int skip, int steps, bool first) {
         for (int k = 0; k < skip; ++k) w.step();  // before joining: on its own
+        if (!first) b_joins = true;
         for (int k = 0; k < steps; ++k) {
+            if (first && k == 200)
+                while (!b_joins) std::this_thread::yield();
             stepper.compute_forces(w);
             stepper.integrate(w);
         }
         stepper.leave(w);
     };
-    std::thread ta([&] { run(a, 0, 1500); });
-    std::thread tb([&] { run(b, 100, 600); });
+    std::thread ta([&] { run(a, 0, 1500, true); });
+    std::thread tb([&] { run(b, 100, 600, false); });
     ta.join();
     tb.join();
     expect_same(ra, a, "run a (stepper, emulated device)");

@@ -13,6 +13,8 @@
 //   across the pour and the seal, and its bad values are refused.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <sys/wait.h>
 
 #include <algorithm>
@@ -42,14 +44,17 @@ namespace {
 namespace fs = std::filesystem;
 using dem::Vec3;
 
+// The folder of a tiny_run (not cleared): one per test process, since ctest -j runs the tests of
+// this file in processes side by side, each with its own tiny runs.
+fs::path run_dir(const std::string& name) {
+    return fs::path(::testing::TempDir()) / ("device_" + std::to_string(::getpid()) + "_" + name);
+}
+
 fs::path temp_dir(const std::string& name) {
-    const fs::path p = fs::path(::testing::TempDir()) / ("device_" + name);
+    const fs::path p = run_dir(name);
     fs::remove_all(p);
     return p;
 }
-
-// The folder of a tiny_run (not cleared).
-fs::path run_dir(const std::string& name) { return fs::path(::testing::TempDir()) / ("device_" + name); }
 
 void write_file(const fs::path& p, const std::string& text) {
     fs::create_directories(p.parent_path());
@@ -94,7 +99,7 @@ Result run_vppdem(const std::string& args) {
 const std::string kTinyGripper = read_file(fs::path(VPPDEM_SOURCE_DIR) / "tests/data/devices/tiny_gripper.toml");
 
 fs::path tiny_gripper_file() {
-    const fs::path p = fs::path(::testing::TempDir()) / "device_tiny" / "gripper.toml";
+    const fs::path p = run_dir("tiny") / "gripper.toml";
     write_file(p, kTinyGripper);
     return p;
 }
@@ -547,7 +552,7 @@ const vpp::DeviceResult& tiny_beam(bool vacuum) {
     vpp::DeviceResult& r = vacuum ? with : without;
     bool& ran = vacuum ? ran_with : ran_without;
     if (!ran) {
-        const fs::path p = fs::path(::testing::TempDir()) / "device_tiny_beam" / "beam.toml";
+        const fs::path p = run_dir("tiny_beam") / "beam.toml";
         write_file(p, kTinyBeam);
         const vpp::DeviceDef d = vpp::load_device(
             p.string(), vacuum ? std::vector<std::string>{} : std::vector<std::string>{"stages.underpressure=0"});
@@ -597,7 +602,7 @@ TEST(Device, BeamExampleIsAValidDeviceFileAndACycleToolNeedsACycle) {
     ASSERT_EQ(d.tools.size(), 3u);
     EXPECT_EQ(d.cycle_tool, "loader");
     EXPECT_EQ(d.lattice, "fcc");
-    const fs::path p = fs::path(::testing::TempDir()) / "device_tiny_beam" / "bad.toml";
+    const fs::path p = run_dir("tiny_beam") / "bad.toml";
     write_file(p, kTinyBeam);
     try {
         vpp::load_device(p.string(), {"result.cycle_tool=support_left"});
