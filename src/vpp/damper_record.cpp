@@ -612,8 +612,12 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
     const bool quasi_static = I < kQuasiStaticInertialNumber;
     if (!opt.quiet) {
         std::fprintf(stderr, "\n=== vppdem damper: %s ===\n", opt.out_dir.c_str());
-        std::fprintf(stderr, "grains %zu, foil %zu particles (%d x %d, radius %.4g mm), height %.4g mm, dt %.3g s\n",
-                     r.grains, r.foil_particles, r.foil_columns, r.foil_rows, 1e3 * r.foil_radius, 1e3 * r.height, r.dt);
+        if (c.damper.foil_builder == 1)
+            std::fprintf(stderr, "grains %zu, mesh foil %zu particles (%zu vacancies, radius %.4g mm), height %.4g mm, dt %.3g s\n",
+                         r.grains, r.foil_particles, r.foil_vacancies, 1e3 * r.foil_radius, 1e3 * r.height, r.dt);
+        else
+            std::fprintf(stderr, "grains %zu, foil %zu particles (%d x %d, radius %.4g mm), height %.4g mm, dt %.3g s\n",
+                         r.grains, r.foil_particles, r.foil_columns, r.foil_rows, 1e3 * r.foil_radius, 1e3 * r.height, r.dt);
         std::fprintf(stderr, "dp %.4g MPa, amplitude %.3g mm, velocity %.4g m/s, inertial number %.2g",
                      c.process.underpressure * 1e-6, c.process.amplitude * 1e3, c.process.velocity, I);
         if (quasi_static) std::fprintf(stderr, " (quasi-static)\n");
