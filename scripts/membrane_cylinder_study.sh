@@ -6,7 +6,8 @@
 # of every finished run (case.toml, cycles.csv, summary.json; never vtk/ or checkpoints) are kept
 # in docs/data/membrane_cylinder/<case>/ with the study's summary.csv and COMMAND, and the report
 # goes to docs/data/membrane_cylinder/report.md (quoted in docs/membrane.md, "A cylinder given as
-# a mesh"). About 35 CPU minutes; a stopped study resumes (finished cases are kept, killed runs
+# a mesh"). About 47 minutes on the shared 2-core machine (10 runs of 6-10 minutes, two at a
+# time; about 3.5 CPU minutes each); a stopped study resumes (finished cases are kept, killed runs
 # continue from their run.ckpt).
 # usage: scripts/membrane_cylinder_study.sh [--publish-only]
 # Knobs: VPPDEM (default build/vppdem), OUT (out/membrane_cylinder), JOBS (2), DATA

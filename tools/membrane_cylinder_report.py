@@ -11,7 +11,7 @@ t and the Welch-Satterthwaite degrees of freedom (tools/paper_rules.py welch(), 
 Student t), its 95% interval, and |difference| against the seeds' standard deviation (each foil's
 and the pooled one). The quantity fixed before the runs: W averaged over cycles 3-5 of each run
 (cycles 1-2 compact the packing; on this damper W is stationary from cycle 2, the 4-cycle trial run
-of the mesh foil said); cycle 5 alone and summary.json's W_settled beside it. "Within the seed
+of the mesh foil said); cycle 5 alone each cycle alone and summary.json's W_settled beside it. "Within the seed
 scatter": the 95% interval of the difference contains 0. Prints Markdown.
 """
 import glob
@@ -52,8 +52,8 @@ def per_run(run, what):
     if what == "primary":
         cyc = range(PRIMARY[0], PRIMARY[1] + 1)
         return sum(w[c] for c in cyc) / len(cyc) if all(c in w for c in cyc) else None
-    if what == "last":
-        return w.get(PRIMARY[1])
+    if isinstance(what, int):
+        return w.get(what)
     if what == "settled":
         v = run["summary"].get("W_settled")
         return v if isinstance(v, (int, float)) and math.isfinite(v) and v > 0 else None
@@ -107,8 +107,9 @@ def main(argv):
                "difference / mean lattice | dof | abs(difference) / SD lattice, mesh, pooled | within the seed scatter |")
     out.append("|---|---|---|---|---|---|---|---|")
     verdict = None
-    for what, label in (("primary", f"W, cycles {PRIMARY[0]}-{PRIMARY[1]}"), ("last", f"W, cycle {PRIMARY[1]}"),
-                        ("settled", "W_settled")):
+    rows = [("primary", f"W, cycles {PRIMARY[0]}-{PRIMARY[1]}")] + [(c, f"W, cycle {c}") for c in cycles] + \
+        [("settled", "W_settled (runs stationary by summary.json)")]
+    for what, label in rows:
         a = [per_run(r, what) for r in runs["lattice"].values()]
         b = [per_run(r, what) for r in runs["mesh"].values()]
         a = [x for x in a if x is not None]
@@ -117,7 +118,7 @@ def main(argv):
         nb, mb, sb, _ = interval(b)
         d = welch(a, b)
         if not d.ok:
-            out.append(f"| {label} | {ma:.1f} +- {sa:.1f} ({na}) | {mb:.1f} +- {sb:.1f} ({nb}) | pending | | | | |")
+            out.append(f"| {label} | {ma:.1f} ({na}) | {mb:.1f} ({nb}) | too few runs | | | | |")
             continue
         pooled = math.sqrt(((na - 1) * sa * sa + (nb - 1) * sb * sb) / (na + nb - 2))
         within = d.d - d.h <= 0.0 <= d.d + d.h
