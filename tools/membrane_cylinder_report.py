@@ -20,8 +20,15 @@ import math
 import os
 import sys
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from paper_rules import interval, welch  # noqa: E402  (one Student t for the tools)
+# The tools' one Student t: tools/paper_rules.py here; where the reports moved into the package
+# (src/python/vppdem/report/stats.py), from there.
+_here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, _here)
+try:
+    from paper_rules import interval, welch  # noqa: E402
+except ImportError:
+    sys.path.insert(0, os.path.join(os.path.dirname(_here), "src", "python"))
+    from vppdem.report.stats import interval, welch  # noqa: E402
 
 PRIMARY = (3, 5)  # cycles averaged per run (inclusive)
 
