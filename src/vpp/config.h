@@ -54,6 +54,10 @@ struct DamperDef {
     // foil's interior up to H_p (pi r_in^2 H_p), instead of until their level reaches H_p, so that
     // dampers of other radii are prepared at the same packing (docs/damper.md, "Preparation").
     double packing_target{};      // [-] 0, or in (0, 0.74)
+    // The foil's builder (key foil.builder): 0 "lattice", the paper's square grid (vpp/foil.h);
+    // 1 "mesh", the membrane on the cylinder's lateral surface (vpp/membrane.h,
+    // membrane_tube_sites; docs/membrane.md, "A cylinder given as a mesh").
+    int foil_builder{};
 };
 
 // dp is the atmosphere's pressure minus the pressure inside the foil: at most a perfect vacuum.

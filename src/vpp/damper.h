@@ -75,8 +75,11 @@ struct ForcesTable {
 
 struct DamperResult {
     std::size_t grains = 0, foil_particles = 0, bonds = 0;
-    int foil_columns = 0, foil_rows = 0;
+    int foil_columns = 0, foil_rows = 0;  // the lattice's (0 for the mesh foil)
     double foil_radius = 0, height = 0, dt = 0;
+    // The mesh foil (foil.builder = "mesh"): its vacancies and its bonds' mean kn [N/m].
+    std::size_t foil_vacancies = 0;
+    double foil_bond_kn_mean = 0;
     double inertial_number = 0;
     std::vector<CycleResult> cycles;  // with the stationarity flag (settled) of each
     std::vector<AirCycle> air;        // per cycle, when the run recorded the air (else empty)

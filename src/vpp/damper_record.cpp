@@ -245,9 +245,9 @@ void DamperRun::checkpoint(bool force) {
         // given).
         RunState s = st_;
         s.settings = run_settings();
-        dem::save_checkpoint((out_ / "run.ckpt").string(), w_, s.save());
+        save_world((out_ / "run.ckpt").string(), s.save());
     } else {
-        dem::save_checkpoint((out_ / "run.ckpt").string(), w_, st_.save());
+        save_world((out_ / "run.ckpt").string(), st_.save());
     }
     if (st_.stage == Stage::Cycling || st_.stage == Stage::Done) {
         write_forces(out_);
@@ -260,7 +260,7 @@ void DamperRun::save_prepared() {
     // A sample carries no run settings, also when this run resumed a run.ckpt that did.
     RunState s = st_;
     s.settings.clear();
-    dem::save_checkpoint((out_ / "prepared.ckpt").string(), w_, s.save());
+    save_world((out_ / "prepared.ckpt").string(), s.save());
 }
 
 void DamperRun::vtk_frame(const char* tag) {
@@ -331,10 +331,10 @@ void DamperRun::save(const std::string& path) const {
     if (st_.stage == Stage::Prepared) {
         RunState s = st_;
         s.settings.clear();
-        dem::save_checkpoint(path, w_, s.save());
+        save_world(path, s.save());
         return;
     }
-    dem::save_checkpoint(path, w_, st_.save());
+    save_world(path, st_.save());
 }
 
 void DamperRun::write_records(const std::string& dir) const {
@@ -350,6 +350,12 @@ DamperResult DamperRun::result() const {
     r.foil_columns = L_.cols;
     r.foil_rows = L_.rows;
     r.foil_radius = L_.radius;
+    if (mesh_foil()) {
+        r.foil_vacancies = M_.vacancies;
+        double sum = 0;
+        for (uint32_t b : M_.bonds) sum += w_.bonds().phys[b].kn;
+        r.foil_bond_kn_mean = M_.bonds.empty() ? 0.0 : sum / double(M_.bonds.size());
+    }
     r.height = z_top_;
     r.dt = w_.params.dt;
     r.inertial_number = inertial_number(c_, z_top_);
@@ -527,7 +533,7 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
         .num("foil_radius", r.foil_radius)
         .num("height", r.height)
         .num("particle_modulus", particle_modulus(c.foil))
-        .num("bond_kn", bond_normal_stiffness(c.foil))
+        .num("bond_kn", c.damper.foil_builder == 1 ? r.foil_bond_kn_mean : bond_normal_stiffness(c.foil))
         .num("dt", r.dt)
         .num("cycle_steps", cycle_period(c.process) / r.dt)
         .num("inertial_number", I)
@@ -542,6 +548,9 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
         .num("inner_radius", r.foil_radius - c.foil.particle_radius)
         .raw("preparation", report_json("prepare."))
         .raw("start_of_cycling", report_json("cycle."));
+    // The mesh foil (docs/membrane.md): what it is made of; foil_columns and foil_rows are 0.
+    if (c.damper.foil_builder == 1)
+        j.str("foil_builder", "mesh").num("foil_vacancies", double(r.foil_vacancies));
     if (!r.air.empty()) {
         std::string air_cycles = "[";
         for (std::size_t k = 0; k < r.air.size(); ++k) {
@@ -605,8 +614,12 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
     const bool quasi_static = I < kQuasiStaticInertialNumber;
     if (!opt.quiet) {
         std::fprintf(stderr, "\n=== vppdem damper: %s ===\n", opt.out_dir.c_str());
-        std::fprintf(stderr, "grains %zu, foil %zu particles (%d x %d, radius %.4g mm), height %.4g mm, dt %.3g s\n",
-                     r.grains, r.foil_particles, r.foil_columns, r.foil_rows, 1e3 * r.foil_radius, 1e3 * r.height, r.dt);
+        if (c.damper.foil_builder == 1)
+            std::fprintf(stderr, "grains %zu, mesh foil %zu particles (%zu vacancies, radius %.4g mm), height %.4g mm, dt %.3g s\n",
+                         r.grains, r.foil_particles, r.foil_vacancies, 1e3 * r.foil_radius, 1e3 * r.height, r.dt);
+        else
+            std::fprintf(stderr, "grains %zu, foil %zu particles (%d x %d, radius %.4g mm), height %.4g mm, dt %.3g s\n",
+                         r.grains, r.foil_particles, r.foil_columns, r.foil_rows, 1e3 * r.foil_radius, 1e3 * r.height, r.dt);
         std::fprintf(stderr, "dp %.4g MPa, amplitude %.3g mm, velocity %.4g m/s, inertial number %.2g",
                      c.process.underpressure * 1e-6, c.process.amplitude * 1e3, c.process.velocity, I);
         if (quasi_static) std::fprintf(stderr, " (quasi-static)\n");

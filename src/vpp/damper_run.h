@@ -19,6 +19,7 @@
 #include "vpp/damper.h"
 #include "vpp/foil.h"
 #include "vpp/gas.h"
+#include "vpp/membrane.h"
 
 namespace vpp::damper_detail {
 
@@ -197,6 +198,18 @@ private:
     void write_energy(const fs::path& dir) const;
     void vtk_frame(const char* tag);
     double top_ring_force_z() const;
+    // The foil's builder (foil.builder): the lattice (L_, the paper's) or the mesh membrane (M_).
+    bool mesh_foil() const { return c_.damper.foil_builder == 1; }
+    // The mesh foil's definition from the config: the paper's rules carried to the membrane
+    // (docs/membrane.md, "A cylinder given as a mesh").
+    MembraneDef membrane_def() const;
+    // The pressure's nodes (lattice) or fans (mesh) on the foil, from the vacuum on.
+    void set_foil_pressure();
+    // Volume enclosed by the foil closed by flat caps through its end rings [m^3].
+    double foil_volume() const;
+    // Writes the World and `blob` as a checkpoint at `path`; the mesh foil's pressure fans are
+    // not in the format: saved without them, rebuilt from the foil on loading (set_foil_pressure).
+    void save_world(const std::string& path, const std::string& blob) const;
     void next_stage(Stage s);
     // Re-fill (damper.refill): adds grains above the settled ones when their level is below the
     // damper height; returns false when the level is reached (or re-filling is off or exhausted).
@@ -239,7 +252,12 @@ private:
     bool files_ = false;        // out_dir given: checkpoints, frames and records are written
     dem::FolderLock lock_;      // out_dir's, while the run lives (one writer per folder)
     dem::World w_;
+    // The lattice foil; with the mesh foil only its radius, spacing, material and particles are
+    // set (rows and cols 0), which the grains, funnel and checks read alike.
     FoilLattice L_;
+    Membrane M_;                        // the mesh foil (foil.builder = "mesh"); empty otherwise
+    std::vector<uint32_t> bottom_ring_; // the foil's end ring on the base (fixed)
+    std::vector<uint32_t> free_foil_;   // the foil's particles off both end rings
     RunState st_;
     uint32_t g0_ = 0, g1_ = 0;  // the grains' particle range (clumps: their members)
     double z_top_ = 0;          // [m] top ring / cap height after preparation

@@ -168,7 +168,7 @@ void DamperRun::stage_compress() {
 
 void DamperRun::stage_vacuum() {
     const double ramp = c_.process.ramp_time, min_hold = 0.02, check = 2e-3;
-    w_.pressure.nodes = cylinder_pressure_nodes(L_);
+    set_foil_pressure();
     const double dp = c_.process.underpressure;
     const bool pump = c_.process.pressure_model != 0;
     // The pump model follows the constant model's ramp (a sample evacuated long before its
@@ -177,7 +177,7 @@ void DamperRun::stage_vacuum() {
     // hold may then last five of those.
     const bool pump_down = pump && c_.process.pump_down;
     double max_hold = 0.5;
-    if (pump_down && c_.process.pump_speed > 0.0) max_hold += 5.0 * (enclosed_volume(L_, w_.particles.pos) - grain_volume()) / c_.process.pump_speed;
+    if (pump_down && c_.process.pump_speed > 0.0) max_hold += 5.0 * (foil_volume() - grain_volume()) / c_.process.pump_speed;
     StageProgress prog("vacuum", uint64_t((ramp + max_hold) / w_.params.dt), o_);
     double next_check = next_check_after(w_.time, check);
     const double ke_ref = settle_energy_scale();
@@ -220,6 +220,18 @@ void DamperRun::stage_vacuum() {
     }
 }
 
+void DamperRun::set_foil_pressure() {
+    // The lattice: the paper's intersection nodes off the end rows. The mesh: a fan on every
+    // particle off the end rings. Either way the end rings carry no pressure: the caps close the
+    // foil there (rigid walls, which the grains, not the air, load in the model).
+    if (mesh_foil()) w_.pressure.fans = membrane_pressure_fans(M_);
+    else w_.pressure.nodes = cylinder_pressure_nodes(L_);
+}
+
+double DamperRun::foil_volume() const {
+    return mesh_foil() ? enclosed_volume(M_, w_.particles.pos) : enclosed_volume(L_, w_.particles.pos);
+}
+
 double DamperRun::grain_volume() const {
     // Summed once: the grains are fixed after the preparation, and air_step asks every step.
     if (grain_volume_ == 0.0) grain_volume_ = grains_volume_now();
@@ -239,7 +251,7 @@ double DamperRun::lid_area() const {
 }
 
 void DamperRun::air_step(double dp_set) {
-    const double v = enclosed_volume(L_, w_.particles.pos) - grain_volume();
+    const double v = foil_volume() - grain_volume();
     if (!(v > 0.0))
         throw std::runtime_error("air: the gas volume inside the foil is " + std::to_string(v) +
                                  " m^3 (the foil's enclosure minus the grains); the foil has collapsed onto them");
@@ -289,11 +301,10 @@ AirSample DamperRun::air_sample() const {
 void DamperRun::record_start_of_cycling(const Sample& first) {
     double sum = 0;
     std::size_t cnt = 0;
-    for (int k = 1; k + 1 < L_.rows; ++k)
-        for (uint32_t i : L_.row(k)) {
-            sum += std::hypot(w_.particles.pos[i].x, w_.particles.pos[i].y);
-            ++cnt;
-        }
+    for (uint32_t i : free_foil_) {
+        sum += std::hypot(w_.particles.pos[i].x, w_.particles.pos[i].y);
+        ++cnt;
+    }
     const double r_foil = cnt ? sum / double(cnt) : L_.radius;
     const double cap_z = w_.plane_point(kTopCap).z;
     auto& r = st_.report;

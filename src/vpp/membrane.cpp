@@ -8,6 +8,7 @@
 #include <unordered_map>
 
 #include "dem/mesh/mesh_checks.h"
+#include "dem/mesh/mesh_shapes.h"
 #include "dem/mesh/remesh.h"
 
 namespace vpp {
@@ -20,8 +21,10 @@ uint64_t ekey(uint32_t a, uint32_t b) { return a < b ? (uint64_t(a) << 32) | b :
 
 // The one-ring of every vertex of a closed, consistently wound triangulation, counter-clockwise
 // seen from outside (for triangle (v, x, y) the ring goes x -> y). CSR: start has n + 1 entries.
+// `open`: the triangulation may have a boundary (a tube); a vertex on it has an open fan and gets
+// an empty ring (nothing asks for it: boundary sites are never vacant nor loaded).
 void rings(std::size_t n, const std::vector<std::array<uint32_t, 3>>& tris, std::vector<uint32_t>& start,
-           std::vector<uint32_t>& ring) {
+           std::vector<uint32_t>& ring, bool open = false) {
     std::vector<std::vector<std::pair<uint32_t, uint32_t>>> next(n);
     for (const auto& t : tris)
         for (int k = 0; k < 3; ++k) next[t[k]].push_back({t[(k + 1) % 3], t[(k + 2) % 3]});
@@ -30,7 +33,15 @@ void rings(std::size_t n, const std::vector<std::array<uint32_t, 3>>& tris, std:
     for (std::size_t v = 0; v < n; ++v) {
         auto& nx = next[v];
         std::sort(nx.begin(), nx.end());
-        if (!nx.empty()) {
+        bool on_boundary = false;
+        if (open) {
+            // Closed fan: every ring vertex is once a start and once an end of a triangle's edge.
+            std::vector<uint32_t> a, b;
+            for (const auto& [x, y] : nx) a.push_back(x), b.push_back(y);
+            std::sort(b.begin(), b.end());
+            on_boundary = a != b;  // a is sorted already (nx is)
+        }
+        if (!nx.empty() && !on_boundary) {
             uint32_t x = nx.front().first;
             for (std::size_t k = 0; k < nx.size(); ++k) {
                 ring.push_back(x);
@@ -92,7 +103,25 @@ double membrane_bond_stiffness(const MembraneDef& d, double length, double area)
     return d.stiffness_factor * c * f.young * f.thickness * area / (length * length);
 }
 
+namespace {
+std::vector<uint8_t> draw_vacancies(const dem::SurfaceMesh& sites, double fraction, uint64_t seed,
+                                    const std::vector<uint8_t>* eligible);
+}  // namespace
+
 std::vector<uint8_t> choose_vacancies(const dem::SurfaceMesh& sites, double fraction, uint64_t seed) {
+    return draw_vacancies(sites, fraction, seed, nullptr);
+}
+
+std::vector<uint8_t> choose_vacancies(const dem::SurfaceMesh& sites, double fraction, uint64_t seed,
+                                      const std::vector<uint8_t>& eligible) {
+    if (eligible.size() != sites.vertices.size())
+        throw std::invalid_argument("membrane: the eligible sites' mask has another size than the sites");
+    return draw_vacancies(sites, fraction, seed, &eligible);
+}
+
+namespace {
+std::vector<uint8_t> draw_vacancies(const dem::SurfaceMesh& sites, double fraction, uint64_t seed,
+                                    const std::vector<uint8_t>* eligible) {
     // Every particle keeps at least 3 bonds: a site with only 2 left would hang on a hinge
     // across the surface (the bonds carry no moment), which the triangulation never needs. With
     // valence 6 this allows up to 1/3 vacancies, so the seeded random draw reaches 25%.
@@ -103,7 +132,7 @@ std::vector<uint8_t> choose_vacancies(const dem::SurfaceMesh& sites, double frac
     std::vector<int> degree(n);
     for (std::size_t v = 0; v < n; ++v) degree[v] = int(nb[v].size());
     std::vector<uint32_t> start, ring;
-    rings(n, sites.triangles, start, ring);
+    rings(n, sites.triangles, start, ring, eligible != nullptr);
     // Fisher-Yates with the engine's raw output (std::shuffle's use of it is not specified, so
     // the same seed would give other vacancies with another standard library).
     std::vector<uint32_t> order(n);
@@ -111,10 +140,13 @@ std::vector<uint8_t> choose_vacancies(const dem::SurfaceMesh& sites, double frac
     std::mt19937_64 rng(seed);
     for (std::size_t k = n; k > 1; --k) std::swap(order[k - 1], order[rng() % k]);
     std::vector<uint8_t> vacant(n, 0);
-    const std::size_t target = std::size_t(std::llround(fraction * double(n)));
+    std::size_t pool = n;  // the sites that may be vacant
+    if (eligible) pool = std::size_t(std::count_if(eligible->begin(), eligible->end(), [](uint8_t e) { return e != 0; }));
+    const std::size_t target = std::size_t(std::llround(fraction * double(pool)));
     std::size_t count = 0;
     for (uint32_t v : order) {
         if (count >= target) break;
+        if (eligible && (!(*eligible)[v] || start[v] == start[v + 1])) continue;  // not eligible, or an open fan
         bool ok = true;
         for (uint32_t u : nb[v]) ok &= !vacant[u] && degree[u] - 1 >= kMinBonds;
         // Its hole must be fillable by a fan for the pressure and the volume.
@@ -126,6 +158,7 @@ std::vector<uint8_t> choose_vacancies(const dem::SurfaceMesh& sites, double frac
     }
     return vacant;
 }
+}  // namespace
 
 namespace {
 void check_def(const MembraneDef& d) {
@@ -168,7 +201,15 @@ void place_membrane(dem::World& w, const MembraneDef& d, Membrane& m) {
     if (!m.particles.empty()) throw std::invalid_argument("membrane: already placed (use a copy of membrane_sites' result)");
     const std::size_t ns = m.sites.vertices.size();
     std::vector<uint8_t> vacant(ns, 0);
-    if (d.vacancies) vacant = choose_vacancies(m.sites, d.vacancy_fraction, d.seed);
+    if (d.vacancies && m.open()) {
+        // The boundary's sites are held by the walls that close the surface: never vacant.
+        std::vector<uint8_t> eligible(ns, 1);
+        for (const auto& loop : m.boundary_sites)
+            for (uint32_t s : loop) eligible[s] = 0;
+        vacant = choose_vacancies(m.sites, d.vacancy_fraction, d.seed, eligible);
+    } else if (d.vacancies) {
+        vacant = choose_vacancies(m.sites, d.vacancy_fraction, d.seed);
+    }
 
     m.material = add_foil_material(w, f);
     m.particle.assign(ns, -1);
@@ -198,8 +239,11 @@ void place_membrane(dem::World& w, const MembraneDef& d, Membrane& m) {
     for (const auto& [a, b] : dem::unique_edges(m.sites)) {
         if (vacant[a] || vacant[b]) continue;
         const double len = norm(m.sites.vertices[a] - m.sites.vertices[b]);
-        const double kn = membrane_bond_stiffness(d, len, edge_area[ekey(a, b)]);
+        const double area = edge_area[ekey(a, b)];
+        const double kn = membrane_bond_stiffness(d, len, area);
         m.bonds.push_back(w.add_bond(uint32_t(m.particle[a]), uint32_t(m.particle[b]), kn, f.stiffness_ratio * kn, len));
+        m.bond_length.push_back(len);
+        m.bond_area.push_back(area);
     }
 
     // The particles' closed triangulation: site triangles without vacancies, holes fan-filled.
@@ -208,7 +252,7 @@ void place_membrane(dem::World& w, const MembraneDef& d, Membrane& m) {
             m.triangles.push_back({uint32_t(m.particle[t[0]]), uint32_t(m.particle[t[1]]), uint32_t(m.particle[t[2]])});
     if (m.vacancies > 0) {
         std::vector<uint32_t> start, ring;
-        rings(ns, m.sites.triangles, start, ring);
+        rings(ns, m.sites.triangles, start, ring, m.open());
         std::vector<std::vector<uint32_t>> nb(ns);
         for (const auto& [a, b] : dem::unique_edges(m.sites)) nb[a].push_back(b), nb[b].push_back(a);
         for (uint32_t s = 0; s < ns; ++s) {
@@ -220,16 +264,100 @@ void place_membrane(dem::World& w, const MembraneDef& d, Membrane& m) {
             for (uint32_t i = 1; i + 1 < k; ++i) m.triangles.push_back({P(0), P(i), P(i + 1)});
         }
     }
-    // The particles' triangulation must bound the body as the sites did (holes filled well).
-    if (m.vacancies > 0) {
+    for (const auto& loop : m.boundary_sites) {
+        std::vector<uint32_t> ring;
+        for (uint32_t s : loop) ring.push_back(uint32_t(m.particle[s]));
+        m.boundary.push_back(std::move(ring));
+    }
+    // The particles' triangulation must bound the body as the sites did (holes filled well); an
+    // open one closed over its boundary loops as enclosed_volume closes it.
+    if (m.vacancies > 0 || m.open()) {
         // Only the membrane's particles are vertices of it: other particles of the World are
         // left out of the check through a compact copy.
         std::vector<int64_t> map(w.particles.pos.size(), -1);
         dem::SurfaceMesh c;
         for (uint32_t p : m.particles) map[p] = int64_t(c.vertices.size()), c.vertices.push_back(w.particles.pos[p]);
         for (const auto& t : m.triangles) c.triangles.push_back({uint32_t(map[t[0]]), uint32_t(map[t[1]]), uint32_t(map[t[2]])});
+        for (const auto& loop : m.boundary) {
+            Vec3 centre;
+            for (uint32_t p : loop) centre += w.particles.pos[p];
+            const uint32_t ci = uint32_t(c.vertices.size());
+            c.vertices.push_back(centre / double(loop.size()));
+            for (std::size_t k = 0; k < loop.size(); ++k)
+                c.triangles.push_back({ci, uint32_t(map[loop[(k + 1) % loop.size()]]), uint32_t(map[loop[k]])});
+        }
         dem::check_closed_surface(c, "membrane particles' triangulation");
     }
+}
+
+Membrane membrane_tube_sites(const MembraneDef& d, double radius, double height, double z0, int segments) {
+    check_def(d);
+    if (!(radius > 2.0 * d.foil.particle_radius) || !(height > 2.0 * d.foil.particle_radius) || segments < 8)
+        throw std::invalid_argument("membrane tube: radius and height must exceed the foil particle's diameter, and "
+                                    "segments be at least 8");
+    const Membrane closed = membrane_sites(d, dem::make_cylinder_mesh(radius, height, segments, 1, z0));
+    // The end discs: the remesher keeps their sites on the discs' planes (projected onto them)
+    // and the rims' sites on the rims (feature lines), so a triangle with all three corners on
+    // one end plane lies on a disc; the rest is the lateral surface.
+    const double z1 = z0 + height, tol = 1e-9 * height;
+    auto end_of = [&](const Vec3& p) { return std::abs(p.z - z0) <= tol ? 0 : std::abs(p.z - z1) <= tol ? 1 : -1; };
+    const std::size_t ns = closed.sites.vertices.size();
+    std::vector<int64_t> map(ns, -1);
+    Membrane m;
+    m.spacing = closed.spacing;
+    m.min_edge = closed.min_edge, m.max_edge = closed.max_edge, m.mean_edge = closed.mean_edge;
+    for (const auto& t : closed.sites.triangles) {
+        const int e0 = end_of(closed.sites.vertices[t[0]]);
+        if (e0 >= 0 && e0 == end_of(closed.sites.vertices[t[1]]) && e0 == end_of(closed.sites.vertices[t[2]])) continue;
+        std::array<uint32_t, 3> nt{};
+        for (int k = 0; k < 3; ++k) {
+            if (map[t[k]] < 0) map[t[k]] = 0;  // used; numbered below in site order
+            nt[k] = t[k];
+        }
+        m.sites.triangles.push_back(nt);
+    }
+    for (std::size_t s = 0; s < ns; ++s)
+        if (map[s] >= 0) {
+            map[s] = int64_t(m.sites.vertices.size());
+            m.sites.vertices.push_back(closed.sites.vertices[s]);
+            m.site_feature.push_back(closed.site_feature[s]);
+        }
+    for (auto& t : m.sites.triangles)
+        for (uint32_t& v : t) v = uint32_t(map[v]);
+    // Boundary: the directed edges of the kept triangles whose reverse is none of theirs.
+    std::unordered_map<uint64_t, int> directed;
+    for (const auto& t : m.sites.triangles)
+        for (int k = 0; k < 3; ++k) directed[(uint64_t(t[k]) << 32) | t[(k + 1) % 3]] += 1;
+    std::unordered_map<uint32_t, uint32_t> next;
+    for (const auto& t : m.sites.triangles)
+        for (int k = 0; k < 3; ++k) {
+            const uint32_t a = t[k], b = t[(k + 1) % 3];
+            if (directed.count((uint64_t(b) << 32) | a)) continue;
+            if (next.count(a))
+                throw std::logic_error("membrane tube: a rim site starts two boundary edges (the rim is not a loop)");
+            next[a] = b;
+        }
+    // Loops in site order of their first site, every site of one loop on one rim.
+    std::vector<uint8_t> seen(m.sites.vertices.size(), 0);
+    std::vector<std::pair<int, std::vector<uint32_t>>> loops;
+    for (uint32_t s = 0; s < m.sites.vertices.size(); ++s) {
+        if (seen[s] || !next.count(s)) continue;
+        std::vector<uint32_t> loop;
+        const int end = end_of(m.sites.vertices[s]);
+        for (uint32_t v = s; !seen[v]; v = next.at(v)) {
+            if (end_of(m.sites.vertices[v]) != end || end < 0 || m.site_feature[v] == 0)
+                throw std::logic_error("membrane tube: a boundary site off the rims (the remeshed discs did not separate)");
+            seen[v] = 1;
+            loop.push_back(v);
+            if (!next.count(v)) throw std::logic_error("membrane tube: a rim's boundary does not close");
+        }
+        loops.push_back({end, std::move(loop)});
+    }
+    if (loops.size() != 2 || loops[0].first == loops[1].first)
+        throw std::logic_error("membrane tube: the lateral surface's boundary is not two rims");
+    if (loops[0].first == 1) std::swap(loops[0], loops[1]);
+    for (auto& [end, loop] : loops) m.boundary_sites.push_back(std::move(loop));
+    return m;
 }
 
 dem::PressureFans membrane_pressure_fans(const Membrane& m) {
@@ -237,10 +365,11 @@ dem::PressureFans membrane_pressure_fans(const Membrane& m) {
     uint32_t n = 0;
     for (uint32_t p : m.particles) n = std::max(n, p + 1);
     std::vector<uint32_t> start, ring;
-    rings(n, m.triangles, start, ring);
+    rings(n, m.triangles, start, ring, m.open());
     dem::PressureFans f;
     f.start.push_back(0);
     for (uint32_t p : m.particles) {
+        if (start[p] == start[p + 1]) continue;  // on an open membrane's boundary
         f.node.push_back(p);
         f.ring.insert(f.ring.end(), ring.begin() + start[p], ring.begin() + start[p + 1]);
         f.start.push_back(uint32_t(f.ring.size()));
@@ -251,6 +380,13 @@ dem::PressureFans membrane_pressure_fans(const Membrane& m) {
 double enclosed_volume(const Membrane& m, const std::vector<Vec3>& pos) {
     double six_v = 0.0;
     for (const auto& [a, b, c] : m.triangles) six_v += dot(pos[a], cross(pos[b], pos[c]));
+    for (const auto& loop : m.boundary) {
+        Vec3 centre;
+        for (uint32_t p : loop) centre += pos[p];
+        centre /= double(loop.size());
+        for (std::size_t k = 0; k < loop.size(); ++k)
+            six_v += dot(centre, cross(pos[loop[(k + 1) % loop.size()]], pos[loop[k]]));
+    }
     return six_v / 6.0;
 }
 

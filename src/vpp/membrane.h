@@ -70,6 +70,18 @@ struct Membrane {
     double spacing = 0.0;              // [m] the target bond length
     std::size_t vacancies = 0;         // sites left empty
     double min_edge = 0, max_edge = 0, mean_edge = 0;  // [m] of the site triangulation
+    // An open membrane (membrane_tube_sites: a tube whose ends the caps hold): the loops of its
+    // boundary, as site indices (boundary_sites) and, once placed, particle indices (boundary),
+    // each loop in the direction of its outward triangles' boundary edges. Empty when closed.
+    // The boundary sites are never vacant; the caps close the surface there, so the pressure
+    // (membrane_pressure_fans) loads the other particles only, and the enclosed volume closes
+    // each loop by a flat fan from its centroid.
+    std::vector<std::vector<uint32_t>> boundary_sites;
+    std::vector<std::vector<uint32_t>> boundary;
+    // Per bond of `bonds`: its rest length [m] and the area of its two triangles [m^2], from which
+    // membrane_bond_stiffness gives kn again for other foil values (a run from a prepared sample).
+    std::vector<double> bond_length, bond_area;
+    bool open() const { return !boundary_sites.empty(); }
 };
 
 // Builds the membrane on `surface` (closed, outward, checked: dem::check_closed_surface),
@@ -84,6 +96,14 @@ Membrane build_membrane(dem::World& w, const MembraneDef& d, const dem::SurfaceM
 Membrane membrane_sites(const MembraneDef& d, const dem::SurfaceMesh& surface);
 void place_membrane(dem::World& w, const MembraneDef& d, Membrane& m);
 
+// The lateral surface of a z-axis cylinder of `radius` and `height` [m] from z = z0 as an open
+// membrane's sites (place it with place_membrane): the closed cylinder (flat end discs, `segments`
+// around) is remeshed as membrane_sites does, with its rims as feature lines on which sites only
+// slide, and the discs' sites and triangles are dropped. The rims' sites become the two boundary
+// loops (bottom first): the tube's end rings, which a damper's base and cap hold. Throws
+// std::invalid_argument for a bad definition or size.
+Membrane membrane_tube_sites(const MembraneDef& d, double radius, double height, double z0 = 0.0, int segments = 256);
+
 // kn [N/m] of a bond of length `length` [m] whose two triangles have the area `area` [m^2].
 double membrane_bond_stiffness(const MembraneDef& d, double length, double area);
 
@@ -97,12 +117,19 @@ double network_biaxial(double kn);
 // The vacancies: a seeded random set of about fraction * sites, no two adjacent, every
 // remaining site keeping >= 3 neighbours. 1 = vacant, per site.
 std::vector<uint8_t> choose_vacancies(const dem::SurfaceMesh& sites, double fraction, uint64_t seed);
+// The same over the sites marked in `eligible` (1: may be vacant) only, about fraction * their
+// count; `sites` may be open (a tube), its boundary sites then never eligible. The draw is the
+// same permutation of all sites as above, skipping the others.
+std::vector<uint8_t> choose_vacancies(const dem::SurfaceMesh& sites, double fraction, uint64_t seed,
+                                      const std::vector<uint8_t>& eligible);
 
 // Pressure fans of the membrane's particles (counter-clockwise rings seen from outside: A
-// points out, dp > 0 pushes in).
+// points out, dp > 0 pushes in). An open membrane: the particles off its boundary only (the
+// boundary's particles are held by the walls that close it, which carry the pressure there).
 dem::PressureFans membrane_pressure_fans(const Membrane& m);
 
-// Volume enclosed by the membrane's particle triangulation at positions `pos` [m^3].
+// Volume enclosed by the membrane's particle triangulation at positions `pos` [m^3]; an open
+// membrane closed by a flat fan over each boundary loop from the loop's centroid (the caps).
 double enclosed_volume(const Membrane& m, const std::vector<dem::Vec3>& pos);
 
 }  // namespace vpp

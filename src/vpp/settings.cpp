@@ -224,6 +224,26 @@ const std::vector<Setting>& table() {
                                "kn; below 0.01 the shear spring cannot carry the friction force: at 0 its elongation "
                                "f_t / k_s is NaN)",
          .acts = A::ContactPhysics, .run = 7, .doc = "ks/kn of bonds and foil contacts", FIELD(foil.stiffness_ratio)},
+        // The mesh foil is the damper's (its run builds, loads and checkpoints it); the tension
+        // strip and the envelope are the lattice's own checks.
+        {.key = "foil.builder", .type = T::Choice, .unit = "", .def = Setting::kUnset, .default_text = "\"lattice\"",
+         .check = C::Custom, .allowed = "must be \"lattice\" or \"mesh\"",
+         .acts = A::Geometry, .geometry = 16,
+         .doc = "the damper's foil: \"lattice\", the paper's square grid with 25% vacancies (docs/foil.md); \"mesh\", "
+                "the membrane builder on the same cylinder (radius and height of the lattice's rings): the lateral "
+                "surface remeshed to bonds of 2 r_f, seeded vacancies (simulation.seed, about 24%), MatchFoil "
+                "stiffness times 2.05, the end rings held by base and cap (docs/membrane.md, \"A cylinder given as a "
+                "mesh\")",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet commands) {
+             const std::string k = short_key(r);
+             const std::string b = s.string(k, "lattice");
+             if (b != "lattice" && b != "mesh") s.fail(k, r.allowed);
+             if (b == "mesh" && commands == CommandSet::Foil)
+                 s.fail(k, "must be \"lattice\" for the tension and envelope commands: they check the lattice foil "
+                           "(docs/foil.md); \"mesh\" is the damper's (damper, sweep, calibrate)");
+             c.damper.foil_builder = b == "mesh" ? 1 : 0;
+         },
+         FIELD(damper.foil_builder), .legacy = 0.0},  // an older vppdem's foil was the lattice
         // [damper]; radius and height are also checked against the foil (vpp/config.cpp).
         {.key = "damper.radius", .type = T::Real, .unit = "m", .def = 0.0255, .check = C::Positive,
          .allowed = "must be at least 4 foil particle radii", .acts = A::Geometry, .geometry = 6, .summary = 12,

@@ -238,7 +238,9 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             d.overwrite = true;  // the folder holds case.toml, perhaps leftovers of a killed start
             d.checkpoint_every = opt.checkpoint_every;
             d.check_preparation = true;  // never a branch from a sample of other settings
-            d.batch = c.config.grains.shape == 0 ? batch.get() : nullptr;  // clumps: not in the batch yet
+            // Clumps and the mesh foil's pressure fans are not in the batch yet: those cases step
+            // on the CPU, as --backend cpu (the same bits).
+            d.batch = c.config.grains.shape == 0 && c.config.damper.foil_builder == 0 ? batch.get() : nullptr;
             if (opt.progress)
                 d.progress = [&](const char*, uint64_t, uint64_t, double) {
                     ask_hook(0, "");

@@ -102,6 +102,7 @@ TEST(Settings, EveryKeyIsReadAndNoOther) {
             v = std::string(s.key) == "process.pressure_model" ? "\"pump\""
                 : std::string(s.key) == "process.waveform"     ? "\"sine\""
                 : std::string(s.key) == "grains.shape"         ? "\"dimer\""
+                : std::string(s.key) == "foil.builder"         ? "\"mesh\""
                                                                 : "\"extension\"";  // the other word
         else if (s.type == SettingType::RealOrAuto) v = "1e-6";
         else if (s.type == SettingType::Integer) v = "5";
@@ -185,7 +186,7 @@ TEST(Settings, RecordedKeysAreNumberedWithoutGaps) {
     for (auto list : {geometry_settings(), run_settings(), summary_inputs()}) {
         EXPECT_FALSE(list.empty());
     }
-    EXPECT_EQ(geometry_settings().size(), 15u);
+    EXPECT_EQ(geometry_settings().size(), 16u);
     EXPECT_EQ(run_settings().size(), 31u);
     EXPECT_EQ(summary_inputs().size(), 34u);
     auto positions = [](int Setting::*p) {
@@ -205,6 +206,7 @@ TEST(Settings, RecordedKeysAreNumberedWithoutGaps) {
     EXPECT_STREQ(geometry_settings().front().key, "grains.radius");
     EXPECT_STREQ(run_settings().front().key, "grains.friction");
     EXPECT_STREQ(summary_inputs().back().key, "damper.packing_target");  // the newest keys come last
+    EXPECT_STREQ(geometry_settings().back().key, "foil.builder");
 }
 
 TEST(Settings, TheReferenceListsEveryKey) {

@@ -1,0 +1,155 @@
+#!/usr/bin/env python3
+"""A cylinder given as a mesh (issue 47; docs/membrane.md): the damper's W with the lattice foil
+and with the mesh foil (foil.builder = "mesh"), from the runs of studies/membrane/cylinder.toml.
+
+usage: /usr/bin/python3 tools/membrane_cylinder_report.py DATA
+
+DATA holds one folder per run (summary.json, cycles.csv; scripts/membrane_cylinder_study.sh
+publishes them into docs/data/membrane_cylinder). Every seed of every foil is its own prepared
+sample, so the foils are compared as independent samples: mean(mesh) - mean(lattice) with Welch's
+t and the Welch-Satterthwaite degrees of freedom (tools/paper_rules.py welch(), the tools' one
+Student t), its 95% interval, and |difference| against the seeds' standard deviation (each foil's
+and the pooled one). The quantity fixed before the runs: W averaged over cycles 3-5 of each run
+(cycles 1-2 compact the packing; on this damper W is stationary from cycle 2, the 4-cycle trial run
+of the mesh foil said); cycle 5 alone each cycle alone and summary.json's W_settled beside it. "Within the seed
+scatter": the 95% interval of the difference contains 0. Prints Markdown.
+"""
+import glob
+import json
+import math
+import os
+import sys
+
+# The tools' one Student t: tools/paper_rules.py here; where the reports moved into the package
+# (src/python/vppdem/report/stats.py), from there.
+_here = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, _here)
+try:
+    from paper_rules import interval, welch  # noqa: E402
+except ImportError:
+    sys.path.insert(0, os.path.join(os.path.dirname(_here), "src", "python"))
+    from vppdem.report.stats import interval, welch  # noqa: E402
+
+PRIMARY = (3, 5)  # cycles averaged per run (inclusive)
+
+
+def read_cycles(path):
+    with open(path) as f:
+        head = f.readline().strip().split(",")
+        rows = [dict(zip(head, line.strip().split(","))) for line in f if line.strip()]
+    return {int(r["cycle"]): float(r["W"]) for r in rows}
+
+
+def load(data):
+    runs = {"lattice": {}, "mesh": {}}
+    for d in sorted(glob.glob(os.path.join(data, "*", "summary.json"))):
+        folder = os.path.dirname(d)
+        with open(d) as f:
+            s = json.load(f)
+        inputs = s.get("inputs", {})
+        builder = "mesh" if inputs.get("foil.builder", 0) == 1 or s.get("foil_builder") == "mesh" else "lattice"
+        seed = int(inputs["simulation.seed"])
+        w = read_cycles(os.path.join(folder, "cycles.csv"))
+        runs[builder][seed] = {"W": w, "summary": s, "name": os.path.basename(folder)}
+    return runs
+
+
+def per_run(run, what):
+    w = run["W"]
+    if what == "primary":
+        cyc = range(PRIMARY[0], PRIMARY[1] + 1)
+        return sum(w[c] for c in cyc) / len(cyc) if all(c in w for c in cyc) else None
+    if isinstance(what, int):
+        return w.get(what)
+    if what == "settled":
+        v = run["summary"].get("W_settled")
+        return v if isinstance(v, (int, float)) and math.isfinite(v) and v > 0 else None
+    return None
+
+
+def ratio(x, y):
+    return f"{x / y:.2f}" if y > 0 else "n/a"
+
+
+def main(argv):
+    if len(argv) != 2:
+        sys.stderr.write(__doc__)
+        return 2
+    data = argv[1]
+    runs = load(data)
+    out = []
+    n = {b: len(runs[b]) for b in runs}
+    out.append("# A cylinder given as a mesh: W of the lattice foil against the mesh foil\n")
+    out.append(f"Runs: {n['lattice']} lattice, {n['mesh']} mesh (`{data}`; "
+               "studies/membrane/cylinder.toml, scripts/membrane_cylinder_study.sh).\n")
+    if runs["lattice"] and runs["mesh"]:
+        any_run = next(iter(runs["lattice"].values()))["summary"]
+        mesh_run = next(iter(runs["mesh"].values()))["summary"]
+        out.append(f"Damper: radius {any_run['foil_radius'] * 1e3:.2f} mm (foil ring), height "
+                   f"{any_run['height'] * 1e3:.2f} mm, grains {min(r['summary']['grains'] for b in runs for r in runs[b].values())}-"
+                   f"{max(r['summary']['grains'] for b in runs for r in runs[b].values())}; foil particles: lattice "
+                   f"{any_run['foil_particles']:.0f}, mesh {min(r['summary']['foil_particles'] for r in runs['mesh'].values()):.0f}-"
+                   f"{max(r['summary']['foil_particles'] for r in runs['mesh'].values()):.0f} "
+                   f"({mesh_run.get('foil_vacancies', 0):.0f} vacancies in seed "
+                   f"{next(iter(runs['mesh']))}).\n")
+    # Per run.
+    seeds = sorted(set(runs["lattice"]) | set(runs["mesh"]))
+    cycles = sorted({c for b in runs for r in runs[b].values() for c in r["W"]})
+    out.append("## W per run [J/m^2]\n")
+    out.append("| foil | seed | " + " | ".join(f"cycle {c}" for c in cycles) +
+               f" | cycles {PRIMARY[0]}-{PRIMARY[1]} | W_settled |")
+    out.append("|---|---|" + "---|" * (len(cycles) + 2))
+    for b in ("lattice", "mesh"):
+        for s in seeds:
+            if s not in runs[b]:
+                continue
+            r = runs[b][s]
+            cells = [f"{r['W'][c]:.1f}" if c in r["W"] else "" for c in cycles]
+            p, st = per_run(r, "primary"), per_run(r, "settled")
+            out.append(f"| {b} | {s} | " + " | ".join(cells) + " | " + (f"{p:.1f}" if p is not None else "") + " | " +
+                       (f"{st:.1f}" if st is not None else "not stationary") + " |")
+    out.append("")
+    out.append("## Comparison (mesh - lattice; independent samples, Welch's t, 95%)\n")
+    out.append("| quantity | lattice mean +- SD (n) | mesh mean +- SD (n) | difference [95% interval] | "
+               "difference / mean lattice | dof | abs(difference) / SD lattice, mesh, pooled | within the seed scatter |")
+    out.append("|---|---|---|---|---|---|---|---|")
+    verdict = None
+    rows = [("primary", f"W, cycles {PRIMARY[0]}-{PRIMARY[1]}")] + [(c, f"W, cycle {c}") for c in cycles] + \
+        [("settled", "W_settled (runs stationary by summary.json)")]
+    for what, label in rows:
+        a = [per_run(r, what) for r in runs["lattice"].values()]
+        b = [per_run(r, what) for r in runs["mesh"].values()]
+        a = [x for x in a if x is not None]
+        b = [x for x in b if x is not None]
+        na, ma, sa, _ = interval(a)
+        nb, mb, sb, _ = interval(b)
+        d = welch(a, b)
+        if not d.ok:
+            out.append(f"| {label} | {ma:.1f} ({na}) | {mb:.1f} ({nb}) | too few runs | | | | |")
+            continue
+        pooled = math.sqrt(((na - 1) * sa * sa + (nb - 1) * sb * sb) / (na + nb - 2))
+        within = d.d - d.h <= 0.0 <= d.d + d.h
+        if what == "primary":
+            verdict = (within, d, sa, sb, pooled, ma, mb)
+        out.append(f"| {label} | {ma:.1f} +- {sa:.1f} ({na}) | {mb:.1f} +- {sb:.1f} ({nb}) | "
+                   f"{d.d:+.1f} [{d.d - d.h:+.1f}, {d.d + d.h:+.1f}] | {100 * d.d / ma:+.1f}% "
+                   f"[{100 * (d.d - d.h) / ma:+.1f}%, {100 * (d.d + d.h) / ma:+.1f}%] | {d.dof:.1f} | "
+                   f"{ratio(abs(d.d), sa)}, {ratio(abs(d.d), sb)}, {ratio(abs(d.d), pooled)} | "
+                   f"{'yes' if within else 'no'} |")
+    out.append("")
+    if verdict:
+        within, d, sa, sb, pooled, ma, mb = verdict
+        out.append("## Verdict\n")
+        out.append(f"W (cycles {PRIMARY[0]}-{PRIMARY[1]}): mesh {mb:.1f} against lattice {ma:.1f} J/m^2, "
+                   f"difference {d.d:+.1f} J/m^2 ({100 * d.d / ma:+.1f}%), 95% interval "
+                   f"[{d.d - d.h:+.1f}, {d.d + d.h:+.1f}] J/m^2; |difference| is {ratio(abs(d.d), pooled)} of the "
+                   f"seeds' pooled SD ({pooled:.1f} J/m^2). " +
+                   ("The interval contains 0: the mesh foil's W lies **within the seed scatter** of the lattice's."
+                    if within else
+                    "The interval excludes 0: the mesh foil's W differs from the lattice's **beyond the seed scatter**."))
+    print("\n".join(out))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
