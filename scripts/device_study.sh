@@ -6,7 +6,7 @@
 # records (summary.json, tools.csv from the press on as tools.csv.gz, the case's command) are
 # published into
 # docs/data/devices/<study>/<case>_s<seed>/.
-#   scripts/device_study.sh gripper      # then /usr/bin/python3 tools/device_report.py gripper
+#   scripts/device_study.sh gripper      # then PYTHONPATH=src/python /usr/bin/python3 -m vppdem.report device gripper
 #   scripts/device_study.sh gripper_pour # the pour against the lattice fill (needs gripper's dp50)
 # env: VPPDEM (build/vppdem), SEEDS ("1 2 3 4 5"), NICE (10), ONLY (a case name: run only it),
 #      PUBLISH_ONLY (1: run nothing, publish the finished runs again)

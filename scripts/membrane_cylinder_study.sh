@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # A cylinder given as a mesh (issue 47): the study studies/membrane/cylinder.toml (the same damper
 # with the lattice foil and with foil.builder = "mesh", 5 seeds each) with one vppdem binary, two
-# runs at a time under `nice -n 5`, then the comparison (tools/membrane_cylinder_report.py: Welch's
+# runs at a time under `nice -n 5`, then the comparison (python3 -m vppdem.report membrane_cylinder: Welch's
 # t on the two foils' W, its 95% interval, |difference| against the seeds' SD). The small records
 # of every finished run (case.toml, cycles.csv, summary.json; never vtk/ or checkpoints) are kept
 # in docs/data/membrane_cylinder/<case>/ with the study's summary.csv and COMMAND, and the report
@@ -38,7 +38,7 @@ if [ $publish_only -eq 0 ]; then
   "${cmd[@]}" || failed=1
 fi
 save_records "$OUT" "$DATA"
-/usr/bin/python3 tools/membrane_cylinder_report.py "$DATA" > "$DATA/report.md.part" && mv -f "$DATA/report.md.part" "$DATA/report.md"
+PYTHONPATH=src/python /usr/bin/python3 -m vppdem.report membrane_cylinder "$DATA" > "$DATA/report.md.part" && mv -f "$DATA/report.md.part" "$DATA/report.md"
 cat "$DATA/report.md"
 echo "membrane_cylinder_study.sh: $SAVED finished runs in $DATA"
 exit $failed

@@ -13,6 +13,9 @@ records (docs/data/) or from run folders. From the shell:
     velocity_cycles  velocity convergence cycle by cycle (scripts/velocity_convergence.sh)
     friction_split   the dissipation split against grain friction (docs/energy_split_friction.png)
     foil             a foil VTK frame rendered to PNG (docs/envelope_0.01MPa.png)
+    device           docs/devices.md's study tables and figures (after scripts/device_study.sh)
+    device_slices    side views of a device run's VTK frames (docs/devices_gripper.png)
+    membrane_cylinder  the damper's W with the lattice foil against the mesh foil (docs/data/membrane_cylinder/report.md)
 
 Their statistics are one module, vppdem.report.stats (Student's t by the method of
 src/vpp/stats.cpp, the 95% interval, paired and Welch differences); the paper's decision rules
@@ -30,6 +33,9 @@ REPORTS = {
     "velocity_cycles": ("velocity_cycles", "velocity convergence cycle by cycle (SWEEP_DIR [--extra DIR ...] [--reference V] [--out PREFIX])"),
     "friction_split": ("friction_split", "the dissipation split against grain friction (OUT.png DIR [DIR ...] [--cycle N])"),
     "foil": ("foil", "a foil VTK frame rendered to PNG (FRAME.vtk OUT.png [--title TEXT])"),
+    "device": ("device", "docs/devices.md's tables and figures of a device study (gripper | gripper_pour | beam)"),
+    "device_slices": ("device_slices", "side views of a device run (OUT.png FRAME.vtk ... [--titles T] [--sphere R])"),
+    "membrane_cylinder": ("membrane_cylinder", "the lattice foil's W against the mesh foil's (DATA: docs/data/membrane_cylinder)"),
 }
 
 __all__ = ["REPORTS", "source_dir"]

@@ -1,14 +1,13 @@
-#!/usr/bin/env python3
 """Side views of a device run: the particles of VTK frames in a slab about the plane y = 0.
 
-    /usr/bin/python3 tools/device_slices.py OUT.png FRAME.vtk [FRAME.vtk ...]
+    python3 -m vppdem.report device_slices OUT.png FRAME.vtk [FRAME.vtk ...]
         [--titles "a,b,..."] [--sphere R] [--grain-radius r]
 
 Grains (radius above --grain-radius, orange) within 1.1 of their radius of the plane, the
 membrane (blue) within 1.1 of its; --sphere R draws the gripper's object, a sphere of radius R
 [mm] about the origin. docs/devices_gripper.png is
 
-    tools/device_slices.py docs/devices_gripper.png out/gripper/vtk/stage_{0_fill,2_press,3_vacuum,4_load}.vtk \\
+    python3 -m vppdem.report device_slices docs/devices_gripper.png out/gripper/vtk/stage_{0_fill,2_press,3_vacuum,4_load}.vtk \\
         --sphere 6 --titles "after the fill,after the press (2 N),after the vacuum (50 kPa),the object let go"
 """
 import argparse
@@ -31,14 +30,14 @@ def load(path):
     return pts, radius
 
 
-def main():
+def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("out")
     ap.add_argument("frames", nargs="+")
     ap.add_argument("--titles", default="")
     ap.add_argument("--sphere", type=float, default=0.0, help="[mm] the object's radius (0: none)")
     ap.add_argument("--grain-radius", type=float, default=0.6, help="[mm] particles larger than this are grains")
-    a = ap.parse_args()
+    a = ap.parse_args(argv)
     titles = a.titles.split(",") if a.titles else [f.split("/")[-1] for f in a.frames]
     frames = [load(f) for f in a.frames]
     lo = np.min([p.min(axis=0) for p, _ in frames], axis=0) * 1e3  # one scale for every panel

@@ -1,4 +1,3 @@
-#!/usr/bin/env python3
 """The device studies' report (issue 47, docs/devices.md).
 
 Reads the published records docs/data/devices/<study>/<case>_s<seed>/ (summary.json, tools.csv.gz,
@@ -6,9 +5,9 @@ as scripts/device_study.sh leaves them), computes each case's mean and 95% Stude
 over its seeds, draws docs/devices_<study>_study.png and writes the table into docs/devices.md
 between the markers <!-- device_report:<study> begin --> and <!-- ... end -->.
 
-    /usr/bin/python3 tools/device_report.py gripper
-    /usr/bin/python3 tools/device_report.py gripper_pour   # the pour against the gripper's dp50
-    /usr/bin/python3 tools/device_report.py beam
+    python3 -m vppdem.report device gripper
+    python3 -m vppdem.report device gripper_pour   # the pour against the gripper's dp50
+    python3 -m vppdem.report device beam
 """
 import csv
 import gzip
@@ -24,22 +23,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-# Student t, two-sided 95%, by degrees of freedom
-T975 = {1: 12.706, 2: 4.303, 3: 3.182, 4: 2.776, 5: 2.571, 6: 2.447, 7: 2.365, 8: 2.306, 9: 2.262, 10: 2.228}
+from . import source_dir  # noqa: E402
+from .stats import interval, welch as welch_diff  # noqa: E402
+
+ROOT = source_dir()
 OBJECT_TOP = 0.006  # [m] the gripper's object: a sphere of 6 mm radius centred at z = 0
 
 
 def mean_ci(v):
-    v = [x for x in v if x is not None and math.isfinite(x)]
-    n = len(v)
-    if n == 0:
-        return float("nan"), float("nan"), 0
-    m = sum(v) / n
-    if n == 1:
-        return m, float("nan"), 1
-    s = math.sqrt(sum((x - m) ** 2 for x in v) / (n - 1))
-    return m, T975.get(n - 1, 1.96) * s / math.sqrt(n), n
+    """(mean, 95% Student-t half width, n) of the finite values (vppdem.report.stats.interval)."""
+    n, m, _, h = interval([x for x in v if x is not None])
+    return m, h, n
 
 
 def fmt(m, h, digits=3, scale=1.0):
@@ -182,7 +176,7 @@ def gripper(runs):
     fig.savefig(os.path.join(ROOT, "docs", "devices_gripper_study.png"), dpi=110)
 
     text = "\n".join(
-        [f"Made by `scripts/device_study.sh gripper` and `/usr/bin/python3 tools/device_report.py gripper` "
+        [f"Made by `scripts/device_study.sh gripper` and `python3 -m vppdem.report device gripper` "
          f"from the records in `docs/data/devices/gripper/` ({n_done} of {5 * len(GRIPPER_CASES)} runs: "
          f"{len(GRIPPER_CASES)} cases x seeds 1-5). Mean ± the 95% Student-t half-width over the seeds; "
          f"wrap depth: how far the membrane's lowest particle centre reaches below the object's top at the "
@@ -194,18 +188,10 @@ def gripper(runs):
 
 
 def welch(a, b):
-    """Mean of a - b and its 95% half-width for two independent samples (Welch; df rounded down)."""
-    ma, _, na = mean_ci(a)
-    mb, _, nb = mean_ci(b)
-    if na < 2 or nb < 2:
-        return ma - mb, float("nan")
-    va = sum((x - ma) ** 2 for x in a) / (na - 1) / na
-    vb = sum((x - mb) ** 2 for x in b) / (nb - 1) / nb
-    se = math.sqrt(va + vb)
-    if se == 0:
-        return ma - mb, 0.0
-    df = (va + vb) ** 2 / (va ** 2 / (na - 1) + vb ** 2 / (nb - 1))
-    return ma - mb, T975.get(max(1, int(df)), 1.96) * se
+    """mean(a) - mean(b) and its 95% half width for two independent samples (Welch's t with the
+    Welch-Satterthwaite degrees of freedom: vppdem.report.stats.welch)."""
+    d = welch_diff(b, a)
+    return (d.d if d.d is not None else math.nan), (d.h if d.ok else math.nan)
 
 
 def gripper_pour(runs):
@@ -294,7 +280,7 @@ def gripper_pour(runs):
     fig.tight_layout()
     fig.savefig(os.path.join(ROOT, "docs", "devices_gripper_pour_study.png"), dpi=110)
     text = "\n".join(
-        [f"Made by `scripts/device_study.sh gripper_pour` and `/usr/bin/python3 tools/device_report.py gripper_pour` "
+        [f"Made by `scripts/device_study.sh gripper_pour` and `python3 -m vppdem.report device gripper_pour` "
          f"from the records in `docs/data/devices/gripper_pour/` ({len(pour) + len(runs.get('lattice_mu0_dp50', []))} of 10 runs: 2 cases x seeds 1-5) and the gripper study's `dp50` "
          f"(`docs/data/devices/gripper/`, {len(lattice)} runs). Mean ± the 95% Student-t half-width over the seeds; "
          f"packing: the grains' volume over the volume enclosed by the membrane particles' centres.",
@@ -360,7 +346,7 @@ def beam(runs):
     fig.tight_layout()
     fig.savefig(os.path.join(ROOT, "docs", "devices_beam_study.png"), dpi=110)
     text = "\n".join(
-        [f"Made by `scripts/device_study.sh beam` and `/usr/bin/python3 tools/device_report.py beam` from the "
+        [f"Made by `scripts/device_study.sh beam` and `python3 -m vppdem.report device beam` from the "
          f"records in `docs/data/devices/beam/` ({n_done} of {3 * len(BEAM_CASES)} runs: {len(BEAM_CASES)} "
          f"underpressures x seeds 1-3). The second (last) of the 2 cycles; mean ± the 95% Student-t half-width over the seeds.",
          "", *table, "", "![The beam study](devices_beam_study.png)"])
@@ -368,8 +354,9 @@ def beam(runs):
     return stats
 
 
-def main():
-    study = sys.argv[1] if len(sys.argv) > 1 else "gripper"
+def main(argv=None):
+    args = sys.argv[1:] if argv is None else list(argv)
+    study = args[0] if args else "gripper"
     runs = load(study)
     stats = {"gripper": gripper, "gripper_pour": gripper_pour, "beam": beam}[study](runs)
     for name, st in stats.items():
@@ -377,4 +364,4 @@ def main():
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

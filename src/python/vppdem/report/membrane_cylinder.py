@@ -1,13 +1,12 @@
-#!/usr/bin/env python3
 """A cylinder given as a mesh (issue 47; docs/membrane.md): the damper's W with the lattice foil
 and with the mesh foil (foil.builder = "mesh"), from the runs of studies/membrane/cylinder.toml.
 
-usage: /usr/bin/python3 tools/membrane_cylinder_report.py DATA
+usage: python3 -m vppdem.report membrane_cylinder DATA
 
 DATA holds one folder per run (summary.json, cycles.csv; scripts/membrane_cylinder_study.sh
 publishes them into docs/data/membrane_cylinder). Every seed of every foil is its own prepared
 sample, so the foils are compared as independent samples: mean(mesh) - mean(lattice) with Welch's
-t and the Welch-Satterthwaite degrees of freedom (tools/paper_rules.py welch(), the tools' one
+t and the Welch-Satterthwaite degrees of freedom (vppdem.report.stats welch(), the reports' one
 Student t), its 95% interval, and |difference| against the seeds' standard deviation (each foil's
 and the pooled one). The quantity fixed before the runs: W averaged over cycles 3-5 of each run
 (cycles 1-2 compact the packing; on this damper W is stationary from cycle 2, the 4-cycle trial run
@@ -20,15 +19,7 @@ import math
 import os
 import sys
 
-# The tools' one Student t: tools/paper_rules.py here; where the reports moved into the package
-# (src/python/vppdem/report/stats.py), from there.
-_here = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, _here)
-try:
-    from paper_rules import interval, welch  # noqa: E402
-except ImportError:
-    sys.path.insert(0, os.path.join(os.path.dirname(_here), "src", "python"))
-    from vppdem.report.stats import interval, welch  # noqa: E402
+from .stats import interval, welch
 
 PRIMARY = (3, 5)  # cycles averaged per run (inclusive)
 
@@ -71,11 +62,12 @@ def ratio(x, y):
     return f"{x / y:.2f}" if y > 0 else "n/a"
 
 
-def main(argv):
-    if len(argv) != 2:
+def main(argv=None):
+    args = sys.argv[1:] if argv is None else list(argv)
+    if len(args) != 1:
         sys.stderr.write(__doc__)
         return 2
-    data = argv[1]
+    data = args[0]
     runs = load(data)
     out = []
     n = {b: len(runs[b]) for b in runs}
@@ -152,4 +144,4 @@ def main(argv):
 
 
 if __name__ == "__main__":
-    sys.exit(main(sys.argv))
+    sys.exit(main())
