@@ -5,6 +5,8 @@ as scripts/device_study.sh leaves them), computes each case's mean and 95% Stude
 over its seeds, draws docs/devices_<study>_study.png and writes the table into docs/devices.md
 between the markers <!-- device_report:<study> begin --> and <!-- ... end -->.
 
+usage: python3 -m vppdem.report device gripper|gripper_pour|beam
+
     python3 -m vppdem.report device gripper
     python3 -m vppdem.report device gripper_pour   # the pour against the gripper's dp50
     python3 -m vppdem.report device beam
