@@ -1,10 +1,10 @@
 #include "dem/detect/cell_grid.h"
 
-#include <string>
-
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
+#include <string>
 
 namespace dem {
 
@@ -21,32 +21,51 @@ void CellGrid::build(const std::vector<Vec3>& pos, double min_cell, int64_t max_
     Vec3 lo{std::numeric_limits<double>::max(), std::numeric_limits<double>::max(),
             std::numeric_limits<double>::max()};
     Vec3 hi = -lo;
-    for (const Vec3& p : pos)
+    // A position that is not finite (an unstable step: a time step too large for the stiffest
+    // spring) would size the grid from infinity, or, a NaN, escape min and max and land in a cell
+    // by an undefined cast; say what happened instead. Checked per particle: NaN fails every
+    // comparison, so the extent alone does not show it.
+    for (std::size_t i = 0; i < pos.size(); ++i) {
+        const Vec3& p = pos[i];
+        if (!(std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)))
+            throw SimulationUnstable("the simulation became unstable: particle " + std::to_string(i) +
+                                     " has a position that is not a finite number (the explicit step diverged: a time "
+                                     "step too large for the stiffest contact or bond)");
         for (int d = 0; d < 3; ++d) {
             lo[d] = std::min(lo[d], p[d]);
             hi[d] = std::max(hi[d], p[d]);
         }
+    }
     if (pos.empty()) lo = hi = Vec3{};
-    // A position that is not finite (an unstable step: a time step too large for the stiffest
-    // spring) would size the grid from NaN and fail as "cannot create std::vector larger than
-    // max_size()"; say what happened instead.
+    // A particle thrown out by a diverging step may still be finite but astronomically far (found
+    // at 1e16 m: the cell count overflowed and failed as "cannot create std::vector larger than
+    // max_size()"). No scene spans 1e12 of its cells along an axis: the same diagnosis, naming the
+    // particle farthest from the others' median along that axis.
+    constexpr double kMaxCellsPerAxis = 1e12;
     for (int d = 0; d < 3; ++d)
-        if (!std::isfinite(hi[d] - lo[d])) {
-            std::size_t bad = 0;
-            while (bad < pos.size() && std::isfinite(pos[bad].x) && std::isfinite(pos[bad].y) && std::isfinite(pos[bad].z))
-                ++bad;
-            throw SimulationUnstable("the simulation became unstable: particle " + std::to_string(bad) +
-                                     " has a position that is not a finite number (the explicit step diverged: a time "
-                                     "step too large for the stiffest contact or bond)");
+        if ((hi[d] - lo[d]) / min_cell > kMaxCellsPerAxis) {
+            std::vector<double> x(pos.size());
+            for (std::size_t i = 0; i < pos.size(); ++i) x[i] = pos[i][d];
+            std::nth_element(x.begin(), x.begin() + std::ptrdiff_t(x.size() / 2), x.end());
+            const double median = x[x.size() / 2];
+            std::size_t far = 0;
+            for (std::size_t i = 1; i < pos.size(); ++i)
+                if (std::abs(pos[i][d] - median) > std::abs(pos[far][d] - median)) far = i;
+            char at[64];
+            std::snprintf(at, sizeof at, "%.3g m", pos[far][d] - median);
+            throw SimulationUnstable("the simulation became unstable: particle " + std::to_string(far) + " was thrown " +
+                                     at + " away from the others along axis " + "xyz"[d] +
+                                     " (the explicit step diverged: a time step too large for the stiffest contact or "
+                                     "bond, or forces the damping no longer holds)");
         }
     cell = min_cell;
     for (;;) {
-        int64_t total = 1;
+        double total = 1.0;  // in double: three axes of up to 1e12 cells each overflow an int64
         for (int d = 0; d < 3; ++d) {
             dims[d] = int64_t((hi[d] - lo[d]) / cell) + 1;
-            total *= dims[d];
+            total *= double(dims[d]);
         }
-        if (total <= max_cells) break;
+        if (total <= double(max_cells)) break;
         cell *= 1.25;
     }
     origin = lo;

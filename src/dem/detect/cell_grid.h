@@ -12,8 +12,8 @@
 
 namespace dem {
 
-// Thrown when the particles' positions stop being finite numbers (a diverged step); the caller
-// names the settings that size the step.
+// Thrown when the particles' positions stop being finite numbers, or a particle is thrown
+// astronomically far (a diverged step); the caller names the settings that size the step.
 struct SimulationUnstable : std::runtime_error {
     using std::runtime_error::runtime_error;
 };
