@@ -52,6 +52,27 @@ inline Outcome shell(const std::string& command) {
 // `vppdem ARGS`.
 inline Outcome run(const std::string& args) { return shell(kBinary + " " + args); }
 
+// A word for the shell, single-quoted.
+inline std::string quote(const std::string& s) {
+    std::string q = "'";
+    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
+    return q + "'";
+}
+inline std::string quote(const fs::path& p) { return quote(p.string()); }
+
+// A command's exit code: 128 + the signal when one killed it (-1: it did not run).
+struct RunResult {
+    int rc = -1;
+    std::string output;  // stdout and stderr together
+};
+
+// `vppdem ARGS` by the binary's quoted path, from the folder `cwd` when given.
+inline RunResult run_vppdem(const std::string& args, const fs::path& cwd = {}) {
+    const Outcome o = shell((cwd.empty() ? std::string() : "cd " + quote(cwd) + " && ") + quote(kBinary) + " " + args);
+    const int s = o.status;
+    return {s == -1 ? -1 : WIFEXITED(s) ? WEXITSTATUS(s) : 128 + WTERMSIG(s), o.output};
+}
+
 // The factor on every wall-clock budget of a test that waits for a run: VPPDEM_TEST_TIME_SCALE
 // (default 1). Under AddressSanitizer and UndefinedBehaviorSanitizer a run is 20 to 50 times
 // slower, and a budget sized for the optimised build would fail a clean test

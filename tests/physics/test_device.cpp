@@ -34,6 +34,7 @@
 #include "vpp/device_def.h"
 #include "vpp/device_run.h"
 #include "vpp/membrane.h"
+#include "cli_helpers.h"
 
 #ifndef VPPDEM_BINARY
 #error "VPPDEM_BINARY must name the built vppdem executable"
@@ -56,41 +57,11 @@ fs::path temp_dir(const std::string& name) {
     return p;
 }
 
-void write_file(const fs::path& p, const std::string& text) {
-    fs::create_directories(p.parent_path());
-    std::ofstream(p, std::ios::binary) << text;
-}
-
-std::string read_file(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-std::string quote(const std::string& s) {
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-
-struct Result {
-    int rc = -1;
-    std::string output;
-};
-
-Result run_vppdem(const std::string& args) {
-    const std::string cmd = quote(VPPDEM_BINARY) + " " + args + " 2>&1";
-    Result r;
-    FILE* p = ::popen(cmd.c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    std::size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-    const int status = ::pclose(p);
-    r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return r;
-}
+using cli_test::quote;
+using Result = cli_test::RunResult;
+using cli_test::run_vppdem;
+using cli_test::write_file;
+const auto& read_file = cli_test::slurp;
 
 // A small jamming gripper (examples/devices/gripper.toml scaled down): a bag of 7 mm radius
 // with about 280 grains of 0.7 mm (poured frictionless) pressed with 1 N onto an object of 4 mm

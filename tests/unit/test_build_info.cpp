@@ -9,24 +9,20 @@
 #include <sstream>
 #include <string>
 
+#include "../physics/cli_helpers.h"
 #include "scene/build_info.h"
 
 namespace fs = std::filesystem;
 
 namespace {
 
+using cli_test::slurp;
+
 fs::path scratch(const std::string& name) {
-    const fs::path d = fs::temp_directory_path() / ("vppdem_build_info_" + std::to_string(::getpid())) / name;
+    const fs::path d = cli_test::scratch_path("build_info", name);
     fs::remove_all(d);
     fs::create_directories(d);
     return d;
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
 }
 
 }  // namespace

@@ -30,6 +30,9 @@ namespace fs = std::filesystem;
 namespace {
 
 using cli_test::json_number;
+using cli_test::quote;
+using Result = cli_test::RunResult;
+using cli_test::run_vppdem;
 using cli_test::write_file;
 const auto& read_file = cli_test::slurp;
 
@@ -58,34 +61,6 @@ public:
 private:
     fs::path path_;
 };
-
-std::string quote(const std::string& s) {  // for the shell
-    std::string q = "'";
-    for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-    return q + "'";
-}
-std::string quote(const fs::path& p) { return quote(p.string()); }
-
-struct Result {
-    int rc = -1;
-    std::string output;  // stdout and stderr together
-};
-
-// Runs `vppdem ARGS` (optionally from the directory `cwd`).
-Result run_vppdem(const std::string& args, const fs::path& cwd = {}) {
-    std::string cmd;
-    if (!cwd.empty()) cmd = "cd " + quote(cwd) + " && ";
-    cmd += quote(std::string(VPPDEM_BINARY)) + " " + args + " 2>&1";
-    Result r;
-    FILE* p = ::popen(cmd.c_str(), "r");
-    if (!p) return r;
-    char buf[4096];
-    std::size_t n;
-    while ((n = std::fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-    const int status = ::pclose(p);
-    r.rc = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    return r;
-}
 
 // Runs `vppdem scene FILE --out OUT --quiet EXTRA`.
 Result run_scene(const fs::path& file, const fs::path& out, const std::string& extra = "") {
