@@ -721,16 +721,7 @@ void DamperRun::save_world(const std::string& path, const std::string& blob) con
         return;
     }
     // The fans follow from the foil, which the config rebuilds (bit for bit): saved without them.
-    dem::World& w = const_cast<dem::World&>(w_);
-    dem::PressureFans fans;
-    std::swap(fans, w.pressure.fans);
-    try {
-        dem::save_checkpoint(path, w, blob);
-    } catch (...) {
-        std::swap(fans, w.pressure.fans);
-        throw;
-    }
-    std::swap(fans, w.pressure.fans);
+    save_checkpoint_without_fans(path, const_cast<dem::World&>(w_), blob);
 }
 
 void DamperRun::warn(const std::string& what) {

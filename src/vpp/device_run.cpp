@@ -804,17 +804,8 @@ void DeviceRun::next_stage() {
 
 void DeviceRun::checkpoint() {
     if (out_.empty()) return;
-    // The checkpoint format has no place for pressure fans (dem/io/checkpoint.h): they follow
-    // from the membrane, which the device file rebuilds; saved without them, restored on load.
-    dem::PressureFans fans;
-    std::swap(fans, w_.pressure.fans);
-    try {
-        dem::save_checkpoint((out_ / kCheckpointName).string(), w_, st_.save());
-    } catch (...) {
-        std::swap(fans, w_.pressure.fans);
-        throw;
-    }
-    std::swap(fans, w_.pressure.fans);
+    // The fans follow from the membrane, which the device file rebuilds: restored on load.
+    save_checkpoint_without_fans((out_ / kCheckpointName).string(), w_, st_.save());
 }
 
 void DeviceRun::run() {

@@ -7,6 +7,7 @@
 #include <stdexcept>
 #include <unordered_map>
 
+#include "dem/io/checkpoint.h"
 #include "dem/mesh/mesh_checks.h"
 #include "dem/mesh/mesh_shapes.h"
 #include "dem/mesh/remesh.h"
@@ -388,6 +389,18 @@ double enclosed_volume(const Membrane& m, const std::vector<Vec3>& pos) {
             six_v += dot(centre, cross(pos[loop[(k + 1) % loop.size()]], pos[loop[k]]));
     }
     return six_v / 6.0;
+}
+
+void save_checkpoint_without_fans(const std::string& path, dem::World& w, const std::string& blob) {
+    dem::PressureFans fans;
+    std::swap(fans, w.pressure.fans);
+    try {
+        dem::save_checkpoint(path, w, blob);
+    } catch (...) {
+        std::swap(fans, w.pressure.fans);
+        throw;
+    }
+    std::swap(fans, w.pressure.fans);
 }
 
 }  // namespace vpp
