@@ -604,6 +604,15 @@ PYBIND11_MODULE(_core, m) {
              "returns (first facet, count)")
         .def("add_bond", &dem::World::add_bond, py::arg("i"), py::arg("j"), py::arg("kn"), py::arg("ks"),
              py::arg("rest_length") = -1.0, "Permanent bond: kn, ks [N/m]; rest_length [m] (< 0: the current distance)")
+        .def_property(
+            "bond_arm", [](const dem::World& w) { return w.bonds().arm == dem::BondArm::kBondPoint ? "bond_point" : "radius"; },
+            [](dem::World& w, const std::string& a) {
+                if (a != "radius" && a != "bond_point")
+                    throw py::value_error("bond_arm: '" + a + "' is not allowed (\"radius\" or \"bond_point\")");
+                w.set_bond_arm(a == "radius" ? dem::BondArm::kRadius : dem::BondArm::kBondPoint);
+            },
+            "Where the bonds' shear springs are driven from: \"radius\" (the full radii, the paper's convention) or "
+            "\"bond_point\" (where the torques act: a rigid motion loads no spring)")
         .def("set_fixed", &dem::World::set_fixed, py::arg("i"))
         .def("set_plane_motion",
              [](dem::World& w, std::size_t k, const std::vector<double>& velocity,

@@ -54,6 +54,7 @@ std::string show(const std::string& key, double v) {
     if (key == "process.waveform") return v == 0.0 ? "\"triangle\"" : "\"sine\"";
     if (key == "output.energy" || key == "damper.refill") return v != 0.0 ? "true" : "false";
     if (key == "foil.builder") return v == 0.0 ? "\"lattice\"" : "\"mesh\"";
+    if (key == "foil.bond_arm") return v == 0.0 ? "\"radius\"" : "\"bond_point\"";
     if (key == "simulation.dt" && v == 0.0) return "\"auto\"";
     if (key == "damper.cap_friction" && v < 0.0) return "(unset: the grains' friction)";
     // Words, not the numbers the checkpoint keeps for them (a refusal said "grains.shape = 5").
@@ -663,6 +664,7 @@ void DamperRun::build() {
     w_.params.local_damping = c_.simulation.local_damping;
     w_.params.threads = c_.simulation.threads;
     w_.params.skin = c_.simulation.skin;
+    w_.set_bond_arm(c_.foil.bond_arm == 1 ? dem::BondArm::kBondPoint : dem::BondArm::kRadius);
     if (mesh_foil()) {
         // The lattice's cylinder (its ring radius and height, which the paper's rules choose
         // from damper.radius and damper.height), built by the membrane builder: the two foils
@@ -951,6 +953,7 @@ void DamperRun::apply_config_to_prepared() {
         const double kn = bond_normal_stiffness(c_.foil);
         for (std::size_t b = 0; b < w_.bonds().size(); ++b) w_.set_bond_stiffness(uint32_t(b), kn, c_.foil.stiffness_ratio * kn);
     }
+    w_.set_bond_arm(c_.foil.bond_arm == 1 ? dem::BondArm::kBondPoint : dem::BondArm::kRadius);
     w_.invalidate_contact_physics();
     w_.params.local_damping = cycling_local_damping(c_);  // the preparation ran with simulation.local_damping
     w_.params.threads = c_.simulation.threads;

@@ -204,6 +204,14 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     d.membrane.spacing = mem.non_negative("spacing", mem.number("spacing", 0.0));
     d.membrane.vacancies = mem.boolean("vacancies", false);
     d.membrane.stiffness_factor = positive(mem, "stiffness_factor", 1.0);
+    // The bonds' shear springs at the bond point by default: a remeshed membrane's bonds are
+    // 0.45-1.27 diameters long, and with the full radii a rigid rotation would load them
+    // (docs/energy.md, "Bonds"); "radius" keeps the damper's lattice convention.
+    {
+        const std::string arm = mem.string("bond_arm", "bond_point");
+        if (arm != "bond_point" && arm != "radius") mem.fail("bond_arm", "must be \"bond_point\" or \"radius\"");
+        f.bond_arm = arm == "bond_point" ? 1 : 0;
+    }
     d.clamp_tool = mem.string("clamp_tool", "");
     read_numbers(mem, "membrane", d);
     if (!d.clamp_tool.empty() && !(d.clamp_height > 0.0))
@@ -385,6 +393,7 @@ std::vector<std::pair<std::string, std::string>> device_inputs(const DeviceDef& 
     in.emplace_back("membrane.spacing", json_number(d.membrane.spacing));
     in.emplace_back("membrane.vacancies", d.membrane.vacancies ? "true" : "false");
     in.emplace_back("membrane.stiffness_factor", json_number(d.membrane.stiffness_factor));
+    in.emplace_back("membrane.bond_arm", json_string(d.membrane.foil.bond_arm == 1 ? "bond_point" : "radius"));
     in.emplace_back("air.pump_speed", json_number(d.air.line.speed));
     in.emplace_back("air.bleed_rate", json_number(d.air.line.bleed));
     in.emplace_back("air.leak_rate", json_number(d.air.line.leak));

@@ -224,6 +224,21 @@ const std::vector<Setting>& table() {
                                "kn; below 0.01 the shear spring cannot carry the friction force: at 0 its elongation "
                                "f_t / k_s is NaN)",
          .acts = A::ContactPhysics, .run = 7, .doc = "ks/kn of bonds and foil contacts", FIELD(foil.stiffness_ratio)},
+        {.key = "foil.bond_arm", .type = T::Choice, .unit = "", .def = Setting::kUnset, .default_text = "\"radius\"",
+         .check = C::Custom, .allowed = "must be \"radius\" or \"bond_point\"", .acts = A::ContactPhysics, .run = 32,
+         .summary = 35,
+         .doc = "where the bonds' shear springs are driven from: \"radius\", the relative velocity at the full radii "
+                "as a contact's (Yade's convention, the paper's); \"bond_point\", at the bond point where the torques "
+                "act (a rigid rotation loads no spring; the energy ledger closes on bonds longer than 2 r_f; the "
+                "device files' default). The lattice's bonds are 2 r_f long and the two differ by the foil's strain "
+                "(docs/energy.md, \"Bonds\")",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
+             const std::string k = short_key(r);
+             const std::string a = s.string(k, "radius");
+             if (a != "radius" && a != "bond_point") s.fail(k, r.allowed);
+             c.foil.bond_arm = a == "bond_point" ? 1 : 0;
+         },
+         FIELD(foil.bond_arm), .legacy = 0.0},  // an older vppdem's bonds used the full radii
         // The mesh foil is the damper's (its run builds, loads and checkpoints it); the tension
         // strip and the envelope are the lattice's own checks.
         {.key = "foil.builder", .type = T::Choice, .unit = "", .def = Setting::kUnset, .default_text = "\"lattice\"",

@@ -140,14 +140,16 @@ World membrane(int n, double dp, double lambda, double kn) {
 }  // namespace
 
 // The membrane's step in a batch: pressure, bonds with shear history, World's gather order and
-// the leapfrog, 10,000 steps, three different membranes (pressures, damping, stiffness) and 1 or
-// 2 threads: each World's bits. Without the gather's order (a plain running sum) it fails.
+// the leapfrog, 10,000 steps, four different membranes (pressures, damping, stiffness, the bonds'
+// arm) and 1 or 2 threads: each World's bits. Without the gather's order (a plain running sum) it fails.
 TEST(Batch, BondedMembranesUnderPressureGiveEachWorldsBits) {
     for (const int threads : {1, 2}) {
         std::vector<World> ref;
         ref.push_back(membrane(12, 200.0, 0.2, 1e3));
         ref.push_back(membrane(9, 50.0, 0.0, 3e3));
         ref.push_back(membrane(15, 0.0, 0.5, 2e3));
+        ref.push_back(membrane(9, 100.0, 0.1, 2e3));  // bonds 2.2 r long, springs at the bond point
+        ref.back().set_bond_arm(BondArm::kBondPoint);
         std::vector<World> mine = ref;
         batch::BatchSystems b;
         for (World& w : mine) b.add(w);

@@ -241,6 +241,38 @@ TEST(Checkpoint, ResumedRunIsBitwiseIdentical) {
     fs::remove_all(dir);
 }
 
+// The bonds' arm (BondArm) acts in World's bond kernel, is saved (section BARM, only when not
+// the default) and restored: a resumed run with the bond-point arm gives the same bits, and a
+// file of the default arm loaded over a bond-point world sets it back.
+TEST(Checkpoint, TheBondArmActsAndIsRestored) {
+    const fs::path dir = temp_dir("arm");
+    const std::string path = (dir / "arm.ckpt").string(), plain = (dir / "plain.ckpt").string();
+    World ref = make_scene(), radius = make_scene();
+    ref.set_bond_arm(BondArm::kBondPoint);
+    run(ref, 300);
+    run(radius, 300);
+    save_checkpoint(path, ref, "");
+    save_checkpoint(plain, radius, "");
+    EXPECT_NE(read_bytes(path).find("BARM"), std::string::npos);
+    EXPECT_EQ(read_bytes(plain).find("BARM"), std::string::npos);  // the default's files as before
+    run(ref, 300);
+    run(radius, 300);
+    // The arm changes the bonds' shear springs (their bonds turn as the membrane is pushed).
+    double diff = 0;
+    for (std::size_t b = 0; b < ref.bonds().size(); ++b) diff += norm(ref.bonds().shear[b] - radius.bonds().shear[b]);
+    EXPECT_GT(diff, 0.0);
+    World resumed;
+    load_checkpoint(path, resumed);
+    EXPECT_EQ(resumed.bonds().arm, BondArm::kBondPoint);
+    run(resumed, 300);
+    expect_same(ref, resumed);
+    load_checkpoint(plain, resumed);
+    EXPECT_EQ(resumed.bonds().arm, BondArm::kRadius);
+    run(resumed, 300);
+    expect_same(radius, resumed);
+    fs::remove_all(dir);
+}
+
 // Stopping after every single step catches state that matters only at particular moments
 // (e.g. the displacement since the last rebuild when a rebuild is due in the next step).
 TEST(Checkpoint, RestartAfterEveryStepIsBitwiseIdentical) {

@@ -103,6 +103,7 @@ TEST(Settings, EveryKeyIsReadAndNoOther) {
                 : std::string(s.key) == "process.waveform"     ? "\"sine\""
                 : std::string(s.key) == "grains.shape"         ? "\"dimer\""
                 : std::string(s.key) == "foil.builder"         ? "\"mesh\""
+                : std::string(s.key) == "foil.bond_arm"        ? "\"bond_point\""
                                                                 : "\"extension\"";  // the other word
         else if (s.type == SettingType::RealOrAuto) v = "1e-6";
         else if (s.type == SettingType::Integer) v = "5";
@@ -187,8 +188,8 @@ TEST(Settings, RecordedKeysAreNumberedWithoutGaps) {
         EXPECT_FALSE(list.empty());
     }
     EXPECT_EQ(geometry_settings().size(), 16u);
-    EXPECT_EQ(run_settings().size(), 31u);
-    EXPECT_EQ(summary_inputs().size(), 34u);
+    EXPECT_EQ(run_settings().size(), 32u);
+    EXPECT_EQ(summary_inputs().size(), 35u);
     auto positions = [](int Setting::*p) {
         std::set<int> s;
         for (const Setting& r : settings())
@@ -205,7 +206,7 @@ TEST(Settings, RecordedKeysAreNumberedWithoutGaps) {
     // What a checkpoint stores keeps its first key (older checkpoints are read by name, any order).
     EXPECT_STREQ(geometry_settings().front().key, "grains.radius");
     EXPECT_STREQ(run_settings().front().key, "grains.friction");
-    EXPECT_STREQ(summary_inputs().back().key, "damper.packing_target");  // the newest keys come last
+    EXPECT_STREQ(summary_inputs().back().key, "foil.bond_arm");  // the newest keys come last
     EXPECT_STREQ(geometry_settings().back().key, "foil.builder");
 }
 

@@ -54,6 +54,7 @@ std::size_t BatchSystems::add(World& wd) {
         torque2.push_back(bl.torque2[k]);
     }
     bond_first.push_back(int64_t(bi.size()));
+    bond_point.push_back(bl.arm == BondArm::kBondPoint ? 1 : 0);
     if (!wd.pressure.fans.empty())
         throw std::invalid_argument("batch: pressure fans (a triangulated membrane) are not supported by the batch engine");
     dp.push_back(world_underpressure(wd));
@@ -229,8 +230,11 @@ void step_forces(BatchSystems& b, std::size_t sys) {
         const int64_t k = bb + q, i = b.bi[k], j = b.bj[k];
         const BondEnd e1{b.x[i], b.v[i], b.w[i], b.r[i]}, e2{b.x[j], b.v[j], b.w[j], b.r[j]};
         double elastic = 0.0;
-        const BondOut o = track ? bond_step<true>(e1, e2, b.kn[k], b.ks[k], b.rest[k], dt, b.shear[k], b.prev_normal[k], &elastic)
-                                : bond_step(e1, e2, b.kn[k], b.ks[k], b.rest[k], dt, b.shear[k], b.prev_normal[k]);
+        const bool at_point = b.bond_point[s] != 0;
+        const BondOut o = track ? bond_step<true>(e1, e2, b.kn[k], b.ks[k], b.rest[k], dt, b.shear[k], b.prev_normal[k],
+                                                  &elastic, at_point)
+                                : bond_step(e1, e2, b.kn[k], b.ks[k], b.rest[k], dt, b.shear[k], b.prev_normal[k],
+                                            nullptr, at_point);
         b.bond_force[k] = o.force;
         b.torque1[k] = o.torque1;
         b.torque2[k] = o.torque2;

@@ -34,6 +34,7 @@ struct BatchSystems {
     // prescribed particles presc_first[s] ..
     std::vector<int64_t> bond_first{0}, node_first{0}, presc_first{0};
     std::vector<double> dp;             // [Pa] (World's, read at each step)
+    std::vector<uint8_t> bond_point;    // 1: the system's bonds drive their shear springs at the bond point (BondArm)
     // Per bond (global particle indices).
     std::vector<int64_t> bi, bj;
     std::vector<double> kn, ks, rest;   // [N/m], [N/m], [m]

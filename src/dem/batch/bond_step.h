@@ -27,13 +27,14 @@ struct BondOut {
 };
 
 // One bond's step (bond_lanes on one bond): the shear history fs, prev updated. With kEnergy the
-// bond's stored energy [J] goes to *elastic.
+// bond's stored energy [J] goes to *elastic. bond_point: the shear spring driven at the bond
+// point (dem::BondArm::kBondPoint).
 template <bool kEnergy = false>
 VPPDEM_HD inline BondOut bond_step(const BondEnd& a, const BondEnd& b, double kn, double ks, double rest, double dt,
-                                   Vec3& fs, Vec3& prev, double* elastic = nullptr) {
+                                   Vec3& fs, Vec3& prev, double* elastic = nullptr, bool bond_point = false) {
     const PairLanes<double> q{lanes(a.x), lanes(a.v), lanes(a.w), lanes(b.x), lanes(b.v), lanes(b.w), a.r, b.r};
     V3<double> s = lanes(fs), p = lanes(prev), f, t1, t2;
-    bond_lanes<kEnergy>(q, kn, ks, rest, dt, s, p, f, t1, t2, elastic);
+    bond_lanes<kEnergy>(q, kn, ks, rest, dt, s, p, f, t1, t2, elastic, bond_point);
     fs = vec3(s);
     prev = vec3(p);
     return {vec3(f), vec3(t1), vec3(t2)};

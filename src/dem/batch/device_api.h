@@ -66,6 +66,7 @@ struct SysView {
     int active = 0;          // 0: skipped (a member that left)
     int track = 0;           // the energy ledger
     int with_pressure = 0;
+    int bond_point = 0;      // the bonds' shear springs driven at the bond point (dem::BondArm)
     int64_t base = 0, n = 0;  // particles base .. base + n of Globals
     int64_t bond0 = 0, bond1 = 0, node0 = 0, node1 = 0, presc0 = 0, presc1 = 0;
     double dt = 0, lambda = 0, dp = 0;

@@ -297,6 +297,7 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     v.n = b.first[s + 1] - b.first[s];
     v.bond0 = b.bond_first[s];
     v.bond1 = b.bond_first[s + 1];
+    v.bond_point = b.bond_point[s];
     v.node0 = b.node_first[s];
     v.node1 = b.node_first[s + 1];
     v.presc0 = b.presc_first[s];

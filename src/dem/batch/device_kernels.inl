@@ -140,8 +140,11 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
         const int64_t i = g.bi[k], j = g.bj[k];
         const BondEnd e1{g.x[i], g.v[i], g.w[i], g.r[i]}, e2{g.x[j], g.v[j], g.w[j], g.r[j]};
         double elastic = 0.0;
-        const BondOut o = track ? bond_step<true>(e1, e2, g.kn[k], g.ks[k], g.rest[k], dt, g.bshear[k], g.bprev[k], &elastic)
-                                : bond_step(e1, e2, g.kn[k], g.ks[k], g.rest[k], dt, g.bshear[k], g.bprev[k]);
+        const bool at_point = s.bond_point != 0;
+        const BondOut o = track ? bond_step<true>(e1, e2, g.kn[k], g.ks[k], g.rest[k], dt, g.bshear[k], g.bprev[k],
+                                                  &elastic, at_point)
+                                : bond_step(e1, e2, g.kn[k], g.ks[k], g.rest[k], dt, g.bshear[k], g.bprev[k], nullptr,
+                                            at_point);
         g.bforce[k] = o.force;
         g.btorque1[k] = o.torque1;
         g.btorque2[k] = o.torque2;

@@ -136,6 +136,7 @@ public:
         if (end_ - p_ >= 4 && std::memcmp(p_, tag, 4) == 0) section(tag, body);
     }
     bool done() const { return p_ == end_; }
+    const std::string& path() const { return path_; }  // the file (for messages)
 
 private:
     void need(std::size_t n) const {

@@ -306,7 +306,7 @@ template <bool kEnergy, class D>
 HWY_INLINE void bond_body(D d, const kernels::BondArgs& a, int64_t s, VecD<D>* terms) {
     BondList& b = *a.b;
     const PairState<D> q = gather_pair(d, *a.p, a.packed, &b.i[s], &b.j[s]);
-    const BondGeometryLanes<VecD<D>> geo = bond_geometry_lanes(q);
+    const BondGeometryLanes<VecD<D>> geo = bond_geometry_lanes(q, b.arm == BondArm::kBondPoint);
     VecD<D> kn, ks, l0;
     hn::LoadInterleaved3(d, &b.phys[s].kn, kn, ks, l0);
     V3D<D> fs = load3(d, &b.shear[s]), prev = load3(d, &b.prev_normal[s]);

@@ -131,20 +131,29 @@ VPPDEM_BODY auto smooth_pair_lanes(const PairLanes<R>& q, const M& live, const R
 }
 
 // A bond's geometry: unit axis n from 1 to 2, centre distance [m], half the gap the spheres
-// would close to touch (the lever arms are as for a contact: the bond point sits where the
-// spheres would touch), relative velocity at the bond point and the twist rate.
+// would close to touch (the torques' lever arms are r - half_gap: the bond point sits where the
+// spheres would touch), the relative velocity that drives the shear spring and the twist rate.
+// bond_point (BondArm::kBondPoint, dem/bonds/bond_list.h): that velocity at the bond point,
+// with the torques' arms; otherwise at the full radii, as a contact's (the paper's convention;
+// the same bits as before the choice existed).
 template <class R> struct BondGeometryLanes {
     V3<R> n, vrel;
     R dist, half_gap, spin_n;
 };
-template <class R> VPPDEM_BODY BondGeometryLanes<R> bond_geometry_lanes(const PairLanes<R>& q) {
+template <class R>
+VPPDEM_BODY BondGeometryLanes<R> bond_geometry_lanes(const PairLanes<R>& q, bool bond_point = false) {
     const R half = lit(q.ri, 0.5);
     BondGeometryLanes<R> b;
     const V3<R> dx = q.xj - q.xi;
     b.dist = lane_sqrt(norm2(dx));
     b.n = dx * (lit(q.ri, 1.0) / b.dist);
     b.half_gap = half * (q.ri + q.rj - b.dist);
-    b.vrel = pair_relative_velocity(q, b.n);
+    if (bond_point) {
+        const R arm1 = q.ri - b.half_gap, arm2 = q.rj - b.half_gap;  // arm1 + arm2 = dist
+        b.vrel = (q.vj + cross(q.wj, b.n * neg(arm2))) - (q.vi + cross(q.wi, b.n * arm1));
+    } else {
+        b.vrel = pair_relative_velocity(q, b.n);
+    }
     b.spin_n = half * dot(b.n, q.wi + q.wj);
     return b;
 }
@@ -163,8 +172,10 @@ VPPDEM_BODY void bond_step_lanes(const PairLanes<R>& q, const BondGeometryLanes<
 // coefficients and history between them).
 template <bool kEnergy, class R>
 VPPDEM_BODY void bond_lanes(const PairLanes<R>& q, const R& kn, const R& ks, const R& rest, const R& dt, V3<R>& fs,
-                            V3<R>& prev, V3<R>& force, V3<R>& torque1, V3<R>& torque2, R* elastic = nullptr) {
-    bond_step_lanes<kEnergy>(q, bond_geometry_lanes(q), kn, ks, rest, dt, fs, prev, force, torque1, torque2, elastic);
+                            V3<R>& prev, V3<R>& force, V3<R>& torque1, V3<R>& torque2, R* elastic = nullptr,
+                            bool bond_point = false) {
+    bond_step_lanes<kEnergy>(q, bond_geometry_lanes(q, bond_point), kn, ks, rest, dt, fs, prev, force, torque1,
+                             torque2, elastic);
 }
 
 // 1 - lambda sign(x), sign(0) = 0 (dem/integrate/leapfrog.h).

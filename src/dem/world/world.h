@@ -98,6 +98,9 @@ public:
     // Permanent bond; rest_length < 0 takes the current centre distance.
     uint32_t add_bond(uint32_t i, uint32_t j, double kn, double ks, double rest_length = -1.0);
     const BondList& bonds() const { return bonds_; }
+    // Where every bond's shear spring is driven from (BondArm, dem/bonds/bond_list.h; saved in
+    // the checkpoint). The default, kRadius, is the paper's convention.
+    void set_bond_arm(BondArm arm) { bonds_.arm = arm; }
     std::size_t wall_count() const { return planes.size() + facets.size(); }
 
     // Contact physics depends on materials; call after changing them mid-run.

@@ -21,7 +21,7 @@ static_assert(sizeof(Particles) == 15 * sizeof(std::vector<int>), "update dem/wo
 static_assert(sizeof(Clumps) == 12 * sizeof(std::vector<int>) && sizeof(Quat) == 32, "update dem/world/world_io.h");
 static_assert(sizeof(CandidateList) == 4 * sizeof(std::vector<int>), "update dem/world/world_io.h");
 static_assert(sizeof(ActiveContacts) == 11 * sizeof(std::vector<int>), "update dem/world/world_io.h");
-static_assert(sizeof(BondList) == 8 * sizeof(std::vector<int>), "update dem/world/world_io.h");
+static_assert(sizeof(BondList) == 8 * sizeof(std::vector<int>) + 8 && sizeof(BondArm) == 1, "update dem/world/world_io.h");
 static_assert(sizeof(Material) == sizeof(std::string) + 5 * sizeof(double), "update dem/world/world_io.h");
 static_assert(sizeof(Motion) == sizeof(Vec3) + sizeof(std::vector<int>), "update dem/world/world_io.h");
 static_assert(sizeof(Plane) == 2 * sizeof(Vec3) + 16 + sizeof(Motion), "update dem/world/world_io.h");
@@ -248,6 +248,17 @@ template <class A, class W> void World::serialize(A& a, W& w, uint32_t version) 
         s.vec(b.force);
         s.vec(b.torque1);
         s.vec(b.torque2);
+    });
+    // The bonds' arm, written only when it is not the default (older files, and files of worlds
+    // that keep the paper's convention, have no such section and load as kRadius).
+    if constexpr (A::kLoading) w.bonds_.arm = BondArm::kRadius;
+    a.optional_section("BARM", w.bonds_.arm != BondArm::kRadius, [&](A& s) {
+        uint8_t arm = uint8_t(w.bonds_.arm);
+        s.pod(arm);
+        if constexpr (A::kLoading) {
+            if (arm > uint8_t(BondArm::kBondPoint)) io::corrupt(s.path(), "unknown bond arm " + std::to_string(arm));
+            w.bonds_.arm = BondArm(arm);
+        }
     });
     a.section("VRLT", [&](A& s) {
         if (version >= 2) {
