@@ -16,6 +16,7 @@
 #include "scene/progress.h"
 #include "scene/scene_settings.h"
 #include "dem/io/csv.h"
+#include "dem/io/energy_columns.h"
 #include "dem/io/json.h"
 #include "dem/io/vtk.h"
 #include "dem/walls/facet_sets.h"
@@ -424,16 +425,13 @@ void run_scene(Scene& sc, const RunOptions& opt) {
     const bool energy = w.params.track_energy;
     dem::CsvWriter energy_csv;
     if (energy) {
-        energy_csv.open((out / "energy.csv").string(),
-                        "time,boundary_work,pressure_work,gravity_work,kinetic,elastic_contacts,elastic_bonds,"
-                        "friction_dissipation,damping_dissipation,viscous_dissipation,residual");
+        energy_csv.open((out / "energy.csv").string(), dem::energy_csv_header());
         w.reset_energy();
     }
     auto energy_row = [&] {
-        const dem::EnergyLedger& L = w.energy();
-        energy_csv.row({L.time, L.boundary_work, L.pressure_work, L.gravity_work, L.kinetic, L.elastic_contacts,
-                        L.elastic_bonds, L.friction_dissipation(), L.damping_dissipation, L.viscous_dissipation,
-                        L.residual()});
+        std::vector<double> row(dem::kEnergyColumns.size());
+        dem::energy_csv_row(w.energy(), w.energy().time, row.data());
+        energy_csv.row(row);
     };
     if (sc.vtk_interval > 0.0) fs::create_directories(out / "vtk");
 

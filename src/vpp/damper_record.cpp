@@ -32,8 +32,9 @@ namespace fs = std::filesystem;
 namespace damper_detail {
 
 EnergyRow energy_row(const dem::EnergyLedger& L, double time) {
-    return {{time, L.boundary_work, L.pressure_work, L.gravity_work, L.kinetic, L.elastic_contacts, L.elastic_bonds,
-             L.friction_dissipation(), L.damping_dissipation, L.viscous_dissipation, L.residual()}};
+    EnergyRow r;
+    dem::energy_csv_row(L, time, r.v);
+    return r;
 }
 
 // The state's fields in the run-state archive (dem/io/archive.h), the format of the World's own
@@ -279,9 +280,9 @@ static bool air_complete(const RunState& st) { return !st.air.empty() && st.air.
 void DamperRun::write_energy(const fs::path& dir) const {
     if (st_.energy.empty()) return;
     const bool air = air_complete(st_) && st_.air.size() == st_.energy.size();
-    dem::CsvWriter csv((dir / "energy.csv").string(), std::string(kEnergyHeader) + (air ? ",gas_work" : ""));
+    dem::CsvWriter csv((dir / "energy.csv").string(), dem::energy_csv_header() + (air ? ",gas_work" : ""));
     for (std::size_t k = 0; k < st_.energy.size(); ++k) {
-        std::vector<double> row(st_.energy[k].v, st_.energy[k].v + kEnergyColumns);
+        std::vector<double> row(st_.energy[k].v, st_.energy[k].v + kEnergyRowSize);
         if (air) row.push_back(st_.air[k].gas_work);
         csv.row(row);
     }
@@ -388,13 +389,16 @@ DamperResult DamperRun::result() const {
             if (a >= st_.energy.size()) continue;
             const EnergyRow& e0 = st_.energy[a];
             const EnergyRow& e1 = b < st_.energy.size() ? st_.energy[b] : last;
-            auto d = [&](int k) { return e1.v[k] - e0.v[k]; };
+            auto d = [&](std::string_view column) {
+                const std::size_t k = dem::energy_column(column);
+                return e1.v[k] - e0.v[k];
+            };
             cr.has_energy = true;
-            cr.boundary_work = d(1);
-            cr.friction_dissipation = d(7);
-            cr.damping_dissipation = d(8);
-            cr.viscous_dissipation = d(9);
-            cr.energy_residual = d(10);
+            cr.boundary_work = d("boundary_work");
+            cr.friction_dissipation = d("friction_dissipation");
+            cr.damping_dissipation = d("damping_dissipation");
+            cr.viscous_dissipation = d("viscous_dissipation");
+            cr.energy_residual = d("residual");
         }
     }
     r.settling = mark_settled(r.cycles, c_.analysis.settle_tolerance);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "scene/progress.h"
+#include "dem/io/energy_columns.h"
 #include "dem/world/world.h"
 #include "dem/io/folder_lock.h"
 #include "vpp/damper.h"
@@ -39,13 +40,12 @@ inline const char* stage_name(Stage s) {
 using Sample = DamperSample;
 using AirSample = DamperAirSample;
 
-// One row of energy.csv (the ledger at a forces.csv sample; docs/energy.md).
-constexpr int kEnergyColumns = 11;
-constexpr const char* kEnergyHeader =
-    "time,boundary_work,pressure_work,gravity_work,kinetic,elastic_contacts,elastic_bonds,"
-    "friction_dissipation,damping_dissipation,viscous_dissipation,residual";
+// One row of energy.csv (the ledger at a forces.csv sample; its columns dem::kEnergyColumns,
+// dem/io/energy_columns.h; docs/energy.md). Kept in the checkpoint's run state as 11 doubles.
+constexpr std::size_t kEnergyRowSize = dem::kEnergyColumns.size();
+static_assert(kEnergyRowSize == 11, "a new energy.csv column changes the damper's run state in its checkpoint");
 struct EnergyRow {
-    double v[kEnergyColumns];
+    double v[kEnergyRowSize];
 };
 
 

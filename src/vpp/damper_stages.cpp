@@ -564,19 +564,10 @@ ForcesTable Damper::forces() const { return run_->forces(); }
 std::vector<std::vector<double>> Damper::energy() const {
     std::vector<std::vector<double>> rows;
     for (const damper_detail::EnergyRow& e : run_->state().energy)
-        rows.emplace_back(e.v, e.v + damper_detail::kEnergyColumns);
+        rows.emplace_back(e.v, e.v + damper_detail::kEnergyRowSize);
     return rows;
 }
-std::vector<std::string> Damper::energy_columns() {
-    std::vector<std::string> cols;
-    std::string h = damper_detail::kEnergyHeader;
-    for (std::size_t a = 0; a <= h.size();) {
-        const std::size_t b = std::min(h.find(',', a), h.size());
-        cols.push_back(h.substr(a, b - a));
-        a = b + 1;
-    }
-    return cols;
-}
+std::vector<std::string> Damper::energy_columns() { return dem::energy_column_names(); }
 void Damper::write_records(const std::string& dir) const { run_->write_records(dir); }
 const dem::World& Damper::world() const { return run_->world(); }
 const Config& Damper::config() const { return run_->config(); }

@@ -18,6 +18,7 @@
 #include "dem/io/archive.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
+#include "dem/io/energy_columns.h"
 #include "dem/io/folder_lock.h"
 #include "dem/io/json.h"
 #include "dem/io/vtk.h"
@@ -45,10 +46,7 @@ constexpr const char* kCheckpointName = "run.ckpt";
 constexpr uint32_t kMaskOpening = 1u << 2;
 constexpr int kToolColumns = 4;  // z, fx, fy, fz
 constexpr int kAirColumns = 5;   // time, stage, enclosed, gas, dp
-constexpr int kEnergyColumns = 11;
-constexpr const char* kEnergyHeader =
-    "time,boundary_work,pressure_work,gravity_work,kinetic,elastic_contacts,elastic_bonds,"
-    "friction_dissipation,damping_dissipation,viscous_dissipation,residual";
+constexpr std::size_t kEnergyRowSize = dem::kEnergyColumns.size();  // energy.csv (dem/io/energy_columns.h)
 
 // ---- geometry of the fill
 
@@ -133,7 +131,7 @@ struct DeviceState {
     int64_t window_n = 0;              // steps in the window
     std::vector<double> rows;          // tools.csv, row after row (2 + 4 per tool columns)
     std::vector<double> air;           // air.csv, row after row (kAirColumns)
-    std::vector<double> energy;        // energy.csv, row after row (kEnergyColumns)
+    std::vector<double> energy;        // energy.csv, row after row (kEnergyRowSize each)
     std::map<std::string, double> report;  // "volume_seal", "volume_vacuum", "fill_settled", "fill_time"
     std::vector<std::string> warnings;
     std::string inputs;                // the device's inputs (device_inputs) the run was started with
@@ -605,11 +603,9 @@ bool DeviceRun::step(DeviceStage stage, double dp_set) {
         vtk_frame(name);
     }
     if (sample && w_.params.track_energy) {
-        const dem::EnergyLedger& L = w_.energy();
-        st_.energy.insert(st_.energy.end(),
-                          {L.time, L.boundary_work, L.pressure_work, L.gravity_work, L.kinetic, L.elastic_contacts,
-                           L.elastic_bonds, L.friction_dissipation(), L.damping_dissipation, L.viscous_dissipation,
-                           L.residual()});
+        double row[kEnergyRowSize];
+        dem::energy_csv_row(w_.energy(), w_.energy().time, row);
+        st_.energy.insert(st_.energy.end(), row, row + kEnergyRowSize);
     }
     return done;
 }
@@ -915,8 +911,11 @@ DeviceResult DeviceRun::result() const {
     if (r.volume_press > 0 && r.volume_vacuum > 0) r.volume_change_vacuum = (r.volume_vacuum - r.volume_press) / r.volume_press;
     r.fill_settled = rep("fill_settled") != 0.0;
     r.packing_seal = r.volume_seal > 0 ? grain_volume_ / r.volume_seal : 0.0;
-    for (std::size_t s = 0; s + kEnergyColumns <= st_.energy.size(); s += kEnergyColumns)
-        for (int c = 1; c < kEnergyColumns - 1; ++c) r.energy_scale = std::max(r.energy_scale, std::abs(st_.energy[s + c]));
+    // The scale: the largest term of any row (every column but the time and the residual).
+    const std::size_t first = dem::energy_column("boundary_work"), res = dem::energy_column("residual");
+    for (std::size_t s = 0; s + kEnergyRowSize <= st_.energy.size(); s += kEnergyRowSize)
+        for (std::size_t c = first; c < kEnergyRowSize; ++c)
+            if (c != res) r.energy_scale = std::max(r.energy_scale, std::abs(st_.energy[s + c]));
     if (!st_.energy.empty()) r.energy_residual = st_.energy.back();
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     r.warnings = st_.warnings;
@@ -948,9 +947,9 @@ void DeviceRun::write_records() const {
         csv.close();
     }
     if (d_.energy) {
-        dem::CsvWriter csv((out_ / "energy.csv").string(), kEnergyHeader);
-        for (std::size_t s = 0; s + kEnergyColumns <= st_.energy.size(); s += kEnergyColumns)
-            csv.row(std::vector<double>(st_.energy.begin() + long(s), st_.energy.begin() + long(s + kEnergyColumns)));
+        dem::CsvWriter csv((out_ / "energy.csv").string(), dem::energy_csv_header());
+        for (std::size_t s = 0; s + kEnergyRowSize <= st_.energy.size(); s += kEnergyRowSize)
+            csv.row(std::vector<double>(st_.energy.begin() + long(s), st_.energy.begin() + long(s + kEnergyRowSize)));
         csv.close();
     }
     const DeviceResult r = result();

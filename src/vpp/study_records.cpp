@@ -43,13 +43,8 @@ void dissipation_shares(double friction, double damping, double viscous, CaseOut
 
 // A quantity of kEnsembleQuantities or kPairedQuantities by its column name.
 double quantity(const CaseOutcome& o, const std::string& q) {
-    if (q == "W") return o.W;
-    if (q == "W_settled") return o.W_settled;
-    if (q == "peak_force") return o.peak_force;
-    if (q == "dissipated_energy") return o.dissipated_energy;
-    if (q == "friction_share") return o.friction_share;
-    if (q == "damping_share") return o.damping_share;
-    if (q == "packing_fraction") return o.packing_fraction;
+    for (const OutcomeNumber& n : outcome_numbers())
+        if (q == n.name) return n.value(o);
     throw std::logic_error("no study quantity '" + q + "'");
 }
 
@@ -195,6 +190,27 @@ CaseOutcome read_case_outcome(const fs::path& dir, const Config& config) {
     return outcome_of(dir, read_cycles_csv((dir / "cycles.csv").string()), config);
 }
 
+const std::vector<OutcomeNumber>& outcome_numbers() {
+    using O = CaseOutcome;
+    static const std::vector<OutcomeNumber> t = {
+        {"W", "J/m^2", "the last cycle's dissipated energy per lateral area", &O::W, nullptr, true},
+        {"dissipated_energy", "J", "the last cycle's loop area", &O::dissipated_energy, nullptr, true},
+        {"peak_force", "N", "the last cycle's largest force", &O::peak_force, nullptr, true},
+        {"run_seconds", "s", "the run's wall time (summary.json)", &O::run_seconds, nullptr, true, false, true},
+        {"W_settled", "J/m^2", "mean W of the stationary cycles (vpp/settle.h; empty: none)", &O::W_settled},
+        {"settled_cycles", "", "how many cycles are stationary", nullptr, &O::settled_cycles},
+        {"first_settled_cycle", "", "the first stationary cycle (empty: none)", nullptr, &O::first_settled, false,
+         true},
+        {"friction_share", "-", "friction / (friction + damping + viscous) in the last cycle (energy ledger)",
+         &O::friction_share},
+        {"damping_share", "-", "local damping / (the same)", &O::damping_share},
+        {"grains", "", "grains in the prepared sample", nullptr, &O::grains},
+        {"packing_fraction", "-", "the grains' share of the foil's interior at the end of the preparation",
+         &O::packing_fraction},
+    };
+    return t;
+}
+
 std::string outcome_json(std::size_t index, const CaseOutcome& o) {
     nlohmann::ordered_json j;
     j["case"] = index;
@@ -202,17 +218,10 @@ std::string outcome_json(std::size_t index, const CaseOutcome& o) {
     j["skipped"] = o.skipped;
     j["not_run"] = o.not_run;
     j["message"] = o.message;
-    j["W"] = o.W;
-    j["dissipated_energy"] = o.dissipated_energy;
-    j["peak_force"] = o.peak_force;
-    j["run_seconds"] = o.run_seconds;
-    j["W_settled"] = o.W_settled;
-    j["settled_cycles"] = o.settled_cycles;
-    j["first_settled"] = o.first_settled;
-    j["friction_share"] = o.friction_share;
-    j["damping_share"] = o.damping_share;
-    j["grains"] = o.grains;
-    j["packing_fraction"] = o.packing_fraction;
+    for (const OutcomeNumber& n : outcome_numbers()) {
+        if (n.real) j[n.name] = o.*n.real;
+        else j[n.name] = o.*n.count;
+    }
     j["warnings"] = o.warnings;
     // Invalid UTF-8 in a message (a path) is replaced, not a reason to lose the outcome.
     return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
@@ -230,17 +239,10 @@ void read_outcome_lines(const std::string& text, std::vector<CaseOutcome>& out) 
         o.skipped = j.at("skipped").get<bool>();
         o.not_run = j.at("not_run").get<bool>();
         o.message = j.at("message").get<std::string>();
-        o.W = json_real(j, "W");
-        o.dissipated_energy = json_real(j, "dissipated_energy");
-        o.peak_force = json_real(j, "peak_force");
-        o.run_seconds = json_real(j, "run_seconds");
-        o.W_settled = json_real(j, "W_settled");
-        o.settled_cycles = j.at("settled_cycles").get<int>();
-        o.first_settled = j.at("first_settled").get<int>();
-        o.friction_share = json_real(j, "friction_share");
-        o.damping_share = json_real(j, "damping_share");
-        o.grains = j.at("grains").get<int>();
-        o.packing_fraction = json_real(j, "packing_fraction");
+        for (const OutcomeNumber& n : outcome_numbers()) {
+            if (n.real) o.*n.real = json_real(j, n.name);
+            else o.*n.count = j.at(n.name).get<int>();
+        }
         o.warnings = j.at("warnings").get<std::vector<std::string>>();
         out[i] = o;
     }
@@ -249,22 +251,27 @@ void read_outcome_lines(const std::string& text, std::vector<CaseOutcome>& out) 
 std::string summary_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes) {
     std::string out;
     for (const GridAxis& a : s.grid) out += csv_field(a.key) + ",";
-    out += "W,dissipated_energy,peak_force,run_seconds,status,case,"
-           "W_settled,settled_cycles,first_settled_cycle,friction_share,damping_share,grains,packing_fraction,warnings\n";
+    // The numbers in two blocks around status and case (the columns' first contract kept them
+    // there); a run that did not finish leaves its numbers empty but those any run has.
+    auto block = [&](bool before, const CaseOutcome* o) {
+        std::string b;
+        for (const OutcomeNumber& n : outcome_numbers()) {
+            if (n.before_status != before) continue;
+            if (!o) b += n.name;
+            else if (o->ok || n.any_run) {
+                if (n.real) b += num(o->*n.real);
+                else if (!(n.zero_empty && o->*n.count == 0)) b += std::to_string(o->*n.count);
+            }
+            b += ",";
+        }
+        return b;
+    };
+    out += block(true, nullptr) + "status,case," + block(false, nullptr) + "warnings\n";
     for (std::size_t i = 0; i < cases.size(); ++i) {
         for (const std::string& l : cases[i].labels) out += csv_field(l) + ",";
         const CaseOutcome& o = outcomes[i];
-        if (o.ok) out += num(o.W) + "," + num(o.dissipated_energy) + "," + num(o.peak_force) + ",";
-        else out += ",,,";
-        out += num(o.run_seconds) + "," + csv_field(o.ok ? "ok" : o.not_run ? "not run" : "failed: " + o.message) + "," +
-               csv_field(cases[i].name) + ",";
-        if (o.ok)
-            out += num(o.W_settled) + "," + std::to_string(o.settled_cycles) + "," +
-                   (o.first_settled > 0 ? std::to_string(o.first_settled) : std::string()) + "," +
-                   num(o.friction_share) + "," + num(o.damping_share) + "," + std::to_string(o.grains) + "," +
-                   num(o.packing_fraction) + ",";
-        else
-            out += ",,,,,,,";
+        out += block(true, &o) + csv_field(o.ok ? "ok" : o.not_run ? "not run" : "failed: " + o.message) + "," +
+               csv_field(cases[i].name) + "," + block(false, &o);
         std::string w;
         for (const std::string& x : o.warnings) {
             if (!w.empty()) w += " | ";

@@ -36,6 +36,25 @@ struct CaseOutcome {
     std::vector<std::string> warnings;  // the case's summary.json "warnings"
 };
 
+// A number of CaseOutcome, described once: summary.csv's column, the MPI gather's JSON key and
+// the ensemble statistics' quantity all use `name`; outcome_json, read_outcome_lines, summary_csv
+// and the quantities read this table, so a number cannot be in one of them and missing from
+// another. Exactly one of real and count is set.
+struct OutcomeNumber {
+    const char* name;     // summary.csv column (docs/studies.md, "Outputs"), JSON key, quantity
+    const char* unit;     // SI; "-" a ratio, "" a count
+    const char* meaning;
+    double CaseOutcome::*real = nullptr;
+    int CaseOutcome::*count = nullptr;
+    bool before_status = false;  // summary.csv: before the status and case columns (the first contract)
+    bool zero_empty = false;     // summary.csv: 0 written as an empty field (none)
+    bool any_run = false;        // summary.csv: written for a run that did not finish too
+    double value(const CaseOutcome& o) const { return real ? o.*real : double(o.*count); }
+};
+
+// In summary.csv's order within each of its two blocks (before and after status, case).
+const std::vector<OutcomeNumber>& outcome_numbers();
+
 // What identifies a case's inputs: written to DIR/<case>/case.toml, compared on resume.
 std::string case_record(const Study& s, const StudyCase& c);
 
