@@ -223,34 +223,34 @@ void DamperRun::start_output_dir(bool resuming) {
     // a second run into a folder in use is refused before --overwrite removes the first one's
     // files.
     if (resuming) {
-        lock_ = scene::lock_output_dir(o_.out_dir);
-        scene::record_build(o_.out_dir, false);  // another build resuming the run is listed
+        lock_ = scene::lock_output_dir(options_.out_dir);
+        scene::record_build(options_.out_dir, false);  // another build resuming the run is listed
         return;
     }
-    lock_ = scene::prepare_output_dir(o_.out_dir, o_.overwrite);
-    if (o_.overwrite) remove_previous_outputs(out_, o_.from);
+    lock_ = scene::prepare_output_dir(options_.out_dir, options_.overwrite);
+    if (options_.overwrite) remove_previous_outputs(out_, options_.from);
 }
 
 void DamperRun::checkpoint(bool force) {
     if (!files_) return;
     const auto now = std::chrono::steady_clock::now();
-    if (!force && std::chrono::duration<double>(now - last_ckpt_).count() < o_.checkpoint_every) return;
+    if (!force && std::chrono::duration<double>(now - last_ckpt_).count() < options_.checkpoint_every) return;
     last_ckpt_ = now;
-    if (o_.batch) o_.batch->sync(w_);
-    if (st_.settings.empty()) {
+    if (options_.batch) options_.batch->sync(world_);
+    if (state_.settings.empty()) {
         // Before its settings are applied to the sample (while preparing), a run's run.ckpt
         // carries them all the same: resuming it continues this run. Without them, a run
         // started with --set process.velocity=0.1, killed while filling and resumed with
         // `--from DIR/run.ckpt` alone ran at the default velocity (found by
         // tools/kill_resume.py). prepared.ckpt keeps none (a sample takes the settings it is
         // given).
-        RunState s = st_;
+        RunState s = state_;
         s.settings = run_settings();
         save_world((out_ / "run.ckpt").string(), s.save());
     } else {
-        save_world((out_ / "run.ckpt").string(), st_.save());
+        save_world((out_ / "run.ckpt").string(), state_.save());
     }
-    if (st_.stage == Stage::Cycling || st_.stage == Stage::Done) {
+    if (state_.stage == Stage::Cycling || state_.stage == Stage::Done) {
         write_forces(out_);
         write_energy(out_);
     }
@@ -259,18 +259,18 @@ void DamperRun::checkpoint(bool force) {
 void DamperRun::save_prepared() {
     if (!files_) return;
     // A sample carries no run settings, also when this run resumed a run.ckpt that did.
-    RunState s = st_;
+    RunState s = state_;
     s.settings.clear();
     save_world((out_ / "prepared.ckpt").string(), s.save());
 }
 
 void DamperRun::vtk_frame(const char* tag) {
     if (!files_) return;
-    if (o_.batch) o_.batch->sync(w_);
+    if (options_.batch) options_.batch->sync(world_);
     fs::create_directories(out_ / "vtk");
     char name[96];
     std::snprintf(name, sizeof name, "damper_%04d_%s.vtk", vtk_count_++, tag);
-    dem::write_particles_vtk((out_ / "vtk" / name).string(), w_, true);
+    dem::write_particles_vtk((out_ / "vtk" / name).string(), world_, true);
 }
 
 // The air's records are written when every sample has one (pump model or output.air; a run
@@ -278,12 +278,12 @@ void DamperRun::vtk_frame(const char* tag) {
 static bool air_complete(const RunState& st) { return !st.air.empty() && st.air.size() == st.samples.size(); }
 
 void DamperRun::write_energy(const fs::path& dir) const {
-    if (st_.energy.empty()) return;
-    const bool air = air_complete(st_) && st_.air.size() == st_.energy.size();
+    if (state_.energy.empty()) return;
+    const bool air = air_complete(state_) && state_.air.size() == state_.energy.size();
     dem::CsvWriter csv((dir / "energy.csv").string(), dem::energy_csv_header() + (air ? ",gas_work" : ""));
-    for (std::size_t k = 0; k < st_.energy.size(); ++k) {
-        std::vector<double> row(st_.energy[k].v, st_.energy[k].v + kEnergyRowSize);
-        if (air) row.push_back(st_.air[k].gas_work);
+    for (std::size_t k = 0; k < state_.energy.size(); ++k) {
+        std::vector<double> row(state_.energy[k].v, state_.energy[k].v + kEnergyRowSize);
+        if (air) row.push_back(state_.air[k].gas_work);
         csv.row(row);
     }
     csv.close();
@@ -291,23 +291,23 @@ void DamperRun::write_energy(const fs::path& dir) const {
 
 ForcesTable DamperRun::forces() const {
     ForcesTable t;
-    const bool air = air_complete(st_);
+    const bool air = air_complete(state_);
     t.columns = sample_column_names(air);
     // The air (docs/damper.md, "The air inside"): force_lid is what dp adds to the testing
     // machine's force on the lid (the atmosphere pushes the lid in: -dp times its area,
     // compression positive); force_machine_zeroed is the machine's force, grains + foil + lid,
     // zeroed at the first sample as force_zeroed is. With a constant dp the two zeroed columns agree.
-    const int S = int(c_.process.samples_per_cycle);
-    const double f0 = st_.samples.empty() ? 0.0 : st_.samples[0].grains + st_.samples[0].foil;
-    const double m0 = air ? f0 - st_.air[0].dp * st_.air[0].lid_area : 0.0;
-    t.rows.reserve(st_.samples.size());
-    for (std::size_t k = 0; k < st_.samples.size(); ++k) {
-        const Sample& s = st_.samples[k];
+    const int S = int(config_.process.samples_per_cycle);
+    const double f0 = state_.samples.empty() ? 0.0 : state_.samples[0].grains + state_.samples[0].foil;
+    const double m0 = air ? f0 - state_.air[0].dp * state_.air[0].lid_area : 0.0;
+    t.rows.reserve(state_.samples.size());
+    for (std::size_t k = 0; k < state_.samples.size(); ++k) {
+        const Sample& s = state_.samples[k];
         const double total = s.grains + s.foil;
-        std::vector<double> row = {s.time - st_.cycle_t0, s.displacement, total, s.grains, s.foil, total - f0,
+        std::vector<double> row = {s.time - state_.cycle_t0, s.displacement, total, s.grains, s.foil, total - f0,
                                    double(k / S + 1)};
         if (air) {
-            const AirSample& a = st_.air[k];
+            const AirSample& a = state_.air[k];
             const double lid = -a.dp * a.lid_area;
             row.insert(row.end(), {a.enclosed, a.gas, a.p_inside, a.dp, lid, total + lid - m0});
         }
@@ -329,13 +329,13 @@ void DamperRun::write_forces(const fs::path& dir) const {
 void DamperRun::save(const std::string& path) const {
     // A prepared sample is saved as prepared.ckpt is: without the settings just applied to it, so
     // that a run from it takes the settings it is given (a branch, as `--from prepared.ckpt`).
-    if (st_.stage == Stage::Prepared) {
-        RunState s = st_;
+    if (state_.stage == Stage::Prepared) {
+        RunState s = state_;
         s.settings.clear();
         save_world(path, s.save());
         return;
     }
-    save_world(path, st_.save());
+    save_world(path, state_.save());
 }
 
 void DamperRun::write_records(const std::string& dir) const {
@@ -346,49 +346,49 @@ void DamperRun::write_records(const std::string& dir) const {
 DamperResult DamperRun::result() const {
     DamperResult r;
     r.grains = grain_count_now();
-    r.foil_particles = L_.particles.size();
-    r.bonds = w_.bonds().size();
-    r.foil_columns = L_.cols;
-    r.foil_rows = L_.rows;
-    r.foil_radius = L_.radius;
+    r.foil_particles = lattice_.particles.size();
+    r.bonds = world_.bonds().size();
+    r.foil_columns = lattice_.cols;
+    r.foil_rows = lattice_.rows;
+    r.foil_radius = lattice_.radius;
     if (mesh_foil()) {
-        r.foil_vacancies = M_.vacancies;
+        r.foil_vacancies = membrane_.vacancies;
         double sum = 0;
-        for (uint32_t b : M_.bonds) sum += w_.bonds().phys[b].kn;
-        r.foil_bond_kn_mean = M_.bonds.empty() ? 0.0 : sum / double(M_.bonds.size());
+        for (uint32_t b : membrane_.bonds) sum += world_.bonds().phys[b].kn;
+        r.foil_bond_kn_mean = membrane_.bonds.empty() ? 0.0 : sum / double(membrane_.bonds.size());
     }
     r.height = z_top_;
-    r.dt = w_.params.dt;
-    r.inertial_number = inertial_number(c_, z_top_);
+    r.dt = world_.params.dt;
+    r.inertial_number = inertial_number(config_, z_top_);
     LoopSeries ls;
-    const int S = int(c_.process.samples_per_cycle);
+    const int S = int(config_.process.samples_per_cycle);
     // Only the cycles the run finished are analysed: a cycle stopped part way (Ctrl-C in Python,
     // a run.ckpt written mid-cycle and loaded) has a loop cut short, whose area is not the
     // cycle's W (77 J/m^2 for 25 of 80 samples where the full cycle gives 388). Its samples stay
     // in forces.csv (they are data); cycles.csv and summary.json leave it out and say so.
-    const std::size_t complete = std::min(st_.samples.size(), std::size_t(cycles_done()) * std::size_t(S));
+    const std::size_t complete = std::min(state_.samples.size(), std::size_t(cycles_done()) * std::size_t(S));
     std::string incomplete;
-    if (complete < st_.samples.size())
+    if (complete < state_.samples.size())
         incomplete = "cycle " + std::to_string(cycles_done() + 1) + " incomplete: the run stopped part way (interrupted, or a "
-                     "checkpoint written mid-cycle), after " + std::to_string(st_.samples.size() - complete) + " of its " +
+                     "checkpoint written mid-cycle), after " + std::to_string(state_.samples.size() - complete) + " of its " +
                      std::to_string(S) + " samples; left out of W, cycles.csv and summary.json's cycles (forces.csv "
                      "holds its samples); cycle() continues it";
     for (std::size_t k = 0; k < complete; ++k) {
-        ls.time.push_back(st_.samples[k].time);
-        ls.displacement.push_back(st_.samples[k].displacement);
-        ls.force.push_back(st_.samples[k].grains + st_.samples[k].foil);
+        ls.time.push_back(state_.samples[k].time);
+        ls.displacement.push_back(state_.samples[k].displacement);
+        ls.force.push_back(state_.samples[k].grains + state_.samples[k].foil);
         ls.cycle.push_back(int(k / S) + 1);
     }
-    r.cycles = analyze_cycles(ls, c_.damper.radius);
+    r.cycles = analyze_cycles(ls, config_.damper.radius);
     // Energy per cycle: ledger differences between the first samples of consecutive cycles;
     // the last cycle ends at the last step of cycling (one step before the cycle's end).
-    if (!st_.energy.empty() && st_.energy.size() == st_.samples.size()) {
-        const EnergyRow last = energy_row(w_.energy(), w_.energy().time - st_.cycle_t0);
+    if (!state_.energy.empty() && state_.energy.size() == state_.samples.size()) {
+        const EnergyRow last = energy_row(world_.energy(), world_.energy().time - state_.cycle_t0);
         for (CycleResult& cr : r.cycles) {
             const std::size_t a = std::size_t(cr.cycle - 1) * std::size_t(S), b = a + std::size_t(S);
-            if (a >= st_.energy.size()) continue;
-            const EnergyRow& e0 = st_.energy[a];
-            const EnergyRow& e1 = b < st_.energy.size() ? st_.energy[b] : last;
+            if (a >= state_.energy.size()) continue;
+            const EnergyRow& e0 = state_.energy[a];
+            const EnergyRow& e1 = b < state_.energy.size() ? state_.energy[b] : last;
             auto d = [&](std::string_view column) {
                 const std::size_t k = dem::energy_column(column);
                 return e1.v[k] - e0.v[k];
@@ -401,12 +401,12 @@ DamperResult DamperRun::result() const {
             cr.energy_residual = d("residual");
         }
     }
-    r.settling = mark_settled(r.cycles, c_.analysis.settle_tolerance);
-    if (air_complete(st_) && !ls.force.empty()) {
+    r.settling = mark_settled(r.cycles, config_.analysis.settle_tolerance);
+    if (air_complete(state_) && !ls.force.empty()) {
         // The machine's loop: forces.csv's force_machine_zeroed through the same analysis.
-        const double m0 = ls.force[0] - st_.air[0].dp * st_.air[0].lid_area;
-        for (std::size_t k = 0; k < ls.force.size(); ++k) ls.force[k] += -st_.air[k].dp * st_.air[k].lid_area - m0;
-        for (const CycleResult& m : analyze_cycles(ls, c_.damper.radius)) {
+        const double m0 = ls.force[0] - state_.air[0].dp * state_.air[0].lid_area;
+        for (std::size_t k = 0; k < ls.force.size(); ++k) ls.force[k] += -state_.air[k].dp * state_.air[k].lid_area - m0;
+        for (const CycleResult& m : analyze_cycles(ls, config_.damper.radius)) {
             AirCycle a;
             a.cycle = m.cycle;
             a.W_machine = m.W;
@@ -416,43 +416,43 @@ DamperResult DamperRun::result() const {
             a.underpressure_max = a.gas_volume_max = -std::numeric_limits<double>::infinity();
             for (std::size_t k = 0; k < ls.cycle.size(); ++k) {
                 if (ls.cycle[k] != m.cycle) continue;
-                a.underpressure_min = std::min(a.underpressure_min, st_.air[k].dp);
-                a.underpressure_max = std::max(a.underpressure_max, st_.air[k].dp);
-                a.gas_volume_min = std::min(a.gas_volume_min, st_.air[k].gas);
-                a.gas_volume_max = std::max(a.gas_volume_max, st_.air[k].gas);
+                a.underpressure_min = std::min(a.underpressure_min, state_.air[k].dp);
+                a.underpressure_max = std::max(a.underpressure_max, state_.air[k].dp);
+                a.gas_volume_min = std::min(a.gas_volume_min, state_.air[k].gas);
+                a.gas_volume_max = std::max(a.gas_volume_max, state_.air[k].gas);
             }
             r.air.push_back(a);
         }
     }
-    r.report = st_.report;
-    r.warnings = st_.warnings;
+    r.report = state_.report;
+    r.warnings = state_.warnings;
     if (!incomplete.empty()) r.warnings.push_back(incomplete);
-    const std::size_t asked = std::size_t(c_.process.cycles) * std::size_t(S);
-    if (st_.stage == Stage::Done && st_.samples.size() < asked) {
+    const std::size_t asked = std::size_t(config_.process.cycles) * std::size_t(S);
+    if (state_.stage == Stage::Done && state_.samples.size() < asked) {
         r.incomplete = true;
-        r.warnings.push_back("incomplete: " + std::to_string(st_.samples.size() / std::size_t(S)) + " of process.cycles = " +
-                             std::to_string(c_.process.cycles) + " cycles recorded (" +
-                             std::to_string(st_.samples.size()) + " of " + std::to_string(asked) +
+        r.warnings.push_back("incomplete: " + std::to_string(state_.samples.size() / std::size_t(S)) + " of process.cycles = " +
+                             std::to_string(config_.process.cycles) + " cycles recorded (" +
+                             std::to_string(state_.samples.size()) + " of " + std::to_string(asked) +
                              " samples): the samples fell behind the time step; lower process.samples_per_cycle or "
                              "the frequency (process.frequency, process.velocity)");
     }
     // The pump model's dp follows the gas: a leak that outruns the pump lets it fall far below
     // the set value, and the run is then not one at process.underpressure.
-    if (c_.process.pressure_model != 0)
+    if (config_.process.pressure_model != 0)
         for (const AirCycle& a : r.air)
-            if (a.underpressure_min < 0.5 * c_.process.underpressure) {
+            if (a.underpressure_min < 0.5 * config_.process.underpressure) {
                 char msg[400];
                 std::snprintf(msg, sizeof msg,
                               "pump model: dp fell to %.4g Pa in cycle %d, below half the set process.underpressure "
                               "%.4g Pa: the leak (process.leak_rate %.3g m^3/s) or the stroke outruns the pump "
                               "(process.pump_speed %.3g m^3/s); this is not a run at the set underpressure",
-                              a.underpressure_min, a.cycle, c_.process.underpressure, c_.process.leak_rate,
-                              c_.process.pump_speed);
+                              a.underpressure_min, a.cycle, config_.process.underpressure, config_.process.leak_rate,
+                              config_.process.pump_speed);
                 r.warnings.push_back(msg);
                 break;
             }
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    r.config = c_;
+    r.config = config_;
     return r;
 }
 

@@ -131,10 +131,10 @@ public:
     void save(const std::string& path) const;
     DamperResult result() const;
     void write_records(const std::string& dir) const;
-    const dem::World& world() const { return w_; }
-    const Config& config() const { return c_; }
-    const DamperOptions& options() const { return o_; }
-    void set_progress(std::function<void(const char*, uint64_t, uint64_t, double)> hook) { o_.progress = std::move(hook); }
+    const dem::World& world() const { return world_; }
+    const Config& config() const { return config_; }
+    const DamperOptions& options() const { return options_; }
+    void set_progress(std::function<void(const char*, uint64_t, uint64_t, double)> hook) { options_.progress = std::move(hook); }
 
 private:
     void setup();
@@ -160,9 +160,9 @@ private:
     // Grains at these centres with these (volume-equivalent) radii: spheres, or clumps of
     // grains.shape in random orientations from stream `stream` (0: the pour, k: re-fill k).
     void add_grains(const std::vector<Vec3>& pos, const std::vector<double>& radii, uint64_t stream);
-    // Grains in the world: clumps, or the spheres g0_ .. g1_.
-    std::size_t grain_count_now() const { return clumps() ? w_.clumps().size() : std::size_t(g1_ - g0_); }
-    bool clumps() const { return c_.grains.shape != 0; }
+    // Grains in the world: clumps, or the spheres first_grain_ .. end_grain_.
+    std::size_t grain_count_now() const { return clumps() ? world_.clumps().size() : std::size_t(end_grain_ - first_grain_); }
+    bool clumps() const { return config_.grains.shape != 0; }
     // The reach of a grain of volume-equivalent radius r from its centre [m] (r for spheres).
     double grain_reach(double r) const { return clumps() ? r * shape_.bounding_radius : r; }
     // Per grain: its volume-equivalent radius [m], its top (highest point) [m]; the grains'
@@ -198,8 +198,8 @@ private:
     void write_energy(const fs::path& dir) const;
     void vtk_frame(const char* tag);
     double top_ring_force_z() const;
-    // The foil's builder (foil.builder): the lattice (L_, the paper's) or the mesh membrane (M_).
-    bool mesh_foil() const { return c_.damper.foil_builder == 1; }
+    // The foil's builder (foil.builder): the lattice (lattice_, the paper's) or the mesh membrane (membrane_).
+    bool mesh_foil() const { return config_.damper.foil_builder == 1; }
     // The mesh foil's definition from the config: the paper's rules carried to the membrane
     // (docs/membrane.md, "A cylinder given as a mesh").
     MembraneDef membrane_def() const;
@@ -219,7 +219,7 @@ private:
     double packing_fraction(double inner_radius, double height) const;
     void record_start_of_cycling(const Sample& first);
     // The air (docs/damper.md, "The air inside"). air_recorded(): the pump model, or output.air.
-    bool air_recorded() const { return c_.process.pressure_model != 0 || c_.output.air; }
+    bool air_recorded() const { return config_.process.pressure_model != 0 || config_.output.air; }
     // Before each step of the vacuum and the cycling: the gas volume from the foil's shape as it
     // stands, the gas's work over the last step, and with the pump model the gas advanced by
     // the step and the step's dp (the regulator set to the underpressure dp_set [Pa]).
@@ -233,33 +233,33 @@ private:
     // Settling checks fall at fixed times after the stage start (every `check` seconds), so a
     // resumed run takes its decisions at the same steps as an uninterrupted one.
     double next_check_after(double t, double check) const {
-        return st_.stage_t0 + check * (std::floor((t - st_.stage_t0) / check) + 1.0);
+        return state_.stage_t0 + check * (std::floor((t - state_.stage_t0) / check) + 1.0);
     }
     // Energy scale of the rest criteria [J]: every grain lifted by one diameter, N m g 2 r_k.
     // With a size distribution: the grains' total mass, the mean diameter.
     double settle_energy_scale() const {
         if (sizes_.kind == scene::SizeDistribution::Kind::Single)
-            return double(grain_count_now()) * w_.particles.mass[g0_] * 9.81 * 2.0 * c_.grains.radius;
-        return grains_mass() * 9.81 * 2.0 * c_.grains.radius;
+            return double(grain_count_now()) * world_.particles.mass[first_grain_] * 9.81 * 2.0 * config_.grains.radius;
+        return grains_mass() * 9.81 * 2.0 * config_.grains.radius;
     }
     void log(const char* fmt, ...) const;
 
-    Config c_;
+    Config config_;
     scene::SizeDistribution sizes_;  // what the fill and re-fills draw the radii from (setup())
     dem::ClumpShape shape_;          // grains.shape > 0: the clump at a volume-equivalent radius of 1 m
-    DamperOptions o_;
+    DamperOptions options_;
     fs::path out_;
     bool files_ = false;        // out_dir given: checkpoints, frames and records are written
     dem::FolderLock lock_;      // out_dir's, while the run lives (one writer per folder)
-    dem::World w_;
+    dem::World world_;
     // The lattice foil; with the mesh foil only its radius, spacing, material and particles are
     // set (rows and cols 0), which the grains, funnel and checks read alike.
-    FoilLattice L_;
-    Membrane M_;                        // the mesh foil (foil.builder = "mesh"); empty otherwise
+    FoilLattice lattice_;
+    Membrane membrane_;                        // the mesh foil (foil.builder = "mesh"); empty otherwise
     std::vector<uint32_t> bottom_ring_; // the foil's end ring on the base (fixed)
     std::vector<uint32_t> free_foil_;   // the foil's particles off both end rings
-    RunState st_;
-    uint32_t g0_ = 0, g1_ = 0;  // the grains' particle range (clumps: their members)
+    RunState state_;
+    uint32_t first_grain_ = 0, end_grain_ = 0;  // the grains' particle range (clumps: their members)
     double z_top_ = 0;          // [m] top ring / cap height after preparation
     std::vector<uint32_t> top_ring_;
     mutable double grain_volume_ = 0;  // [m^3] grain_volume()'s sum, once the grains are final
@@ -275,7 +275,7 @@ private:
     int ckpt_cycles_ = 0;  // a resumed run's process.cycles when the command line raises it (0: not raised)
 
 public:
-    const RunState& state() const { return st_; }
+    const RunState& state() const { return state_; }
     ForcesTable forces() const;  // forces.csv's table (damper_record.cpp)
 };
 

@@ -121,8 +121,8 @@ std::vector<Vec3> generate_grains(const Config& c, const FoilLattice& L, std::si
 
 }  // namespace
 
-DamperRun::DamperRun(const Config& c, const DamperOptions& o) : c_(c), o_(o), out_(o.out_dir) {
-    files_ = !o_.out_dir.empty();
+DamperRun::DamperRun(const Config& c, const DamperOptions& o) : config_(c), options_(o), out_(o.out_dir) {
+    files_ = !options_.out_dir.empty();
     setup();
 }
 
@@ -130,47 +130,47 @@ DamperRun::DamperRun(const Config& c, const DamperOptions& o) : c_(c), o_(o), ou
 void DamperRun::setup() {
     // From a checkpoint: its geometry (and, for a run that started, its settings) first, since
     // the foil is built from the config.
-    if (!o_.from.empty()) adopt_checkpoint_settings();
+    if (!options_.from.empty()) adopt_checkpoint_settings();
     // A checkpoint's sample holds its radii; its sieve curve is read only when given (a re-fill
     // of a sample in the fill stage needs it, refill() says so).
-    if (c_.grains.radius_distribution != 3 || !c_.grains.sieve_curve.empty()) sizes_ = grain_sizes(c_);
+    if (config_.grains.radius_distribution != 3 || !config_.grains.sieve_curve.empty()) sizes_ = grain_sizes(config_);
     else sizes_.kind = scene::SizeDistribution::Kind::Sieve;
     // A checkpoint's clumps hold their shape; its template is read only when given (a re-fill
     // in the fill stage needs it).
-    if (clumps() && (c_.grains.shape != 5 || !c_.grains.clump_template.empty())) shape_ = grain_shape(c_);
+    if (clumps() && (config_.grains.shape != 5 || !config_.grains.clump_template.empty())) shape_ = grain_shape(config_);
     build();
     // Before anything is written or removed (--overwrite): a refused process leaves the folder.
     process_warnings_ = check_process();
-    const std::size_t n_foil = L_.particles.size();
+    const std::size_t n_foil = lattice_.particles.size();
     // The pour's grains; a checkpoint holds those and its re-fills' (an older one: the pour's).
-    const std::size_t n = ckpt_grains_ > 0 ? ckpt_grains_ : grain_count(c_);
-    g0_ = uint32_t(n_foil);
-    g1_ = uint32_t(n_foil + n * (clumps() ? shape_.members.size() : 1));
-    if (o_.from.empty()) check_grains_fit(n);  // a checkpoint's sample was checked when it was prepared
+    const std::size_t n = ckpt_grains_ > 0 ? ckpt_grains_ : grain_count(config_);
+    first_grain_ = uint32_t(n_foil);
+    end_grain_ = uint32_t(n_foil + n * (clumps() ? shape_.members.size() : 1));
+    if (options_.from.empty()) check_grains_fit(n);  // a checkpoint's sample was checked when it was prepared
     // The preparation is frictionless and has no dashpot: local damping is its only dissipation.
     // Without it the pour never comes to rest and the step diverged ("cannot create std::vector
     // larger than max_size()"). From a prepared sample 0 is a dynamic run (docs/damper.md).
-    if (o_.from.empty() && c_.simulation.local_damping == 0.0)
+    if (options_.from.empty() && config_.simulation.local_damping == 0.0)
         throw std::runtime_error("config key 'simulation.local_damping' = 0: the preparation (frictionless, no "
                                  "dashpot) then dissipates nothing and the poured grains never come to rest; allowed "
                                  "here: in (0, 0.9] (default 0.2). For an undamped run give process.local_damping = 0: "
                                  "the preparation keeps simulation.local_damping, the vacuum and cycling have none");
 
-    if (o_.from.empty()) {
+    if (options_.from.empty()) {
         // Materials in fixed order: grain (frictionless while filling), cap, funnel.
-        dem::Material g{"grain", c_.grains.density, c_.grains.young, c_.grains.stiffness_ratio, 0.0, 1.0};
-        w_.add_material(g);
-        dem::Material cap{"cap", c_.grains.density, c_.grains.young, c_.grains.stiffness_ratio, 0.0, 1.0};
-        w_.add_material(cap);
-        dem::Material fun{"funnel", c_.grains.density, c_.grains.young, c_.grains.stiffness_ratio, 0.0, 1.0};
-        w_.add_material(fun);
-        for (uint32_t i : bottom_ring_) w_.set_fixed(i);
-        for (uint32_t i : top_ring_) w_.set_fixed(i);
+        dem::Material g{"grain", config_.grains.density, config_.grains.young, config_.grains.stiffness_ratio, 0.0, 1.0};
+        world_.add_material(g);
+        dem::Material cap{"cap", config_.grains.density, config_.grains.young, config_.grains.stiffness_ratio, 0.0, 1.0};
+        world_.add_material(cap);
+        dem::Material fun{"funnel", config_.grains.density, config_.grains.young, config_.grains.stiffness_ratio, 0.0, 1.0};
+        world_.add_material(fun);
+        for (uint32_t i : bottom_ring_) world_.set_fixed(i);
+        for (uint32_t i : top_ring_) world_.set_fixed(i);
         double funnel_h = 0;
-        const double funnel_top_r = 1.6 * L_.radius;
-        const auto pos = generate_grains(c_, L_, n, z_top_, funnel_top_r, funnel_h, grain_reach(sizes_.max_radius()));
+        const double funnel_top_r = 1.6 * lattice_.radius;
+        const auto pos = generate_grains(config_, lattice_, n, z_top_, funnel_top_r, funnel_h, grain_reach(sizes_.max_radius()));
         add_grains(pos, draw_radii(pos.size(), 0), 0);
-        g1_ = uint32_t(w_.particles.size());
+        end_grain_ = uint32_t(world_.particles.size());
         double zmax = 0;
         for (const Vec3& p : pos) zmax = std::max(zmax, p.z);
         dem::Plane bottom;
@@ -178,69 +178,69 @@ void DamperRun::setup() {
         bottom.normal = {0, 0, 1};
         bottom.material = kCapMat;
         bottom.mask = kMaskCap;
-        w_.add_plane(bottom);
+        world_.add_plane(bottom);
         dem::Plane top = bottom;
         top.point = {0, 0, std::max(zmax + grain_reach(sizes_.max_radius()) + 1e-3, z_top_)};
         top.normal = {0, 0, -1};
-        w_.add_plane(top);
-        for (dem::Facet f : dem::make_funnel_facets({0, 0, z_top_}, L_.radius, funnel_top_r, funnel_h, 72, true)) {
+        world_.add_plane(top);
+        for (dem::Facet f : dem::make_funnel_facets({0, 0, z_top_}, lattice_.radius, funnel_top_r, funnel_h, 72, true)) {
             f.material = kFunnelMat;
             f.mask = kMaskCap;
-            w_.add_facet(f);
+            world_.add_facet(f);
         }
-        st_.geometry = values_of(c_, kGeometryKeys);
-        for (const auto& [k, v] : values_of(c_, kPreparationKeys)) st_.geometry[k] = v;
-        st_.grains = grain_count_now();
-        st_.report["prepare.grains_poured"] = double(grain_count_now());
-        st_.report["prepare.funnel_height"] = funnel_h;
-        w_.params.dt = resolve_dt(c_.simulation, w_);
+        state_.geometry = values_of(config_, kGeometryKeys);
+        for (const auto& [k, v] : values_of(config_, kPreparationKeys)) state_.geometry[k] = v;
+        state_.grains = grain_count_now();
+        state_.report["prepare.grains_poured"] = double(grain_count_now());
+        state_.report["prepare.funnel_height"] = funnel_h;
+        world_.params.dt = resolve_dt(config_.simulation, world_);
         check_steps();            // refuses a step that is no number, unstable, or too many of them
         check_sampling(true);     // refuses sampling faster than the time step
         start_output_dir(false);  // only now: bad input writes nothing
         if (mesh_foil())
             log("damper: %zu grains (r_k = %.4g m), mesh foil of %zu particles (%zu vacancies, %zu bonds; end rings "
-                "%zu and %zu), radius %.5g m, height %.5g m, dt = %.4g s, %d thread(s)\n", n, c_.grains.radius, n_foil,
-                M_.vacancies, M_.bonds.size(), bottom_ring_.size(), top_ring_.size(), L_.radius, z_top_, w_.params.dt,
-                c_.simulation.threads);
+                "%zu and %zu), radius %.5g m, height %.5g m, dt = %.4g s, %d thread(s)\n", n, config_.grains.radius, n_foil,
+                membrane_.vacancies, membrane_.bonds.size(), bottom_ring_.size(), top_ring_.size(), lattice_.radius, z_top_, world_.params.dt,
+                config_.simulation.threads);
         else
             log("damper: %zu grains (r_k = %.4g m), foil %d x %d = %zu particles (radius %.5g m), height %.5g m, "
-                "dt = %.4g s, %d thread(s)\n", n, c_.grains.radius, L_.cols, L_.rows, n_foil, L_.radius, z_top_,
-                w_.params.dt, c_.simulation.threads);
+                "dt = %.4g s, %d thread(s)\n", n, config_.grains.radius, lattice_.cols, lattice_.rows, n_foil, lattice_.radius, z_top_,
+                world_.params.dt, config_.simulation.threads);
         next_stage(Stage::Fill);
     } else {
-        const std::string blob = dem::load_checkpoint(o_.from, w_);
-        st_ = RunState::load(blob, o_.from);
+        const std::string blob = dem::load_checkpoint(options_.from, world_);
+        state_ = RunState::load(blob, options_.from);
         // Clumps: every clump a grain, its members the particles after the foil.
-        if (clumps() && w_.clumps().size() == n) g1_ = uint32_t(n_foil + w_.clumps().member.size());
-        if (w_.particles.size() != g1_ || (clumps() ? w_.clumps().size() != n : !w_.clumps().empty()))
-            throw std::runtime_error("checkpoint '" + o_.from + "' does not hold this damper's particles");
-        st_.grains = n;
+        if (clumps() && world_.clumps().size() == n) end_grain_ = uint32_t(n_foil + world_.clumps().member.size());
+        if (world_.particles.size() != end_grain_ || (clumps() ? world_.clumps().size() != n : !world_.clumps().empty()))
+            throw std::runtime_error("checkpoint '" + options_.from + "' does not hold this damper's particles");
+        state_.grains = n;
         // The mesh foil's pressure fans are not in the checkpoint (save_world): from the foil.
-        if (mesh_foil() && st_.stage >= Stage::Vacuum) set_foil_pressure();
-        st_.warnings.insert(st_.warnings.end(), pending_warnings_.begin(), pending_warnings_.end());
+        if (mesh_foil() && state_.stage >= Stage::Vacuum) set_foil_pressure();
+        state_.warnings.insert(state_.warnings.end(), pending_warnings_.begin(), pending_warnings_.end());
         if (ckpt_cycles_ > 0) {
-            st_.settings["process.cycles"] = double(c_.process.cycles);  // what its checkpoints now say
+            state_.settings["process.cycles"] = double(config_.process.cycles);  // what its checkpoints now say
             extend_cycling(ckpt_cycles_);
         }
         // Resuming continues the run whose run.ckpt lives in --out; anything else (a branch from
         // a prepared sample, even into its own folder) starts a new run there.
         std::error_code ec;
-        const bool resuming = fs::exists(out_ / "run.ckpt") && fs::equivalent(o_.from, out_ / "run.ckpt", ec);
+        const bool resuming = fs::exists(out_ / "run.ckpt") && fs::equivalent(options_.from, out_ / "run.ckpt", ec);
         // A prepared sample takes the config's contact and process settings; a resumed run keeps
         // its own (adopt_checkpoint_settings), but for the thread count (set below for every path).
         // A branch is refused what a new sample is refused (sampling faster than its time step),
         // before its folder is touched.
-        if (st_.stage == Stage::Prepared) {
+        if (state_.stage == Stage::Prepared) {
             apply_config_to_prepared();
-            w_.params.dt = resolve_dt(c_.simulation, w_);
+            world_.params.dt = resolve_dt(config_.simulation, world_);
             check_steps();
             check_sampling(true);
         }
         start_output_dir(resuming);
-        log("damper: starting from %s at stage '%s', t = %.4g s, %d thread(s)\n", o_.from.c_str(),
-            stage_name(st_.stage), w_.time, c_.simulation.threads);
+        log("damper: starting from %s at stage '%s', t = %.4g s, %d thread(s)\n", options_.from.c_str(),
+            stage_name(state_.stage), world_.time, config_.simulation.threads);
     }
-    w_.params.threads = c_.simulation.threads;
+    world_.params.threads = config_.simulation.threads;
     for (const std::string& w : check_sampling(false)) process_warnings_.push_back(w);
     // The sample's own: with it, in prepared.ckpt too.
     if (!sizes_.sieve_note.empty()) warn_once({"grains.sieve_curve: " + sizes_.sieve_note});
@@ -248,7 +248,7 @@ void DamperRun::setup() {
 
 void DamperRun::warn_once(const std::vector<std::string>& what) {
     for (const std::string& w : what)
-        if (std::find(st_.warnings.begin(), st_.warnings.end(), w) == st_.warnings.end()) warn(w);
+        if (std::find(state_.warnings.begin(), state_.warnings.end(), w) == state_.warnings.end()) warn(w);
 }
 
 namespace {
@@ -263,7 +263,7 @@ std::string fmt(const char* f, double v) {
 
 std::vector<std::string> DamperRun::check_process() const {
     std::vector<std::string> warnings;
-    const ProcessDef& p = c_.process;
+    const ProcessDef& p = config_.process;
     const double H = z_top_, A = p.amplitude, off = p.start_offset;
     // The stroke against the sample's height H. A poured packing (about 0.6) reaches the densest
     // packing of spheres (0.74) at a compression of 1 - 0.6 / 0.74 = 19% of its height: beyond
@@ -312,38 +312,38 @@ std::vector<std::string> DamperRun::check_process() const {
         constexpr double kMaxOverlap = 0.5;    // [grain radii]
         constexpr double kMaxHoopStrain = 0.5; // [-]
         constexpr double kGravity = 9.81;      // [m/s^2]
-        const double weight = c_.grains.density * kGravity * H;  // [Pa] at the column's foot
+        const double weight = config_.grains.density * kGravity * H;  // [Pa] at the column's foot
         const double load = std::max(p.underpressure, weight);    // [Pa]
-        const double overlap = 8.0 * load / c_.grains.young;
+        const double overlap = 8.0 * load / config_.grains.young;
         const std::string by = weight > p.underpressure
-                                   ? " with 'grains.density' = " + show("", c_.grains.density) + ": under the column's "
+                                   ? " with 'grains.density' = " + show("", config_.grains.density) + ": under the column's "
                                      "weight rho g H = " + fmt("%.4g", weight) + " Pa"
                                    : ": under process.underpressure = " + show("", p.underpressure) + " Pa";
         if (!(overlap <= kMaxOverlap))
             throw std::runtime_error(
-                "config key 'grains.young' = " + show("", c_.grains.young) + by + " the grains would overlap by about " +
+                "config key 'grains.young' = " + show("", config_.grains.young) + by + " the grains would overlap by about " +
                 fmt("%.3g", overlap) + " of their radius (8 load / E); allowed: at least " +
                 fmt("%.4g", 8.0 * load / kMaxOverlap) + " Pa here (an overlap under half the radius)");
-        const double strain = p.underpressure * L_.radius / (c_.foil.young * c_.foil.thickness);
+        const double strain = p.underpressure * lattice_.radius / (config_.foil.young * config_.foil.thickness);
         if (!(strain <= kMaxHoopStrain))
             throw std::runtime_error(
-                "config key 'foil.young' = " + show("", c_.foil.young) + " with 'foil.thickness' = " +
-                show("", c_.foil.thickness) + ": under process.underpressure = " + show("", p.underpressure) +
+                "config key 'foil.young' = " + show("", config_.foil.young) + " with 'foil.thickness' = " +
+                show("", config_.foil.thickness) + ": under process.underpressure = " + show("", p.underpressure) +
                 " Pa the foil would stretch by " + fmt("%.3g", strain) + " (the hoop strain dp R / (E_f t_f), R = " +
-                fmt("%.4g", L_.radius) + " m); allowed: E_f t_f at least " +
-                fmt("%.4g", p.underpressure * L_.radius / kMaxHoopStrain) + " N/m here (a strain under 50%: beyond, "
+                fmt("%.4g", lattice_.radius) + " m); allowed: E_f t_f at least " +
+                fmt("%.4g", p.underpressure * lattice_.radius / kMaxHoopStrain) + " N/m here (a strain under 50%: beyond, "
                 "a polymer foil tears)");
     }
     // Local damping above 0.5: an oscillation already loses most of its amplitude each half
     // period; more holds the grains back, and the loop's area is then largely the damping's.
-    if (cycling_local_damping(c_) > 0.5)
-        warnings.push_back("local damping " + show("", cycling_local_damping(c_)) + " from the vacuum on (" +
-                           (c_.process.local_damping >= 0.0 ? "process" : "simulation") + ".local_damping) is above 0.5: "
+    if (cycling_local_damping(config_) > 0.5)
+        warnings.push_back("local damping " + show("", cycling_local_damping(config_)) + " from the vacuum on (" +
+                           (config_.process.local_damping >= 0.0 ? "process" : "simulation") + ".local_damping) is above 0.5: "
                            "it holds the grains back, and W is then largely the damping's (cycles.csv "
                            "damping_dissipation)");
     // A frequency sets the period and the start offset's speed (2 A f): the velocity is then
     // not used at all.
-    if (p.frequency > 0.0 && c_.given.count("process.velocity"))
+    if (p.frequency > 0.0 && config_.given.count("process.velocity"))
         warnings.push_back("process.velocity = " + show("", p.velocity) + " m/s is not the cap's speed: process.frequency = " +
                            show("", p.frequency) + " Hz sets the period (peak speed " +
                            fmt("%.4g", peak_speed(p)) + " m/s) and the start offset's speed: the velocity is not used");
@@ -351,8 +351,8 @@ std::vector<std::string> DamperRun::check_process() const {
     // waiting five of them. The gas volume is at most the foil's interior less the poured grains.
     if (p.pressure_model != 0 && p.pump_down && p.pump_speed > 0.0) {
         constexpr double kMaxPumpDown = 60.0;  // [s] of simulated time: a minute (2 m^3/h on the paper's damper: 0.7 s)
-        const double r_in = L_.radius - c_.foil.particle_radius;
-        const double gas = std::numbers::pi * r_in * r_in * H * (1.0 - c_.grains.volume_fraction);
+        const double r_in = lattice_.radius - config_.foil.particle_radius;
+        const double gas = std::numbers::pi * r_in * r_in * H * (1.0 - config_.grains.volume_fraction);
         const double t = 5.0 * gas / p.pump_speed;
         if (t > kMaxPumpDown)
             throw std::runtime_error(
@@ -387,20 +387,20 @@ std::string step_key(const Config& c) {
 }  // namespace
 
 void DamperRun::check_steps() const {
-    const SimulationDef& sim = c_.simulation;
-    const ProcessDef& p = c_.process;
-    const double dt = w_.params.dt, critical = w_.critical_dt();
+    const SimulationDef& sim = config_.simulation;
+    const ProcessDef& p = config_.process;
+    const double dt = world_.params.dt, critical = world_.critical_dt();
     // The automatic step comes from every contact's stiffness and every particle's mass; a
     // message names first the key farthest from its default (step_key).
     auto from_auto = [&] {
         return "simulation.dt_safety = " + show("", sim.dt_safety) + " times the critical step sqrt(m/k) of the "
-               "contacts, here from " + step_key(c_) + " (of grains.young, grains.density, grains.radius, "
+               "contacts, here from " + step_key(config_) + " (of grains.young, grains.density, grains.radius, "
                "foil.young, foil.thickness, foil.density, the stiffness ratios)";
     };
     const bool tiny = !(dt >= std::numeric_limits<double>::min());
     // A modulus of 1e300 or 5e-324 leaves a step of 0, a subnormal or infinity: nothing to integrate with.
     if (tiny || !std::isfinite(dt)) {
-        const std::string key = sim.dt_auto ? step_key(c_) : "simulation.dt = " + show("", sim.dt);
+        const std::string key = sim.dt_auto ? step_key(config_) : "simulation.dt = " + show("", sim.dt);
         throw std::runtime_error("config key '" + key.substr(0, key.find(' ')) + "' = " + key.substr(key.find('=') + 2) +
                                  ": the time step " + fmt("%.3g", dt) + " s (" +
                                  (sim.dt_auto ? from_auto() : key) + ") is not a positive finite number of "
@@ -432,7 +432,7 @@ void DamperRun::check_steps() const {
         const bool blame_step = std::log10(1e-9 / dt) > std::log10(total / 1e3);
         std::string what;
         if (blame_step) {
-            const std::string key = sim.dt_auto ? step_key(c_) : "simulation.dt = " + show("", sim.dt);
+            const std::string key = sim.dt_auto ? step_key(config_) : "simulation.dt = " + show("", sim.dt);
             what = key;
         } else if (cycling >= p.ramp_time && cycling >= p.hold_time) {
             // One cycle longer than a whole run: the period's key; else the count of cycles.
@@ -457,8 +457,8 @@ void DamperRun::check_steps() const {
 
 std::vector<std::string> DamperRun::check_sampling(bool refuse) const {
     std::vector<std::string> warnings;
-    const ProcessDef& p = c_.process;
-    const double T = cycle_period(p), dt = w_.params.dt;
+    const ProcessDef& p = config_.process;
+    const double T = cycle_period(p), dt = world_.params.dt;
     if (!(dt > 0.0)) return warnings;
     const double spacing = T / double(p.samples_per_cycle);  // [s] between two samples
     // One sample per step at most: more samples per cycle than steps fall behind, and the run
@@ -487,7 +487,7 @@ std::vector<std::string> DamperRun::check_sampling(bool refuse) const {
 }
 
 void DamperRun::log(const char* fmt, ...) const {
-    if (o_.quiet) return;
+    if (options_.quiet) return;
     va_list ap;
     va_start(ap, fmt);
     std::vfprintf(stderr, fmt, ap);
@@ -496,7 +496,7 @@ void DamperRun::log(const char* fmt, ...) const {
 
 void DamperRun::adopt_checkpoint_settings() {
     dem::World scratch;  // only the app state is needed here; run() loads the World itself
-    const RunState ck = RunState::load(dem::load_checkpoint(o_.from, scratch), o_.from);
+    const RunState ck = RunState::load(dem::load_checkpoint(options_.from, scratch), options_.from);
     // Geometry: a key the config gives must match the sample's; the others take its values.
     std::string diffs;
     std::map<std::string, double> geometry = ck.geometry;
@@ -504,14 +504,14 @@ void DamperRun::adopt_checkpoint_settings() {
         if (!geometry.count(k.key) && std::isfinite(k.legacy)) geometry[k.key] = k.legacy;
     for (const StoredKey& k : kGeometryKeys) {
         const auto it = geometry.find(k.key);
-        const double value = k.get(c_);
-        if (it != geometry.end() && !c_.given.count(k.key)) {
-            k.set(c_, it->second);
+        const double value = k.get(config_);
+        if (it != geometry.end() && !config_.given.count(k.key)) {
+            k.set(config_, it->second);
         } else if (it != geometry.end() && (std::string(k.key) == "grains.sieve_curve" ||
                                             std::string(k.key) == "grains.clump_template") &&
                    !same_value(it->second, value)) {
-            const std::string& file = std::string(k.key) == "grains.sieve_curve" ? c_.grains.sieve_curve
-                                                                                 : c_.grains.clump_template;
+            const std::string& file = std::string(k.key) == "grains.sieve_curve" ? config_.grains.sieve_curve
+                                                                                 : config_.grains.clump_template;
             diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + ": the sample was drawn from " +
                      (it->second == 0.0 ? std::string("none") : std::string("a file with other numbers")) +
                      " (the config asks for " + (file.empty() ? std::string("none") : "'" + file + "'") + ")";
@@ -524,16 +524,16 @@ void DamperRun::adopt_checkpoint_settings() {
     // A study's branch: the keys that acted during the preparation must be the case's too, or
     // the case would cycle a sample its settings did not make (a stiffer grain settles into
     // another packing). A checkpoint of an older vppdem did not record them: not checked.
-    if (o_.check_preparation && ck.stage == Stage::Prepared)
+    if (options_.check_preparation && ck.stage == Stage::Prepared)
         for (const StoredKey& k : kPreparationKeys) {
             const auto it = ck.geometry.find(k.key);
-            if (it != ck.geometry.end() && !same_value(it->second, k.get(c_)))
+            if (it != ck.geometry.end() && !same_value(it->second, k.get(config_)))
                 diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + " = " + show(k.key, it->second) +
-                         " (the config asks for " + show(k.key, k.get(c_)) + "; it acts during the preparation)";
+                         " (the config asks for " + show(k.key, k.get(config_)) + "; it acts during the preparation)";
         }
     ckpt_grains_ = ck.grains;
     if (!diffs.empty())
-        throw std::runtime_error("checkpoint '" + o_.from + "' was prepared with another geometry: " + diffs +
+        throw std::runtime_error("checkpoint '" + options_.from + "' was prepared with another geometry: " + diffs +
                                  "; prepare a new sample (run without --from)");
     if (ck.settings.empty()) {
         // A prepared sample (or a run stopped before its settings were applied) takes the
@@ -543,7 +543,7 @@ void DamperRun::adopt_checkpoint_settings() {
             pending_warnings_.push_back("resume: the checkpoint (an older vppdem's) stores no run settings; the "
                                         "config's are used");
             log("damper: warning: checkpoint '%s' (an older vppdem's) stores no process settings: the config's are "
-                "used; give the ones the run started with\n", o_.from.c_str());
+                "used; give the ones the run started with\n", options_.from.c_str());
         }
         return;
     }
@@ -558,27 +558,27 @@ void DamperRun::adopt_checkpoint_settings() {
         const double stored = it != ck.settings.end() ? it->second : k.legacy;
         // More cycles than the run started with: it goes on (extend_cycling); fewer would end a
         // record that already holds them, or promise a run it is not.
-        if (std::string(k.key) == "process.cycles" && c_.given.count(k.key) && k.get(c_) > stored) {
+        if (std::string(k.key) == "process.cycles" && config_.given.count(k.key) && k.get(config_) > stored) {
             ckpt_cycles_ = int(stored);
             continue;
         }
-        if (c_.given.count(k.key) && !same_value(k.get(c_), stored))
+        if (config_.given.count(k.key) && !same_value(k.get(config_), stored))
             conflicts += (conflicts.empty() ? "" : ", ") + std::string(k.key) + " = " + show(k.key, stored) +
-                         " in the checkpoint, " + show(k.key, k.get(c_)) + " given" +
+                         " in the checkpoint, " + show(k.key, k.get(config_)) + " given" +
                          (std::string(k.key) == "process.cycles" ? " (more cycles continue the run, fewer cannot)" : "");
         else
-            k.set(c_, stored);
+            k.set(config_, stored);
     }
     if (!conflicts.empty())
-        throw std::runtime_error("checkpoint '" + o_.from + "' continues a run with other settings: " + conflicts +
+        throw std::runtime_error("checkpoint '" + options_.from + "' continues a run with other settings: " + conflicts +
                                  "; a resumed run keeps the settings it started with: leave these keys out (or give "
                                  "the checkpoint's values), or start a new run from the sample's prepared.ckpt");
 }
 
 std::vector<double> DamperRun::draw_radii(std::size_t n, uint64_t stream) const {
-    if (sizes_.kind == scene::SizeDistribution::Kind::Single) return std::vector<double>(n, c_.grains.radius);
+    if (sizes_.kind == scene::SizeDistribution::Kind::Single) return std::vector<double>(n, config_.grains.radius);
     // A stream of its own (not the positions'), one per fill: the pour 0, re-fill k stream k.
-    std::mt19937_64 rng((c_.simulation.seed ^ 0x51E7E5C0FFEEull) + stream * 0x9E3779B97F4A7C15ull);
+    std::mt19937_64 rng((config_.simulation.seed ^ 0x51E7E5C0FFEEull) + stream * 0x9E3779B97F4A7C15ull);
     std::vector<double> r(n);
     for (double& x : r) x = sizes_.draw(rng);
     return r;
@@ -587,7 +587,7 @@ std::vector<double> DamperRun::draw_radii(std::size_t n, uint64_t stream) const 
 void DamperRun::report_grain_sizes() {
     if (sizes_.kind == scene::SizeDistribution::Kind::Single) return;  // every grain grains.radius
     const scene::SizeStats s = scene::size_stats(grain_radii());
-    auto& rep = st_.report;
+    auto& rep = state_.report;
     rep["prepare.radius_mean"] = s.mean;
     rep["prepare.radius_sd"] = s.sd;
     rep["prepare.radius_min"] = s.min;
@@ -599,13 +599,13 @@ void DamperRun::report_grain_sizes() {
 
 void DamperRun::check_grains_fit(std::size_t n) {
     const double rk = sizes_.max_radius();
-    const double r_in = L_.radius - c_.foil.particle_radius;  // [m] inner surface of the foil
+    const double r_in = lattice_.radius - config_.foil.particle_radius;  // [m] inner surface of the foil
     if (rk > r_in / 3.0) {
         const char* const kinds[] = {"single", "uniform", "lognormal", "sieve"};
         const std::string what = sizes_.kind == scene::SizeDistribution::Kind::Single
                                      ? "config key 'grains.radius' = " + show("", rk) + ": too large"
                                      : std::string("config key 'grains.radius_distribution' = \"") +
-                                           kinds[c_.grains.radius_distribution] + "\": its largest grain (radius " +
+                                           kinds[config_.grains.radius_distribution] + "\": its largest grain (radius " +
                                            show("", rk) + " m) is too large";
         throw std::runtime_error(what + " for the damper; at most a third of the foil's inner radius (" +
                                  show("", r_in / 3.0) + " m)");
@@ -616,8 +616,8 @@ void DamperRun::check_grains_fit(std::size_t n) {
     // a third of it is refused.
     if (clumps() && grain_reach(rk) > 0.5 * r_in) {
         const char* const shapes[] = {"sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"};
-        const std::string what = c_.grains.shape == 5 ? "config key 'grains.clump_template' = '" + c_.grains.clump_template + "'"
-                                                      : std::string("config key 'grains.shape' = \"") + shapes[c_.grains.shape] + "\"";
+        const std::string what = config_.grains.shape == 5 ? "config key 'grains.clump_template' = '" + config_.grains.clump_template + "'"
+                                                      : std::string("config key 'grains.shape' = \"") + shapes[config_.grains.shape] + "\"";
         throw std::runtime_error(what + ": its grains reach " + show("", grain_reach(rk)) + " m from their centre (at "
                                  "grains.radius " + show("", rk) + " m); at most half the foil's inner radius (" +
                                  show("", 0.5 * r_in) + " m), so that a grain can turn inside the foil");
@@ -630,8 +630,8 @@ void DamperRun::check_grains_fit(std::size_t n) {
     const std::size_t n_layer = std::size_t(std::max(1.0, std::floor(0.9069 * (r_in / rk) * (r_in / rk))));
     if (n < n_layer) {
         const double phi_min = double(n_layer) * v_grain /
-                               (std::numbers::pi * c_.damper.radius * c_.damper.radius * c_.damper.height);
-        throw std::runtime_error("config key 'grains.volume_fraction' = " + show("", c_.grains.volume_fraction) +
+                               (std::numbers::pi * config_.damper.radius * config_.damper.radius * config_.damper.height);
+        throw std::runtime_error("config key 'grains.volume_fraction' = " + show("", config_.grains.volume_fraction) +
                                  ": gives " + std::to_string(n) + " grain(s) in this damper; at least " +
                                  std::to_string(n_layer) + " are needed (one layer across the foil's inner radius " +
                                  show("", r_in) + " m), i.e. grains.volume_fraction >= " + show("", phi_min));
@@ -644,7 +644,7 @@ void DamperRun::check_grains_fit(std::size_t n) {
     const double v_in = std::numbers::pi * r_in * r_in * z_top_;
     const double phi_in = double(n) * v_grain / v_in;
     if (phi_in > 0.74)
-        throw std::runtime_error("config key 'grains.volume_fraction' = " + show("", c_.grains.volume_fraction) +
+        throw std::runtime_error("config key 'grains.volume_fraction' = " + show("", config_.grains.volume_fraction) +
                                  ": " + std::to_string(n) + " grains fill " + show("", std::round(1000 * phi_in) / 10) +
                                  "% of the foil's interior (radius " + show("", r_in) + " m, height " +
                                  show("", z_top_) + " m); at most 74% (the densest sphere packing) can be prepared");
@@ -660,44 +660,44 @@ void DamperRun::check_grains_fit(std::size_t n) {
 
 void DamperRun::build() {
     // Foil first: its particles are 0 .. n_f - 1 and its material index 0.
-    w_.params.gravity = {0, 0, -9.81};
-    w_.params.local_damping = c_.simulation.local_damping;
-    w_.params.threads = c_.simulation.threads;
-    w_.params.skin = c_.simulation.skin;
-    w_.set_bond_arm(c_.foil.bond_arm == 1 ? dem::BondArm::kBondPoint : dem::BondArm::kRadius);
+    world_.params.gravity = {0, 0, -9.81};
+    world_.params.local_damping = config_.simulation.local_damping;
+    world_.params.threads = config_.simulation.threads;
+    world_.params.skin = config_.simulation.skin;
+    world_.set_bond_arm(config_.foil.bond_arm == 1 ? dem::BondArm::kBondPoint : dem::BondArm::kRadius);
     if (mesh_foil()) {
         // The lattice's cylinder (its ring radius and height, which the paper's rules choose
         // from damper.radius and damper.height), built by the membrane builder: the two foils
         // differ in their network only.
-        const double rf = c_.foil.particle_radius;
-        const double R = rf / std::sin(std::numbers::pi / choose_columns(c_.damper.radius, rf));
-        const double H = (choose_rows(c_.damper.height, rf) - 1) * 2.0 * rf;
+        const double rf = config_.foil.particle_radius;
+        const double R = rf / std::sin(std::numbers::pi / choose_columns(config_.damper.radius, rf));
+        const double H = (choose_rows(config_.damper.height, rf) - 1) * 2.0 * rf;
         const MembraneDef d = membrane_def();
-        M_ = membrane_tube_sites(d, R, H, 0.0);
-        place_membrane(w_, d, M_);
-        L_ = FoilLattice{};
-        L_.radius = R;
-        L_.spacing = 2.0 * rf;
-        L_.material = M_.material;
-        L_.particles = M_.particles;
+        membrane_ = membrane_tube_sites(d, R, H, 0.0);
+        place_membrane(world_, d, membrane_);
+        lattice_ = FoilLattice{};
+        lattice_.radius = R;
+        lattice_.spacing = 2.0 * rf;
+        lattice_.material = membrane_.material;
+        lattice_.particles = membrane_.particles;
         z_top_ = H;
-        bottom_ring_ = M_.boundary[0];
-        top_ring_ = M_.boundary[1];
-        std::vector<uint8_t> ring(w_.particles.size(), 0);
+        bottom_ring_ = membrane_.boundary[0];
+        top_ring_ = membrane_.boundary[1];
+        std::vector<uint8_t> ring(world_.particles.size(), 0);
         for (uint32_t i : bottom_ring_) ring[i] = 1;
         for (uint32_t i : top_ring_) ring[i] = 1;
         free_foil_.clear();
-        for (uint32_t i : M_.particles)
+        for (uint32_t i : membrane_.particles)
             if (!ring[i]) free_foil_.push_back(i);
         return;
     }
-    L_ = build_cylinder(w_, c_.foil, c_.damper.radius, c_.damper.height);
-    z_top_ = (L_.rows - 1) * L_.spacing;
-    top_ring_ = L_.row(L_.rows - 1);
-    bottom_ring_ = L_.row(0);
+    lattice_ = build_cylinder(world_, config_.foil, config_.damper.radius, config_.damper.height);
+    z_top_ = (lattice_.rows - 1) * lattice_.spacing;
+    top_ring_ = lattice_.row(lattice_.rows - 1);
+    bottom_ring_ = lattice_.row(0);
     free_foil_.clear();
-    for (int k = 1; k + 1 < L_.rows; ++k)
-        for (uint32_t i : L_.row(k)) free_foil_.push_back(i);
+    for (int k = 1; k + 1 < lattice_.rows; ++k)
+        for (uint32_t i : lattice_.row(k)) free_foil_.push_back(i);
 }
 
 MembraneDef DamperRun::membrane_def() const {
@@ -708,39 +708,39 @@ MembraneDef DamperRun::membrane_def() const {
     // (measured strain ratio 2.04-2.08 over 3 seeds, docs/membrane.md).
     constexpr double kVacancyStiffening = 2.05;  // [-]
     MembraneDef d;
-    d.foil = c_.foil;
+    d.foil = config_.foil;
     d.stiffness = MembraneStiffness::MatchFoil;
     d.stiffness_factor = kVacancyStiffening;
     d.vacancies = true;
     d.vacancy_fraction = 0.25;
-    d.seed = c_.simulation.seed;
+    d.seed = config_.simulation.seed;
     return d;
 }
 
 void DamperRun::save_world(const std::string& path, const std::string& blob) const {
-    if (w_.pressure.fans.empty()) {
-        dem::save_checkpoint(path, w_, blob);
+    if (world_.pressure.fans.empty()) {
+        dem::save_checkpoint(path, world_, blob);
         return;
     }
     // The fans follow from the foil, which the config rebuilds (bit for bit): saved without them.
-    save_checkpoint_without_fans(path, const_cast<dem::World&>(w_), blob);
+    save_checkpoint_without_fans(path, const_cast<dem::World&>(world_), blob);
 }
 
 void DamperRun::warn(const std::string& what) {
     std::string w = what;
     for (char& ch : w)
         if (ch == '\n' || ch == '\r') ch = ' ';
-    st_.warnings.push_back(w);
+    state_.warnings.push_back(w);
     // On stderr with --quiet too: a value that does not do what it seems must not go unseen
     // (summary.json keeps it as well).
     // A study's cases run quietly side by side: each names its folder.
-    if (o_.quiet && !o_.out_dir.empty()) std::fprintf(stderr, "damper %s: warning: %s\n", o_.out_dir.c_str(), w.c_str());
+    if (options_.quiet && !options_.out_dir.empty()) std::fprintf(stderr, "damper %s: warning: %s\n", options_.out_dir.c_str(), w.c_str());
     else std::fprintf(stderr, "damper: warning: %s\n", w.c_str());
 }
 
 double DamperRun::highest_grain_top() const {
     double top = 0;
-    for (uint32_t i = g0_; i < g1_; ++i) top = std::max(top, w_.particles.pos[i].z + w_.particles.radius[i]);
+    for (uint32_t i = first_grain_; i < end_grain_; ++i) top = std::max(top, world_.particles.pos[i].z + world_.particles.radius[i]);
     return top;
 }
 
@@ -752,13 +752,13 @@ void DamperRun::add_grains(const std::vector<Vec3>& pos, const std::vector<doubl
             d.radius = radii[k];
             d.material = kGrainMat;
             d.mask = kGrainMask;
-            w_.add_sphere(d);
+            world_.add_sphere(d);
         }
         return;
     }
     // Uniform random orientations (Shoemake's unit quaternion from three uniform numbers), a
     // stream of their own (not the positions' nor the radii's), one per fill.
-    std::mt19937_64 rng((c_.simulation.seed ^ 0x0C1A5E0F0A11ull) + stream * 0x9E3779B97F4A7C15ull);
+    std::mt19937_64 rng((config_.simulation.seed ^ 0x0C1A5E0F0A11ull) + stream * 0x9E3779B97F4A7C15ull);
     std::uniform_real_distribution<double> u(0.0, 1.0);
     for (std::size_t k = 0; k < pos.size(); ++k) {
         const double u1 = u(rng), u2 = 2.0 * std::numbers::pi * u(rng), u3 = 2.0 * std::numbers::pi * u(rng);
@@ -768,26 +768,26 @@ void DamperRun::add_grains(const std::vector<Vec3>& pos, const std::vector<doubl
         d.orientation = {a * std::sin(u2), a * std::cos(u2), b * std::sin(u3), b * std::cos(u3)};
         d.material = kGrainMat;
         d.mask = kGrainMask;
-        w_.add_clump(dem::scaled(shape_, radii[k]), d);
+        world_.add_clump(dem::scaled(shape_, radii[k]), d);
     }
 }
 
 std::vector<double> DamperRun::grain_radii() const {
-    if (!clumps()) return std::vector<double>(w_.particles.radius.begin() + g0_, w_.particles.radius.begin() + g1_);
+    if (!clumps()) return std::vector<double>(world_.particles.radius.begin() + first_grain_, world_.particles.radius.begin() + end_grain_);
     std::vector<double> r;
-    const double rho = w_.materials[kGrainMat].density;
-    for (double m : w_.clumps().mass) r.push_back(std::cbrt(3.0 * m / (4.0 * std::numbers::pi * rho)));
+    const double rho = world_.materials[kGrainMat].density;
+    for (double m : world_.clumps().mass) r.push_back(std::cbrt(3.0 * m / (4.0 * std::numbers::pi * rho)));
     return r;
 }
 
 std::vector<double> DamperRun::grain_tops() const {
-    const dem::Particles& p = w_.particles;
+    const dem::Particles& p = world_.particles;
     if (!clumps()) {
         std::vector<double> tops;
-        for (uint32_t i = g0_; i < g1_; ++i) tops.push_back(p.pos[i].z + p.radius[i]);
+        for (uint32_t i = first_grain_; i < end_grain_; ++i) tops.push_back(p.pos[i].z + p.radius[i]);
         return tops;
     }
-    const dem::Clumps& c = w_.clumps();
+    const dem::Clumps& c = world_.clumps();
     std::vector<double> tops(c.size(), -1e300);
     for (std::size_t k = 0; k < c.size(); ++k)
         for (uint32_t e = c.start[k]; e < c.start[k + 1]; ++e)
@@ -796,10 +796,10 @@ std::vector<double> DamperRun::grain_tops() const {
 }
 
 double DamperRun::grains_volume_now() const {
-    if (clumps()) return grains_mass() / w_.materials[kGrainMat].density;
+    if (clumps()) return grains_mass() / world_.materials[kGrainMat].density;
     double v = 0.0;
-    for (uint32_t i = g0_; i < g1_; ++i) {
-        const double r = w_.particles.radius[i];
+    for (uint32_t i = first_grain_; i < end_grain_; ++i) {
+        const double r = world_.particles.radius[i];
         v += r * r * r;
     }
     return 4.0 / 3.0 * std::numbers::pi * v;
@@ -808,9 +808,9 @@ double DamperRun::grains_volume_now() const {
 double DamperRun::grains_mass() const {
     double m = 0;
     if (clumps())
-        for (double x : w_.clumps().mass) m += x;
+        for (double x : world_.clumps().mass) m += x;
     else
-        for (uint32_t i = g0_; i < g1_; ++i) m += w_.particles.mass[i];
+        for (uint32_t i = first_grain_; i < end_grain_; ++i) m += world_.particles.mass[i];
     return m;
 }
 
@@ -819,7 +819,7 @@ double DamperRun::grains_mass() const {
 // (r_in / r_k)^2). The single highest grain would say little: one grain resting on the others
 // stands a radius above the surface, and a cap that meets only it ends above the packing.
 double DamperRun::fill_level() const {
-    const double r_in = L_.radius - c_.foil.particle_radius, rk = c_.grains.radius;
+    const double r_in = lattice_.radius - config_.foil.particle_radius, rk = config_.grains.radius;
     std::vector<double> tops = grain_tops();
     const std::size_t layer = std::clamp<std::size_t>(std::size_t(0.9069 * (r_in / rk) * (r_in / rk)), 1, tops.size());
     std::partial_sort(tops.begin(), tops.begin() + long(layer), tops.end(), std::greater<double>());
@@ -834,35 +834,35 @@ double DamperRun::packing_fraction(double inner_radius, double height) const {
     double v = 0;
     if (clumps()) v = grains_volume_now();
     else
-        for (uint32_t i = g0_; i < g1_; ++i) v += 4.0 / 3.0 * std::numbers::pi * std::pow(w_.particles.radius[i], 3);
+        for (uint32_t i = first_grain_; i < end_grain_; ++i) v += 4.0 / 3.0 * std::numbers::pi * std::pow(world_.particles.radius[i], 3);
     return v / (std::numbers::pi * inner_radius * inner_radius * height);
 }
 
 bool DamperRun::refill() {
-    if (!c_.damper.refill) return false;
+    if (!config_.damper.refill) return false;
     // The level the grains must reach before the cap comes down: the damper height plus a
     // quarter of a grain radius, so that the cap meets the top layer, not a few grains that
     // stand out of it (kRefillMargin, measured: docs/damper.md "Preparation").
     constexpr double kRefillMargin = 0.25;  // [grain radii]
     constexpr int kMaxRefills = 8;
-    const double rk = c_.grains.radius, r_in = L_.radius - c_.foil.particle_radius;
+    const double rk = config_.grains.radius, r_in = lattice_.radius - config_.foil.particle_radius;
     const double target = z_top_ + kRefillMargin * rk, level = fill_level();
     const double v_k = sizes_.mean_volume();
     const double area = std::numbers::pi * r_in * r_in;
-    const int done = st_.report.count("prepare.refills") ? int(st_.report.at("prepare.refills")) : 0;
+    const int done = state_.report.count("prepare.refills") ? int(state_.report.at("prepare.refills")) : 0;
     char msg[256];
     // With damper.packing_target the grains' volume decides, not their level: the grains missing
     // to the target (to the nearest grain), however high they then stand; the cap compresses them.
     std::size_t add = 0;
-    const double phi_now = c_.damper.packing_target > 0.0 ? packing_fraction(r_in, z_top_) : 0.0;  // [-] before this re-fill
-    if (c_.damper.packing_target > 0.0) {
-        const double missing = std::round((c_.damper.packing_target - phi_now) * area * z_top_ / v_k);
+    const double phi_now = config_.damper.packing_target > 0.0 ? packing_fraction(r_in, z_top_) : 0.0;  // [-] before this re-fill
+    if (config_.damper.packing_target > 0.0) {
+        const double missing = std::round((config_.damper.packing_target - phi_now) * area * z_top_ / v_k);
         if (missing < 1.0) {
             if (done == 0 && missing < -0.5) {
                 std::snprintf(msg, sizeof msg,
                               "prepare: the pour alone fills %.4f of the foil's interior, above damper.packing_target "
                               "= %.4g: lower grains.volume_fraction to reach the target",
-                              phi_now, c_.damper.packing_target);
+                              phi_now, config_.damper.packing_target);
                 warn(msg);
             }
             return false;
@@ -872,11 +872,11 @@ bool DamperRun::refill() {
         return false;
     }
     if (done >= kMaxRefills) {
-        if (c_.damper.packing_target > 0.0)
+        if (config_.damper.packing_target > 0.0)
             std::snprintf(msg, sizeof msg,
                           "prepare: after %d re-fills the grains fill %.4f of the foil's interior, below "
                           "damper.packing_target = %.4g", done, phi_now,
-                          c_.damper.packing_target);
+                          config_.damper.packing_target);
         else
             std::snprintf(msg, sizeof msg,
                           "prepare: after %d re-fills the grains reach %.4g m, below the damper height %.4g m: the "
@@ -892,36 +892,36 @@ bool DamperRun::refill() {
     }
     // Written by the fill; a checkpoint of the fill stage without it (an older vppdem's, or an
     // edited one) cannot be re-filled: say so rather than fail with a bare map lookup.
-    const auto funnel = st_.report.find("prepare.funnel_height");
-    if (funnel == st_.report.end())
-        throw std::runtime_error("checkpoint '" + o_.from + "' holds a sample in the fill stage without its funnel "
+    const auto funnel = state_.report.find("prepare.funnel_height");
+    if (funnel == state_.report.end())
+        throw std::runtime_error("checkpoint '" + options_.from + "' holds a sample in the fill stage without its funnel "
                                  "height (prepare.funnel_height): it cannot be re-filled; prepare a new sample (run "
                                  "without --from)");
     double funnel_h = funnel->second;
     if (sizes_.sieve_radius.empty() && sizes_.kind == scene::SizeDistribution::Kind::Sieve)
-        throw std::runtime_error("checkpoint '" + o_.from + "' holds a sample drawn from a sieve curve in the fill stage: "
+        throw std::runtime_error("checkpoint '" + options_.from + "' holds a sample drawn from a sieve curve in the fill stage: "
                                  "give grains.sieve_curve (the sample's curve) to re-fill it");
     if (clumps() && shape_.members.empty())
-        throw std::runtime_error("checkpoint '" + o_.from + "' holds clumps of a template in the fill stage: give "
+        throw std::runtime_error("checkpoint '" + options_.from + "' holds clumps of a template in the fill stage: give "
                                  "grains.clump_template (the sample's template) to re-fill it");
-    const auto pos = generate_grains(c_, L_, add, z_top_, 1.6 * L_.radius, funnel_h, grain_reach(sizes_.max_radius()),
+    const auto pos = generate_grains(config_, lattice_, add, z_top_, 1.6 * lattice_.radius, funnel_h, grain_reach(sizes_.max_radius()),
                                      highest_grain_top(), uint64_t(done + 1), true);
     if (pos.empty()) {
         warn("prepare: no room in the funnel for a re-fill; the grains stay below the damper height");
         return false;
     }
     add_grains(pos, draw_radii(pos.size(), uint64_t(done + 1)), uint64_t(done + 1));
-    g1_ = uint32_t(w_.particles.size());
-    st_.grains = grain_count_now();
+    end_grain_ = uint32_t(world_.particles.size());
+    state_.grains = grain_count_now();
     // A smaller grain than any before lowers the critical step (one radius: the same grains).
     if (sizes_.kind != scene::SizeDistribution::Kind::Single)
-        w_.params.dt = std::min(w_.params.dt, resolve_dt(c_.simulation, w_));
-    st_.report["prepare.refills"] = done + 1;
-    w_.invalidate_candidates();
-    if (c_.damper.packing_target > 0.0)
+        world_.params.dt = std::min(world_.params.dt, resolve_dt(config_.simulation, world_));
+    state_.report["prepare.refills"] = done + 1;
+    world_.invalidate_candidates();
+    if (config_.damper.packing_target > 0.0)
         log("[prepare] grains fill %.4f of the foil's interior, below the target %.4g: re-fill %d adds %zu grains (%u "
             "in all)\n", phi_now,
-            c_.damper.packing_target, done + 1, pos.size(), grain_count_now());
+            config_.damper.packing_target, done + 1, pos.size(), grain_count_now());
     else
         log("[prepare] grains level %.4f m, below %.4f m: re-fill %d adds %zu grains (%u in all)\n", level, target,
             done + 1, pos.size(), grain_count_now());
@@ -931,37 +931,37 @@ bool DamperRun::refill() {
 void DamperRun::apply_config_to_prepared() {
     // What may change between a preparation and a run from it: contact properties, foil
     // stiffness, process and simulation settings (geometry is checked by the caller).
-    dem::Material& g = w_.materials[kGrainMat];
-    g.young = c_.grains.young;
-    g.stiffness_ratio = c_.grains.stiffness_ratio;
-    g.friction = c_.grains.friction;
-    g.restitution = c_.grains.restitution;  // pairs take the smaller: grain-foil and grain-cap too
-    w_.materials[kCapMat].friction = c_.damper.cap_friction < 0 ? c_.grains.friction : c_.damper.cap_friction;
-    w_.materials[kCapMat].young = c_.grains.young;
-    dem::Material& f = w_.materials[kFoilMat];
-    f.young = particle_modulus(c_.foil);
-    f.stiffness_ratio = c_.foil.stiffness_ratio;
-    f.friction = c_.foil.friction;
+    dem::Material& g = world_.materials[kGrainMat];
+    g.young = config_.grains.young;
+    g.stiffness_ratio = config_.grains.stiffness_ratio;
+    g.friction = config_.grains.friction;
+    g.restitution = config_.grains.restitution;  // pairs take the smaller: grain-foil and grain-cap too
+    world_.materials[kCapMat].friction = config_.damper.cap_friction < 0 ? config_.grains.friction : config_.damper.cap_friction;
+    world_.materials[kCapMat].young = config_.grains.young;
+    dem::Material& f = world_.materials[kFoilMat];
+    f.young = particle_modulus(config_.foil);
+    f.stiffness_ratio = config_.foil.stiffness_ratio;
+    f.friction = config_.foil.friction;
     if (mesh_foil()) {
         // Each bond's kn from its length and triangles' area, as the membrane builder gave it.
         const MembraneDef d = membrane_def();
-        for (std::size_t k = 0; k < M_.bonds.size(); ++k) {
-            const double kn = membrane_bond_stiffness(d, M_.bond_length[k], M_.bond_area[k]);
-            w_.set_bond_stiffness(M_.bonds[k], kn, c_.foil.stiffness_ratio * kn);
+        for (std::size_t k = 0; k < membrane_.bonds.size(); ++k) {
+            const double kn = membrane_bond_stiffness(d, membrane_.bond_length[k], membrane_.bond_area[k]);
+            world_.set_bond_stiffness(membrane_.bonds[k], kn, config_.foil.stiffness_ratio * kn);
         }
     } else {
-        const double kn = bond_normal_stiffness(c_.foil);
-        for (std::size_t b = 0; b < w_.bonds().size(); ++b) w_.set_bond_stiffness(uint32_t(b), kn, c_.foil.stiffness_ratio * kn);
+        const double kn = bond_normal_stiffness(config_.foil);
+        for (std::size_t b = 0; b < world_.bonds().size(); ++b) world_.set_bond_stiffness(uint32_t(b), kn, config_.foil.stiffness_ratio * kn);
     }
-    w_.set_bond_arm(c_.foil.bond_arm == 1 ? dem::BondArm::kBondPoint : dem::BondArm::kRadius);
-    w_.invalidate_contact_physics();
-    w_.params.local_damping = cycling_local_damping(c_);  // the preparation ran with simulation.local_damping
-    w_.params.threads = c_.simulation.threads;
-    w_.params.skin = c_.simulation.skin;
-    st_.settings = values_of(c_, kRunKeys);  // from now on the run is bound to these
+    world_.set_bond_arm(config_.foil.bond_arm == 1 ? dem::BondArm::kBondPoint : dem::BondArm::kRadius);
+    world_.invalidate_contact_physics();
+    world_.params.local_damping = cycling_local_damping(config_);  // the preparation ran with simulation.local_damping
+    world_.params.threads = config_.simulation.threads;
+    world_.params.skin = config_.simulation.skin;
+    state_.settings = values_of(config_, kRunKeys);  // from now on the run is bound to these
 }
 
-std::map<std::string, double> DamperRun::run_settings() const { return values_of(c_, kRunKeys); }
+std::map<std::string, double> DamperRun::run_settings() const { return values_of(config_, kRunKeys); }
 
 
 }  // namespace damper_detail

@@ -205,7 +205,7 @@ private:
     // World has no removal of particles; a retired grain stays in its arrays, left out of the
     // counts, the grains' volume and the VTK frames.
     void retire_grain(uint32_t i);
-    bool active_grain(uint32_t i) const { return w_.particles.mask[i] != 0; }
+    bool active_grain(uint32_t i) const { return world_.particles.mask[i] != 0; }
     std::size_t active_grains() const;
     double active_grain_volume() const;
     // The pour's seal: the grains outside the membrane or overlapping the opening are retired,
@@ -217,8 +217,8 @@ private:
     void checkpoint();
     // VTK frame DIR/vtk/NAME.vtk (particles and bonds) and NAME_tools.vtk (the tools' facets).
     void vtk_frame(const std::string& name) const;
-    // Before each step within a stage: a checkpoint every o_.checkpoint_every seconds of wall
-    // clock, and the stop that o_.stop_at_time asks for (checkpoint, records; true: stop now).
+    // Before each step within a stage: a checkpoint every options_.checkpoint_every seconds of wall
+    // clock, and the stop that options_.stop_at_time asks for (checkpoint, records; true: stop now).
     bool pause_point();
     // One step of `stage` with the regulator at dp_set [Pa]; true when the tools' segments of the
     // stage are done.
@@ -229,26 +229,26 @@ private:
     void stage_vacuum();
     void next_stage();
     double grains_kinetic_energy() const;
-    double enclosed() const { return enclosed_volume(m_, w_.particles.pos); }
+    double enclosed() const { return enclosed_volume(membrane_, world_.particles.pos); }
     void warn(const std::string& what);
     void log(const std::string& what) const {
-        if (!o_.quiet) std::fprintf(stderr, "[device] %s\n", what.c_str());
+        if (!options_.quiet) std::fprintf(stderr, "[device] %s\n", what.c_str());
     }
 
-    DeviceDef d_;
-    DeviceOptions o_;
+    DeviceDef def_;
+    DeviceOptions options_;
     std::string base_;
-    dem::World w_;
-    Membrane m_;
+    dem::World world_;
+    Membrane membrane_;
     std::vector<dem::Tool> tools_;
-    uint32_t g0_ = 0, g1_ = 0;  // the grains' particle range
+    uint32_t first_grain_ = 0, end_grain_ = 0;  // the grains' particle range
     uint32_t grain_mat_ = 0;
     double grain_volume_ = 0;   // [m^3] of the active grains (a pour's struck-off grains left out)
     bool pour_ = false;         // grains.fill_mode = "pour"
     std::vector<uint32_t> opening_;  // pour: the opening's membrane particles
     double z_seal_ = 0;         // [m] pour: the membrane's top less opening_height (at the build)
     double axis_x_ = 0, axis_y_ = 0, column_radius_ = 0;  // [m] pour: the column's axis and radius
-    DeviceState st_;
+    DeviceState state_;
     fs::path out_;
     dem::FolderLock lock_;
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
@@ -256,58 +256,58 @@ private:
     bool stopped_ = false;
 };
 
-DeviceRun::DeviceRun(const DeviceDef& d, const DeviceOptions& o) : d_(d), o_(o) {
+DeviceRun::DeviceRun(const DeviceDef& d, const DeviceOptions& o) : def_(d), options_(o) {
     base_ = fs::path(d.path).parent_path().string();
     build();
     std::string from = o.from;
     if (from.empty() && !o.overwrite && !o.out_dir.empty() && fs::exists(fs::path(o.out_dir) / kCheckpointName))
         from = (fs::path(o.out_dir) / kCheckpointName).string();
     if (!from.empty()) {
-        const std::string blob = dem::load_checkpoint(from, w_);
-        st_ = DeviceState::load(blob, from);
-        if (st_.inputs != inputs_text(d_))
+        const std::string blob = dem::load_checkpoint(from, world_);
+        state_ = DeviceState::load(blob, from);
+        if (state_.inputs != inputs_text(def_))
             throw std::runtime_error("checkpoint '" + from + "' was made with another device file (its inputs differ from '" +
-                                     d_.path + "'): run into a new --out, or give the device file it was made with");
-        if (st_.sealed) w_.pressure.fans = membrane_pressure_fans(m_);
+                                     def_.path + "'): run into a new --out, or give the device file it was made with");
+        if (state_.sealed) world_.pressure.fans = membrane_pressure_fans(membrane_);
         if (pour_) grain_volume_ = active_grain_volume();  // the struck-off grains are in the World's masks
-        w_.params.threads = d_.threads;  // this machine's, not the checkpoint's (the results do not depend on it)
+        world_.params.threads = def_.threads;  // this machine's, not the checkpoint's (the results do not depend on it)
         char at[64];
-        std::snprintf(at, sizeof at, "t = %.6g s", w_.time);
-        log("resuming from " + from + " at " + at + " in the stage '" + device_stage_name(DeviceStage(st_.stage)) + "'");
+        std::snprintf(at, sizeof at, "t = %.6g s", world_.time);
+        log("resuming from " + from + " at " + at + " in the stage '" + device_stage_name(DeviceStage(state_.stage)) + "'");
     } else {
-        st_.inputs = inputs_text(d_);
-        st_.tools.assign(tools_.size(), dem::ToolState{});
-        st_.window.assign(3 * tools_.size(), 0.0);
+        state_.inputs = inputs_text(def_);
+        state_.tools.assign(tools_.size(), dem::ToolState{});
+        state_.window.assign(3 * tools_.size(), 0.0);
     }
     start_output(from);
 }
 
 void DeviceRun::start_output(const std::string& resumed_from) {
-    if (o_.out_dir.empty()) return;
-    out_ = o_.out_dir;
+    if (options_.out_dir.empty()) return;
+    out_ = options_.out_dir;
     const bool own = !resumed_from.empty() && fs::exists(out_ / kCheckpointName) &&
                      fs::equivalent(fs::path(resumed_from), out_ / kCheckpointName);
-    lock_ = own ? scene::lock_output_dir(o_.out_dir) : scene::prepare_output_dir(o_.out_dir, o_.overwrite);
-    if (own) scene::record_build(o_.out_dir, false);  // another build resuming the run is listed
+    lock_ = own ? scene::lock_output_dir(options_.out_dir) : scene::prepare_output_dir(options_.out_dir, options_.overwrite);
+    if (own) scene::record_build(options_.out_dir, false);  // another build resuming the run is listed
 }
 
 void DeviceRun::build() {
-    const dem::SurfaceMesh surface = device_surface(d_.membrane_shape, "membrane", base_);
-    MembraneDef md = d_.membrane;
-    md.seed = d_.seed == 0 ? 1 : d_.seed;
-    m_ = build_membrane(w_, md, surface);  // the foil's material is 0
+    const dem::SurfaceMesh surface = device_surface(def_.membrane_shape, "membrane", base_);
+    MembraneDef md = def_.membrane;
+    md.seed = def_.seed == 0 ? 1 : def_.seed;
+    membrane_ = build_membrane(world_, md, surface);  // the foil's material is 0
 
     dem::Material gm;
     gm.name = "grains";
-    gm.density = d_.grain_density;
-    gm.young = d_.grain_young;
-    gm.friction = d_.fill_friction;  // grains.friction from the seal on
-    gm.stiffness_ratio = d_.grain_stiffness_ratio;
-    const uint32_t grain_mat = w_.add_material(gm);
+    gm.density = def_.grain_density;
+    gm.young = def_.grain_young;
+    gm.friction = def_.fill_friction;  // grains.friction from the seal on
+    gm.stiffness_ratio = def_.grain_stiffness_ratio;
+    const uint32_t grain_mat = world_.add_material(gm);
     grain_mat_ = grain_mat;
 
-    for (std::size_t k = 0; k < d_.tools.size(); ++k) {
-        const DeviceTool& t = d_.tools[k];
+    for (std::size_t k = 0; k < def_.tools.size(); ++k) {
+        const DeviceTool& t = def_.tools[k];
         dem::Tool tool;
         tool.name = t.name;
         tool.program = t.program;
@@ -317,7 +317,7 @@ void DeviceRun::build() {
             tm.young = t.young;
             tm.friction = t.friction;
             tm.stiffness_ratio = t.stiffness_ratio;
-            const uint32_t mat = w_.add_material(tm);
+            const uint32_t mat = world_.add_material(tm);
             const dem::SurfaceMesh s = device_surface(t.shape, "tools[" + std::to_string(k) + "]", base_);
             std::vector<dem::Facet> facets;
             for (const auto& tri : s.triangles) {
@@ -327,53 +327,53 @@ void DeviceRun::build() {
                 f.mask = kMaskGrainFoil;  // grains and membrane; the grains' mask shares the bit
                 facets.push_back(f);
             }
-            dem::add_tool_facets(w_, tool, facets);
+            dem::add_tool_facets(world_, tool, facets);
         }
         tools_.push_back(std::move(tool));
     }
-    if (!d_.clamp_tool.empty()) {
+    if (!def_.clamp_tool.empty()) {
         double z_top = -1e300;
-        for (uint32_t i : m_.particles) z_top = std::max(z_top, w_.particles.pos[i].z);
+        for (uint32_t i : membrane_.particles) z_top = std::max(z_top, world_.particles.pos[i].z);
         std::vector<uint32_t> clamp;
-        for (uint32_t i : m_.particles)
-            if (w_.particles.pos[i].z >= z_top - d_.clamp_height) clamp.push_back(i);
+        for (uint32_t i : membrane_.particles)
+            if (world_.particles.pos[i].z >= z_top - def_.clamp_height) clamp.push_back(i);
         for (dem::Tool& t : tools_)
-            if (t.name == d_.clamp_tool) dem::clamp_to_tool(w_, t, clamp);
+            if (t.name == def_.clamp_tool) dem::clamp_to_tool(world_, t, clamp);
     }
 
-    pour_ = d_.fill_mode == "pour";
+    pour_ = def_.fill_mode == "pour";
     if (pour_) open_membrane();
-    g0_ = uint32_t(w_.particles.size());
+    first_grain_ = uint32_t(world_.particles.size());
     add_grains(surface, grain_mat);
-    g1_ = uint32_t(w_.particles.size());
+    end_grain_ = uint32_t(world_.particles.size());
     grain_volume_ = active_grain_volume();
 
-    w_.params.gravity = d_.gravity;
-    w_.params.local_damping = d_.local_damping;
-    w_.params.threads = d_.threads;
-    w_.params.dt = d_.dt > 0.0 ? d_.dt : d_.dt_safety * w_.critical_dt();
-    if (!(w_.params.dt > 0.0) || !std::isfinite(w_.params.dt))
-        throw std::runtime_error("device: no usable time step (" + std::to_string(w_.params.dt) + " s)");
+    world_.params.gravity = def_.gravity;
+    world_.params.local_damping = def_.local_damping;
+    world_.params.threads = def_.threads;
+    world_.params.dt = def_.dt > 0.0 ? def_.dt : def_.dt_safety * world_.critical_dt();
+    if (!(world_.params.dt > 0.0) || !std::isfinite(world_.params.dt))
+        throw std::runtime_error("device: no usable time step (" + std::to_string(world_.params.dt) + " s)");
 }
 
 void DeviceRun::add_grains(const dem::SurfaceMesh& surface, uint32_t material) {
-    const double r = d_.grain_radius, h = d_.lattice_spacing * r;
+    const double r = def_.grain_radius, h = def_.lattice_spacing * r;
     // The grains' surfaces clear the membrane particles' (their centres sit on the surface) by a
     // tenth of a radius, and the tools'.
-    const double clear = r + d_.membrane.foil.particle_radius + 0.1 * r;
+    const double clear = r + def_.membrane.foil.particle_radius + 0.1 * r;
     Vec3 lo{1e300, 1e300, 1e300}, hi{-1e300, -1e300, -1e300};
     for (const Vec3& v : surface.vertices) {
         lo = {std::min(lo.x, v.x), std::min(lo.y, v.y), std::min(lo.z, v.z)};
         hi = {std::max(hi.x, v.x), std::max(hi.y, v.y), std::max(hi.z, v.z)};
     }
     std::vector<dem::SurfaceMesh> tool_surfaces;
-    for (std::size_t k = 0; k < d_.tools.size(); ++k)
-        if (d_.tools[k].shape.kind != "none")
-            tool_surfaces.push_back(device_surface(d_.tools[k].shape, "tools[" + std::to_string(k) + "]", base_));
+    for (std::size_t k = 0; k < def_.tools.size(); ++k)
+        if (def_.tools[k].shape.kind != "none")
+            tool_surfaces.push_back(device_surface(def_.tools[k].shape, "tools[" + std::to_string(k) + "]", base_));
     std::vector<Vec3> sites;
     // cubic: a cell of edge h, one site; fcc: a cell of edge h sqrt(2), four sites (nearest
     // neighbours h apart along face diagonals).
-    const bool fcc = d_.lattice == "fcc";
+    const bool fcc = def_.lattice == "fcc";
     const double a = fcc ? h * std::numbers::sqrt2 : h;
     const std::vector<Vec3> basis = fcc ? std::vector<Vec3>{{0, 0, 0}, {0.5, 0.5, 0}, {0.5, 0, 0.5}, {0, 0.5, 0.5}}
                                         : std::vector<Vec3>{{0, 0, 0}};
@@ -404,44 +404,44 @@ void DeviceRun::add_grains(const dem::SurfaceMesh& surface, uint32_t material) {
                                " m from it is needed)");
     // Lowest first (poured), lattice order within a layer; n of them (the pour's column: its own).
     if (!pour_) {
-        const std::size_t n = std::max<std::size_t>(1, std::size_t(std::llround(d_.fill * double(sites.size()))));
+        const std::size_t n = std::max<std::size_t>(1, std::size_t(std::llround(def_.fill * double(sites.size()))));
         std::stable_sort(sites.begin(), sites.end(), [](const Vec3& a, const Vec3& b) { return a.z < b.z; });
         sites.resize(std::min(n, sites.size()));
     }
-    uint64_t rng = 0x5eed0000ull + d_.seed;
+    uint64_t rng = 0x5eed0000ull + def_.seed;
     dem::SphereDef s;
     s.radius = r;
     s.material = material;
     s.mask = kGrainMask;
-    w_.reserve(w_.particles.size() + sites.size());
+    world_.reserve(world_.particles.size() + sites.size());
     for (const Vec3& p : sites) {
         const Vec3 j{(2 * uniform(rng) - 1) * jit, (2 * uniform(rng) - 1) * jit, (2 * uniform(rng) - 1) * jit};
         s.position = p + j;
-        w_.add_sphere(s);
+        world_.add_sphere(s);
     }
 }
 
 void DeviceRun::open_membrane() {
-    const double r = d_.grain_radius, rf = d_.membrane.foil.particle_radius;
+    const double r = def_.grain_radius, rf = def_.membrane.foil.particle_radius;
     const double clear = r + rf + 0.1 * r;  // as the lattice's
-    const std::vector<Vec3>& pos = w_.particles.pos;
+    const std::vector<Vec3>& pos = world_.particles.pos;
     double z_top = -1e300, z_bottom = 1e300;
-    for (uint32_t i : m_.particles) {
+    for (uint32_t i : membrane_.particles) {
         z_top = std::max(z_top, pos[i].z);
         z_bottom = std::min(z_bottom, pos[i].z);
     }
-    const std::string key = "config key 'grains.opening_height' = " + cfg::number_text(d_.opening_height);
+    const std::string key = "config key 'grains.opening_height' = " + cfg::number_text(def_.opening_height);
     auto mm = [](double v) {  // [m], three digits: a message's lengths
         char b[32];
         std::snprintf(b, sizeof b, "%.3g", v);
         return std::string(b);
     };
-    if (d_.opening_height >= z_top - z_bottom)
+    if (def_.opening_height >= z_top - z_bottom)
         throw cfg::ConfigError(key + ": must be less than the membrane's height, " + mm(z_top - z_bottom) +
                                " m (its particles' centres from the lowest to the top): the opening is a part of its top");
-    z_seal_ = z_top - d_.opening_height;
+    z_seal_ = z_top - def_.opening_height;
     double sx = 0, sy = 0;
-    for (uint32_t i : m_.particles)
+    for (uint32_t i : membrane_.particles)
         if (pos[i].z >= z_seal_) {
             opening_.push_back(i);
             sx += pos[i].x;
@@ -452,7 +452,7 @@ void DeviceRun::open_membrane() {
     // The aperture: the nearest membrane particle to the axis, of those in the band a grain
     // diameter and a membrane particle's below the seal plane (the rim the grains pass).
     double ra = 1e300;
-    for (uint32_t i : m_.particles)
+    for (uint32_t i : membrane_.particles)
         if (pos[i].z < z_seal_ && pos[i].z >= z_seal_ - 2.0 * (r + rf))
             ra = std::min(ra, std::hypot(pos[i].x - axis_x_, pos[i].y - axis_y_));
     if (ra == 1e300)  // no membrane below the opening: it would be the whole membrane
@@ -467,13 +467,13 @@ void DeviceRun::open_membrane() {
                                "membrane's height, " + mm(z_top - z_bottom) + " m) or smaller grains are needed");
     column_radius_ = ra - clear;
     // Until the seal the grains pass through the opening; the rest of the membrane touches it.
-    for (uint32_t i : m_.particles) w_.particles.mask[i] = kFoilMask | kMaskOpening;
-    for (uint32_t i : opening_) w_.particles.mask[i] = kMaskOpening;
+    for (uint32_t i : membrane_.particles) world_.particles.mask[i] = kFoilMask | kMaskOpening;
+    for (uint32_t i : opening_) world_.particles.mask[i] = kMaskOpening;
 }
 
 std::vector<Vec3> DeviceRun::pour_sites(const std::vector<dem::SurfaceMesh>& tool_surfaces, double a,
                                         const std::vector<Vec3>& basis, double jit) const {
-    const double r = d_.grain_radius, rf = d_.membrane.foil.particle_radius;
+    const double r = def_.grain_radius, rf = def_.membrane.foil.particle_radius;
     const double clear = r + rf + 0.1 * r;
     // Sites above the seal plane by the clearance and the jitter: no membrane particle but the
     // opening's (which the grains pass through) lies there, so no grain starts in contact. The
@@ -481,7 +481,7 @@ std::vector<Vec3> DeviceRun::pour_sites(const std::vector<dem::SurfaceMesh>& too
     const double z0 = z_seal_ + clear + jit * std::numbers::sqrt2;
     const double rc = std::max(0.0, column_radius_ - jit * std::numbers::sqrt2);
     const int n = int(rc / a) + 1;
-    const std::size_t want = std::size_t(d_.pour_count);
+    const std::size_t want = std::size_t(def_.pour_count);
     std::vector<Vec3> sites;
     int empty_rows = 0;
     for (int k = 0; sites.size() < want; ++k) {
@@ -498,7 +498,7 @@ std::vector<Vec3> DeviceRun::pour_sites(const std::vector<dem::SurfaceMesh>& too
                 }
         empty_rows = sites.size() == before ? empty_rows + 1 : 0;
         if (empty_rows > 100)
-            throw cfg::ConfigError("config key 'grains.pour_count' = " + std::to_string(d_.pour_count) +
+            throw cfg::ConfigError("config key 'grains.pour_count' = " + std::to_string(def_.pour_count) +
                                    ": the column above the opening has room for " + std::to_string(sites.size()) +
                                    " grains only (a tool fills it)");
     }
@@ -509,103 +509,103 @@ std::vector<Vec3> DeviceRun::pour_sites(const std::vector<dem::SurfaceMesh>& too
 }
 
 void DeviceRun::retire_grain(uint32_t i) {
-    w_.set_fixed(i);
-    w_.particles.mask[i] = 0;
+    world_.set_fixed(i);
+    world_.particles.mask[i] = 0;
 }
 
 std::size_t DeviceRun::active_grains() const {
     std::size_t n = 0;
-    for (uint32_t i = g0_; i < g1_; ++i) n += active_grain(i);
+    for (uint32_t i = first_grain_; i < end_grain_; ++i) n += active_grain(i);
     return n;
 }
 
 double DeviceRun::active_grain_volume() const {
     double v = 0.0;
-    for (uint32_t i = g0_; i < g1_; ++i)
-        if (active_grain(i)) v += 4.0 / 3.0 * std::numbers::pi * std::pow(w_.particles.radius[i], 3);
+    for (uint32_t i = first_grain_; i < end_grain_; ++i)
+        if (active_grain(i)) v += 4.0 / 3.0 * std::numbers::pi * std::pow(world_.particles.radius[i], 3);
     return v;
 }
 
 double DeviceRun::largest_membrane_overlap() const {
-    const dem::Particles& p = w_.particles;
+    const dem::Particles& p = world_.particles;
     double worst = 0.0;
-    for (uint32_t i = g0_; i < g1_; ++i) {
+    for (uint32_t i = first_grain_; i < end_grain_; ++i) {
         if (!active_grain(i)) continue;
-        for (uint32_t k : m_.particles)
+        for (uint32_t k : membrane_.particles)
             worst = std::max(worst, p.radius[i] + p.radius[k] - norm(p.pos[i] - p.pos[k]));
     }
     return worst;
 }
 
 std::size_t DeviceRun::strike_off() {
-    const dem::Particles& p = w_.particles;
+    const dem::Particles& p = world_.particles;
     std::vector<uint32_t> out;
-    for (uint32_t i = g0_; i < g1_; ++i) {
+    for (uint32_t i = first_grain_; i < end_grain_; ++i) {
         if (!active_grain(i)) continue;
         // Outside the membrane that the seal closes (above the opening, or spilled beside the bag).
-        bool off = !inside_membrane(m_, p.pos, p.pos[i]);
+        bool off = !inside_membrane(membrane_, p.pos, p.pos[i]);
         // Overlapping an opening particle: its contact would start deep, with a kick.
         for (std::size_t k = 0; k < opening_.size() && !off; ++k)
             off = norm(p.pos[i] - p.pos[opening_[k]]) < p.radius[i] + p.radius[opening_[k]];
         if (off) out.push_back(i);
     }
     for (uint32_t i : out) retire_grain(i);
-    for (uint32_t i : m_.particles) w_.particles.mask[i] = kFoilMask;
+    for (uint32_t i : membrane_.particles) world_.particles.mask[i] = kFoilMask;
     // The pairs of the opening and the grains become candidates, the retired grains' contacts go:
     // the next step's broad phase rebuilds the lists from the masks (ContactSet::reattach).
-    w_.invalidate_candidates();
+    world_.invalidate_candidates();
     return out.size();
 }
 
 void DeviceRun::warn(const std::string& what) {
-    st_.warnings.push_back(what);
-    if (!o_.quiet) std::fprintf(stderr, "[device] warning: %s\n", what.c_str());
+    state_.warnings.push_back(what);
+    if (!options_.quiet) std::fprintf(stderr, "[device] warning: %s\n", what.c_str());
 }
 
 double DeviceRun::grains_kinetic_energy() const {
     double e = 0;
-    for (uint32_t i = g0_; i < g1_; ++i) e += 0.5 * w_.particles.mass[i] * norm2(w_.particles.vel[i]);
+    for (uint32_t i = first_grain_; i < end_grain_; ++i) e += 0.5 * world_.particles.mass[i] * norm2(world_.particles.vel[i]);
     return e;
 }
 
 bool DeviceRun::step(DeviceStage stage, double dp_set) {
     bool done = true;
-    for (std::size_t k = 0; k < tools_.size(); ++k) done = dem::drive_tool(w_, tools_[k], st_.tools[k], int32_t(stage)) && done;
-    if (st_.sealed) membrane_air_step(w_, m_, grain_volume_, dp_set, d_.air, st_.gas);
-    w_.compute_forces();
+    for (std::size_t k = 0; k < tools_.size(); ++k) done = dem::drive_tool(world_, tools_[k], state_.tools[k], int32_t(stage)) && done;
+    if (state_.sealed) membrane_air_step(world_, membrane_, grain_volume_, dp_set, def_.air, state_.gas);
+    world_.compute_forces();
     for (std::size_t k = 0; k < tools_.size(); ++k) {
-        const Vec3 f = dem::tool_force(w_, tools_[k]);
-        st_.window[3 * k] += f.x;
-        st_.window[3 * k + 1] += f.y;
-        st_.window[3 * k + 2] += f.z;
+        const Vec3 f = dem::tool_force(world_, tools_[k]);
+        state_.window[3 * k] += f.x;
+        state_.window[3 * k + 1] += f.y;
+        state_.window[3 * k + 2] += f.z;
     }
-    ++st_.window_n;
+    ++state_.window_n;
     const std::size_t cols = 2 + kToolColumns * tools_.size();
-    const std::size_t taken = st_.rows.size() / cols;
-    const bool sample = w_.time >= double(taken + 1) * d_.sample_interval - 0.5 * w_.params.dt;
+    const std::size_t taken = state_.rows.size() / cols;
+    const bool sample = world_.time >= double(taken + 1) * def_.sample_interval - 0.5 * world_.params.dt;
     if (sample) {
-        st_.rows.push_back(w_.time);
-        st_.rows.push_back(double(int(stage)));
+        state_.rows.push_back(world_.time);
+        state_.rows.push_back(double(int(stage)));
         for (std::size_t k = 0; k < tools_.size(); ++k) {
-            st_.rows.push_back(dem::tool_displacement(w_, tools_[k], w_.time));
-            for (int c = 0; c < 3; ++c) st_.rows.push_back(st_.window[3 * k + c] / double(st_.window_n));
+            state_.rows.push_back(dem::tool_displacement(world_, tools_[k], world_.time));
+            for (int c = 0; c < 3; ++c) state_.rows.push_back(state_.window[3 * k + c] / double(state_.window_n));
         }
-        std::fill(st_.window.begin(), st_.window.end(), 0.0);
-        st_.window_n = 0;
+        std::fill(state_.window.begin(), state_.window.end(), 0.0);
+        state_.window_n = 0;
         const double v = enclosed();
-        st_.air.insert(st_.air.end(), {w_.time, double(int(stage)), v, v - grain_volume_, w_.pressure.dp});
+        state_.air.insert(state_.air.end(), {world_.time, double(int(stage)), v, v - grain_volume_, world_.pressure.dp});
     }
-    w_.integrate();
-    if (d_.vtk_interval > 0.0 && w_.time >= double(st_.vtk_frames + 1) * d_.vtk_interval - 0.5 * w_.params.dt) {
-        ++st_.vtk_frames;
+    world_.integrate();
+    if (def_.vtk_interval > 0.0 && world_.time >= double(state_.vtk_frames + 1) * def_.vtk_interval - 0.5 * world_.params.dt) {
+        ++state_.vtk_frames;
         char name[32];
-        std::snprintf(name, sizeof name, "frame_%06lld", (long long)st_.vtk_frames);
+        std::snprintf(name, sizeof name, "frame_%06lld", (long long)state_.vtk_frames);
         vtk_frame(name);
     }
-    if (sample && w_.params.track_energy) {
+    if (sample && world_.params.track_energy) {
         double row[kEnergyRowSize];
-        dem::energy_csv_row(w_.energy(), w_.energy().time, row);
-        st_.energy.insert(st_.energy.end(), row, row + kEnergyRowSize);
+        dem::energy_csv_row(world_.energy(), world_.energy().time, row);
+        state_.energy.insert(state_.energy.end(), row, row + kEnergyRowSize);
     }
     return done;
 }
@@ -613,76 +613,76 @@ bool DeviceRun::step(DeviceStage stage, double dp_set) {
 void DeviceRun::stage_fill() {
     const double check = 2e-3;  // [s] between the rest checks, at fixed times from the stage start
     // The grains' weight lifted by a diameter (with g = 9.81 m/s^2 where the device has no gravity).
-    const double g = norm(d_.gravity) > 0.0 ? norm(d_.gravity) : 9.81;
-    const double scale = double(active_grains()) * w_.particles.mass[g0_] * g * 2.0 * d_.grain_radius;
-    scene::Progress prog("fill", uint64_t(d_.fill_time / w_.params.dt), o_.quiet);
+    const double g = norm(def_.gravity) > 0.0 ? norm(def_.gravity) : 9.81;
+    const double scale = double(active_grains()) * world_.particles.mass[first_grain_] * g * 2.0 * def_.grain_radius;
+    scene::Progress prog("fill", uint64_t(def_.fill_time / world_.params.dt), options_.quiet);
     uint64_t n = 0;
-    if (st_.next_check == 0) st_.next_check = st_.stage_t0 + check;
+    if (state_.next_check == 0) state_.next_check = state_.stage_t0 + check;
     for (;;) {
         if (pause_point()) return;
         step(DeviceStage::Fill, 0.0);
-        prog.update(++n, w_.time);
-        if (w_.time < st_.next_check) continue;
-        st_.next_check += check;
+        prog.update(++n, world_.time);
+        if (world_.time < state_.next_check) continue;
+        state_.next_check += check;
         if (pour_) {
             // Grains that missed the bag (or spilled over its rim) and fell below it would fall for
             // ever and keep the pour from coming to rest: retired here, counted.
             double z_min = 1e300;
-            for (uint32_t i : m_.particles) z_min = std::min(z_min, w_.particles.pos[i].z);
+            for (uint32_t i : membrane_.particles) z_min = std::min(z_min, world_.particles.pos[i].z);
             bool any = false;
-            for (uint32_t i = g0_; i < g1_; ++i)
-                if (active_grain(i) && w_.particles.pos[i].z < z_min - 2.0 * d_.grain_radius) {
+            for (uint32_t i = first_grain_; i < end_grain_; ++i)
+                if (active_grain(i) && world_.particles.pos[i].z < z_min - 2.0 * def_.grain_radius) {
                     retire_grain(i);
-                    st_.report["grains_spilled"] += 1.0;
+                    state_.report["grains_spilled"] += 1.0;
                     any = true;
                 }
-            if (any) w_.invalidate_candidates();
+            if (any) world_.invalidate_candidates();
         }
-        const double t = w_.time - st_.stage_t0;
+        const double t = world_.time - state_.stage_t0;
         const double ke = grains_kinetic_energy();
-        if (t >= d_.fill_min_time && ke < 1e-4 * scale) {
-            st_.report["fill_settled"] = 1.0;
+        if (t >= def_.fill_min_time && ke < 1e-4 * scale) {
+            state_.report["fill_settled"] = 1.0;
             break;
         }
-        if (t >= d_.fill_time) {
-            st_.report["fill_settled"] = 0.0;
+        if (t >= def_.fill_time) {
+            state_.report["fill_settled"] = 0.0;
             char msg[320];
             std::snprintf(msg, sizeof msg, "fill: the grains are not at rest after stages.fill_time = %g s (kinetic energy %.3g J; "
                           "at rest below %.3g J, 1e-4 N m g 2r): the next stage starts on moving grains",
-                          d_.fill_time, ke, 1e-4 * scale);
+                          def_.fill_time, ke, 1e-4 * scale);
             warn(msg);
             break;
         }
     }
-    st_.report["fill_time"] = w_.time - st_.stage_t0;
+    state_.report["fill_time"] = world_.time - state_.stage_t0;
     char msg[160];
-    std::snprintf(msg, sizeof msg, "fill: %u grains settled in %.4g s", unsigned(active_grains()), w_.time - st_.stage_t0);
+    std::snprintf(msg, sizeof msg, "fill: %u grains settled in %.4g s", unsigned(active_grains()), world_.time - state_.stage_t0);
     log(msg);
 }
 
 void DeviceRun::stage_seal() {
     if (pour_) {
         const std::size_t n = strike_off();
-        st_.report["grains_removed_at_seal"] = double(n);
+        state_.report["grains_removed_at_seal"] = double(n);
         grain_volume_ = active_grain_volume();
         char msg[200];
         std::snprintf(msg, sizeof msg, "seal: the opening closed; %zu grains struck off (outside the membrane or overlapping "
                       "the opening), %zu in the bag", n, active_grains());
         log(msg);
     }
-    st_.report["seal_max_overlap"] = largest_membrane_overlap();
-    if (w_.materials[grain_mat_].friction != d_.grain_friction) {  // the fill's friction ends with the fill
-        w_.materials[grain_mat_].friction = d_.grain_friction;
-        w_.invalidate_contact_physics();
+    state_.report["seal_max_overlap"] = largest_membrane_overlap();
+    if (world_.materials[grain_mat_].friction != def_.grain_friction) {  // the fill's friction ends with the fill
+        world_.materials[grain_mat_].friction = def_.grain_friction;
+        world_.invalidate_contact_physics();
     }
-    w_.pressure.fans = membrane_pressure_fans(m_);
-    w_.pressure.dp = 0.0;
-    st_.sealed = 1;
-    st_.gas = MembraneGas{};
-    st_.report["volume_seal"] = enclosed();
-    if (d_.energy) {
-        w_.params.track_energy = true;
-        w_.reset_energy();
+    world_.pressure.fans = membrane_pressure_fans(membrane_);
+    world_.pressure.dp = 0.0;
+    state_.sealed = 1;
+    state_.gas = MembraneGas{};
+    state_.report["volume_seal"] = enclosed();
+    if (def_.energy) {
+        world_.params.track_energy = true;
+        world_.reset_energy();
     }
     char msg[160];
     std::snprintf(msg, sizeof msg, "seal: enclosed volume %.6g m^3 (grains %.6g m^3)", enclosed(), grain_volume_);
@@ -692,83 +692,83 @@ void DeviceRun::stage_seal() {
 void DeviceRun::stage_tools(DeviceStage stage) {
     double longest = 0;
     for (const dem::Tool& t : tools_)
-        longest = std::max(longest, dem::program_duration(t, int32_t(stage), dem::tool_displacement(w_, t, w_.time)));
-    scene::Progress prog(device_stage_name(stage), uint64_t(longest / w_.params.dt) + 1, o_.quiet);
+        longest = std::max(longest, dem::program_duration(t, int32_t(stage), dem::tool_displacement(world_, t, world_.time)));
+    scene::Progress prog(device_stage_name(stage), uint64_t(longest / world_.params.dt) + 1, options_.quiet);
     uint64_t n = 0;
-    const double dp = st_.sealed && stage > DeviceStage::Vacuum ? d_.underpressure : 0.0;
+    const double dp = state_.sealed && stage > DeviceStage::Vacuum ? def_.underpressure : 0.0;
     // The load stage ends early once the object has carried no force for result.release_time
     // (it has let go: the rest of the lift would record zeros).
     const dem::Tool* obj = nullptr;
     for (const dem::Tool& t : tools_)
-        if (t.name == d_.object && stage == DeviceStage::Load && d_.release_time > 0) obj = &t;
+        if (t.name == def_.object && stage == DeviceStage::Load && def_.release_time > 0) obj = &t;
     // The cycle tool's first load-stage cycle segment: where and when it starts is the cycle
     // analysis's origin (recorded once it has started; kept over a resume).
     std::size_t ck = tools_.size();
     int32_t cseg = -1;
     for (std::size_t k = 0; k < tools_.size(); ++k)
-        if (stage == DeviceStage::Load && tools_[k].name == d_.cycle_tool)
+        if (stage == DeviceStage::Load && tools_[k].name == def_.cycle_tool)
             for (std::size_t s = 0; s < tools_[k].program.size() && cseg < 0; ++s)
                 if (tools_[k].program[s].stage == int32_t(stage) && tools_[k].program[s].kind == dem::SegmentKind::Cycle) {
                     ck = k;
                     cseg = int32_t(s);
                 }
     auto note_cycle = [&] {
-        if (ck == tools_.size() || st_.report.count("cycle_t0")) return;
-        const dem::ToolState& ts = st_.tools[ck];
+        if (ck == tools_.size() || state_.report.count("cycle_t0")) return;
+        const dem::ToolState& ts = state_.tools[ck];
         if (ts.segment != cseg || !ts.started) return;
-        st_.report["cycle_t0"] = ts.t0;
-        st_.report["cycle_d0"] = ts.d0;
+        state_.report["cycle_t0"] = ts.t0;
+        state_.report["cycle_d0"] = ts.d0;
     };
     for (;;) {
         if (pause_point()) return;
         const bool done = step(stage, dp);
         note_cycle();
         if (done) break;
-        prog.update(++n, w_.time);
+        prog.update(++n, world_.time);
         if (!obj) continue;
-        st_.free_steps = dem::tool_force(w_, *obj) == Vec3{} ? st_.free_steps + 1 : 0;
-        if (double(st_.free_steps) * w_.params.dt >= d_.release_time) {
+        state_.free_steps = dem::tool_force(world_, *obj) == Vec3{} ? state_.free_steps + 1 : 0;
+        if (double(state_.free_steps) * world_.params.dt >= def_.release_time) {
             char msg[160];
             std::snprintf(msg, sizeof msg, "load: the object '%s' let go; the load stage ends at t = %.6g s",
-                          d_.object.c_str(), w_.time);
+                          def_.object.c_str(), world_.time);
             log(msg);
-            st_.report["released"] = 1.0;
+            state_.report["released"] = 1.0;
             break;
         }
     }
 }
 
 void DeviceRun::stage_vacuum() {
-    const double t_end = d_.ramp_time + d_.vacuum_hold;
-    if (!st_.report.count("volume_press")) st_.report["volume_press"] = enclosed();  // the vacuum's start
-    scene::Progress prog("vacuum", uint64_t(t_end / w_.params.dt) + 1, o_.quiet);
+    const double t_end = def_.ramp_time + def_.vacuum_hold;
+    if (!state_.report.count("volume_press")) state_.report["volume_press"] = enclosed();  // the vacuum's start
+    scene::Progress prog("vacuum", uint64_t(t_end / world_.params.dt) + 1, options_.quiet);
     uint64_t n = 0;
     for (;;) {
-        const double t = w_.time - st_.stage_t0;
-        if (t >= t_end - 0.5 * w_.params.dt && st_.tools_done) break;
+        const double t = world_.time - state_.stage_t0;
+        if (t >= t_end - 0.5 * world_.params.dt && state_.tools_done) break;
         if (pause_point()) return;
-        st_.tools_done = step(DeviceStage::Vacuum, d_.underpressure * std::min(1.0, t / d_.ramp_time));
-        prog.update(++n, w_.time);
+        state_.tools_done = step(DeviceStage::Vacuum, def_.underpressure * std::min(1.0, t / def_.ramp_time));
+        prog.update(++n, world_.time);
     }
-    st_.report["volume_vacuum"] = enclosed();
+    state_.report["volume_vacuum"] = enclosed();
     double z_min = 1e300;
-    for (uint32_t i : m_.particles) z_min = std::min(z_min, w_.particles.pos[i].z);
-    st_.report["membrane_z_min"] = z_min;
+    for (uint32_t i : membrane_.particles) z_min = std::min(z_min, world_.particles.pos[i].z);
+    state_.report["membrane_z_min"] = z_min;
     char msg[160];
     std::snprintf(msg, sizeof msg, "vacuum: dp %.6g Pa, enclosed volume %.6g m^3, the membrane's lowest point at z = %.6g m",
-                  w_.pressure.dp, enclosed(), z_min);
+                  world_.pressure.dp, enclosed(), z_min);
     log(msg);
 }
 
 bool DeviceRun::pause_point() {
-    if (o_.stop_at_time >= 0.0 && w_.time >= o_.stop_at_time) {
+    if (options_.stop_at_time >= 0.0 && world_.time >= options_.stop_at_time) {
         checkpoint();
         write_records();
         stopped_ = true;
         return true;
     }
     const auto now = std::chrono::steady_clock::now();
-    if (!out_.empty() && std::chrono::duration<double>(now - last_ckpt_).count() >= o_.checkpoint_every) {
+    if (!out_.empty() && std::chrono::duration<double>(now - last_ckpt_).count() >= options_.checkpoint_every) {
         checkpoint();
         last_ckpt_ = now;
     }
@@ -781,19 +781,19 @@ void DeviceRun::vtk_frame(const std::string& name) const {
     // The retired grains (a pour's struck off) are left out; without any, every particle.
     std::vector<uint32_t> shown;
     if (pour_)
-        for (uint32_t i = 0; i < uint32_t(w_.particles.size()); ++i)
-            if (i < g0_ || i >= g1_ || active_grain(i)) shown.push_back(i);
-    dem::write_particles_vtk((out_ / "vtk" / (name + ".vtk")).string(), w_, true, pour_ ? &shown : nullptr);
-    if (!w_.facets.empty()) dem::write_walls_vtk((out_ / "vtk" / (name + "_tools.vtk")).string(), w_, 0.0);
+        for (uint32_t i = 0; i < uint32_t(world_.particles.size()); ++i)
+            if (i < first_grain_ || i >= end_grain_ || active_grain(i)) shown.push_back(i);
+    dem::write_particles_vtk((out_ / "vtk" / (name + ".vtk")).string(), world_, true, pour_ ? &shown : nullptr);
+    if (!world_.facets.empty()) dem::write_walls_vtk((out_ / "vtk" / (name + "_tools.vtk")).string(), world_, 0.0);
 }
 
 void DeviceRun::next_stage() {
-    if (d_.vtk) vtk_frame("stage_" + std::to_string(st_.stage) + "_" + device_stage_name(DeviceStage(st_.stage)));
-    ++st_.stage;
-    st_.stage_t0 = w_.time;
-    st_.next_check = 0;
-    st_.free_steps = 0;
-    st_.tools_done = 0;
+    if (def_.vtk) vtk_frame("stage_" + std::to_string(state_.stage) + "_" + device_stage_name(DeviceStage(state_.stage)));
+    ++state_.stage;
+    state_.stage_t0 = world_.time;
+    state_.next_check = 0;
+    state_.free_steps = 0;
+    state_.tools_done = 0;
     checkpoint();
     write_records();
 }
@@ -801,13 +801,13 @@ void DeviceRun::next_stage() {
 void DeviceRun::checkpoint() {
     if (out_.empty()) return;
     // The fans follow from the membrane, which the device file rebuilds: restored on load.
-    save_checkpoint_without_fans((out_ / kCheckpointName).string(), w_, st_.save());
+    save_checkpoint_without_fans((out_ / kCheckpointName).string(), world_, state_.save());
 }
 
 void DeviceRun::run() {
-    while (st_.stage < int32_t(DeviceStage::Done)) {
-        const DeviceStage s = DeviceStage(st_.stage);
-        if (int32_t(s) > int32_t(o_.stop_after)) break;
+    while (state_.stage < int32_t(DeviceStage::Done)) {
+        const DeviceStage s = DeviceStage(state_.stage);
+        if (int32_t(s) > int32_t(options_.stop_after)) break;
         switch (s) {
         case DeviceStage::Fill: stage_fill(); break;
         case DeviceStage::Seal: stage_seal(); break;
@@ -823,24 +823,24 @@ void DeviceRun::run() {
 
 DeviceResult DeviceRun::result() const {
     DeviceResult r;
-    r.stage = device_stage_name(DeviceStage(st_.stage));
+    r.stage = device_stage_name(DeviceStage(state_.stage));
     r.grains = active_grains();
-    r.grains_placed = g1_ - g0_;
-    r.grains_spilled = std::size_t(st_.report.count("grains_spilled") ? st_.report.at("grains_spilled") : 0.0);
+    r.grains_placed = end_grain_ - first_grain_;
+    r.grains_spilled = std::size_t(state_.report.count("grains_spilled") ? state_.report.at("grains_spilled") : 0.0);
     r.grains_removed_at_seal =
-        std::size_t(st_.report.count("grains_removed_at_seal") ? st_.report.at("grains_removed_at_seal") : 0.0);
-    r.seal_max_overlap = st_.report.count("seal_max_overlap") ? st_.report.at("seal_max_overlap") : 0.0;
-    r.membrane_particles = m_.particles.size();
-    r.bonds = m_.bonds.size();
-    r.dt = w_.params.dt;
+        std::size_t(state_.report.count("grains_removed_at_seal") ? state_.report.at("grains_removed_at_seal") : 0.0);
+    r.seal_max_overlap = state_.report.count("seal_max_overlap") ? state_.report.at("seal_max_overlap") : 0.0;
+    r.membrane_particles = membrane_.particles.size();
+    r.bonds = membrane_.bonds.size();
+    r.dt = world_.params.dt;
     const std::size_t cols = 2 + kToolColumns * tools_.size();
-    r.samples = st_.rows.size() / cols;
+    r.samples = state_.rows.size() / cols;
     std::size_t obj = tools_.size();
     for (std::size_t k = 0; k < tools_.size(); ++k)
-        if (tools_[k].name == d_.object) obj = k;
+        if (tools_[k].name == def_.object) obj = k;
     if (obj < tools_.size())
         for (std::size_t s = 0; s < r.samples; ++s) {
-            const double* row = &st_.rows[s * cols];
+            const double* row = &state_.rows[s * cols];
             const double fz = row[2 + kToolColumns * obj + 3];
             if (int(row[1]) == int(DeviceStage::Load) && fz > r.holding_force) {
                 r.holding_force = fz;
@@ -848,13 +848,13 @@ DeviceResult DeviceRun::result() const {
             }
             if (int(row[1]) < int(DeviceStage::Load)) r.press_force = std::max(r.press_force, -fz);
         }
-    auto rep = [&](const char* k) { return st_.report.count(k) ? st_.report.at(k) : 0.0; };
+    auto rep = [&](const char* k) { return state_.report.count(k) ? state_.report.at(k) : 0.0; };
     // The cycle tool's loops: P = -sign(a) F_z, the load it puts on the sample along the cycle's
     // first leg, against u = sign(a) (z - z0), the displacement along it. Rows are assigned to
     // cycles by time (period 2 |a| / speed from the load stage's start); each cycle's loop is
     // closed by the row before it (or u = 0, P = its first row's at the start).
     for (std::size_t k = 0; k < tools_.size(); ++k) {
-        if (tools_[k].name != d_.cycle_tool || !st_.report.count("cycle_t0")) continue;
+        if (tools_[k].name != def_.cycle_tool || !state_.report.count("cycle_t0")) continue;
         const dem::ToolSegment* seg = nullptr;
         for (const dem::ToolSegment& s : tools_[k].program)
             if (!seg && s.stage == int32_t(DeviceStage::Load) && s.kind == dem::SegmentKind::Cycle) seg = &s;
@@ -865,7 +865,7 @@ DeviceResult DeviceRun::result() const {
         std::pair<double, double> prev{0.0, 0.0};
         bool have_prev = false;
         for (std::size_t s = 0; s < r.samples; ++s) {
-            const double* row = &st_.rows[s * cols];
+            const double* row = &state_.rows[s * cols];
             if (int(row[1]) != int(DeviceStage::Load)) continue;
             const double t = row[0] - t0;
             const long c = t <= 0.0 ? -1 : long(std::floor((t - 1e-12) / period));
@@ -913,12 +913,12 @@ DeviceResult DeviceRun::result() const {
     r.packing_seal = r.volume_seal > 0 ? grain_volume_ / r.volume_seal : 0.0;
     // The scale: the largest term of any row (every column but the time and the residual).
     const std::size_t first = dem::energy_column("boundary_work"), res = dem::energy_column("residual");
-    for (std::size_t s = 0; s + kEnergyRowSize <= st_.energy.size(); s += kEnergyRowSize)
+    for (std::size_t s = 0; s + kEnergyRowSize <= state_.energy.size(); s += kEnergyRowSize)
         for (std::size_t c = first; c < kEnergyRowSize; ++c)
-            if (c != res) r.energy_scale = std::max(r.energy_scale, std::abs(st_.energy[s + c]));
-    if (!st_.energy.empty()) r.energy_residual = st_.energy.back();
+            if (c != res) r.energy_scale = std::max(r.energy_scale, std::abs(state_.energy[s + c]));
+    if (!state_.energy.empty()) r.energy_residual = state_.energy.back();
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    r.warnings = st_.warnings;
+    r.warnings = state_.warnings;
     return r;
 }
 
@@ -936,58 +936,58 @@ void DeviceRun::write_records() const {
     const std::size_t cols = 2 + kToolColumns * tools_.size();
     {
         dem::CsvWriter csv((out_ / "tools.csv").string(), header);
-        for (std::size_t s = 0; s + cols <= st_.rows.size(); s += cols)
-            csv.row(std::vector<double>(st_.rows.begin() + long(s), st_.rows.begin() + long(s + cols)));
+        for (std::size_t s = 0; s + cols <= state_.rows.size(); s += cols)
+            csv.row(std::vector<double>(state_.rows.begin() + long(s), state_.rows.begin() + long(s + cols)));
         csv.close();
     }
     {
         dem::CsvWriter csv((out_ / "air.csv").string(), "time,stage,enclosed_volume,gas_volume,dp");
-        for (std::size_t s = 0; s + kAirColumns <= st_.air.size(); s += kAirColumns)
-            csv.row(std::vector<double>(st_.air.begin() + long(s), st_.air.begin() + long(s + kAirColumns)));
+        for (std::size_t s = 0; s + kAirColumns <= state_.air.size(); s += kAirColumns)
+            csv.row(std::vector<double>(state_.air.begin() + long(s), state_.air.begin() + long(s + kAirColumns)));
         csv.close();
     }
-    if (d_.energy) {
+    if (def_.energy) {
         dem::CsvWriter csv((out_ / "energy.csv").string(), dem::energy_csv_header());
-        for (std::size_t s = 0; s + kEnergyRowSize <= st_.energy.size(); s += kEnergyRowSize)
-            csv.row(std::vector<double>(st_.energy.begin() + long(s), st_.energy.begin() + long(s + kEnergyRowSize)));
+        for (std::size_t s = 0; s + kEnergyRowSize <= state_.energy.size(); s += kEnergyRowSize)
+            csv.row(std::vector<double>(state_.energy.begin() + long(s), state_.energy.begin() + long(s + kEnergyRowSize)));
         csv.close();
     }
     const DeviceResult r = result();
     dem::JsonObject inputs;
-    for (const auto& [k, v] : device_inputs(d_)) inputs.raw(k, v);
+    for (const auto& [k, v] : device_inputs(def_)) inputs.raw(k, v);
     std::vector<std::string> names;
     for (const dem::Tool& t : tools_) names.push_back(t.name);
     dem::JsonObject j;
     j.str("stage", r.stage)
-        .str("object", d_.object)
+        .str("object", def_.object)
         .num("holding_force", r.holding_force)
         .num("holding_time", r.holding_time)
         .num("press_force", r.press_force)
-        .num("underpressure", d_.underpressure)
+        .num("underpressure", def_.underpressure)
         .num("volume_seal", r.volume_seal)
         .num("volume_vacuum", r.volume_vacuum)
         .num("volume_change", r.volume_change)
         .num("volume_press", r.volume_press)
         .num("volume_change_vacuum", r.volume_change_vacuum)
         .boolean("fill_settled", r.fill_settled)
-        .boolean("released", st_.report.count("released") > 0)
-        .num("membrane_z_min", st_.report.count("membrane_z_min") ? st_.report.at("membrane_z_min") : 0.0)
-        .num("fill_time", st_.report.count("fill_time") ? st_.report.at("fill_time") : 0.0)
+        .boolean("released", state_.report.count("released") > 0)
+        .num("membrane_z_min", state_.report.count("membrane_z_min") ? state_.report.at("membrane_z_min") : 0.0)
+        .num("fill_time", state_.report.count("fill_time") ? state_.report.at("fill_time") : 0.0)
         .num("grains", double(r.grains))
-        .str("fill_mode", d_.fill_mode)
-        .num("grains_placed", double(g1_ - g0_))
-        .num("grains_spilled", st_.report.count("grains_spilled") ? st_.report.at("grains_spilled") : 0.0)
-        .num("grains_removed_at_seal", st_.report.count("grains_removed_at_seal") ? st_.report.at("grains_removed_at_seal") : 0.0)
-        .num("seal_max_overlap", st_.report.count("seal_max_overlap") ? st_.report.at("seal_max_overlap") : 0.0)
+        .str("fill_mode", def_.fill_mode)
+        .num("grains_placed", double(end_grain_ - first_grain_))
+        .num("grains_spilled", state_.report.count("grains_spilled") ? state_.report.at("grains_spilled") : 0.0)
+        .num("grains_removed_at_seal", state_.report.count("grains_removed_at_seal") ? state_.report.at("grains_removed_at_seal") : 0.0)
+        .num("seal_max_overlap", state_.report.count("seal_max_overlap") ? state_.report.at("seal_max_overlap") : 0.0)
         .num("grain_volume", grain_volume_)
         .num("membrane_particles", double(r.membrane_particles))
         .num("bonds", double(r.bonds))
         .raw("tools", dem::json_string_array(names))
         .num("dt", r.dt)
-        .num("steps", double(w_.steps))
-        .num("time", w_.time)
+        .num("steps", double(world_.steps))
+        .num("time", world_.time)
         .num("samples", double(r.samples))
-        .str("cycle_tool", d_.cycle_tool)
+        .str("cycle_tool", def_.cycle_tool)
         .num("stiffness", r.cycle_stiffness.empty() ? 0.0 : r.cycle_stiffness.back())
         .num("work_per_cycle", r.cycle_work.empty() ? 0.0 : r.cycle_work.back())
         .num("peak_force", r.cycle_peak_force.empty() ? 0.0 : r.cycle_peak_force.back())
