@@ -92,12 +92,13 @@ void refuse_other_builds(const fs::path& out, const std::vector<StudyCase>& case
                       "case's build.json lists the builds that ran it)");
 }
 
-}  // namespace
+// What --backend asks for, checked against this build and machine before anything runs.
+struct Backend {
+    std::string name;       // cpu, batch or cuda
+    bool emulated = false;  // cuda on the emulated device (VPPDEM_EMULATE_DEVICE=1: its kernels on the host)
+};
 
-SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
-    SweepResult res;
-    res.cases = expand_study(s);  // every case's config is checked before anything runs
-    if (opt.report_only) return report_sweep(s, opt, std::move(res));
+Backend choose_backend(const SweepOptions& opt) {
     if (opt.backend != "cpu" && opt.backend != "batch" && opt.backend != "cuda")
         throw ConfigError("--backend '" + opt.backend + "' is not one of cpu, batch, cuda");
     // --backend cuda: the batch engine's device backend on the GPU. VPPDEM_EMULATE_DEVICE=1 runs it
@@ -114,110 +115,131 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
         if (dem::batch::dev::cuda_devices(&why) == 0)
             throw ConfigError(std::string("--backend cuda: no CUDA device (") + (why ? why : "none") + ")");
     }
-    const auto& cases = res.cases;
+    return {opt.backend, emulated};
+}
+
+// The study folder: rank 0 takes its lock (the ranks share the folder, so one lock serves them
+// all; the others wait at the barrier, and if rank 0 is refused its error aborts them there,
+// before they write) and refuses runs of other builds unless --mix-builds.
+void open_study_folder(const SweepOptions& opt, SweepResult& res) {
     const fs::path out(opt.out_dir);
     if (fs::exists(out) && !fs::is_directory(out))
         throw ConfigError("--out '" + opt.out_dir + "' exists and is not a directory");
-    // The ranks share the folder, so one lock serves them all: rank 0's. The others wait for it
-    // at the barrier; if rank 0 is refused, its error aborts them there, before they write.
     if (opt.rank == 0) res.lock = scene::lock_output_dir(opt.out_dir);
-    if (opt.rank == 0 && !opt.mix_builds) refuse_other_builds(out, cases);
+    if (opt.rank == 0 && !opt.mix_builds) refuse_other_builds(out, res.cases);
     mpi_barrier();
     fs::create_directories(out);
-    res.outcomes.assign(cases.size(), CaseOutcome{});
+}
 
+// This rank's cases (every ranks-th), preparers first, then the branches, each in grid order.
+std::vector<std::size_t> cases_of_this_rank(const std::vector<StudyCase>& cases, const SweepOptions& opt) {
     std::vector<std::size_t> mine;
     for (std::size_t i = 0; i < cases.size(); ++i)
         if (int(i % std::size_t(std::max(1, opt.ranks))) == opt.rank) mine.push_back(i);
-    // Preparers first, then the branches, each in grid order.
     std::stable_sort(mine.begin(), mine.end(), [&](std::size_t a, std::size_t b) {
         return (cases[a].preparer == a) > (cases[b].preparer == b);
     });
-    // Failure markers of an earlier attempt are cleared before any rank looks at them.
-    for (std::size_t i : mine) fs::remove(out / cases[i].name / "FAILED");
-    mpi_barrier();
+    return mine;
+}
 
+// How many cases run at once: --jobs, or the free cores over each case's threads (not all the
+// cores: a busy core slows every case's threads, scene/threads.h); one per rank under MPI.
+int job_count(const SweepOptions& opt, const std::vector<StudyCase>& cases, std::size_t mine) {
     int jobs = opt.jobs;
     if (jobs <= 0) {
-        // The free cores, not all of them: a busy core slows every case's threads (scene/threads.h).
         const int cores = scene::default_threads();
         const int per_case = cases.empty() ? 1 : std::max(1, cases[0].config.simulation.threads);
         jobs = opt.ranks > 1 ? 1 : std::max(1, cores / per_case);
     }
-    jobs = std::max(1, std::min<int>(jobs, int(mine.size())));
+    return std::max(1, std::min<int>(jobs, int(mine)));
+}
 
-    // The batch the running cases step their cycling through (--backend batch).
-    std::unique_ptr<dem::batch::BatchStepper> batch;
-    if (opt.backend == "batch") batch = std::make_unique<dem::batch::BatchStepper>(jobs);
-    if (opt.backend == "cuda")
-        batch = std::make_unique<dem::batch::BatchStepper>(
-            jobs, emulated ? dem::batch::BatchStepper::Backend::kEmulated : dem::batch::BatchStepper::Backend::kCuda);
+// The running cases of one rank: a pool of `jobs` workers takes the cases whose samples are
+// ready (their preparer's prepared.ckpt), each a damper run into its folder, resumed from its
+// run.ckpt or skipped when its records are complete. The workers share the case states and the
+// stop flag under one mutex.
+class CaseRunner {
+public:
+    CaseRunner(const Study& s, const SweepOptions& opt, const Backend& backend, SweepResult& res,
+               std::vector<std::size_t> mine, int jobs)
+        : s_(s), opt_(opt), cases_(res.cases), out_(opt.out_dir), res_(res), mine_(std::move(mine)), jobs_(jobs) {
+        // The batch the running cases step their cycling through (--backend batch, cuda).
+        if (backend.name == "batch") batch_ = std::make_unique<dem::batch::BatchStepper>(jobs);
+        if (backend.name == "cuda")
+            batch_ = std::make_unique<dem::batch::BatchStepper>(
+                jobs, backend.emulated ? dem::batch::BatchStepper::Backend::kEmulated
+                                       : dem::batch::BatchStepper::Backend::kCuda);
+        for (std::size_t i : mine_) state_[i] = 0;
+    }
 
-    std::mutex mu;
-    std::map<std::size_t, int> state;  // 0 pending, 1 running, 2 finished
-    for (std::size_t i : mine) state[i] = 0;
-    std::size_t finished = 0;
-    int ngroups = 0;
-    for (const StudyCase& c : cases) ngroups = std::max(ngroups, c.group + 1);
-    if (!opt.quiet && opt.rank == 0)
-        std::fprintf(stderr, "sweep: %zu cases, %d preparation(s), %d job(s)%s, out %s\n", cases.size(), ngroups, jobs,
-                     opt.ranks > 1 ? (" per rank x " + std::to_string(opt.ranks) + " ranks").c_str() : "",
-                     opt.out_dir.c_str());
+    // Runs every case of this rank; rethrows what the progress hook threw, SweepStopped when it
+    // asked to stop.
+    void run() {
+        std::vector<std::thread> pool;
+        for (int j = 0; j < jobs_; ++j) pool.emplace_back([this] { worker(); });
+        for (auto& t : pool) t.join();
+        if (hook_error_) std::rethrow_exception(hook_error_);
+        if (stop_.load()) throw SweepStopped();
+        if (batch_ && !opt_.quiet)
+            std::fprintf(stderr, "sweep: %s backend: %llu half steps launched, up to %zu runs at once\n",
+                         opt_.backend.c_str(), (unsigned long long)batch_->launches(), batch_->most_systems());
+    }
 
-    auto report = [&](std::size_t i, const CaseOutcome& o) {
-        if (opt.quiet) return;
-        std::lock_guard<std::mutex> lk(mu);
-        const std::string who = (opt.ranks > 1 ? "rank " + std::to_string(opt.rank) + " " : "");
+private:
+    void report(std::size_t i, const CaseOutcome& o) {
+        if (opt_.quiet) return;
+        std::lock_guard<std::mutex> lk(mu_);
+        const std::string who = (opt_.ranks > 1 ? "rank " + std::to_string(opt_.rank) + " " : "");
         if (o.ok)
             std::fprintf(stderr, "%s[%zu/%zu] %s: %s W = %.5g J/m^2, energy %.5g J, peak %.4g N (%.1f s)\n", who.c_str(),
-                         i + 1, cases.size(), cases[i].name.c_str(), o.skipped ? "done earlier," : "ok,", o.W,
+                         i + 1, cases_.size(), cases_[i].name.c_str(), o.skipped ? "done earlier," : "ok,", o.W,
                          o.dissipated_energy, o.peak_force, o.run_seconds);
         else
-            std::fprintf(stderr, "%s[%zu/%zu] %s: FAILED: %s\n", who.c_str(), i + 1, cases.size(),
-                         cases[i].name.c_str(), o.message.c_str());
-    };
+            std::fprintf(stderr, "%s[%zu/%zu] %s: FAILED: %s\n", who.c_str(), i + 1, cases_.size(),
+                         cases_[i].name.c_str(), o.message.c_str());
+    }
 
     // What a case waits for: its preparer's prepared.ckpt (unless it has its own checkpoint).
-    // Returns 1 ready, 0 wait, -1 the preparation failed (message set).
-    auto readiness = [&](std::size_t i, std::string& why) -> int {
-        const StudyCase& c = cases[i];
-        const fs::path dir = out / c.name;
+    // Returns 1 ready, 0 wait, -1 the preparation failed (message set), 2 prepare it itself.
+    int readiness(std::size_t i, std::string& why) const {
+        const StudyCase& c = cases_[i];
+        const fs::path dir = out_ / c.name;
         if (c.preparer == i || fs::exists(dir / "summary.json") || fs::exists(dir / "run.ckpt")) return 1;
-        const fs::path pdir = out / cases[c.preparer].name;
+        const fs::path pdir = out_ / cases_[c.preparer].name;
         if (fs::exists(pdir / "prepared.ckpt")) return 1;
         if (fs::exists(pdir / "FAILED")) {
-            why = "its preparation (case " + cases[c.preparer].name + ") failed";
+            why = "its preparation (case " + cases_[c.preparer].name + ") failed";
             return -1;
         }
         // The preparer finished earlier but its prepared.ckpt is gone: prepare this case itself.
         if (fs::exists(pdir / "summary.json")) return 2;
         return 0;
-    };
+    }
 
-    // Cancelling (SweepOptions::progress): `stop` makes the workers take no new case and the
-    // running cases throw at their next poll; `hook_error` keeps what the hook threw.
-    std::atomic<bool> stop{false};
-    std::exception_ptr hook_error;
-    std::mutex hook_mu;  // one hook call at a time
-    auto ask_hook = [&](std::size_t done, const std::string& name) {
-        if (!opt.progress || stop.load()) return;
-        std::lock_guard<std::mutex> lk(hook_mu);
-        if (stop.load()) return;
+    // Cancelling (SweepOptions::progress): `stop_` makes the workers take no new case and the
+    // running cases throw at their next poll; `hook_error_` keeps what the hook threw.
+    void ask_hook(std::size_t done, const std::string& name) {
+        if (!opt_.progress || stop_.load()) return;
+        std::lock_guard<std::mutex> lk(hook_mu_);
+        if (stop_.load()) return;
         try {
-            if (!opt.progress(done, mine.size(), name)) stop.store(true);
+            if (!opt_.progress(done, mine_.size(), name)) stop_.store(true);
         } catch (...) {
-            if (!hook_error) hook_error = std::current_exception();
-            stop.store(true);
+            if (!hook_error_) hook_error_ = std::current_exception();
+            stop_.store(true);
         }
-    };
+    }
 
-    auto run_case = [&](std::size_t i, bool self_prepare) -> CaseOutcome {
-        const StudyCase& c = cases[i];
-        const fs::path dir = out / c.name;
+    // One case: skipped when its records are complete, else a damper run into its folder from
+    // its run.ckpt, its preparer's sample, or its own preparation. Failures are outcomes (and a
+    // FAILED marker), never exceptions.
+    CaseOutcome run_case(std::size_t i, bool self_prepare) {
+        const StudyCase& c = cases_[i];
+        const fs::path dir = out_ / c.name;
         CaseOutcome o;
         try {
             fs::create_directories(dir);
-            const std::string rec = case_record(s, c);
+            const std::string rec = case_record(s_, c);
             if (std::optional<CaseOutcome> done = finished_case(dir, rec, c.config)) {
                 o = std::move(*done);
                 o.skipped = true;
@@ -236,18 +258,18 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             d.quiet = true;
             d.plot = false;
             d.overwrite = true;  // the folder holds case.toml, perhaps leftovers of a killed start
-            d.checkpoint_every = opt.checkpoint_every;
+            d.checkpoint_every = opt_.checkpoint_every;
             d.check_preparation = true;  // never a branch from a sample of other settings
             // Clumps and the mesh foil's pressure fans are not in the batch yet: those cases step
             // on the CPU, as --backend cpu (the same bits).
-            d.batch = c.config.grains.shape == 0 && c.config.damper.foil_builder == 0 ? batch.get() : nullptr;
-            if (opt.progress)
-                d.progress = [&](const char*, uint64_t, uint64_t, double) {
+            d.batch = c.config.grains.shape == 0 && c.config.damper.foil_builder == 0 ? batch_.get() : nullptr;
+            if (opt_.progress)
+                d.progress = [this](const char*, uint64_t, uint64_t, double) {
                     ask_hook(0, "");
-                    if (stop.load()) throw SweepStopped();
+                    if (stop_.load()) throw SweepStopped();
                 };
             if (fs::exists(dir / "run.ckpt")) d.from = (dir / "run.ckpt").string();
-            else if (c.preparer != i && !self_prepare) d.from = (out / cases[c.preparer].name / "prepared.ckpt").string();
+            else if (c.preparer != i && !self_prepare) d.from = (out_ / cases_[c.preparer].name / "prepared.ckpt").string();
             const DamperResult r = run_damper(c.config, d);
             if (r.cycles.empty()) throw std::runtime_error("the run recorded no complete cycle");
             if (r.incomplete)
@@ -274,36 +296,42 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             }
         }
         return o;
-    };
+    }
 
-    auto worker = [&]() {
+    // The next ready case (SIZE_MAX: none yet); a case whose preparation failed is finished on
+    // the spot. Called under mu_ (lk), which it releases to report.
+    std::size_t pick_case(std::unique_lock<std::mutex>& lk, bool& self_prepare) {
+        for (std::size_t i : mine_) {
+            if (state_[i] != 0) continue;
+            std::string why;
+            const int r = readiness(i, why);
+            if (r == -1) {
+                state_[i] = 2;
+                ++finished_;
+                res_.outcomes[i].ok = false;
+                res_.outcomes[i].message = why;
+                lk.unlock();
+                report(i, res_.outcomes[i]);
+                lk.lock();
+                return SIZE_MAX;  // rescan
+            }
+            if (r > 0) {
+                self_prepare = r == 2;
+                state_[i] = 1;
+                return i;
+            }
+        }
+        return SIZE_MAX;
+    }
+
+    void worker() {
         for (;;) {
             std::size_t pick = SIZE_MAX;
             bool self_prepare = false;
             {
-                std::unique_lock<std::mutex> lk(mu);
-                if (finished == mine.size() || stop.load()) return;
-                for (std::size_t i : mine) {
-                    if (state[i] != 0) continue;
-                    std::string why;
-                    const int r = readiness(i, why);
-                    if (r == -1) {
-                        state[i] = 2;
-                        ++finished;
-                        res.outcomes[i].ok = false;
-                        res.outcomes[i].message = why;
-                        lk.unlock();
-                        report(i, res.outcomes[i]);
-                        lk.lock();
-                        break;  // rescan
-                    }
-                    if (r > 0) {
-                        pick = i;
-                        self_prepare = r == 2;
-                        state[i] = 1;
-                        break;
-                    }
-                }
+                std::unique_lock<std::mutex> lk(mu_);
+                if (finished_ == mine_.size() || stop_.load()) return;
+                pick = pick_case(lk, self_prepare);
             }
             if (pick == SIZE_MAX) {
                 std::this_thread::sleep_for(std::chrono::milliseconds(100));
@@ -312,37 +340,74 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
             const CaseOutcome o = run_case(pick, self_prepare);
             std::size_t done = 0;
             {
-                std::lock_guard<std::mutex> lk(mu);
-                res.outcomes[pick] = o;
-                state[pick] = 2;
-                done = ++finished;
+                std::lock_guard<std::mutex> lk(mu_);
+                res_.outcomes[pick] = o;
+                state_[pick] = 2;
+                done = ++finished_;
             }
-            if (stop.load()) return;  // a stopped case is neither reported nor counted as done
+            if (stop_.load()) return;  // a stopped case is neither reported nor counted as done
             report(pick, o);
-            ask_hook(done, cases[pick].name);
+            ask_hook(done, cases_[pick].name);
         }
-    };
-    std::vector<std::thread> pool;
-    for (int j = 0; j < jobs; ++j) pool.emplace_back(worker);
-    for (auto& t : pool) t.join();
-    if (hook_error) std::rethrow_exception(hook_error);
-    if (stop.load()) throw SweepStopped();
-    if (batch && !opt.quiet)
-        std::fprintf(stderr, "sweep: %s backend: %llu half steps launched, up to %zu runs at once\n",
-                     opt.backend.c_str(), (unsigned long long)batch->launches(), batch->most_systems());
+    }
 
-    // Gather on rank 0 and write the summary.
+    const Study& s_;
+    const SweepOptions& opt_;
+    const std::vector<StudyCase>& cases_;
+    const fs::path out_;
+    SweepResult& res_;
+    const std::vector<std::size_t> mine_;
+    const int jobs_;
+    std::unique_ptr<dem::batch::BatchStepper> batch_;
+    std::mutex mu_;
+    std::map<std::size_t, int> state_;  // 0 pending, 1 running, 2 finished
+    std::size_t finished_ = 0;
+    std::atomic<bool> stop_{false};
+    std::exception_ptr hook_error_;
+    std::mutex hook_mu_;  // one hook call at a time
+};
+
+// Gathers the ranks' outcomes on rank 0, which writes the study's tables; every rank learns the
+// failure count.
+void gather_and_write_tables(const Study& s, const SweepOptions& opt, SweepResult& res,
+                             const std::vector<std::size_t>& mine) {
     std::string text;
     for (std::size_t i : mine) text += outcome_json(i, res.outcomes[i]);
     const std::string all = mpi_gather_text(text, opt.ranks);
     if (opt.rank == 0) {
         read_outcome_lines(all, res.outcomes);
         for (const CaseOutcome& o : res.outcomes) res.failed += o.ok ? 0 : 1;
-        const std::string names = write_study_tables(out, s, cases, res.outcomes);
+        const std::string names = write_study_tables(fs::path(opt.out_dir), s, res.cases, res.outcomes);
         if (!opt.quiet)
-            std::fprintf(stderr, "sweep: %zu cases, %d failed; wrote %s\n", cases.size(), res.failed, names.c_str());
+            std::fprintf(stderr, "sweep: %zu cases, %d failed; wrote %s\n", res.cases.size(), res.failed, names.c_str());
     }
     res.failed = mpi_broadcast_int(res.failed);
+}
+
+}  // namespace
+
+SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
+    SweepResult res;
+    res.cases = expand_study(s);  // every case's config is checked before anything runs
+    if (opt.report_only) return report_sweep(s, opt, std::move(res));
+    const Backend backend = choose_backend(opt);
+    open_study_folder(opt, res);
+    res.outcomes.assign(res.cases.size(), CaseOutcome{});
+    const std::vector<std::size_t> mine = cases_of_this_rank(res.cases, opt);
+    // Failure markers of an earlier attempt are cleared before any rank looks at them.
+    for (std::size_t i : mine) fs::remove(fs::path(opt.out_dir) / res.cases[i].name / "FAILED");
+    mpi_barrier();
+    const int jobs = job_count(opt, res.cases, mine.size());
+    if (!opt.quiet && opt.rank == 0) {
+        int preparations = 0;
+        for (const StudyCase& c : res.cases) preparations = std::max(preparations, c.group + 1);
+        std::fprintf(stderr, "sweep: %zu cases, %d preparation(s), %d job(s)%s, out %s\n", res.cases.size(),
+                     preparations, jobs,
+                     opt.ranks > 1 ? (" per rank x " + std::to_string(opt.ranks) + " ranks").c_str() : "",
+                     opt.out_dir.c_str());
+    }
+    CaseRunner(s, opt, backend, res, mine, jobs).run();
+    gather_and_write_tables(s, opt, res, mine);
     return res;
 }
 
