@@ -97,6 +97,13 @@ struct DamperResult {
     Config config;  // the settings the run used: a run from a checkpoint takes some of its values
 };
 
+// Whether the prepared sample `prepared_ckpt` (a prepared.ckpt) is one `c` would have prepared:
+// "" when it fits, else why not (a stage past the preparation, a geometry key, or with
+// `preparation_keys` a key that acts during the preparation, each with both values). A study
+// takes its samples from another study's folder by it (Study::samples_from). Throws
+// std::runtime_error when the file cannot be read.
+std::string sample_misfit(const Config& c, const std::string& prepared_ckpt, bool preparation_keys);
+
 // With opt.from: the checkpoint's geometry replaces the config's (a geometry key the config
 // gives with another value is an error), and a checkpoint of a run that started (run.ckpt past
 // the preparation) also gives its contact, process and simulation settings (kRunKeys in

@@ -494,6 +494,33 @@ void DamperRun::log(const char* fmt, ...) const {
     va_end(ap);
 }
 
+}  // namespace damper_detail
+
+std::string sample_misfit(const Config& c, const std::string& prepared_ckpt, bool preparation_keys) {
+    using namespace damper_detail;
+    dem::World scratch;
+    const RunState ck = RunState::load(dem::load_checkpoint(prepared_ckpt, scratch), prepared_ckpt);
+    if (ck.stage != Stage::Prepared) return "not a prepared sample (its stage is past the preparation)";
+    std::map<std::string, double> stored = ck.geometry;
+    for (const StoredKey& k : kGeometryKeys)
+        if (!stored.count(k.key) && std::isfinite(k.legacy)) stored[k.key] = k.legacy;
+    std::string diffs;
+    auto compare = [&](const StoredKey& k, bool missing_differs) {
+        const auto it = stored.find(k.key);
+        if (it == stored.end() && !missing_differs) return;  // an older vppdem's sample: not recorded
+        if (it != stored.end() && same_value(it->second, k.get(c))) return;
+        diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + " = " +
+                 (it == stored.end() ? std::string("?") : show(k.key, it->second)) + " (the case: " +
+                 show(k.key, k.get(c)) + ")";
+    };
+    for (const StoredKey& k : kGeometryKeys) compare(k, true);
+    if (preparation_keys)
+        for (const StoredKey& k : kPreparationKeys) compare(k, false);
+    return diffs;
+}
+
+namespace damper_detail {
+
 void DamperRun::adopt_checkpoint_settings() {
     dem::World scratch;  // only the app state is needed here; run() loads the World itself
     const RunState ck = RunState::load(dem::load_checkpoint(options_.from, scratch), options_.from);

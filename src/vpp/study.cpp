@@ -131,6 +131,50 @@ void open_study_folder(const SweepOptions& opt, SweepResult& res) {
     fs::create_directories(out);
 }
 
+// Study::samples_from: per preparation group, the other study's prepared sample it branches from
+// (the first fitting one in folder-name order; sample_misfit); a group no sample fits is not in
+// the map and prepares its own. Read by every rank alike (the same files, the same answer).
+std::map<int, fs::path> find_shared_samples(const Study& s, const SweepOptions& opt, const std::vector<StudyCase>& cases) {
+    std::map<int, fs::path> found;
+    if (s.samples_from.empty()) return found;
+    fs::path from(s.samples_from);
+    if (from.is_relative()) from = fs::path(opt.out_dir).parent_path() / from;
+    if (!fs::is_directory(from))
+        throw ConfigError("study '" + s.path + "': key 'samples_from' = \"" + s.samples_from + "\": no folder '" +
+                          from.string() + "' (another study's --out, relative to the folder that holds this --out)");
+    std::vector<fs::path> samples;
+    for (const auto& e : fs::directory_iterator(from))
+        if (e.is_directory() && fs::exists(e.path() / "prepared.ckpt")) samples.push_back(e.path() / "prepared.ckpt");
+    std::sort(samples.begin(), samples.end());
+    std::size_t groups = 0;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        if (cases[i].preparer != i) continue;
+        ++groups;
+        std::string first_why;
+        for (const fs::path& p : samples) {
+            std::string why;
+            try {
+                why = sample_misfit(cases[i].config, p.string(), !s.samples_match_geometry);
+            } catch (const std::exception& e) {
+                why = std::string("unreadable: ") + e.what();
+            }
+            if (why.empty()) {
+                found[cases[i].group] = p;
+                break;
+            }
+            if (first_why.empty()) first_why = p.parent_path().filename().string() + ": " + why;
+        }
+        if (!found.count(cases[i].group) && !opt.quiet && opt.rank == 0)
+            std::fprintf(stderr, "sweep: %s: no sample in %s fits (%s); it prepares its own\n", cases[i].name.c_str(),
+                         from.string().c_str(), samples.empty() ? "none there" : first_why.c_str());
+    }
+    if (!opt.quiet && opt.rank == 0)
+        std::fprintf(stderr, "sweep: samples from %s (%zu there, matched by %s): %zu of %zu preparation(s)\n",
+                     from.string().c_str(), samples.size(), s.samples_match_geometry ? "geometry" : "preparation",
+                     found.size(), groups);
+    return found;
+}
+
 // This rank's cases (every ranks-th), preparers first, then the branches, each in grid order.
 std::vector<std::size_t> cases_of_this_rank(const std::vector<StudyCase>& cases, const SweepOptions& opt) {
     std::vector<std::size_t> mine;
@@ -161,8 +205,9 @@ int job_count(const SweepOptions& opt, const std::vector<StudyCase>& cases, std:
 class CaseRunner {
 public:
     CaseRunner(const Study& s, const SweepOptions& opt, const Backend& backend, SweepResult& res,
-               std::vector<std::size_t> mine, int jobs)
-        : s_(s), opt_(opt), cases_(res.cases), out_(opt.out_dir), res_(res), mine_(std::move(mine)), jobs_(jobs) {
+               std::vector<std::size_t> mine, int jobs, std::map<int, fs::path> shared_samples)
+        : s_(s), opt_(opt), cases_(res.cases), out_(opt.out_dir), res_(res), mine_(std::move(mine)), jobs_(jobs),
+          shared_(std::move(shared_samples)) {
         // The batch the running cases step their cycling through (--backend batch, cuda).
         if (backend.name == "batch") batch_ = std::make_unique<dem::batch::BatchStepper>(jobs);
         if (backend.name == "cuda")
@@ -205,6 +250,7 @@ private:
         const StudyCase& c = cases_[i];
         const fs::path dir = out_ / c.name;
         if (c.preparer == i || fs::exists(dir / "summary.json") || fs::exists(dir / "run.ckpt")) return 1;
+        if (shared_.count(c.group)) return 1;  // another study's sample (samples_from)
         const fs::path pdir = out_ / cases_[c.preparer].name;
         if (fs::exists(pdir / "prepared.ckpt")) return 1;
         if (fs::exists(pdir / "FAILED")) {
@@ -268,8 +314,15 @@ private:
                     ask_hook(0, "");
                     if (stop_.load()) throw SweepStopped();
                 };
-            if (fs::exists(dir / "run.ckpt")) d.from = (dir / "run.ckpt").string();
-            else if (c.preparer != i && !self_prepare) d.from = (out_ / cases_[c.preparer].name / "prepared.ckpt").string();
+            const auto shared = shared_.find(c.group);
+            if (fs::exists(dir / "run.ckpt")) {
+                d.from = (dir / "run.ckpt").string();
+            } else if (shared != shared_.end()) {
+                // Another study's sample: matched by geometry alone, the case cycles it with its
+                // own settings (samples_match = "geometry"), as a damper --from by hand would.
+                d.from = shared->second.string();
+                d.check_preparation = !s_.samples_match_geometry;
+            } else if (c.preparer != i && !self_prepare) d.from = (out_ / cases_[c.preparer].name / "prepared.ckpt").string();
             const DamperResult r = run_damper(c.config, d);
             if (r.cycles.empty()) throw std::runtime_error("the run recorded no complete cycle");
             if (r.incomplete)
@@ -360,6 +413,7 @@ private:
     const int jobs_;
     std::unique_ptr<dem::batch::BatchStepper> batch_;
     std::mutex mu_;
+    const std::map<int, fs::path> shared_;  // preparation group -> another study's prepared.ckpt
     std::map<std::size_t, int> state_;  // 0 pending, 1 running, 2 finished
     std::size_t finished_ = 0;
     std::atomic<bool> stop_{false};
@@ -406,7 +460,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
                      opt.ranks > 1 ? (" per rank x " + std::to_string(opt.ranks) + " ranks").c_str() : "",
                      opt.out_dir.c_str());
     }
-    CaseRunner(s, opt, backend, res, mine, jobs).run();
+    CaseRunner(s, opt, backend, res, mine, jobs, find_shared_samples(s, opt, res.cases)).run();
     gather_and_write_tables(s, opt, res, mine);
     return res;
 }

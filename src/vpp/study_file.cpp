@@ -25,6 +25,14 @@ const std::vector<StudyKey>& study_keys() {
         {"share_preparation", "boolean", "true",
          "cases that differ only in keys that do not act before the end of the preparation share one prepared "
          "sample (the settings' \"shares preparation\" column); false: every case prepares its own"},
+        {"samples_from", "string", "none: each preparation group prepares its sample",
+         "another study's folder whose prepared samples (its cases' prepared.ckpt) this study's cases branch from: "
+         "a path relative to the folder holding --out (a sibling study by its name), or absolute; a group no sample "
+         "fits prepares its own (said on stderr)"},
+        {"samples_match", "string", "\"preparation\"",
+         "with samples_from: \"preparation\", a sample fits when its geometry (simulation.seed included) and every "
+         "key that acts during the preparation are the case's; \"geometry\", the geometry alone (the case cycles the "
+         "sample with its own settings, as the time-step study does)"},
         {"seeds", "integer 1..1000", "none: one run per case",
          "an ensemble: simulation.seed = 1, 2, ..., seeds as the last grid key (`--seeds` overrides it); write it "
          "before [set] and [grid]"},
@@ -198,6 +206,20 @@ Study load_study(const std::string& path, const std::vector<std::string>& extra_
     }
     if (const toml::node* d = root.get("description"); d && !d->as_string())
         throw ConfigError(where + "key 'description' must be a string");
+    if (const toml::node* f = root.get("samples_from")) {
+        if (!f->as_string() || f->as_string()->get().empty())
+            throw ConfigError(where + "key 'samples_from' must be a folder name or path (another study's --out)");
+        s.samples_from = f->as_string()->get();
+    }
+    if (const toml::node* m = root.get("samples_match")) {
+        const std::string v = m->as_string() ? m->as_string()->get() : std::string();
+        if (v != "preparation" && v != "geometry")
+            throw ConfigError(where + "key 'samples_match' = " + cfg::describe(*m) +
+                              ": must be \"preparation\" or \"geometry\"");
+        if (s.samples_from.empty())
+            throw ConfigError(where + "key 'samples_match' needs 'samples_from' (the folder whose samples it matches)");
+        s.samples_match_geometry = v == "geometry";
+    }
     if (const toml::node* sp = root.get("share_preparation")) {
         if (!sp->as_boolean()) throw ConfigError(where + "key 'share_preparation' must be true or false");
         s.share_preparation = sp->as_boolean()->get();

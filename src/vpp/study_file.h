@@ -49,6 +49,14 @@ struct Study {
     std::vector<std::string> set;    // "key=literal" fixed overrides ([set], then --set)
     std::vector<GridAxis> grid;      // in file order
     bool share_preparation = true;
+    // The prepared samples of another study (`samples_from`): its folder, a path relative to the
+    // folder that holds this study's --out (a sibling study by its name: "radius_underpressure"),
+    // or absolute; empty: every preparation group prepares its own. samples_match "preparation"
+    // (false here): a sample fits a group when its geometry and the keys that act during the
+    // preparation are the group's; "geometry" (true): the geometry alone, the case cycling the
+    // sample with its own settings (the time-step study).
+    std::string samples_from;
+    bool samples_match_geometry = false;
 };
 
 // Keys whose values may differ between cases sharing one preparation (the damper's --from

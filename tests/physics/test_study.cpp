@@ -969,3 +969,60 @@ TEST_F(Study, ABranchFromASampleOfOtherPreparationSettingsIsRefused) {
     EXPECT_NE(why.find("acts during the preparation"), std::string::npos) << why;
     EXPECT_FALSE(fs::exists(branch / "summary.json"));
 }
+
+// Issue 46: a study takes its prepared samples from another study's folder by name
+// (samples_from): its cases branch from the sample that fits them, with the bits of a branch in
+// that study's own folder; a group no sample fits prepares its own; samples_match = "geometry"
+// lets a case cycle a sample with preparation settings of its own (the time-step study).
+TEST_F(Study, ACaseBranchesFromAnotherStudysSampleByName) {
+    const fs::path root = scratch("samples");
+    fs::remove_all(root);
+    const fs::path a = root / "a", b = root / "b", d = root / "d", g = root / "g";
+    write_file(root / "a.toml", kTwoFrictions);
+    const Outcome ra = run("sweep " + (root / "a.toml").string() + " --out " + a.string() + " --no-plot --quiet --jobs 1");
+    ASSERT_EQ(ra.status, 0) << ra.output;
+
+    write_file(root / "b.toml", "samples_from = \"a\"\n" + kSmallSet + "[grid]\n\"grains.friction\" = [0.6]\n");
+    const Outcome rb = run("sweep " + (root / "b.toml").string() + " --out " + b.string() + " --no-plot --jobs 1");
+    ASSERT_EQ(rb.status, 0) << rb.output;
+    EXPECT_NE(rb.output.find("1 of 1 preparation(s)"), std::string::npos) << rb.output;
+    const fs::path bc = b / "grains.friction=0.6";
+    EXPECT_FALSE(fs::exists(bc / "prepared.ckpt"));  // it prepared nothing
+    EXPECT_NE(slurp(bc / "summary.json").find("grains.friction=0.3/prepared.ckpt"), std::string::npos);
+    EXPECT_EQ(slurp(bc / "cycles.csv"), slurp(a / "grains.friction=0.6" / "cycles.csv"));
+    EXPECT_EQ(slurp(bc / "forces.csv"), slurp(a / "grains.friction=0.6" / "forces.csv"));
+
+    // Another grain stiffness acts during the preparation: no sample fits; it prepares its own.
+    write_file(root / "d.toml", "samples_from = \"a\"\n" + kSmallSet + "\"grains.young\" = 2.3e10\n[grid]\n"
+                                "\"grains.friction\" = [0.3]\n");
+    const Outcome rd = run("sweep " + (root / "d.toml").string() + " --out " + d.string() + " --no-plot --jobs 1");
+    ASSERT_EQ(rd.status, 0) << rd.output;
+    EXPECT_NE(rd.output.find("grains.young = 2.3e+09 (the case: 2.3e+10)"), std::string::npos) << rd.output;
+    EXPECT_NE(rd.output.find("0 of 1 preparation(s)"), std::string::npos) << rd.output;
+    EXPECT_TRUE(fs::exists(d / "grains.friction=0.3" / "prepared.ckpt"));
+
+    // By geometry alone: another time step cycles a's sample (no preparation of its own).
+    write_file(root / "g.toml", "samples_from = \"a\"\nsamples_match = \"geometry\"\n" + kSmallSet +
+                                    "\"simulation.dt_safety\" = 0.3\n[grid]\n\"grains.friction\" = [0.3]\n");
+    const Outcome rg = run("sweep " + (root / "g.toml").string() + " --out " + g.string() + " --no-plot --jobs 1");
+    ASSERT_EQ(rg.status, 0) << rg.output;
+    EXPECT_FALSE(fs::exists(g / "grains.friction=0.3" / "prepared.ckpt"));
+    EXPECT_NE(slurp(g / "grains.friction=0.3" / "summary.json").find("grains.friction=0.3/prepared.ckpt"),
+              std::string::npos);
+    EXPECT_NE(slurp(g / "grains.friction=0.3" / "cycles.csv"), slurp(a / "grains.friction=0.3" / "cycles.csv"));
+
+    // Bad values: exit 2, naming the key, nothing written.
+    write_file(root / "bad.toml", "samples_from = \"nowhere\"\n" + kTwoFrictions);
+    const Outcome r1 = run("sweep " + (root / "bad.toml").string() + " --out " + (root / "bad").string() + " --no-plot");
+    EXPECT_EQ(WEXITSTATUS(r1.status), 2) << r1.output;
+    EXPECT_NE(r1.output.find("samples_from"), std::string::npos) << r1.output;
+    write_file(root / "bad2.toml", "samples_match = \"geometry\"\n" + kTwoFrictions);
+    const Outcome r2 = run("sweep " + (root / "bad2.toml").string() + " --out " + (root / "bad2").string() + " --no-plot");
+    EXPECT_EQ(WEXITSTATUS(r2.status), 2) << r2.output;
+    EXPECT_NE(r2.output.find("samples_match"), std::string::npos) << r2.output;
+    write_file(root / "bad3.toml", "samples_from = \"a\"\nsamples_match = \"size\"\n" + kTwoFrictions);
+    const Outcome r3 = run("sweep " + (root / "bad3.toml").string() + " --out " + (root / "bad3").string() + " --no-plot");
+    EXPECT_EQ(WEXITSTATUS(r3.status), 2) << r3.output;
+    EXPECT_NE(r3.output.find("\"preparation\" or \"geometry\""), std::string::npos) << r3.output;
+    fs::remove_all(root);
+}
