@@ -123,6 +123,13 @@ std::vector<Vec3> generate_grains(const Config& c, const FoilLattice& L, std::si
 
 DamperRun::DamperRun(const Config& c, const DamperOptions& o) : config_(c), options_(o), out_(o.out_dir) {
     files_ = !options_.out_dir.empty();
+    // One resume rule for every command (the sweep's cases and `vppdem device` alike): running
+    // into a folder that holds a run.ckpt again continues that run; --overwrite starts afresh.
+    if (files_ && options_.from.empty() && !options_.overwrite && fs::exists(out_ / "run.ckpt")) {
+        options_.from = (out_ / "run.ckpt").string();
+        log("damper: resuming from %s (the same command into the same --out continues its run; --overwrite starts "
+            "afresh)\n", options_.from.c_str());
+    }
     setup();
 }
 

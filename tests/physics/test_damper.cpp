@@ -163,6 +163,26 @@ TEST_F(Damper, ResumeFromAKillDuringThePreparationKeepsTheRunsSettings) {
     EXPECT_EQ(slurp(d / "prepared.ckpt"), slurp(scratch("dp060") / "prepared.ckpt"));
 }
 
+// One resume rule for every command (issue 46): the same command again, into the same --out,
+// continues the run from its run.ckpt (as a sweep's cases and `vppdem device` do), and a
+// finished run run again rewrites the same records; --overwrite starts afresh.
+TEST_F(Damper, TheSameCommandAgainResumesItsRun) {
+    ASSERT_EQ(base_.status, 0) << base_.output;
+    const fs::path d = scratch("same_command");
+    const std::string args = "damper --out " + d.string() + " --checkpoint-every 0.01 " + kSmall;
+    ASSERT_TRUE(kill_when(args, [&] { return fs::exists(d / "run.ckpt") && !fs::exists(d / "prepared.ckpt"); }))
+        << "the run ended before the kill";
+    const Outcome resumed = run(args);
+    ASSERT_EQ(resumed.status, 0) << resumed.output;
+    EXPECT_NE(slurp(d / "summary.json").find("run.ckpt"), std::string::npos);  // its "from"
+    EXPECT_EQ(slurp(d / "forces.csv"), slurp(scratch("dp060") / "forces.csv"));
+    const std::string cycles = slurp(d / "cycles.csv");
+    const Outcome again = run(args);  // finished: nothing more to run, the same records
+    ASSERT_EQ(again.status, 0) << again.output;
+    EXPECT_EQ(slurp(d / "cycles.csv"), cycles);
+    EXPECT_EQ(slurp(d / "forces.csv"), slurp(scratch("dp060") / "forces.csv"));
+}
+
 TEST_F(Damper, ResumeKeepsTheSettingsItStartedWith) {
     ASSERT_EQ(base_.status, 0) << base_.output;
     // A run from the preparation, killed during cycling, then resumed with no settings at all on
