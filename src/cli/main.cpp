@@ -175,6 +175,7 @@ int main(int argc, char** argv) {
         int jobs = 0, seeds = 0;
         CLI::Option* seeds_opt = nullptr;
         bool quiet = false, no_plot = false, mix_builds = false;
+        std::string publish;
         double ckpt_every = 60.0;
         std::string backend = "cpu";
     };
@@ -199,6 +200,10 @@ int main(int argc, char** argv) {
                           "running cases in lockstep through the batch engine's host backend, the same bits), cuda "
                           "(the batch engine on a GPU; docs/gpu.md)")
             ->check(CLI::IsMember({"cpu", "batch", "cuda"}));
+        c.app->add_option("--publish", c.publish,
+                          "Keep the finished cases' small records (case.toml, summary.json, cycles.csv, build.json) and "
+                          "the tables in this folder, each file through a temporary name; records there that --out "
+                          "lacks are put back first and count as finished (docs/studies.md, \"Publishing\")");
         c.app->add_flag("--mix-builds", c.mix_builds,
                         "Continue in a folder whose cases another build ran (refused without it: their build.json "
                         "names the builds; docs/studies.md, \"Resuming\")");
@@ -325,6 +330,7 @@ int main(int argc, char** argv) {
             so.ranks = ranks;
             so.backend = sc.backend;
             so.mix_builds = sc.mix_builds;
+            so.publish = sc.publish;
             int rc = 0;
             if (*sweep.app && list_only) {
                 const auto cases = vpp::expand_study(st);

@@ -764,7 +764,7 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "sweep",
         [](const std::string& study, const std::string& out, const std::vector<std::string>& sets, int seeds, int jobs,
-           bool quiet, py::object progress, const std::string& backend, bool mix_builds) {
+           bool quiet, py::object progress, const std::string& backend, bool mix_builds, const std::string& publish) {
             const vpp::Study st = vpp::load_study(study, sets, seeds);
             vpp::SweepOptions so;
             so.out_dir = out;
@@ -772,6 +772,7 @@ PYBIND11_MODULE(_core, m) {
             so.quiet = quiet;
             so.backend = backend;  // "cpu", "batch" or "cuda" (vppdem sweep --backend)
             so.mix_builds = mix_builds;  // vppdem sweep --mix-builds
+            so.publish = publish;        // vppdem sweep --publish (empty: none)
             return run_stoppable(progress, [&](auto hook) {
                 vpp::SweepOptions o = so;
                 o.progress = hook;
@@ -780,7 +781,7 @@ PYBIND11_MODULE(_core, m) {
         },
         py::arg("study"), py::arg("out"), py::arg("sets") = std::vector<std::string>{}, py::arg("seeds") = 0,
         py::arg("jobs") = 0, py::arg("quiet") = true, py::arg("progress") = py::none(), py::arg("backend") = "cpu",
-        py::arg("mix_builds") = false);
+        py::arg("mix_builds") = false, py::arg("publish") = "");
     m.def(
         "calibrate",
         [](const std::string& study, const std::string& experiment, const std::string& out,

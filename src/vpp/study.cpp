@@ -28,6 +28,8 @@ using cfg::ConfigError;
 
 namespace {
 
+void publish(const Study& s, const SweepOptions& opt, const std::vector<StudyCase>& cases);
+
 // --report-only: the tables from the records already in DIR. Only reads: no case folder, FAILED
 // marker or case.toml is written, so a sweep running into DIR at the same time is not disturbed
 // (a case it finishes meanwhile is either read whole or not at all: summary.json is written
@@ -72,6 +74,7 @@ SweepResult report_sweep(const Study& s, const SweepOptions& opt, SweepResult re
         std::fprintf(stderr, "sweep --report-only: %zu of %zu cases finished%s; ran nothing; wrote %s\n", finished,
                      res.cases.size(), res.failed ? (", " + std::to_string(res.failed) + " unreadable").c_str() : "",
                      names.c_str());
+    publish(s, opt, res.cases);
     return res;
 }
 
@@ -126,6 +129,12 @@ void open_study_folder(const SweepOptions& opt, SweepResult& res) {
     if (fs::exists(out) && !fs::is_directory(out))
         throw ConfigError("--out '" + opt.out_dir + "' exists and is not a directory");
     if (opt.rank == 0) res.lock = scene::lock_output_dir(opt.out_dir);
+    // The published records first, so that the build check covers them too.
+    if (opt.rank == 0 && !opt.publish.empty()) {
+        const std::size_t n = restore_published(opt.publish, out, res.cases);
+        if (n && !opt.quiet)
+            std::fprintf(stderr, "sweep: %zu finished case(s) restored from %s\n", n, opt.publish.c_str());
+    }
     if (opt.rank == 0 && !opt.mix_builds) refuse_other_builds(out, res.cases);
     mpi_barrier();
     fs::create_directories(out);
@@ -421,6 +430,15 @@ private:
     std::mutex hook_mu_;  // one hook call at a time
 };
 
+// --publish: the finished cases' small records and the tables into the results folder.
+void publish(const Study& s, const SweepOptions& opt, const std::vector<StudyCase>& cases) {
+    if (opt.publish.empty()) return;
+    const std::size_t held = publish_records(opt.publish, opt.out_dir, s, cases);
+    if (!opt.quiet)
+        std::fprintf(stderr, "sweep: published into %s (%zu of %zu cases there)\n", opt.publish.c_str(), held,
+                     cases.size());
+}
+
 // Gathers the ranks' outcomes on rank 0, which writes the study's tables; every rank learns the
 // failure count.
 void gather_and_write_tables(const Study& s, const SweepOptions& opt, SweepResult& res,
@@ -434,6 +452,7 @@ void gather_and_write_tables(const Study& s, const SweepOptions& opt, SweepResul
         const std::string names = write_study_tables(fs::path(opt.out_dir), s, res.cases, res.outcomes);
         if (!opt.quiet)
             std::fprintf(stderr, "sweep: %zu cases, %d failed; wrote %s\n", res.cases.size(), res.failed, names.c_str());
+        publish(s, opt, res.cases);
     }
     res.failed = mpi_broadcast_int(res.failed);
 }

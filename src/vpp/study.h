@@ -49,6 +49,11 @@ struct SweepOptions {
     // Without it such a sweep is refused before anything runs (ConfigError naming the cases and
     // both builds): a study's table would mix the results of two builds unknowingly.
     bool mix_builds = false;
+    // Publish the small records into this folder (`--publish RESULTS`; empty: none): before the
+    // cases run, the published records of cases the run folder lacks are put back
+    // (restore_published: they count as finished); after the tables, every finished case's
+    // records and the tables go there (publish_records). With report_only too (no restore).
+    std::string publish;
 };
 
 // Thrown by run_sweep (and run_calibration) when SweepOptions::progress asked to stop.

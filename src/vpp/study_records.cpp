@@ -390,4 +390,80 @@ std::string write_study_tables(const fs::path& out, const Study& s, const std::v
     return names;
 }
 
+namespace {
+
+// Copies `from` to `to` when their bytes differ (or `to` is missing), atomically.
+void copy_if_changed(const fs::path& from, const fs::path& to) {
+    const std::string text = read_text(from);
+    if (fs::exists(to) && read_text(to) == text) return;
+    fs::create_directories(to.parent_path());
+    dem::write_text_atomic(to.string(), text);
+}
+
+// The finished runs ("ok" rows) of a summary.csv; 0 when there is none.
+std::size_t ok_rows(const fs::path& summary) {
+    if (!fs::exists(summary)) return 0;
+    std::istringstream in(read_text(summary));
+    std::string line;
+    if (!std::getline(in, line)) return 0;
+    // The fields up to the status column hold no comma (swept values and numbers).
+    auto fields = [](const std::string& l) {
+        std::vector<std::string> f;
+        for (std::size_t a = 0; a <= l.size();) {
+            const std::size_t b = std::min(l.find(',', a), l.size());
+            f.push_back(l.substr(a, b - a));
+            a = b + 1;
+        }
+        return f;
+    };
+    const std::vector<std::string> head = fields(line);
+    const auto col = std::find(head.begin(), head.end(), "status") - head.begin();
+    if (col == std::ptrdiff_t(head.size())) return 0;
+    std::size_t n = 0;
+    while (std::getline(in, line)) {
+        const std::vector<std::string> f = fields(line);
+        n += std::ptrdiff_t(f.size()) > col && f[std::size_t(col)] == "ok";
+    }
+    return n;
+}
+
+}  // namespace
+
+std::size_t restore_published(const fs::path& results, const fs::path& out, const std::vector<StudyCase>& cases) {
+    std::size_t n = 0;
+    if (!fs::is_directory(results)) return 0;
+    for (const StudyCase& c : cases) {
+        const fs::path pub = results / c.name, run = out / c.name;
+        if (!fs::exists(pub / "summary.json") || fs::exists(run / "summary.json") || fs::exists(run / "run.ckpt")) continue;
+        for (const std::string& f : kRunRecords)
+            if (fs::exists(pub / f)) copy_if_changed(pub / f, run / f);
+        ++n;
+    }
+    return n;
+}
+
+std::size_t publish_records(const fs::path& results, const fs::path& out, const Study& s,
+                            const std::vector<StudyCase>& cases) {
+    fs::create_directories(results);
+    std::size_t held = 0;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        const StudyCase& c = cases[i];
+        const fs::path run = out / c.name;
+        bool done = false;
+        try {
+            done = finished_case(run, case_record(s, c), c.config).has_value();
+        } catch (const std::exception&) {
+            done = false;  // records of other settings: not this study's to publish
+        }
+        if (done)
+            for (const std::string& f : kRunRecords)
+                if (fs::exists(run / f)) copy_if_changed(run / f, results / c.name / f);
+        held += fs::exists(results / c.name / "summary.json");
+    }
+    if (ok_rows(out / "summary.csv") >= ok_rows(results / "summary.csv"))
+        for (const std::string& f : kStudyTables)
+            if (fs::exists(out / f)) copy_if_changed(out / f, results / f);
+    return held;
+}
+
 }  // namespace vpp

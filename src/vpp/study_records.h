@@ -135,4 +135,24 @@ std::vector<std::vector<std::size_t>> ensemble_groups(const Study& s, const std:
 std::string write_study_tables(const std::filesystem::path& out, const Study& s, const std::vector<StudyCase>& cases,
                                const std::vector<CaseOutcome>& outcomes);
 
+// Publishing a study's small records (SweepOptions::publish, `--publish RESULTS`): what a
+// repository keeps of each finished case, kRunRecords, and the study's tables, while the run
+// folders (checkpoints, forces.csv, frames) stay on the machine.
+inline const std::vector<std::string> kRunRecords = {"case.toml", "summary.json", "cycles.csv", "build.json"};
+inline const std::vector<std::string> kStudyTables = {"summary.csv", "summary_cases.csv", "summary_paired.csv"};
+
+// The published records back into the run folders before a study runs: each case of `cases`
+// with RESULTS/<case>/summary.json whose run folder has neither summary.json nor run.ckpt gets
+// them (so the sweep takes it as finished, or continues it to more cycles if it has a run.ckpt
+// elsewhere: refused, as any records without one). Returns how many cases were restored.
+std::size_t restore_published(const std::filesystem::path& results, const std::filesystem::path& out,
+                              const std::vector<StudyCase>& cases);
+
+// Every finished case's records (a case whose records are complete for this study:
+// finished_case) into RESULTS/<case>/, each file only when it changed, through a temporary name
+// (a reader never sees half a file); then the study's tables, unless the published summary.csv
+// lists more finished cases (a sweep of part of the study). Returns how many cases RESULTS holds.
+std::size_t publish_records(const std::filesystem::path& results, const std::filesystem::path& out, const Study& s,
+                            const std::vector<StudyCase>& cases);
+
 }  // namespace vpp

@@ -1026,3 +1026,32 @@ TEST_F(Study, ACaseBranchesFromAnotherStudysSampleByName) {
     EXPECT_NE(r3.output.find("\"preparation\" or \"geometry\""), std::string::npos) << r3.output;
     fs::remove_all(root);
 }
+
+// Issue 46: --publish keeps the small records of the finished cases (case.toml, summary.json,
+// cycles.csv, build.json) and the tables in a results folder, and a sweep into a new run folder
+// takes them back as finished: it runs nothing and writes the same tables.
+TEST_F(Study, PublishKeepsTheSmallRecordsAndAnotherFolderResumesFromThem) {
+    const fs::path study = scratch("publish.toml"), out = scratch("publish_out"), again = scratch("publish_again"),
+                   results = scratch("publish_results");
+    for (const fs::path& p : {out, again, results}) fs::remove_all(p);
+    write_file(study, kTwoFrictions);
+    const Outcome r = run("sweep " + study.string() + " --out " + out.string() + " --publish " + results.string() +
+                          " --jobs 1 --no-plot");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("published into " + results.string() + " (2 of 2 cases there)"), std::string::npos) << r.output;
+    for (const char* c : {"grains.friction=0.3", "grains.friction=0.6"}) {
+        EXPECT_EQ(entries(results / c), (std::vector<std::string>{"build.json", "case.toml", "cycles.csv", "summary.json"}))
+            << c;
+        for (const char* f : {"case.toml", "cycles.csv", "summary.json", "build.json"})
+            EXPECT_EQ(slurp(results / c / f), slurp(out / c / f)) << c << "/" << f;
+    }
+    for (const char* f : {"summary.csv", "summary_cases.csv"}) EXPECT_EQ(slurp(results / f), slurp(out / f)) << f;
+
+    const Outcome b = run("sweep " + study.string() + " --out " + again.string() + " --publish " + results.string() +
+                          " --jobs 1 --no-plot");
+    ASSERT_EQ(b.status, 0) << b.output;
+    EXPECT_NE(b.output.find("2 finished case(s) restored"), std::string::npos) << b.output;
+    EXPECT_NE(b.output.find("done earlier"), std::string::npos) << b.output;
+    EXPECT_FALSE(fs::exists(again / "grains.friction=0.3" / "prepared.ckpt"));  // nothing ran
+    EXPECT_EQ(slurp(again / "summary.csv"), slurp(out / "summary.csv"));
+}

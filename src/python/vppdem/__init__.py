@@ -510,13 +510,15 @@ def build():
 
 
 def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None, progress=None, backend="cpu",
-          mix_builds=False):
+          mix_builds=False, publish=None):
     """`vppdem sweep STUDY --out OUT`: runs (or resumes) the study; returns the failed cases'
     count. sets: ["key=value", ...] or `settings` (a dict) fixed for every case.
     backend: "cpu", "batch" or "cuda", as the command's --backend (docs/studies.md, docs/gpu.md).
     jobs: cases at once, as --jobs (0: the free cores / threads per case; >= 0).
     mix_builds: continue in a folder whose cases another build ran, as --mix-builds (refused,
     ConfigError, without it).
+    publish: a results folder, as --publish: the finished cases' small records and the tables
+    are kept there, and records there that `out` lacks are put back first (docs/studies.md).
     progress: None, True (a tqdm bar over the cases, else a line per case on stderr) or a
     callable progress(done, total, case) called after each finished case. Ctrl-C, or an
     exception of the callable, stops the sweep and is raised; finished cases stay, and the
@@ -524,7 +526,7 @@ def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None
     extra = _study_sets(sets, settings)
     return _run(_core.sweep, progress, os.fspath(study_path), os.fspath(out), extra, int(seeds),
                 _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), callback=_CaseProgress, backend=str(backend),
-                mix_builds=bool(mix_builds))
+                mix_builds=bool(mix_builds), publish=os.fspath(publish) if publish is not None else "")
 
 
 def device(device_file, out, sets=None, settings=None, from_checkpoint=None, overwrite=False, quiet=True,
