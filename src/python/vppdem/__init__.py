@@ -71,7 +71,7 @@ except ImportError as _error:
 
 
 __all__ = ["Damper", "World", "ConfigError", "load_config", "settings", "record_columns", "sweep", "calibrate", "device",
-           "build"]
+           "build", "Study"]
 
 
 def __getattr__(name):
@@ -567,3 +567,8 @@ def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=Tru
         raise RuntimeError(f"calibrate: no calibration (exit status {rc}); see {out}")
     with open(path) as f:
         return json.load(f)
+
+
+# vppdem.Study: a study file and its output folder as one object (src/python/vppdem/study.py); at the
+# end, as it uses sweep() and calibrate() above.
+from .study import Study  # noqa: E402
