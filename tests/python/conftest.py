@@ -18,6 +18,23 @@ SMALL = {
 }
 
 # The same as the command's --set arguments.
+# A tiny study: the small damper, two frictions sharing one preparation, one cycle each (about a
+# minute of CPU; test_studies.py, test_study_class.py).
+TINY_STUDY = """
+[set]
+"damper.radius" = 0.012
+"damper.height" = 0.03
+"grains.volume_fraction" = 0.45
+"process.velocity" = 0.1
+"process.amplitude" = 0.002
+"process.cycles" = 1
+"process.samples_per_cycle" = 40
+"simulation.threads" = 1
+
+[grid]
+"grains.friction" = [0.3, 0.6]
+"""
+
 SMALL_SETS = " ".join(f"--set {k}={v}" for k, v in SMALL.items())
 
 BINARY = os.environ.get("VPPDEM_BINARY", "")

@@ -6,22 +6,7 @@ import signal
 import pytest
 
 import vppdem
-from conftest import SOURCE_DIR
-
-TINY = """
-[set]
-"damper.radius" = 0.012
-"damper.height" = 0.03
-"grains.volume_fraction" = 0.45
-"process.velocity" = 0.1
-"process.amplitude" = 0.002
-"process.cycles" = 1
-"process.samples_per_cycle" = 40
-"simulation.threads" = 1
-
-[grid]
-"grains.friction" = [0.3, 0.6]
-"""
+from conftest import SOURCE_DIR, TINY_STUDY as TINY
 
 
 def test_sweep_on_a_tiny_study(tmp_path):

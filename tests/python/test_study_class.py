@@ -7,21 +7,7 @@ import os
 import pytest
 
 import vppdem
-
-TINY = """
-[set]
-"damper.radius" = 0.012
-"damper.height" = 0.03
-"grains.volume_fraction" = 0.45
-"process.velocity" = 0.1
-"process.amplitude" = 0.002
-"process.cycles" = 1
-"process.samples_per_cycle" = 40
-"simulation.threads" = 1
-
-[grid]
-"grains.friction" = [0.3, 0.6]
-"""
+from conftest import TINY_STUDY as TINY
 
 NAMES = ["grains.friction=0.3", "grains.friction=0.6"]
 
