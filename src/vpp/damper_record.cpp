@@ -1,5 +1,6 @@
-// The damper run's record: the checkpoint's state (RunState), forces.csv, energy.csv, VTK
-// frames, the result and summary.json, the report on the terminal; run_damper().
+// The damper run's record: the checkpoint's state (RunState), forces.csv's and energy.csv's
+// tables, the result and summary.json, the report on the terminal; run_damper(). The files of a
+// run's folder are written by its recorder (damper_recorder.cpp): here what goes into them.
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -10,14 +11,12 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "scene/build_info.h"
 #include "scene/scene_runner.h"
 #include "dem/detect/cell_grid.h"
 #include "dem/io/archive.h"
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
-#include "dem/io/vtk.h"
 #include "dem/batch/batch_stepper.h"
 #include "vpp/damper_run.h"
 #include "vpp/records.h"
@@ -184,58 +183,8 @@ RunState RunState::load_text(const std::string& text, const std::string& path) {
     return r;
 }
 
-namespace {
-
-// Everything a damper run writes into its folder (docs/damper.md, "Outputs"). --overwrite
-// removes all of it before a new run starts, so nothing of the previous run (an energy.csv the
-// new run does not write, a prepared.ckpt of another sample) is left beside the new results.
-// Other files in the folder (notes, a sweep's case.toml) are left alone.
-const char* const kDamperFiles[] = {"forces.csv",   "cycles.csv", "energy.csv",      "summary.json",
-                                    "prepared.ckpt", "run.ckpt",  "loops.png",       "loops_total.png",
-                                    "loops_foil.png", "loops_grains.png", "energy_split.png"};
-
-void remove_previous_outputs(const fs::path& dir, const std::string& spare) {
-    std::error_code ec;
-    auto remove = [&](const fs::path& p) {
-        if (!fs::exists(p)) return;
-        if (!spare.empty() && fs::equivalent(p, spare, ec)) return;  // the checkpoint this run starts from
-        fs::remove(p);
-    };
-    for (const char* f : kDamperFiles) {
-        remove(dir / f);
-        remove(dir / (std::string(f) + ".part"));
-    }
-    if (!fs::is_directory(dir / "vtk")) return;
-    std::vector<fs::path> frames;
-    for (const auto& e : fs::directory_iterator(dir / "vtk")) {
-        const std::string n = e.path().filename().string();
-        if (e.is_regular_file() && n.starts_with("damper_") && (n.ends_with(".vtk") || n.ends_with(".vtk.part")))
-            frames.push_back(e.path());
-    }
-    for (const fs::path& f : frames) fs::remove(f);
-}
-
-}  // namespace
-
-void DamperRun::start_output_dir(bool resuming) {
-    if (!files_) return;
-    // The folder's lock first, for the life of the run (docs/damper.md, "One run per folder"):
-    // a second run into a folder in use is refused before --overwrite removes the first one's
-    // files.
-    if (resuming) {
-        lock_ = scene::lock_output_dir(options_.out_dir);
-        scene::record_build(options_.out_dir, false);  // another build resuming the run is listed
-        return;
-    }
-    lock_ = scene::prepare_output_dir(options_.out_dir, options_.overwrite);
-    if (options_.overwrite) remove_previous_outputs(out_, options_.from);
-}
-
 void DamperRun::checkpoint(bool force) {
-    if (!files_) return;
-    const auto now = std::chrono::steady_clock::now();
-    if (!force && std::chrono::duration<double>(now - last_ckpt_).count() < options_.checkpoint_every) return;
-    last_ckpt_ = now;
+    if (!recorder_.checkpoint_due(force, options_.checkpoint_every)) return;
     if (options_.batch) options_.batch->sync(world_);
     if (state_.settings.empty()) {
         // Before its settings are applied to the sample (while preparing), a run's run.ckpt
@@ -246,47 +195,45 @@ void DamperRun::checkpoint(bool force) {
         // given).
         RunState s = state_;
         s.settings = run_settings();
-        save_world((out_ / "run.ckpt").string(), s.save());
+        recorder_.save_run(world_, s.save());
     } else {
-        save_world((out_ / "run.ckpt").string(), state_.save());
+        recorder_.save_run(world_, state_.save());
     }
-    if (state_.stage == Stage::Cycling || state_.stage == Stage::Done) {
-        write_forces(out_);
-        write_energy(out_);
-    }
+    if (state_.stage == Stage::Cycling || state_.stage == Stage::Done) recorder_.write_records(forces(), energy());
 }
 
 void DamperRun::save_prepared() {
-    if (!files_) return;
+    if (!recorder_.writes()) return;
     // A sample carries no run settings, also when this run resumed a run.ckpt that did.
     RunState s = state_;
     s.settings.clear();
-    save_world((out_ / "prepared.ckpt").string(), s.save());
+    recorder_.save_prepared(world_, s.save());
 }
 
 void DamperRun::vtk_frame(const char* tag) {
-    if (!files_) return;
+    if (!recorder_.writes()) return;
     if (options_.batch) options_.batch->sync(world_);
-    fs::create_directories(out_ / "vtk");
-    char name[96];
-    std::snprintf(name, sizeof name, "damper_%04d_%s.vtk", vtk_count_++, tag);
-    dem::write_particles_vtk((out_ / "vtk" / name).string(), world_, true);
+    recorder_.vtk_frame(world_, tag);
 }
 
 // The air's records are written when every sample has one (pump model or output.air; a run
 // that turned output.air on when resumed has none for its first samples and writes none).
 static bool air_complete(const RunState& st) { return !st.air.empty() && st.air.size() == st.samples.size(); }
 
-void DamperRun::write_energy(const fs::path& dir) const {
-    if (state_.energy.empty()) return;
+ForcesTable DamperRun::energy() const {
+    ForcesTable t;
+    if (state_.energy.empty()) return t;
     const bool air = air_complete(state_) && state_.air.size() == state_.energy.size();
-    dem::CsvWriter csv((dir / "energy.csv").string(), dem::energy_csv_header() + (air ? ",gas_work" : ""));
+    // The columns of dem::energy_csv_header(), and the gas's work with the air record.
+    t.columns = dem::energy_column_names();
+    if (air) t.columns.push_back("gas_work");
+    t.rows.reserve(state_.energy.size());
     for (std::size_t k = 0; k < state_.energy.size(); ++k) {
         std::vector<double> row(state_.energy[k].v, state_.energy[k].v + kEnergyRowSize);
         if (air) row.push_back(state_.air[k].gas_work);
-        csv.row(row);
+        t.rows.push_back(std::move(row));
     }
-    csv.close();
+    return t;
 }
 
 ForcesTable DamperRun::forces() const {
@@ -316,31 +263,21 @@ ForcesTable DamperRun::forces() const {
     return t;
 }
 
-void DamperRun::write_forces(const fs::path& dir) const {
-    const ForcesTable t = forces();
-    std::string header;
-    for (const std::string& c : t.columns) header += (header.empty() ? "" : ",") + c;
-    dem::CsvWriter csv((dir / "forces.csv").string(), header);
-    for (const std::vector<double>& row : t.rows) csv.row(row);
-    csv.close();
-}
-
-
 void DamperRun::save(const std::string& path) const {
     // A prepared sample is saved as prepared.ckpt is: without the settings just applied to it, so
     // that a run from it takes the settings it is given (a branch, as `--from prepared.ckpt`).
     if (state_.stage == Stage::Prepared) {
         RunState s = state_;
         s.settings.clear();
-        save_world(path, s.save());
+        DamperRecorder::save_world(path, world_, s.save());
         return;
     }
-    save_world(path, state_.save());
+    DamperRecorder::save_world(path, world_, state_.save());
 }
 
 void DamperRun::write_records(const std::string& dir) const {
-    write_forces(dir);
-    write_energy(dir);
+    DamperRecorder::write_forces(dir, forces());
+    DamperRecorder::write_energy(dir, energy());
 }
 
 DamperResult DamperRun::result() const {

@@ -2,7 +2,8 @@
 //   damper_world.cpp   the damper's world: foil, grains, caps, funnel; the input's checks; a
 //                      checkpoint's geometry and settings; the settings applied to a sample
 //   damper_stages.cpp  the protocol: fill, compress, vacuum, cycle; vpp::Damper
-//   damper_record.cpp  the record: checkpoint state, forces.csv, energy.csv, summary.json, report
+//   damper_record.cpp  the record: checkpoint state, forces.csv's and energy.csv's tables, summary.json, report
+//   damper_recorder.h  the recorder: the output folder and every file written into it (DamperRecorder)
 #pragma once
 
 #include <chrono>
@@ -16,8 +17,8 @@
 #include "scene/progress.h"
 #include "dem/io/energy_columns.h"
 #include "dem/world/world.h"
-#include "dem/io/folder_lock.h"
 #include "vpp/damper.h"
+#include "vpp/damper_recorder.h"
 #include "vpp/foil.h"
 #include "vpp/gas.h"
 #include "vpp/membrane.h"
@@ -171,9 +172,6 @@ private:
     std::vector<double> grain_tops() const;
     double grains_volume_now() const;
     double grains_mass() const;
-    // Takes out_dir's lock (held until the run ends) and, for a run that does not resume the
-    // folder's own run.ckpt, clears it as --overwrite asks (or refuses a non-empty one).
-    void start_output_dir(bool resuming);
     void build();
     void apply_config_to_prepared();
     void stage_fill();
@@ -189,13 +187,14 @@ private:
     // A resumed run given more cycles (process.cycles) than the `from` it started with: the
     // further cycles' knots, and a finished run cycling again.
     void extend_cycling(int from);
+    // run.ckpt when the recorder's clock says one is due (or `force`), and while cycling
+    // forces.csv and energy.csv with it.
     void checkpoint(bool force);
     // The run settings (kRunKeys) of this run's config: what it applies, or has applied, to
     // its prepared sample.
     std::map<std::string, double> run_settings() const;
     void save_prepared();
-    void write_forces(const fs::path& dir) const;
-    void write_energy(const fs::path& dir) const;
+    // The next VTK frame of the world as it stands (the batch stepper's state synced first).
     void vtk_frame(const char* tag);
     double top_ring_force_z() const;
     // The foil's builder (foil.builder): the lattice (lattice_, the paper's) or the mesh membrane (membrane_).
@@ -207,9 +206,6 @@ private:
     void set_foil_pressure();
     // Volume enclosed by the foil closed by flat caps through its end rings [m^3].
     double foil_volume() const;
-    // Writes the World and `blob` as a checkpoint at `path`; the mesh foil's pressure fans are
-    // not in the format: saved without them, rebuilt from the foil on loading (set_foil_pressure).
-    void save_world(const std::string& path, const std::string& blob) const;
     void next_stage(Stage s);
     // Re-fill (damper.refill): adds grains above the settled ones when their level is below the
     // damper height; returns false when the level is reached (or re-filling is off or exhausted).
@@ -248,9 +244,7 @@ private:
     scene::SizeDistribution sizes_;  // what the fill and re-fills draw the radii from (setup())
     dem::ClumpShape shape_;          // grains.shape > 0: the clump at a volume-equivalent radius of 1 m
     DamperOptions options_;
-    fs::path out_;
-    bool files_ = false;        // out_dir given: checkpoints, frames and records are written
-    dem::FolderLock lock_;      // out_dir's, while the run lives (one writer per folder)
+    DamperRecorder recorder_;  // the output folder (out_dir) and every file written into it
     dem::World world_;
     // The lattice foil; with the mesh foil only its radius, spacing, material and particles are
     // set (rows and cols 0), which the grains, funnel and checks read alike.
@@ -264,9 +258,6 @@ private:
     std::vector<uint32_t> top_ring_;
     mutable double grain_volume_ = 0;  // [m^3] grain_volume()'s sum, once the grains are final
     std::chrono::steady_clock::time_point start_ = std::chrono::steady_clock::now();
-    std::chrono::steady_clock::time_point last_ckpt_ = start_;
-    int vtk_count_ = 0;
-    double next_vtk_ = 0.0;
     std::vector<std::string> pending_warnings_;  // found before the checkpoint's state is loaded
     // The process's and the sampling's warnings (check_process, check_sampling): given from the
     // vacuum on, so that prepared.ckpt, which cases of other process settings share, holds none.
@@ -277,6 +268,7 @@ private:
 public:
     const RunState& state() const { return state_; }
     ForcesTable forces() const;  // forces.csv's table (damper_record.cpp)
+    ForcesTable energy() const;  // energy.csv's table (damper_record.cpp; no rows before cycling)
 };
 
 }  // namespace vpp::damper_detail

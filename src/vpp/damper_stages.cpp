@@ -469,9 +469,9 @@ void DamperRun::stage_cycle(int upto) {
         if (energy && sampled) state_.energy.push_back(energy_row(world_.energy(), world_.energy().time - state_.cycle_t0));
         prog.update(++done, world_.time);
         checkpoint(false);
-        if (config_.output.vtk_interval > 0 && world_.time >= next_vtk_) {
+        if (config_.output.vtk_interval > 0 && recorder_.cycle_frame_due(world_.time)) {
             vtk_frame("cycle");
-            next_vtk_ = world_.time + config_.output.vtk_interval;
+            recorder_.cycle_frame_written(world_.time, config_.output.vtk_interval);
         }
         world_.profile().lap(dem::Phase::kOutput);
     }

@@ -121,12 +121,11 @@ std::vector<Vec3> generate_grains(const Config& c, const FoilLattice& L, std::si
 
 }  // namespace
 
-DamperRun::DamperRun(const Config& c, const DamperOptions& o) : config_(c), options_(o), out_(o.out_dir) {
-    files_ = !options_.out_dir.empty();
+DamperRun::DamperRun(const Config& c, const DamperOptions& o) : config_(c), options_(o), recorder_(o.out_dir) {
     // One resume rule for every command (the sweep's cases and `vppdem device` alike): running
     // into a folder that holds a run.ckpt again continues that run; --overwrite starts afresh.
-    if (files_ && options_.from.empty() && !options_.overwrite && fs::exists(out_ / "run.ckpt")) {
-        options_.from = (out_ / "run.ckpt").string();
+    if (recorder_.writes() && options_.from.empty() && !options_.overwrite && fs::exists(recorder_.run_checkpoint())) {
+        options_.from = recorder_.run_checkpoint().string();
         log("damper: resuming from %s (the same command into the same --out continues its run; --overwrite starts "
             "afresh)\n", options_.from.c_str());
     }
@@ -203,7 +202,7 @@ void DamperRun::setup() {
         world_.params.dt = resolve_dt(config_.simulation, world_);
         check_steps();            // refuses a step that is no number, unstable, or too many of them
         check_sampling(true);     // refuses sampling faster than the time step
-        start_output_dir(false);  // only now: bad input writes nothing
+        recorder_.open(false, options_.overwrite, options_.from);  // only now: bad input writes nothing
         if (mesh_foil())
             log("damper: %zu grains (r_k = %.4g m), mesh foil of %zu particles (%zu vacancies, %zu bonds; end rings "
                 "%zu and %zu), radius %.5g m, height %.5g m, dt = %.4g s, %d thread(s)\n", n, config_.grains.radius, n_foil,
@@ -222,7 +221,7 @@ void DamperRun::setup() {
         if (world_.particles.size() != end_grain_ || (clumps() ? world_.clumps().size() != n : !world_.clumps().empty()))
             throw std::runtime_error("checkpoint '" + options_.from + "' does not hold this damper's particles");
         state_.grains = n;
-        // The mesh foil's pressure fans are not in the checkpoint (save_world): from the foil.
+        // The mesh foil's pressure fans are not in the checkpoint (DamperRecorder::save_world): from the foil.
         if (mesh_foil() && state_.stage >= Stage::Vacuum) set_foil_pressure();
         state_.warnings.insert(state_.warnings.end(), pending_warnings_.begin(), pending_warnings_.end());
         if (ckpt_cycles_ > 0) {
@@ -232,7 +231,8 @@ void DamperRun::setup() {
         // Resuming continues the run whose run.ckpt lives in --out; anything else (a branch from
         // a prepared sample, even into its own folder) starts a new run there.
         std::error_code ec;
-        const bool resuming = fs::exists(out_ / "run.ckpt") && fs::equivalent(options_.from, out_ / "run.ckpt", ec);
+        const fs::path own = recorder_.run_checkpoint();
+        const bool resuming = fs::exists(own) && fs::equivalent(options_.from, own, ec);
         // A prepared sample takes the config's contact and process settings; a resumed run keeps
         // its own (adopt_checkpoint_settings), but for the thread count (set below for every path).
         // A branch is refused what a new sample is refused (sampling faster than its time step),
@@ -243,7 +243,7 @@ void DamperRun::setup() {
             check_steps();
             check_sampling(true);
         }
-        start_output_dir(resuming);
+        recorder_.open(resuming, options_.overwrite, options_.from);
         log("damper: starting from %s at stage '%s', t = %.4g s, %d thread(s)\n", options_.from.c_str(),
             stage_name(state_.stage), world_.time, config_.simulation.threads);
     }
@@ -749,15 +749,6 @@ MembraneDef DamperRun::membrane_def() const {
     d.vacancy_fraction = 0.25;
     d.seed = config_.simulation.seed;
     return d;
-}
-
-void DamperRun::save_world(const std::string& path, const std::string& blob) const {
-    if (world_.pressure.fans.empty()) {
-        dem::save_checkpoint(path, world_, blob);
-        return;
-    }
-    // The fans follow from the foil, which the config rebuilds (bit for bit): saved without them.
-    save_checkpoint_without_fans(path, const_cast<dem::World&>(world_), blob);
 }
 
 void DamperRun::warn(const std::string& what) {
