@@ -97,12 +97,22 @@ struct DamperResult {
     Config config;  // the settings the run used: a run from a checkpoint takes some of its values
 };
 
-// Whether the prepared sample `prepared_ckpt` (a prepared.ckpt) is one `c` would have prepared:
-// "" when it fits, else why not (a stage past the preparation, a geometry key, or with
-// `preparation_keys` a key that acts during the preparation, each with both values). A study
-// takes its samples from another study's folder by it (Study::samples_from). Throws
+// What a checkpoint records of the sample in it, read once (a study matches one file against
+// many cases): whether it is a prepared sample (stage "prepared") and the numbers of the keys
+// that shaped it, the geometry (an older vppdem's missing keys at their legacy values) and the
+// keys acting during the preparation (those an older vppdem did not record are absent). Throws
 // std::runtime_error when the file cannot be read.
-std::string sample_misfit(const Config& c, const std::string& prepared_ckpt, bool preparation_keys);
+struct SampleRecord {
+    bool prepared = false;
+    std::map<std::string, double> keys;
+};
+SampleRecord read_sample_record(const std::string& checkpoint);
+
+// Whether the sample is one `c` would have prepared: "" when it fits, else why not (not a
+// prepared sample, a geometry key, or with `preparation_keys` a key that acts during the
+// preparation, each with both values). A study takes its samples from another study's folder by
+// it (Study::samples_from).
+std::string sample_misfit(const Config& c, const SampleRecord& sample, bool preparation_keys);
 
 // With opt.from: the checkpoint's geometry replaces the config's (a geometry key the config
 // gives with another value is an error), and a checkpoint of a run that started (run.ckpt past

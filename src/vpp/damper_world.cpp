@@ -503,14 +503,22 @@ void DamperRun::log(const char* fmt, ...) const {
 
 }  // namespace damper_detail
 
-std::string sample_misfit(const Config& c, const std::string& prepared_ckpt, bool preparation_keys) {
+SampleRecord read_sample_record(const std::string& checkpoint) {
     using namespace damper_detail;
     dem::World scratch;
-    const RunState ck = RunState::load(dem::load_checkpoint(prepared_ckpt, scratch), prepared_ckpt);
-    if (ck.stage != Stage::Prepared) return "not a prepared sample (its stage is past the preparation)";
-    std::map<std::string, double> stored = ck.geometry;
+    const RunState ck = RunState::load(dem::load_checkpoint(checkpoint, scratch), checkpoint);
+    SampleRecord r;
+    r.prepared = ck.stage == Stage::Prepared;
+    r.keys = ck.geometry;
     for (const StoredKey& k : kGeometryKeys)
-        if (!stored.count(k.key) && std::isfinite(k.legacy)) stored[k.key] = k.legacy;
+        if (!r.keys.count(k.key) && std::isfinite(k.legacy)) r.keys[k.key] = k.legacy;
+    return r;
+}
+
+std::string sample_misfit(const Config& c, const SampleRecord& sample, bool preparation_keys) {
+    using namespace damper_detail;
+    if (!sample.prepared) return "not a prepared sample (its stage is past the preparation)";
+    const std::map<std::string, double>& stored = sample.keys;
     std::string diffs;
     auto compare = [&](const StoredKey& k, bool missing_differs) {
         const auto it = stored.find(k.key);

@@ -28,7 +28,7 @@ using cfg::ConfigError;
 
 namespace {
 
-void publish(const Study& s, const SweepOptions& opt, const std::vector<StudyCase>& cases);
+void publish(const SweepOptions& opt, const SweepResult& res);
 
 // --report-only: the tables from the records already in DIR. Only reads: no case folder, FAILED
 // marker or case.toml is written, so a sweep running into DIR at the same time is not disturbed
@@ -74,7 +74,7 @@ SweepResult report_sweep(const Study& s, const SweepOptions& opt, SweepResult re
         std::fprintf(stderr, "sweep --report-only: %zu of %zu cases finished%s; ran nothing; wrote %s\n", finished,
                      res.cases.size(), res.failed ? (", " + std::to_string(res.failed) + " unreadable").c_str() : "",
                      names.c_str());
-    publish(s, opt, res.cases);
+    publish(opt, res);
     return res;
 }
 
@@ -155,23 +155,29 @@ std::map<int, fs::path> find_shared_samples(const Study& s, const SweepOptions& 
     for (const auto& e : fs::directory_iterator(from))
         if (e.is_directory() && fs::exists(e.path() / "prepared.ckpt")) samples.push_back(e.path() / "prepared.ckpt");
     std::sort(samples.begin(), samples.end());
+    // Each file read once, whatever the number of groups it is matched against.
+    std::vector<std::optional<SampleRecord>> records(samples.size());
+    std::vector<std::string> unreadable(samples.size());
+    for (std::size_t k = 0; k < samples.size(); ++k) {
+        try {
+            records[k] = read_sample_record(samples[k].string());
+        } catch (const std::exception& e) {
+            unreadable[k] = std::string("unreadable: ") + e.what();
+        }
+    }
     std::size_t groups = 0;
     for (std::size_t i = 0; i < cases.size(); ++i) {
         if (cases[i].preparer != i) continue;
         ++groups;
         std::string first_why;
-        for (const fs::path& p : samples) {
-            std::string why;
-            try {
-                why = sample_misfit(cases[i].config, p.string(), !s.samples_match_geometry);
-            } catch (const std::exception& e) {
-                why = std::string("unreadable: ") + e.what();
-            }
+        for (std::size_t k = 0; k < samples.size(); ++k) {
+            const std::string why =
+                records[k] ? sample_misfit(cases[i].config, *records[k], !s.samples_match_geometry) : unreadable[k];
             if (why.empty()) {
-                found[cases[i].group] = p;
+                found[cases[i].group] = samples[k];
                 break;
             }
-            if (first_why.empty()) first_why = p.parent_path().filename().string() + ": " + why;
+            if (first_why.empty()) first_why = samples[k].parent_path().filename().string() + ": " + why;
         }
         if (!found.count(cases[i].group) && !opt.quiet && opt.rank == 0)
             std::fprintf(stderr, "sweep: %s: no sample in %s fits (%s); it prepares its own\n", cases[i].name.c_str(),
@@ -431,12 +437,12 @@ private:
 };
 
 // --publish: the finished cases' small records and the tables into the results folder.
-void publish(const Study& s, const SweepOptions& opt, const std::vector<StudyCase>& cases) {
+void publish(const SweepOptions& opt, const SweepResult& res) {
     if (opt.publish.empty()) return;
-    const std::size_t held = publish_records(opt.publish, opt.out_dir, s, cases);
+    const std::size_t held = publish_records(opt.publish, opt.out_dir, res.cases, res.outcomes);
     if (!opt.quiet)
         std::fprintf(stderr, "sweep: published into %s (%zu of %zu cases there)\n", opt.publish.c_str(), held,
-                     cases.size());
+                     res.cases.size());
 }
 
 // Gathers the ranks' outcomes on rank 0, which writes the study's tables; every rank learns the
@@ -452,7 +458,7 @@ void gather_and_write_tables(const Study& s, const SweepOptions& opt, SweepResul
         const std::string names = write_study_tables(fs::path(opt.out_dir), s, res.cases, res.outcomes);
         if (!opt.quiet)
             std::fprintf(stderr, "sweep: %zu cases, %d failed; wrote %s\n", res.cases.size(), res.failed, names.c_str());
-        publish(s, opt, res.cases);
+        publish(opt, res);
     }
     res.failed = mpi_broadcast_int(res.failed);
 }

@@ -400,7 +400,7 @@ void copy_if_changed(const fs::path& from, const fs::path& to) {
     dem::write_text_atomic(to.string(), text);
 }
 
-// The finished runs ("ok" rows) of a summary.csv; 0 when there is none.
+// The finished runs ("ok" rows) of a published summary.csv; 0 when there is none.
 std::size_t ok_rows(const fs::path& summary) {
     if (!fs::exists(summary)) return 0;
     std::istringstream in(read_text(summary));
@@ -442,25 +442,20 @@ std::size_t restore_published(const fs::path& results, const fs::path& out, cons
     return n;
 }
 
-std::size_t publish_records(const fs::path& results, const fs::path& out, const Study& s,
-                            const std::vector<StudyCase>& cases) {
+std::size_t publish_records(const fs::path& results, const fs::path& out, const std::vector<StudyCase>& cases,
+                            const std::vector<CaseOutcome>& outcomes) {
     fs::create_directories(results);
-    std::size_t held = 0;
+    std::size_t held = 0, finished = 0;
     for (std::size_t i = 0; i < cases.size(); ++i) {
-        const StudyCase& c = cases[i];
-        const fs::path run = out / c.name;
-        bool done = false;
-        try {
-            done = finished_case(run, case_record(s, c), c.config).has_value();
-        } catch (const std::exception&) {
-            done = false;  // records of other settings: not this study's to publish
-        }
-        if (done)
+        const fs::path run = out / cases[i].name;
+        if (outcomes[i].ok) {
+            ++finished;
             for (const std::string& f : kRunRecords)
-                if (fs::exists(run / f)) copy_if_changed(run / f, results / c.name / f);
-        held += fs::exists(results / c.name / "summary.json");
+                if (fs::exists(run / f)) copy_if_changed(run / f, results / cases[i].name / f);
+        }
+        held += fs::exists(results / cases[i].name / "summary.json");
     }
-    if (ok_rows(out / "summary.csv") >= ok_rows(results / "summary.csv"))
+    if (finished >= ok_rows(results / "summary.csv"))
         for (const std::string& f : kStudyTables)
             if (fs::exists(out / f)) copy_if_changed(out / f, results / f);
     return held;

@@ -148,11 +148,12 @@ inline const std::vector<std::string> kStudyTables = {"summary.csv", "summary_ca
 std::size_t restore_published(const std::filesystem::path& results, const std::filesystem::path& out,
                               const std::vector<StudyCase>& cases);
 
-// Every finished case's records (a case whose records are complete for this study:
-// finished_case) into RESULTS/<case>/, each file only when it changed, through a temporary name
-// (a reader never sees half a file); then the study's tables, unless the published summary.csv
-// lists more finished cases (a sweep of part of the study). Returns how many cases RESULTS holds.
-std::size_t publish_records(const std::filesystem::path& results, const std::filesystem::path& out, const Study& s,
-                            const std::vector<StudyCase>& cases);
+// Every finished case's records (its outcome ok: records complete for this study, as the sweep or
+// the report read them) into RESULTS/<case>/, each file only when it changed, through a temporary
+// name (a reader never sees half a file); then the study's tables, unless the published
+// summary.csv lists more finished cases (a sweep of part of the study). Returns how many cases
+// RESULTS holds.
+std::size_t publish_records(const std::filesystem::path& results, const std::filesystem::path& out,
+                            const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes);
 
 }  // namespace vpp
