@@ -605,11 +605,11 @@ PYBIND11_MODULE(_core, m) {
         .def("add_bond", &dem::World::add_bond, py::arg("i"), py::arg("j"), py::arg("kn"), py::arg("ks"),
              py::arg("rest_length") = -1.0, "Permanent bond: kn, ks [N/m]; rest_length [m] (< 0: the current distance)")
         .def_property(
-            "bond_arm", [](const dem::World& w) { return w.bonds().arm == dem::BondArm::kBondPoint ? "bond_point" : "radius"; },
+            "bond_arm", [](const dem::World& w) { return dem::bond_arm_name(w.bonds().arm); },
             [](dem::World& w, const std::string& a) {
-                if (a != "radius" && a != "bond_point")
-                    throw py::value_error("bond_arm: '" + a + "' is not allowed (\"radius\" or \"bond_point\")");
-                w.set_bond_arm(a == "radius" ? dem::BondArm::kRadius : dem::BondArm::kBondPoint);
+                const std::optional<dem::BondArm> arm = dem::bond_arm_from_name(a);
+                if (!arm) throw py::value_error("bond_arm: '" + a + "' is not allowed (\"radius\" or \"bond_point\")");
+                w.set_bond_arm(*arm);
             },
             "Where the bonds' shear springs are driven from: \"radius\" (the full radii, the paper's convention) or "
             "\"bond_point\" (where the torques act: a rigid motion loads no spring)")

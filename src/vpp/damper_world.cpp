@@ -54,7 +54,7 @@ std::string show(const std::string& key, double v) {
     if (key == "process.waveform") return v == 0.0 ? "\"triangle\"" : "\"sine\"";
     if (key == "output.energy" || key == "damper.refill") return v != 0.0 ? "true" : "false";
     if (key == "foil.builder") return v == 0.0 ? "\"lattice\"" : "\"mesh\"";
-    if (key == "foil.bond_arm") return v == 0.0 ? "\"radius\"" : "\"bond_point\"";
+    if (key == "foil.bond_arm") return "\"" + std::string(dem::bond_arm_name(dem::BondArm(int(v)))) + "\"";
     if (key == "simulation.dt" && v == 0.0) return "\"auto\"";
     if (key == "damper.cap_friction" && v < 0.0) return "(unset: the grains' friction)";
     // Words, not the numbers the checkpoint keeps for them (a refusal said "grains.shape = 5").
@@ -706,7 +706,7 @@ void DamperRun::build() {
     world_.params.local_damping = config_.simulation.local_damping;
     world_.params.threads = config_.simulation.threads;
     world_.params.skin = config_.simulation.skin;
-    world_.set_bond_arm(config_.foil.bond_arm == 1 ? dem::BondArm::kBondPoint : dem::BondArm::kRadius);
+    world_.set_bond_arm(config_.foil.bond_arm);
     if (mesh_foil()) {
         // The lattice's cylinder (its ring radius and height, which the paper's rules choose
         // from damper.radius and damper.height), built by the membrane builder: the two foils
@@ -986,7 +986,7 @@ void DamperRun::apply_config_to_prepared() {
         const double kn = bond_normal_stiffness(config_.foil);
         for (std::size_t b = 0; b < world_.bonds().size(); ++b) world_.set_bond_stiffness(uint32_t(b), kn, config_.foil.stiffness_ratio * kn);
     }
-    world_.set_bond_arm(config_.foil.bond_arm == 1 ? dem::BondArm::kBondPoint : dem::BondArm::kRadius);
+    world_.set_bond_arm(config_.foil.bond_arm);
     world_.invalidate_contact_physics();
     world_.params.local_damping = cycling_local_damping(config_);  // the preparation ran with simulation.local_damping
     world_.params.threads = config_.simulation.threads;

@@ -208,9 +208,9 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     // 0.45-1.27 diameters long, and with the full radii a rigid rotation would load them
     // (docs/energy.md, "Bonds"); "radius" keeps the damper's lattice convention.
     {
-        const std::string arm = mem.string("bond_arm", "bond_point");
-        if (arm != "bond_point" && arm != "radius") mem.fail("bond_arm", "must be \"bond_point\" or \"radius\"");
-        f.bond_arm = arm == "bond_point" ? 1 : 0;
+        const std::optional<dem::BondArm> arm = dem::bond_arm_from_name(mem.string("bond_arm", "bond_point"));
+        if (!arm) mem.fail("bond_arm", "must be \"bond_point\" or \"radius\"");
+        f.bond_arm = *arm;
     }
     d.clamp_tool = mem.string("clamp_tool", "");
     read_numbers(mem, "membrane", d);
@@ -393,7 +393,7 @@ std::vector<std::pair<std::string, std::string>> device_inputs(const DeviceDef& 
     in.emplace_back("membrane.spacing", json_number(d.membrane.spacing));
     in.emplace_back("membrane.vacancies", d.membrane.vacancies ? "true" : "false");
     in.emplace_back("membrane.stiffness_factor", json_number(d.membrane.stiffness_factor));
-    in.emplace_back("membrane.bond_arm", json_string(d.membrane.foil.bond_arm == 1 ? "bond_point" : "radius"));
+    in.emplace_back("membrane.bond_arm", json_string(dem::bond_arm_name(d.membrane.foil.bond_arm)));
     in.emplace_back("air.pump_speed", json_number(d.air.line.speed));
     in.emplace_back("air.bleed_rate", json_number(d.air.line.bleed));
     in.emplace_back("air.leak_rate", json_number(d.air.line.leak));

@@ -23,9 +23,9 @@ struct FoilDef {
     double density{};             // [kg/m^3] foil particle density (paper)
     double friction{};            // [-] foil particles are frictionless
     double stiffness_ratio{};     // [-] ks/kn of bonds and foil contacts
-    // Where the bonds' shear springs are driven from (dem::BondArm): 0 the full radii, the
-    // paper's convention; 1 the bond point, where the torques act.
-    int bond_arm{};
+    // Where the bonds' shear springs are driven from: the full radii, the paper's convention, or
+    // the bond point, where the torques act (dem/bonds/bond_list.h).
+    dem::BondArm bond_arm = dem::BondArm::kRadius;
 };
 
 // E_s = 2 E_f t_f / (2 r_f) [Pa]: only every second chain carries load (factor 2) and the

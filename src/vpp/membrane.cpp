@@ -214,7 +214,7 @@ void place_membrane(dem::World& w, const MembraneDef& d, Membrane& m) {
 
     m.material = add_foil_material(w, f);
     // One arm for every bond of the World (dem::BondList): the membrane's.
-    w.set_bond_arm(f.bond_arm == 1 ? dem::BondArm::kBondPoint : dem::BondArm::kRadius);
+    w.set_bond_arm(f.bond_arm);
     m.particle.assign(ns, -1);
     for (std::size_t s = 0; s < ns; ++s) {
         if (vacant[s]) {

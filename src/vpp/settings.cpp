@@ -234,9 +234,9 @@ const std::vector<Setting>& table() {
                 "(docs/energy.md, \"Bonds\")",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
              const std::string k = short_key(r);
-             const std::string a = s.string(k, "radius");
-             if (a != "radius" && a != "bond_point") s.fail(k, r.allowed);
-             c.foil.bond_arm = a == "bond_point" ? 1 : 0;
+             const std::optional<dem::BondArm> a = dem::bond_arm_from_name(s.string(k, "radius"));
+             if (!a) s.fail(k, r.allowed);
+             c.foil.bond_arm = *a;
          },
          FIELD(foil.bond_arm), .legacy = 0.0},  // an older vppdem's bonds used the full radii
         // The mesh foil is the damper's (its run builds, loads and checkpoints it); the tension

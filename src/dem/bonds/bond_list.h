@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
+#include <string_view>
 #include <vector>
 
 #include "dem/bonds/bond_law.h"
@@ -17,6 +19,14 @@ namespace dem {
 // kBondPoint: the relative velocity at the bond point, where the torques act: a rigid motion
 // leaves the spring unloaded and it stores exactly the work of the torques (docs/energy.md, "Bonds").
 enum class BondArm : uint8_t { kRadius = 0, kBondPoint = 1 };
+
+// The arms' names in config files and Python: "radius", "bond_point"; nullopt for any other.
+inline const char* bond_arm_name(BondArm a) { return a == BondArm::kBondPoint ? "bond_point" : "radius"; }
+inline std::optional<BondArm> bond_arm_from_name(std::string_view name) {
+    if (name == "radius") return BondArm::kRadius;
+    if (name == "bond_point") return BondArm::kBondPoint;
+    return std::nullopt;
+}
 
 struct BondList {
     std::vector<uint32_t> i, j;       // particle indices, i < j
