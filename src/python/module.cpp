@@ -764,12 +764,14 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "sweep",
         [](const std::string& study, const std::string& out, const std::vector<std::string>& sets, int seeds, int jobs,
-           bool quiet, py::object progress, const std::string& backend, bool mix_builds, const std::string& publish) {
+           bool quiet, py::object progress, const std::string& backend, bool mix_builds, const std::string& publish,
+           bool report_only) {
             const vpp::Study st = vpp::load_study(study, sets, seeds);
             vpp::SweepOptions so;
             so.out_dir = out;
             so.jobs = jobs;
             so.quiet = quiet;
+            so.report_only = report_only;  // vppdem sweep --report-only
             so.backend = backend;  // "cpu", "batch" or "cuda" (vppdem sweep --backend)
             so.mix_builds = mix_builds;  // vppdem sweep --mix-builds
             so.publish = publish;        // vppdem sweep --publish (empty: none)
@@ -781,7 +783,25 @@ PYBIND11_MODULE(_core, m) {
         },
         py::arg("study"), py::arg("out"), py::arg("sets") = std::vector<std::string>{}, py::arg("seeds") = 0,
         py::arg("jobs") = 0, py::arg("quiet") = true, py::arg("progress") = py::none(), py::arg("backend") = "cpu",
-        py::arg("mix_builds") = false, py::arg("publish") = "");
+        py::arg("mix_builds") = false, py::arg("publish") = "", py::arg("report_only") = false);
+    // `vppdem sweep --list`: the study's cases, checked, none run.
+    m.def(
+        "study_cases",
+        [](const std::string& study, const std::vector<std::string>& sets, int seeds) {
+            const std::vector<vpp::StudyCase> cases = vpp::expand_study(vpp::load_study(study, sets, seeds));
+            py::list out;
+            for (const vpp::StudyCase& c : cases) {
+                py::dict d;
+                d["index"] = c.index + 1;  // 1-based, as --list prints them
+                d["name"] = c.name;
+                d["group"] = c.group + 1;
+                d["prepares"] = c.preparer == c.index;
+                d["branches_from"] = c.preparer == c.index ? py::object(py::none()) : py::str(cases[c.preparer].name);
+                out.append(d);
+            }
+            return out;
+        },
+        py::arg("study"), py::arg("sets") = std::vector<std::string>{}, py::arg("seeds") = 0);
     m.def(
         "calibrate",
         [](const std::string& study, const std::string& experiment, const std::string& out,

@@ -510,7 +510,7 @@ def build():
 
 
 def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None, progress=None, backend="cpu",
-          mix_builds=False, publish=None):
+          mix_builds=False, publish=None, report_only=False):
     """`vppdem sweep STUDY --out OUT`: runs (or resumes) the study; returns the failed cases'
     count. sets: ["key=value", ...] or `settings` (a dict) fixed for every case.
     backend: "cpu", "batch" or "cuda", as the command's --backend (docs/studies.md, docs/gpu.md).
@@ -519,6 +519,8 @@ def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None
     ConfigError, without it).
     publish: a results folder, as --publish: the finished cases' small records and the tables
     are kept there, and records there that `out` lacks are put back first (docs/studies.md).
+    report_only: as --report-only: runs nothing, writes the tables from the cases finished in
+    `out` (which must exist, else ConfigError naming it).
     progress: None, True (a tqdm bar over the cases, else a line per case on stderr) or a
     callable progress(done, total, case) called after each finished case. Ctrl-C, or an
     exception of the callable, stops the sweep and is raised; finished cases stay, and the
@@ -526,7 +528,8 @@ def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None
     extra = _study_sets(sets, settings)
     return _run(_core.sweep, progress, os.fspath(study_path), os.fspath(out), extra, int(seeds),
                 _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), callback=_CaseProgress, backend=str(backend),
-                mix_builds=bool(mix_builds), publish=os.fspath(publish) if publish is not None else "")
+                mix_builds=bool(mix_builds), publish=os.fspath(publish) if publish is not None else "",
+                report_only=bool(report_only))
 
 
 def device(device_file, out, sets=None, settings=None, from_checkpoint=None, overwrite=False, quiet=True,

@@ -1,24 +1,17 @@
 """``vppdem.Study``: a study file (docs/studies.md) and its output folder as one object.
 
-A thin front to what exists: ``run()`` is ``vppdem.sweep``, ``calibrate()`` is
-``vppdem.calibrate``, and ``cases()`` and ``report()`` are the command's ``vppdem sweep STUDY
---out DIR --list`` and ``--report-only``, run as a subprocess (the compiled module exposes
-neither): the ``vppdem`` binary named by the environment variable ``VPPDEM`` (or
-``VPPDEM_BINARY``, as the test suite sets it), else the one of the compiled module's build
-(``build/vppdem`` beside ``build/python/vppdem/_core*.so``), else ``vppdem`` on PATH.
-``summary()``, ``cases_summary()`` and ``paired()`` read the tables back with the csv module.
-Nothing here changes what the engine does or writes.
+A thin front to what exists: ``run()`` is ``vppdem.sweep``, ``report()`` is ``vppdem.sweep`` with
+``report_only`` (the command's ``--report-only``), ``cases()`` the command's ``--list`` (the
+compiled module's ``study_cases``), ``calibrate()`` is ``vppdem.calibrate``; ``summary()``,
+``cases_summary()`` and ``paired()`` read the tables back with the csv module. Nothing here
+changes what the engine does or writes.
 """
 
 import csv
 import errno
 import os
-import shutil
-import subprocess
-import sys
-import warnings
 
-from . import ConfigError, _count, _study_sets, calibrate as _calibrate, sweep as _sweep
+from . import _core, _count, _study_sets, calibrate as _calibrate, sweep as _sweep
 
 # Columns that are text whatever they hold (names, messages), never numbers.
 _TEXT_COLUMNS = frozenset({"case", "cases", "status", "warnings", "key", "group", "quantity"})
@@ -42,66 +35,6 @@ def _cell(column, text):
 def _read_table(path):
     with open(path, newline="") as f:
         return [{k: _cell(k, v) for k, v in row.items()} for row in csv.DictReader(f)]
-
-
-def _core_binary():
-    """The vppdem binary of the compiled module's build, or None: build/vppdem for
-    build/python/vppdem/_core*.so (symbolic links followed), or one beside the module."""
-    try:
-        from . import _core as core
-
-        module = getattr(core, "__file__", None)
-    except ImportError:
-        module = None
-    if not module:
-        return None
-    here = os.path.dirname(os.path.realpath(module))
-    for d in (os.path.dirname(os.path.dirname(here)), here, os.path.dirname(here)):
-        p = os.path.join(d, "vppdem")
-        if os.path.isfile(p) and os.access(p, os.X_OK):
-            return p
-    return None
-
-
-def find_binary():
-    """The path of the ``vppdem`` command that cases() and report() run: $VPPDEM, else
-    $VPPDEM_BINARY, else the compiled module's build's, else ``vppdem`` on PATH. Raises
-    FileNotFoundError when there is none (or a variable names a file that is not there)."""
-    for var in ("VPPDEM", "VPPDEM_BINARY"):
-        p = os.environ.get(var, "")
-        if p:
-            if not (os.path.isfile(p) and os.access(p, os.X_OK)):
-                raise FileNotFoundError(errno.ENOENT, f"${var} names no executable vppdem binary", p)
-            return p
-    p = _core_binary() or shutil.which("vppdem")
-    if p is None:
-        raise FileNotFoundError("the vppdem binary (for `vppdem sweep --list` / `--report-only`) was not found: "
-                                "set VPPDEM=/path/to/build/vppdem, or put vppdem on PATH")
-    return p
-
-
-_checked_builds = set()
-
-
-def _check_build(binary):
-    """Warns once per binary when it is not the compiled module's build (the tables of another
-    build may differ: e.g. its stationary-loop criterion)."""
-    if binary in _checked_builds:
-        return
-    _checked_builds.add(binary)
-    try:
-        from . import _core as core
-
-        mine = dict(core.build())["id"]
-    except (ImportError, AttributeError, KeyError):
-        return  # no compiled module: nothing to compare with
-    try:
-        r = subprocess.run([binary, "--version"], capture_output=True, text=True, timeout=60)
-    except (OSError, subprocess.SubprocessError):
-        return
-    if r.returncode == 0 and f"build {mine}" not in r.stdout:
-        warnings.warn(f"vppdem.Study: {binary} ({r.stdout.strip()}) is not the compiled module's build {mine}; "
-                      "set VPPDEM to the binary of the same build", RuntimeWarning, stacklevel=3)
 
 
 class Study:
@@ -141,26 +74,6 @@ class Study:
     def __repr__(self):
         return f"vppdem.Study({self.path!r}, out={self.out!r})"
 
-    # --- the command, as a subprocess -------------------------------------------------------------
-    def _command(self, *flags, quiet=True):
-        binary = find_binary()
-        _check_build(binary)
-        argv = [binary, "sweep", self.path, "--out", self.out, *flags]
-        for s in self._extra:
-            argv += ["--set", s]
-        if self.seeds:
-            argv += ["--seeds", str(self.seeds)]
-        if quiet and "--report-only" in flags:
-            argv.append("--quiet")
-        r = subprocess.run(argv, capture_output=True, text=True)
-        if not quiet and r.stderr:
-            sys.stderr.write(r.stderr)
-        if r.returncode != 0:
-            why = r.stderr.strip().replace("vppdem: error: ", "") or f"exit status {r.returncode}"
-            # Exit status 2: the study or its arguments refused (as vppdem.sweep's ConfigError).
-            raise (ConfigError if r.returncode == 2 else RuntimeError)(why)
-        return r.stdout
-
     def cases(self):
         """The study's cases as ``vppdem sweep STUDY --out DIR --list`` gives them (checked, none
         run): a list of dicts in the sweep's order, with ``index`` (1-based, as listed), ``name``
@@ -168,21 +81,9 @@ class Study:
         number of its preparation), ``prepares`` (True: it prepares that sample) and
         ``branches_from`` (the name of the case whose prepared sample it starts from; None when it
         prepares). A bad study raises vppdem.ConfigError with the command's message."""
-        rows = []
-        for line in self._command("--list").splitlines():
-            parts = line.split(None, 4)
-            if len(parts) < 5 or parts[1] != "prep":
-                continue
-            index, _, group, name, rest = parts
-            rest = rest.strip()
-            prepares = rest == "(prepares)"
-            branches = None
-            if not prepares:
-                if not (rest.startswith("(branches from ") and rest.endswith(")")):
-                    raise RuntimeError(f"Study.cases(): cannot read the line {line!r} of `vppdem sweep --list`")
-                branches = rest[len("(branches from "):-1]
-            rows.append({"index": int(index), "name": name, "folder": os.path.join(self.out, name),
-                         "group": int(group), "prepares": prepares, "branches_from": branches})
+        rows = _core.study_cases(self.path, self._extra, self.seeds)
+        for r in rows:
+            r["folder"] = os.path.join(self.out, r["name"])
         return rows
 
     def report(self, quiet=True):
@@ -190,13 +91,11 @@ class Study:
         summary_cases.csv (and, with seeds, summary_paired.csv) from the cases finished in
         ``out``, the others with status "not run" (published too with ``publish``). Returns
         summary() of the new tables. ``out`` must exist (FileNotFoundError naming it).
-        quiet=False passes the command's line "N of M cases finished" on to stderr."""
+        quiet=False prints the line "N of M cases finished" on stderr."""
         if not os.path.isdir(self.out):
             raise FileNotFoundError(errno.ENOENT, "Study.report(): no output folder (run() first)", self.out)
-        flags = ["--report-only"]
-        if self.publish is not None:
-            flags += ["--publish", self.publish]
-        self._command(*flags, quiet=quiet)
+        _sweep(self.path, self.out, sets=self.sets, seeds=self.seeds, quiet=quiet, settings=self.settings,
+               publish=self.publish, report_only=True)
         return self.summary()
 
     # --- the module's functions -------------------------------------------------------------------
