@@ -44,10 +44,15 @@ template <class R> VPPDEM_BODY auto spheres_touch_lanes(const V3<R>& xi, const R
     return norm2(dx) < rs * rs;
 }
 
-// Velocity of body 2 relative to body 1 at the contact, lever arms at the full radii along n
-// (Yade's avoidGranularRatcheting).
+// Velocity of body 2 relative to body 1 at the point arm1 along n from body 1's centre and arm2
+// back along n from body 2's [m].
+template <class R>
+VPPDEM_BODY V3<R> pair_relative_velocity_at(const PairLanes<R>& q, const V3<R>& n, const R& arm1, const R& arm2) {
+    return (q.vj + cross(q.wj, n * neg(arm2))) - (q.vi + cross(q.wi, n * arm1));
+}
+// At the contact, lever arms at the full radii along n (Yade's avoidGranularRatcheting).
 template <class R> VPPDEM_BODY V3<R> pair_relative_velocity(const PairLanes<R>& q, const V3<R>& n) {
-    return (q.vj + cross(q.wj, n * neg(q.rj))) - (q.vi + cross(q.wi, n * q.ri));
+    return pair_relative_velocity_at(q, n, q.ri, q.rj);
 }
 
 // Sphere-sphere geometry (dem/detect/geometry.h, sphere_sphere), evaluated whether or not the
@@ -148,12 +153,9 @@ VPPDEM_BODY BondGeometryLanes<R> bond_geometry_lanes(const PairLanes<R>& q, bool
     b.dist = lane_sqrt(norm2(dx));
     b.n = dx * (lit(q.ri, 1.0) / b.dist);
     b.half_gap = half * (q.ri + q.rj - b.dist);
-    if (bond_point) {
-        const R arm1 = q.ri - b.half_gap, arm2 = q.rj - b.half_gap;  // arm1 + arm2 = dist
-        b.vrel = (q.vj + cross(q.wj, b.n * neg(arm2))) - (q.vi + cross(q.wi, b.n * arm1));
-    } else {
-        b.vrel = pair_relative_velocity(q, b.n);
-    }
+    // At the bond point the arms add up to dist.
+    b.vrel = bond_point ? pair_relative_velocity_at(q, b.n, q.ri - b.half_gap, q.rj - b.half_gap)
+                        : pair_relative_velocity(q, b.n);
     b.spin_n = half * dot(b.n, q.wi + q.wj);
     return b;
 }
