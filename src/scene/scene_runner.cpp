@@ -388,6 +388,12 @@ dem::FolderLock lock_output_dir(const std::string& dir) {
     return lock;
 }
 
+std::string resume_checkpoint(const std::string& out_dir, const std::string& from, bool overwrite) {
+    if (!from.empty() || overwrite || out_dir.empty()) return from;
+    const fs::path own = fs::path(out_dir) / "run.ckpt";
+    return fs::exists(own) ? own.string() : std::string();
+}
+
 dem::FolderLock prepare_output_dir(const std::string& dir, bool overwrite) {
     dem::FolderLock lock = lock_output_dir(dir);
     if (!overwrite)

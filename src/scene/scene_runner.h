@@ -62,4 +62,10 @@ dem::FolderLock lock_output_dir(const std::string& dir);
 // lock_output_dir() and record_build(dir, false) instead.
 dem::FolderLock prepare_output_dir(const std::string& dir, bool overwrite);
 
+// One resume rule for every command that writes a run folder (damper, device, a sweep's cases):
+// the checkpoint a run starts from: `from` when given; else the folder's run.ckpt when it is
+// there and the run is not told to start afresh (overwrite), so that the same command into the
+// same folder continues its run; else "" (a new run).
+std::string resume_checkpoint(const std::string& out_dir, const std::string& from, bool overwrite);
+
 }  // namespace scene

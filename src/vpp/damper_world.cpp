@@ -124,10 +124,11 @@ std::vector<Vec3> generate_grains(const Config& c, const FoilLattice& L, std::si
 DamperRun::DamperRun(const Config& c, const DamperOptions& o) : config_(c), options_(o), recorder_(o.out_dir) {
     // One resume rule for every command (the sweep's cases and `vppdem device` alike): running
     // into a folder that holds a run.ckpt again continues that run; --overwrite starts afresh.
-    if (recorder_.writes() && options_.from.empty() && !options_.overwrite && fs::exists(recorder_.run_checkpoint())) {
-        options_.from = recorder_.run_checkpoint().string();
-        log("damper: resuming from %s (the same command into the same --out continues its run; --overwrite starts "
-            "afresh)\n", options_.from.c_str());
+    if (options_.from.empty()) {
+        options_.from = scene::resume_checkpoint(options_.out_dir, "", options_.overwrite);
+        if (!options_.from.empty())
+            log("damper: resuming from %s (the same command into the same --out continues its run; --overwrite "
+                "starts afresh)\n", options_.from.c_str());
     }
     setup();
 }

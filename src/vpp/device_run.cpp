@@ -259,9 +259,7 @@ private:
 DeviceRun::DeviceRun(const DeviceDef& d, const DeviceOptions& o) : def_(d), options_(o) {
     base_ = fs::path(d.path).parent_path().string();
     build();
-    std::string from = o.from;
-    if (from.empty() && !o.overwrite && !o.out_dir.empty() && fs::exists(fs::path(o.out_dir) / kCheckpointName))
-        from = (fs::path(o.out_dir) / kCheckpointName).string();
+    const std::string from = scene::resume_checkpoint(o.out_dir, o.from, o.overwrite);
     if (!from.empty()) {
         const std::string blob = dem::load_checkpoint(from, world_);
         state_ = DeviceState::load(blob, from);

@@ -329,15 +329,17 @@ private:
                     ask_hook(0, "");
                     if (stop_.load()) throw SweepStopped();
                 };
+            // The case's own run.ckpt first (the one resume rule), then its sample.
+            d.from = scene::resume_checkpoint(dir.string(), "", false);
             const auto shared = shared_.find(c.group);
-            if (fs::exists(dir / "run.ckpt")) {
-                d.from = (dir / "run.ckpt").string();
-            } else if (shared != shared_.end()) {
+            if (d.from.empty() && shared != shared_.end()) {
                 // Another study's sample: matched by geometry alone, the case cycles it with its
                 // own settings (samples_match = "geometry"), as a damper --from by hand would.
                 d.from = shared->second.string();
                 d.check_preparation = !s_.samples_match_geometry;
-            } else if (c.preparer != i && !self_prepare) d.from = (out_ / cases_[c.preparer].name / "prepared.ckpt").string();
+            } else if (d.from.empty() && c.preparer != i && !self_prepare) {
+                d.from = (out_ / cases_[c.preparer].name / "prepared.ckpt").string();
+            }
             const DamperResult r = run_damper(c.config, d);
             if (r.cycles.empty()) throw std::runtime_error("the run recorded no complete cycle");
             if (r.incomplete)
