@@ -539,10 +539,10 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
         char msg[512];
         std::snprintf(msg, sizeof msg,
                       "%s; stage '%s', time step %.4g s (simulation.dt = %s, simulation.dt_safety = %g); lower "
-                      "simulation.dt_safety (default 0.45) or check the stiffnesses (grains.young, foil.young, "
+                      "simulation.dt_safety (default %g) or check the stiffnesses (grains.young, foil.young, "
                       "*.stiffness_ratio)",
                       e.what(), d.stage().c_str(), d.world().params.dt,
-                      c.simulation.dt_auto ? "\"auto\"" : dt, c.simulation.dt_safety);
+                      c.simulation.dt_auto ? "\"auto\"" : dt, c.simulation.dt_safety, Config().simulation.dt_safety);
         throw std::runtime_error(msg);
     }
     const DamperResult r = write_damper_outputs(d, opt);

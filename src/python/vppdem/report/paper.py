@@ -1197,6 +1197,9 @@ def timestep_section(S, figdir, caption):
             rule += "; a finer level's mean lies outside it: " + ", ".join(f"{s:g}" for s in finer)
         if default is not None and not same(default, chosen):
             rule += f". The current default is {default:g} (src/vpp/settings.cpp): **default to change to {chosen:g}**"
+        elif default is not None and not same(default, TS_STUDIES):
+            rule += (f". The default ({default:g}, src/vpp/settings.cpp) is that level, since this study; the studies "
+                     f"ran at {TS_STUDIES:g}, the default of their build")
         elif default is not None:
             rule += f". The current default ({default:g}, src/vpp/settings.cpp) is that level: it stays"
     lines.append(f"- Default rule (issue 44): {rule}{prov}.")
