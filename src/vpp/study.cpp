@@ -146,15 +146,22 @@ void open_study_folder(const SweepOptions& opt, SweepResult& res) {
 std::map<int, fs::path> find_shared_samples(const Study& s, const SweepOptions& opt, const std::vector<StudyCase>& cases) {
     std::map<int, fs::path> found;
     if (s.samples_from.empty()) return found;
-    fs::path from(s.samples_from);
-    if (from.is_relative()) from = fs::path(opt.out_dir).parent_path() / from;
-    if (!fs::is_directory(from))
-        throw ConfigError("study '" + s.path + "': key 'samples_from' = \"" + s.samples_from + "\": no folder '" +
-                          from.string() + "' (another study's --out, relative to the folder that holds this --out)");
+    // The folders in the order given, each one's samples in folder-name order.
     std::vector<fs::path> samples;
-    for (const auto& e : fs::directory_iterator(from))
-        if (e.is_directory() && fs::exists(e.path() / "prepared.ckpt")) samples.push_back(e.path() / "prepared.ckpt");
-    std::sort(samples.begin(), samples.end());
+    std::string where;
+    for (const std::string& name : s.samples_from) {
+        fs::path from(name);
+        if (from.is_relative()) from = fs::path(opt.out_dir).parent_path() / from;
+        if (!fs::is_directory(from))
+            throw ConfigError("study '" + s.path + "': key 'samples_from' names \"" + name + "\": no folder '" +
+                              from.string() + "' (another study's --out, relative to the folder that holds this --out)");
+        std::vector<fs::path> here;
+        for (const auto& e : fs::directory_iterator(from))
+            if (e.is_directory() && fs::exists(e.path() / "prepared.ckpt")) here.push_back(e.path() / "prepared.ckpt");
+        std::sort(here.begin(), here.end());
+        samples.insert(samples.end(), here.begin(), here.end());
+        where += (where.empty() ? "" : ", ") + from.string();
+    }
     // Each file read once, whatever the number of groups it is matched against.
     std::vector<std::optional<SampleRecord>> records(samples.size());
     std::vector<std::string> unreadable(samples.size());
@@ -181,11 +188,11 @@ std::map<int, fs::path> find_shared_samples(const Study& s, const SweepOptions& 
         }
         if (!found.count(cases[i].group) && !opt.quiet && opt.rank == 0)
             std::fprintf(stderr, "sweep: %s: no sample in %s fits (%s); it prepares its own\n", cases[i].name.c_str(),
-                         from.string().c_str(), samples.empty() ? "none there" : first_why.c_str());
+                         where.c_str(), samples.empty() ? "none there" : first_why.c_str());
     }
     if (!opt.quiet && opt.rank == 0)
         std::fprintf(stderr, "sweep: samples from %s (%zu there, matched by %s): %zu of %zu preparation(s)\n",
-                     from.string().c_str(), samples.size(), s.samples_match_geometry ? "geometry" : "preparation",
+                     where.c_str(), samples.size(), s.samples_match_geometry ? "geometry" : "preparation",
                      found.size(), groups);
     return found;
 }

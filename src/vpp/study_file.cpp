@@ -25,10 +25,11 @@ const std::vector<StudyKey>& study_keys() {
         {"share_preparation", "boolean", "true",
          "cases that differ only in keys that do not act before the end of the preparation share one prepared "
          "sample (the settings' \"shares preparation\" column); false: every case prepares its own"},
-        {"samples_from", "string", "none: each preparation group prepares its sample",
+        {"samples_from", "string or list of strings", "none: each preparation group prepares its sample",
          "another study's folder whose prepared samples (its cases' prepared.ckpt) this study's cases branch from: "
-         "a path relative to the folder holding --out (a sibling study by its name), or absolute; a group no sample "
-         "fits prepares its own (said on stderr)"},
+         "a path relative to the folder holding --out (a sibling study by its name), or absolute; a list: searched "
+         "in its order, a group taking the first folder's fitting sample; a group no sample fits prepares its own "
+         "(said on stderr)"},
         {"samples_match", "string", "\"preparation\"",
          "with samples_from: \"preparation\", a sample fits when its geometry (simulation.seed included) and every "
          "key that acts during the preparation are the case's; \"geometry\", the geometry alone (the case cycles the "
@@ -207,9 +208,19 @@ Study load_study(const std::string& path, const std::vector<std::string>& extra_
     if (const toml::node* d = root.get("description"); d && !d->as_string())
         throw ConfigError(where + "key 'description' must be a string");
     if (const toml::node* f = root.get("samples_from")) {
-        if (!f->as_string() || f->as_string()->get().empty())
-            throw ConfigError(where + "key 'samples_from' must be a folder name or path (another study's --out)");
-        s.samples_from = f->as_string()->get();
+        const std::string allowed = "must be a folder name or path (another study's --out), or a list of them";
+        if (const toml::array* a = f->as_array()) {
+            if (a->empty()) throw ConfigError(where + "key 'samples_from' = []: " + allowed);
+            for (const toml::node& e : *a) {
+                if (!e.as_string() || e.as_string()->get().empty())
+                    throw ConfigError(where + "key 'samples_from' = " + cfg::describe(*f) + ": " + allowed);
+                s.samples_from.push_back(e.as_string()->get());
+            }
+        } else if (f->as_string() && !f->as_string()->get().empty()) {
+            s.samples_from.push_back(f->as_string()->get());
+        } else {
+            throw ConfigError(where + "key 'samples_from' = " + cfg::describe(*f) + ": " + allowed);
+        }
     }
     if (const toml::node* m = root.get("samples_match")) {
         const std::string v = m->as_string() ? m->as_string()->get() : std::string();

@@ -49,13 +49,16 @@ struct Study {
     std::vector<std::string> set;    // "key=literal" fixed overrides ([set], then --set)
     std::vector<GridAxis> grid;      // in file order
     bool share_preparation = true;
-    // The prepared samples of another study (`samples_from`): its folder, a path relative to the
-    // folder that holds this study's --out (a sibling study by its name: "radius_underpressure"),
-    // or absolute; empty: every preparation group prepares its own. samples_match "preparation"
+    // The prepared samples of other studies (`samples_from`, a name or a list of names): their
+    // folders, each a path relative to the folder that holds this study's --out (a sibling study by
+    // its name: "radius_underpressure") or absolute, searched in the order given (a group takes the
+    // first fitting sample of the first folder that has one: the time-step study's seeds 1-3 from
+    // the friction study, 4-5 from the radius study); empty: every preparation group prepares its
+    // own. samples_match "preparation"
     // (false here): a sample fits a group when its geometry and the keys that act during the
     // preparation are the group's; "geometry" (true): the geometry alone, the case cycling the
     // sample with its own settings (the time-step study).
-    std::string samples_from;
+    std::vector<std::string> samples_from;
     bool samples_match_geometry = false;
 };
 

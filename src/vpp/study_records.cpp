@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -12,6 +13,7 @@
 #include "dem/io/csv.h"
 #include "vpp/damper.h"
 #include "vpp/records.h"
+#include "vpp/settings.h"
 #include "vpp/settle.h"
 #include "vpp/stats.h"
 
@@ -155,12 +157,61 @@ CaseOutcome outcome_of(const fs::path& dir, const std::vector<CycleResult>& cycl
 
 }  // namespace
 
+// A script's branch run before the studies had samples_from (the paper's time-step runs): its
+// case.toml holds the one command it ran, `command = "vppdem damper --from SAMPLE ... --set k=v
+// ..."`. It is the case of `record` when every --set of the command has the record's value
+// (numbers compared as numbers: 0.06e6 and 60000.0 are one value) and every other key of the
+// record is one the run took from its sample: a geometry key (simulation.seed among them), as a
+// study with samples_match = "geometry" branches.
+static bool legacy_branch_fits(const std::string& held, const ParsedRecord& record) {
+    toml::table t;
+    try {
+        t = toml::parse(held);
+    } catch (const toml::parse_error&) {
+        return false;
+    }
+    const auto* command = t["command"].as_string();
+    if (!command || t.size() != 1) return false;
+    std::istringstream words(command->get());
+    std::map<std::string, std::string> sets;
+    bool from = false;
+    for (std::string w, prev; words >> w; prev = w) {
+        if (prev == "--from") from = true;
+        if (prev != "--set") continue;
+        const std::size_t eq = w.find('=');
+        if (eq == std::string::npos) return false;
+        sets[w.substr(0, eq)] = w.substr(eq + 1);
+    }
+    if (!from) return false;
+    auto same = [](const std::string& a, const std::string& b) {
+        if (a == b) return true;
+        char* ea = nullptr;
+        char* eb = nullptr;
+        const double x = std::strtod(a.c_str(), &ea), y = std::strtod(b.c_str(), &eb);
+        return ea != a.c_str() && !*ea && eb != b.c_str() && !*eb && x == y;
+    };
+    for (const auto& [key, value] : sets) {
+        const auto it = record.values.find(key);
+        if (it == record.values.end() || !same(it->second, value)) return false;
+    }
+    for (const auto& [key, value] : record.values) {
+        if (sets.count(key)) continue;
+        const Setting* s = find_setting(key);
+        if (!s || s->acts != Acts::Geometry) return false;
+    }
+    return true;
+}
+
 CaseFolder check_case_folder(const fs::path& dir, const std::string& record) {
     if (!fs::exists(dir / "case.toml")) return CaseFolder::Same;
     const std::string held = read_text(dir / "case.toml");
     if (held == record) return CaseFolder::Same;
+    if (ParsedRecord r; parse_record(record, r) && legacy_branch_fits(held, r)) return CaseFolder::Same;
     ParsedRecord a, b;
     if (parse_record(held, a) && parse_record(record, b) && a.head == b.head) {
+        // The same settings in another order (an older build wrote --set before [set]): the
+        // overrides as the case applies them, the last of a key winning, are what count.
+        if (a.values == b.values) return CaseFolder::Same;
         const double na = record_cycles(a), nb = record_cycles(b);
         a.values.erase("process.cycles");
         b.values.erase("process.cycles");

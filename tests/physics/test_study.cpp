@@ -123,7 +123,8 @@ TEST(StudyUnits, RangesIncludeTheStopAndRoundCleanly) {
 }
 
 // A case folder's case.toml against the study's record for it (vpp/study_records.h): the same
-// record is the same case, a larger process.cycles alone continues it, anything else (fewer
+// record (or the same overrides in another order) is the same case, a larger process.cycles alone
+// continues it, anything else (fewer
 // cycles, another value, another key, another base, a record that is not TOML) is refused. Values
 // with quotes and backslashes round-trip through the record's escaping.
 TEST(StudyUnits, ACaseFolderAcceptsMoreCyclesAndRefusesAnyOtherChange) {
@@ -165,6 +166,13 @@ TEST(StudyUnits, ACaseFolderAcceptsMoreCyclesAndRefusesAnyOtherChange) {
     std::vector<std::string> repeated = more;
     repeated.insert(repeated.begin() + 1, "grains.friction=0.1");
     EXPECT_EQ(vpp::check_case_folder(dir, with(repeated)), vpp::CaseFolder::MoreCycles);
+    // The same settings in another order (an older build wrote --set before [set]): the same case;
+    // with a repeated key the last one wins, so an order that changes the winner is another case.
+    EXPECT_EQ(vpp::check_case_folder(dir, with({c.overrides[2], c.overrides[0], c.overrides[1]})), vpp::CaseFolder::Same);
+    EXPECT_EQ(vpp::check_case_folder(dir, with({"grains.friction=0.1", c.overrides[2], c.overrides[0], c.overrides[1]})),
+              vpp::CaseFolder::Same);
+    EXPECT_THROW(vpp::check_case_folder(dir, with({c.overrides[0], c.overrides[1], c.overrides[2], "grains.friction=0.1"})),
+                 std::runtime_error);
     std::ofstream(dir / "case.toml") << "overrides = [ not toml";
     EXPECT_THROW(vpp::check_case_folder(dir, with(more)), std::runtime_error);
     fs::remove(dir / "case.toml");
@@ -1001,9 +1009,21 @@ TEST_F(Study, ACaseBranchesFromAnotherStudysSampleByName) {
     EXPECT_NE(rd.output.find("0 of 1 preparation(s)"), std::string::npos) << rd.output;
     EXPECT_TRUE(fs::exists(d / "grains.friction=0.3" / "prepared.ckpt"));
 
-    // By geometry alone: another time step cycles a's sample (no preparation of its own).
+    // A list of folders, searched in its order: d's sample (grains.young 2.3e9 against d's 2.3e10)
+    // does not fit, a's does; the branch is b's bit for bit.
+    const fs::path b2 = root / "b2";
+    write_file(root / "b2.toml", "samples_from = [\"d\", \"a\"]\n" + kSmallSet + "[grid]\n\"grains.friction\" = [0.6]\n");
+    const Outcome rb2 = run("sweep " + (root / "b2.toml").string() + " --out " + b2.string() + " --no-plot --jobs 1");
+    ASSERT_EQ(rb2.status, 0) << rb2.output;
+    EXPECT_NE(rb2.output.find("1 of 1 preparation(s)"), std::string::npos) << rb2.output;
+    EXPECT_NE(slurp(b2 / "grains.friction=0.6" / "summary.json").find("/a/grains.friction=0.3/prepared.ckpt"),
+              std::string::npos);
+    EXPECT_EQ(slurp(b2 / "grains.friction=0.6" / "cycles.csv"), slurp(bc / "cycles.csv"));
+
+    // By geometry alone: another time step (0.45 against the default 0.3) cycles a's sample (no
+    // preparation of its own).
     write_file(root / "g.toml", "samples_from = \"a\"\nsamples_match = \"geometry\"\n" + kSmallSet +
-                                    "\"simulation.dt_safety\" = 0.3\n[grid]\n\"grains.friction\" = [0.3]\n");
+                                    "\"simulation.dt_safety\" = 0.45\n[grid]\n\"grains.friction\" = [0.3]\n");
     const Outcome rg = run("sweep " + (root / "g.toml").string() + " --out " + g.string() + " --no-plot --jobs 1");
     ASSERT_EQ(rg.status, 0) << rg.output;
     EXPECT_FALSE(fs::exists(g / "grains.friction=0.3" / "prepared.ckpt"));
@@ -1020,10 +1040,71 @@ TEST_F(Study, ACaseBranchesFromAnotherStudysSampleByName) {
     const Outcome r2 = run("sweep " + (root / "bad2.toml").string() + " --out " + (root / "bad2").string() + " --no-plot");
     EXPECT_EQ(WEXITSTATUS(r2.status), 2) << r2.output;
     EXPECT_NE(r2.output.find("samples_match"), std::string::npos) << r2.output;
+    write_file(root / "bad4.toml", "samples_from = [\"a\", 3]\n" + kTwoFrictions);
+    const Outcome r4 = run("sweep " + (root / "bad4.toml").string() + " --out " + (root / "bad4").string() + " --no-plot");
+    EXPECT_EQ(WEXITSTATUS(r4.status), 2) << r4.output;
+    EXPECT_NE(r4.output.find("key 'samples_from' = ['a', 3]: must be a folder name or path"), std::string::npos)
+        << r4.output;
+    EXPECT_FALSE(fs::exists(root / "bad4"));
     write_file(root / "bad3.toml", "samples_from = \"a\"\nsamples_match = \"size\"\n" + kTwoFrictions);
     const Outcome r3 = run("sweep " + (root / "bad3.toml").string() + " --out " + (root / "bad3").string() + " --no-plot");
     EXPECT_EQ(WEXITSTATUS(r3.status), 2) << r3.output;
     EXPECT_NE(r3.output.find("\"preparation\" or \"geometry\""), std::string::npos) << r3.output;
+    fs::remove_all(root);
+}
+
+// Issue 46: a branch run by a script before studies had samples_from (the paper's time-step runs:
+// `vppdem damper --from SAMPLE --set ...`, its case.toml the one command it ran) is the study's
+// case when the command's settings are the case's and every other key of the case is geometry,
+// taken from the sample: the sweep counts it as finished and runs nothing. The sweep's own branch
+// of that case gives the script's run bit for bit; a command with another setting is refused.
+TEST_F(Study, AScriptsBranchRunIsTheStudysCaseWhenItsSettingsAre) {
+    const fs::path root = scratch("legacy_branch");
+    fs::remove_all(root);
+    write_file(root / "base.toml", kSmallSet + "[grid]\n\"grains.friction\" = [0.3]\n");
+    const Outcome rb = run("sweep " + (root / "base.toml").string() + " --out " + (root / "base").string() +
+                           " --no-plot --quiet --jobs 1");
+    ASSERT_EQ(rb.status, 0) << rb.output;
+    const fs::path sample = root / "base" / "grains.friction=0.3" / "prepared.ckpt";
+    ASSERT_TRUE(fs::exists(sample));
+
+    // The script's run, its case.toml the command (0.06e6 written as the script wrote it).
+    const std::string sets = "--set simulation.dt_safety=0.45 --set process.velocity=0.1 --set process.amplitude=0.002 "
+                             "--set process.cycles=2 --set process.samples_per_cycle=80 --set simulation.threads=1 "
+                             "--set process.underpressure=0.06e6";
+    const fs::path legacy = root / "pub" / "simulation.dt-safety=0.45";
+    const std::string command = "damper --from " + sample.string() + " --out " + legacy.string() + " " + sets +
+                                " --no-plot --quiet";
+    const Outcome rl = run(command);
+    ASSERT_EQ(rl.status, 0) << rl.output;
+    write_file(legacy / "case.toml", "command = \"vppdem " + command + "\"\n");
+
+    const std::string study = "samples_from = \"base\"\nsamples_match = \"geometry\"\n" + kSmallSet +
+                              "\"process.underpressure\" = 60000.0\n[grid]\n\"simulation.dt_safety\" = [0.45]\n";
+    write_file(root / "ts.toml", study);
+    const Outcome rt = run("sweep " + (root / "ts.toml").string() + " --out " + (root / "ts").string() + " --publish " +
+                           (root / "pub").string() + " --no-plot --jobs 1");
+    ASSERT_EQ(rt.status, 0) << rt.output;
+    EXPECT_NE(rt.output.find("simulation.dt-safety=0.45: done earlier"), std::string::npos) << rt.output;
+    EXPECT_FALSE(fs::exists(root / "ts" / "simulation.dt-safety=0.45" / "forces.csv")) << rt.output;  // nothing ran
+
+    // The sweep's own branch: the script's bits.
+    const Outcome rs = run("sweep " + (root / "ts.toml").string() + " --out " + (root / "ts2").string() +
+                           " --no-plot --quiet --jobs 1");
+    ASSERT_EQ(rs.status, 0) << rs.output;
+    EXPECT_EQ(slurp(root / "ts2" / "simulation.dt-safety=0.45" / "cycles.csv"), slurp(legacy / "cycles.csv"));
+    EXPECT_EQ(slurp(root / "ts2" / "simulation.dt-safety=0.45" / "forces.csv"), slurp(legacy / "forces.csv"));
+
+    // Another setting in the command (3 cycles): not this study's case.
+    fs::create_directories(root / "pub3");
+    fs::copy(root / "pub", root / "pub3", fs::copy_options::recursive);
+    std::string other = command;
+    other.replace(other.find("process.cycles=2"), 16, "process.cycles=3");
+    write_file(root / "pub3" / "simulation.dt-safety=0.45" / "case.toml", "command = \"vppdem " + other + "\"\n");
+    const Outcome r3 = run("sweep " + (root / "ts.toml").string() + " --out " + (root / "ts3").string() + " --publish " +
+                           (root / "pub3").string() + " --no-plot --jobs 1");
+    EXPECT_NE(r3.status, 0) << r3.output;
+    EXPECT_NE(r3.output.find("holds a case run with other settings"), std::string::npos) << r3.output;
     fs::remove_all(root);
 }
 
