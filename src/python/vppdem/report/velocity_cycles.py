@@ -2,16 +2,19 @@
 friction and local-damping dissipation, where the runs recorded them) against a reference
 velocity, per underpressure and per cycle (docs/studies.md, "Velocity convergence: results").
 
-usage: python3 -m vppdem.report velocity_cycles SWEEP_DIR [--extra RUN_DIR ...] [--reference V] [--out PREFIX]
+usage: python3 -m vppdem.report velocity_cycles SWEEP_DIR [--extra DIR ...] [--reference V] [--out PREFIX]
                           [--caption TEXT]
 
 SWEEP_DIR: a `vppdem sweep` over process.velocity x simulation.seed (and process.underpressure);
 every run's cycles.csv is read (not only the last cycle, as vppdem.report.paired_velocity does), so
 cycle k at one velocity is compared with cycle k at the reference velocity from the same prepared
-sample. --extra: further damper runs branched from the same samples (e.g. one cycle at the
-paper's 3.33e-4 m/s); their summary.json gives velocity, underpressure and the seed is read from
-the run's case (the --from checkpoint's folder name ...simulation.seed=S...). --reference: the
-velocity to compare with (default: the slowest present for each underpressure and cycle).
+sample. --extra: further runs branched from the same samples (e.g. one cycle at the paper's
+3.33e-4 m/s), each a damper run's folder or a sweep's folder (then each of its cases with a
+summary.json, in name order: a study whose cases take their samples from SWEEP_DIR's, samples_from
+in docs/studies.md); a run's summary.json gives velocity, underpressure and seed (an older run's
+summary.json without inputs.simulation.seed: the seed is read from the --from checkpoint's folder
+name ...simulation.seed=S...). --reference: the velocity to compare with (default: the slowest
+present for each underpressure and cycle).
 
 For each underpressure dp, cycle k, velocity v and quantity Q (W [J/m^2], friction and damping
 dissipation [J]): d_s = Q(v, k, s) - Q(v_ref, k, s) over the seeds s present at both; the mean,
@@ -53,12 +56,28 @@ def runs_of_sweep(d):
     return out
 
 
+def extra_dirs(paths):
+    """--extra: a run's folder (with summary.json) as it is; a sweep's folder: its finished cases
+    (the subfolders with a summary.json), in name order."""
+    dirs = []
+    for p in paths:
+        if os.path.isfile(os.path.join(p, "summary.json")):
+            dirs.append(p)
+        elif os.path.isdir(p):
+            dirs += [os.path.dirname(f) for f in sorted(glob.glob(os.path.join(p, "*", "summary.json")))]
+        else:
+            fail(f"--extra {p}: no such folder")
+    return dirs
+
+
 def run_of_extra(d):
     with open(os.path.join(d, "summary.json")) as f:
         summ = json.load(f)
     inputs = summ.get("inputs", {})
     frm = summ.get("from", "")
-    s = key_value(frm, "simulation.seed")
+    s = inputs.get("simulation.seed")
+    if s is None:  # an older vppdem's summary.json: the seed of the --from checkpoint's folder name
+        s = key_value(frm, "simulation.seed")
     if s is None:
         fail(f"{d}: cannot tell the seed from its checkpoint path '{frm}'")
     v = inputs.get("process.velocity")
@@ -76,7 +95,7 @@ def main(argv=None):
     ap.add_argument("--out")
     ap.add_argument("--caption", default="")
     a = ap.parse_args(argv)
-    runs = runs_of_sweep(a.sweep) + [run_of_extra(d) for d in a.extra]
+    runs = runs_of_sweep(a.sweep) + [run_of_extra(d) for d in extra_dirs(a.extra)]
     if not runs:
         fail(f"no finished runs in {a.sweep}")
     prefix = a.out or os.path.join(a.sweep, "velocity_cycles")
