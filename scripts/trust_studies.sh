@@ -2,27 +2,54 @@
 # Reruns the studies of issue 12 ("Studies you can trust": ensembles of seeds, stationary loops,
 # paired velocity convergence, a calibration that could fail) into $OUT and regenerates
 # docs/data/*.csv and the study figures in docs/; every figure carries the command that made it
-# (a caption), and docs/data/SOURCES.md lists the command behind every file.
+# (a caption), and docs/data/SOURCES.md lists the command behind every file. Each part is one
+# study file of studies/trust/ run by one `vppdem sweep` into $OUT/PART (docs/studies.md,
+# "Regenerating the studies"), then its figures and tables:
+#   underpressure, friction, young, radius, damping   studies/trust/PART.toml: the paper's damper at
+#               VELOCITY, CYCLES cycles, SEEDS seeds; figures by vppdem.plot, published as
+#               $DOCS/study_PART_{W,loops}.png and $DOCS/data/study_PART_{summary,cases}.csv
+#               (damping: friction x local damping)
+#   velocity    studies/trust/velocity.toml (dp 0.02 / 0.06 MPa x 0.1 ... 0.005 m/s; VELOCITY does
+#               not apply), published likewise, then paired against the slowest velocity
+#               (python3 -m vppdem.report paired_velocity: $DOCS/study_velocity_paired.png, .csv)
+#   paper_velocity  studies/trust/paper_velocity.toml: one cycle at the paper's 3.33e-4 m/s, 0.06 MPa,
+#               seed 1; it prepares nothing: its case branches from the seed's sample in the sibling
+#               folder $OUT/velocity (samples_from, matched by geometry; summary.json "from" names
+#               it), so run 'velocity' first; then python3 -m vppdem.report paper_velocity_cycle1
+#               tabulates that seed's cycle 1 at every velocity, published as
+#               $DOCS/data/paper_velocity_cycle1.csv
+#   calibration studies/trust/calibration_truth.toml (one run: friction 0.45, seed 101, the
+#               friction study's conditions) into $OUT/calibration_truth, tools/synthetic_experiment.py
+#               writes its loop as a rig would, and `vppdem calibrate studies/trust/friction.toml`
+#               into $OUT/friction (the friction study's runs: the same --seeds and --set) must
+#               recover 0.45: $DOCS/calibration_synthetic.png, $DOCS/data/calibration_synthetic*
+# Every study file sets simulation.dt_safety = 0.45, the step of the published results (0.3 is
+# the default now); SETS may override it.
 #
 # usage: scripts/trust_studies.sh [STUDY ...]
 #   STUDY: underpressure friction young radius damping velocity paper_velocity calibration
 #          (default: all, in this order; calibration uses the friction study's runs, paper_velocity
 #          the velocity study's seed-1 sample)
-# Knobs (environment variables):
+# Knobs (environment variables), passed to the sweeps as --seeds and --set (the study files hold
+# the defaults):
 #   VPPDEM    the vppdem binary (default build/vppdem: build it first, scripts/build.sh)
 #   OUT       output root (default out/trust)
-#   SEEDS     realisations per case (default 3)
-#   CYCLES    cycles per run (default 5; W can settle from cycle 3 on, docs/damper.md)
-#   VELOCITY  loading velocity [m/s] of every study but the velocity study (default 0.01: W within
-#             the paired interval of slower loading there, docs/studies.md "Velocity convergence: results")
-#   JOBS      runs at once (default: vppdem's choice, the free cores)
+#   SEEDS     realisations per case (default 3; --seeds: not for paper_velocity, seed 1, nor the
+#             calibration's single run, seed 101)
+#   CYCLES    cycles per run (default 5, --set process.cycles; W can settle from cycle 3 on,
+#             docs/damper.md; not for paper_velocity, one cycle)
+#   VELOCITY  loading velocity [m/s] of every study but velocity and paper_velocity (default 0.01,
+#             --set process.velocity: W within the paired interval of slower loading there,
+#             docs/studies.md "Velocity convergence: results")
+#   JOBS      runs at once (--jobs; default: vppdem's choice, the free cores)
 #   DOCS      where figures and data go (default docs)
 #   SETS      further overrides for every run, e.g. SETS="--set simulation.dt_safety=0.4" (default none;
 #             the tests run this script on the small damper this way)
 # Resumable: the same command again continues where it stopped (finished runs are kept, killed
-# ones resume from their checkpoints). Changing SEEDS, CYCLES or VELOCITY needs another OUT.
-# It runs for days on a 2-core machine (docs/studies.md, "Regenerating the studies"); in the
-# background:
+# ones resume from their checkpoints; a larger SEEDS adds seeds, a larger CYCLES continues the
+# finished runs). Changing VELOCITY or SETS needs another OUT, as do the run folders of this script
+# before studies/trust/ (their case.toml lacks the step). It runs for days on a 2-core machine
+# (docs/studies.md, "Regenerating the studies"); in the background:
 #   nohup nice -n 19 bash scripts/trust_studies.sh > trust.log 2>&1 &
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -47,7 +74,7 @@ source scripts/publish.sh
 whole_knobs trust_studies.sh SEEDS CYCLES
 [[ $VELOCITY =~ ^[0-9.eE+-]+$ ]] || { echo "trust_studies.sh: VELOCITY = '$VELOCITY': must be a velocity in m/s" >&2; exit 2; }
 [ -z "$JOBS" ] || whole_knobs trust_studies.sh JOBS
-jobs_arg=${JOBS:+--jobs $JOBS}
+jobs_arg=${JOBS:+ --jobs $JOBS}
 mkdir -p "$OUT" "$DOCS/data"
 studies=("$@")
 all=(underpressure friction young radius damping velocity paper_velocity calibration)
@@ -57,17 +84,31 @@ for s in "${studies[@]}"; do  # every name checked before anything runs
 done
 failed=0
 
-# sweep NAME STUDY_FILE FIGURE_PREFIX [--set ...]: runs the study with the knobs, then publishes
-# its summaries and figures.
-sweep() {
-  local name=$1 file=$2 prefix=$3
-  shift 3
-  local cmd="$VPPDEM sweep $file --out $OUT/$name --seeds $SEEDS --set process.cycles=$CYCLES $SETS $* $jobs_arg --no-plot"
+# The knobs as the sweeps take them: the ensembles' (SEEDS, CYCLES, SETS, then VELOCITY but for the
+# velocity study), the same for the friction study's calibration (its case.toml must match).
+knobs="--seeds $SEEDS --set process.cycles=$CYCLES${SETS:+ $SETS}"
+velocity_set="--set process.velocity=$VELOCITY"
+
+# run_sweep NAME CMD: runs a study's sweep; 1 (some cases failed: the others are published) is
+# noted, 2 (the sweep refused to run: a bad study or knob, a folder in use) ends the script.
+run_sweep() {
+  local name=$1 cmd=$2 rc=0
   echo "== $name: $cmd"
-  if ! $cmd; then
+  $cmd || rc=$?
+  [ $rc -ne 2 ] || { echo "trust_studies.sh: $name: the sweep refused to run (above)" >&2; exit 2; }
+  if [ $rc -ne 0 ]; then
     echo "trust_studies.sh: $name: some runs failed (their rows in $OUT/$name/summary.csv say why)" >&2
     failed=1
   fi
+}
+
+# sweep NAME [--set ...]: studies/trust/NAME.toml with the knobs into $OUT/NAME, then publishes its
+# summaries and figures as study_NAME_*.
+sweep() {
+  local name=$1 prefix=study_$1
+  shift
+  local cmd="$VPPDEM sweep studies/trust/$name.toml --out $OUT/$name $knobs${*:+ $*}$jobs_arg --no-plot"
+  run_sweep "$name" "$cmd"
   $PLOT "$OUT/$name" --kind sweep --prefix "$prefix" --caption "$cmd"
   publish "$OUT/$name/${prefix}_W.png" "$DOCS/${prefix}_W.png"
   publish "$OUT/$name/${prefix}_loops.png" "$DOCS/${prefix}_loops.png"
@@ -76,16 +117,11 @@ sweep() {
   record "${prefix}_W.png, ${prefix}_loops.png, data/${prefix}_summary.csv, data/${prefix}_cases.csv" "$cmd"
 }
 
-velocity_set="--set process.velocity=$VELOCITY"
 for s in "${studies[@]}"; do
   case $s in
-    underpressure) sweep underpressure examples/study_underpressure.toml study_underpressure $velocity_set ;;
-    friction) sweep friction examples/study_friction.toml study_friction $velocity_set ;;
-    young) sweep young examples/study_young.toml study_young $velocity_set ;;
-    radius) sweep radius examples/study_radius_underpressure.toml study_radius $velocity_set ;;
-    damping) sweep damping examples/study_energy_split.toml study_damping $velocity_set ;;
+    underpressure | friction | young | radius | damping) sweep "$s" "$velocity_set" ;;
     velocity)
-      sweep velocity examples/study_velocity.toml study_velocity
+      sweep velocity
       cmd="$REPORT paired_velocity $OUT/velocity --out $OUT/velocity/study_velocity_paired"
       echo "== velocity, paired: $cmd"
       $cmd --caption "$cmd"
@@ -94,47 +130,29 @@ for s in "${studies[@]}"; do
       record "study_velocity_paired.png, data/study_velocity_paired.csv" "$cmd"
       ;;
     paper_velocity)
-      # One cycle at the paper's 3.33e-4 m/s, 0.06 MPa, from the velocity study's seed-1 sample:
-      # compared with that seed's first cycles at the study's velocities (same sample, paired).
-      ckpt=$(ls "$OUT"/velocity/*simulation.seed=1/prepared.ckpt 2>/dev/null | head -1 || true)
-      [ -n "$ckpt" ] || { echo "trust_studies.sh: paper_velocity needs the velocity study's seed-1 sample: run 'velocity' first" >&2; exit 2; }
-      d="$OUT/paper_velocity"
-      cmd="$VPPDEM damper --from $ckpt --out $d --set process.velocity=3.33e-4 --set process.cycles=1 --set process.underpressure=0.06e6 --set output.energy=false $SETS --no-plot"
-      echo "== paper_velocity: $cmd"
-      if [ -f "$d/summary.json" ]; then echo "   done earlier"
-      elif [ -f "$d/run.ckpt" ]; then $VPPDEM damper --from "$d/run.ckpt" --out "$d" --no-plot
-      else $cmd; fi
-      $PY - "$OUT/velocity" "$d" "$DOCS/data/paper_velocity_cycle1.csv" <<'EOF'
-import csv, os, sys
-study, paper, out = sys.argv[1:4]
-rows = []
-for r in csv.DictReader(open(os.path.join(study, "summary.csv"))):
-    if r["status"] == "ok" and r["simulation.seed"] == "1" and float(r["process.underpressure"]) == 0.06e6:
-        c = next(csv.DictReader(open(os.path.join(study, r["case"], "cycles.csv"))))
-        rows.append((float(r["process.velocity"]), c["W"], c["peak_force"], r["case"]))
-c = next(csv.DictReader(open(os.path.join(paper, "cycles.csv"))))
-rows.append((3.33e-4, c["W"], c["peak_force"], os.path.basename(paper)))
-with open(out + ".part", "w") as f:
-    f.write("velocity,W_cycle1,peak_force_cycle1,run\n")
-    for v, w, p, name in sorted(rows):
-        f.write(f"{v:g},{w},{p},{name}\n")
-os.replace(out + ".part", out)
-print(f"wrote {out}")
-EOF
-      record "data/paper_velocity_cycle1.csv" "$cmd"
+      # One cycle at the paper's 3.33e-4 m/s, 0.06 MPa, from the velocity study's seed-1 sample
+      # (samples_from = "velocity": the sibling folder), compared with that seed's first cycles at
+      # the study's velocities (same sample, paired).
+      [ -d "$OUT/velocity" ] || { echo "trust_studies.sh: paper_velocity branches from the samples of study 'velocity' ($OUT/velocity): run 'velocity' first" >&2; exit 2; }
+      cmd="$VPPDEM sweep studies/trust/paper_velocity.toml --out $OUT/paper_velocity${SETS:+ $SETS}$jobs_arg --no-plot"
+      run_sweep paper_velocity "$cmd"
+      rcmd="$REPORT paper_velocity_cycle1 $OUT/velocity $OUT/paper_velocity --out $OUT/paper_velocity/paper_velocity_cycle1.csv"
+      echo "== paper_velocity, cycle 1: $rcmd"
+      $rcmd
+      publish "$OUT/paper_velocity/paper_velocity_cycle1.csv" "$DOCS/data/paper_velocity_cycle1.csv"
+      record "data/paper_velocity_cycle1.csv" "$cmd; $rcmd"
       ;;
     calibration)
       # A calibration that could fail, at the paper's geometry: the "experiment" is a run at
       # mu = 0.45 (between the grid values) from a seed the study does not run, written as a rig
       # would, with noise; the grid is the friction study's (same folder: no run is repeated).
       t="$OUT/calibration_truth"
-      tcmd="$VPPDEM damper --out $t --set grains.friction=0.45 --set simulation.seed=101 --set process.underpressure=0.06e6 --set process.velocity=$VELOCITY --set process.cycles=$CYCLES --set output.energy=false $SETS --no-plot"
-      echo "== calibration, synthetic experiment: $tcmd"
-      if [ -f "$t/summary.json" ]; then echo "   done earlier"
-      elif [ -f "$t/run.ckpt" ]; then $VPPDEM damper --from "$t/run.ckpt" --out "$t" --no-plot
-      else $tcmd; fi
-      $PY tools/synthetic_experiment.py "$t/forces.csv" "$t/experiment.csv"
-      cmd="$VPPDEM calibrate examples/study_friction.toml --experiment $t/experiment.csv --out $OUT/friction --seeds $SEEDS --set process.cycles=$CYCLES $SETS $velocity_set $jobs_arg --time-column t_s --displacement-column stroke_mm --force-column load_kN --displacement-unit mm --force-unit kN --compression-negative"
+      tcmd="$VPPDEM sweep studies/trust/calibration_truth.toml --out $t --set process.cycles=$CYCLES${SETS:+ $SETS} $velocity_set --no-plot"
+      run_sweep calibration_truth "$tcmd"
+      [ -f "$t/base/summary.json" ] || { echo "trust_studies.sh: calibration: the synthetic experiment's run did not finish (see $t/summary.csv)" >&2; failed=1; continue; }
+      ecmd="$PY tools/synthetic_experiment.py $t/base/forces.csv $t/base/experiment.csv"
+      $ecmd
+      cmd="$VPPDEM calibrate studies/trust/friction.toml --experiment $t/base/experiment.csv --out $OUT/friction $knobs $velocity_set$jobs_arg --time-column t_s --displacement-column stroke_mm --force-column load_kN --displacement-unit mm --force-unit kN --compression-negative"
       echo "== calibration: $cmd"
       if ! $cmd; then
         echo "trust_studies.sh: calibration failed (see $OUT/friction/calibration_failed.json)" >&2
@@ -145,7 +163,7 @@ EOF
         publish "$OUT/friction/calibration.json" "$DOCS/data/calibration_synthetic.json"
         publish "$OUT/friction/misfit.csv" "$DOCS/data/calibration_synthetic_misfit.csv"
         publish "$OUT/friction/misfit_runs.csv" "$DOCS/data/calibration_synthetic_misfit_runs.csv"
-        record "calibration_synthetic.png, data/calibration_synthetic*.csv, data/calibration_synthetic.json" "$tcmd; $PY tools/synthetic_experiment.py $t/forces.csv $t/experiment.csv; $cmd"
+        record "calibration_synthetic.png, data/calibration_synthetic*.csv, data/calibration_synthetic.json" "$tcmd; $ecmd; $cmd"
       fi
       ;;
   esac

@@ -124,7 +124,7 @@ Backend choose_backend(const SweepOptions& opt) {
 // The study folder: rank 0 takes its lock (the ranks share the folder, so one lock serves them
 // all; the others wait at the barrier, and if rank 0 is refused its error aborts them there,
 // before they write) and refuses runs of other builds unless --mix-builds.
-void open_study_folder(const SweepOptions& opt, SweepResult& res) {
+void open_study_folder(const Study& s, const SweepOptions& opt, SweepResult& res) {
     const fs::path out(opt.out_dir);
     if (fs::exists(out) && !fs::is_directory(out))
         throw ConfigError("--out '" + opt.out_dir + "' exists and is not a directory");
@@ -134,6 +134,23 @@ void open_study_folder(const SweepOptions& opt, SweepResult& res) {
         const std::size_t n = restore_published(opt.publish, out, res.cases);
         if (n && !opt.quiet)
             std::fprintf(stderr, "sweep: %zu finished case(s) restored from %s\n", n, opt.publish.c_str());
+    }
+    // A second leg's copies of the runs it continues, before the build check: continuing another
+    // build's runs mixes builds as much as resuming them does.
+    if (opt.rank == 0 && !s.continues.empty()) {
+        fs::path from(s.continues);
+        if (from.is_relative()) from = out.parent_path() / from;
+        std::vector<std::string> anew;
+        const std::size_t n = copy_continued_runs(from, out, s, res.cases, &anew);
+        if (!opt.quiet) {
+            std::fprintf(stderr, "sweep: continues %s: %zu finished run(s) copied to continue\n", from.string().c_str(), n);
+            if (!anew.empty()) {
+                std::string list;
+                for (std::size_t k = 0; k < anew.size() && k < 5; ++k) list += (k ? ", " : "") + anew[k];
+                std::fprintf(stderr, "sweep: continues %s: %zu case(s) not there with a run.ckpt run anew: %s%s\n",
+                             from.string().c_str(), anew.size(), list.c_str(), anew.size() > 5 ? ", ..." : "");
+            }
+        }
     }
     if (opt.rank == 0 && !opt.mix_builds) refuse_other_builds(out, res.cases);
     mpi_barrier();
@@ -479,7 +496,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     res.cases = expand_study(s);  // every case's config is checked before anything runs
     if (opt.report_only) return report_sweep(s, opt, std::move(res));
     const Backend backend = choose_backend(opt);
-    open_study_folder(opt, res);
+    open_study_folder(s, opt, res);
     res.outcomes.assign(res.cases.size(), CaseOutcome{});
     const std::vector<std::size_t> mine = cases_of_this_rank(res.cases, opt);
     // Failure markers of an earlier attempt are cleared before any rank looks at them.

@@ -34,6 +34,12 @@ const std::vector<StudyKey>& study_keys() {
          "with samples_from: \"preparation\", a sample fits when its geometry (simulation.seed included) and every "
          "key that acts during the preparation are the case's; \"geometry\", the geometry alone (the case cycles the "
          "sample with its own settings, as the time-step study does)"},
+        {"continues", "string", "none",
+         "a second leg: the folder of a study (relative to the folder holding --out, or absolute) whose finished "
+         "runs this study's cases of the same names continue to a larger process.cycles, each copied into --out "
+         "(records and run.ckpt; that study's run stays as it is) and resumed from its run.ckpt; a case that folder "
+         "lacks, or holds without run.ckpt, runs anew (with samples_from, from its sample); runs still going there "
+         "are refused"},
         {"seeds", "integer 1..1000", "none: one run per case",
          "an ensemble: simulation.seed = 1, 2, ..., seeds as the last grid key (`--seeds` overrides it); write it "
          "before [set] and [grid]"},
@@ -221,6 +227,12 @@ Study load_study(const std::string& path, const std::vector<std::string>& extra_
         } else {
             throw ConfigError(where + "key 'samples_from' = " + cfg::describe(*f) + ": " + allowed);
         }
+    }
+    if (const toml::node* c = root.get("continues")) {
+        if (!c->as_string() || c->as_string()->get().empty())
+            throw ConfigError(where + "key 'continues' = " + cfg::describe(*c) +
+                              ": must be a folder name or path (the --out of the study whose runs this one continues)");
+        s.continues = c->as_string()->get();
     }
     if (const toml::node* m = root.get("samples_match")) {
         const std::string v = m->as_string() ? m->as_string()->get() : std::string();

@@ -60,6 +60,10 @@ struct Study {
     // sample with its own settings (the time-step study).
     std::vector<std::string> samples_from;
     bool samples_match_geometry = false;
+    // A second leg (`continues`): the folder of a study whose finished runs this study's cases of
+    // the same names continue, copied, to this study's larger process.cycles (relative to the
+    // folder that holds --out, or absolute; copy_continued_runs); empty: none.
+    std::string continues;
 };
 
 // Keys whose values may differ between cases sharing one preparation (the damper's --from

@@ -20,6 +20,7 @@
 namespace vpp {
 
 namespace fs = std::filesystem;
+using cfg::ConfigError;
 
 namespace {
 
@@ -510,6 +511,53 @@ std::size_t publish_records(const fs::path& results, const fs::path& out, const 
         for (const std::string& f : kStudyTables)
             if (fs::exists(out / f)) copy_if_changed(out / f, results / f);
     return held;
+}
+
+std::size_t copy_continued_runs(const fs::path& from, const fs::path& out, const Study& s,
+                                const std::vector<StudyCase>& cases, std::vector<std::string>* anew) {
+    if (!fs::is_directory(from))
+        throw ConfigError("study '" + s.path + "': key 'continues' = \"" + s.continues + "\": no folder '" +
+                          from.string() + "' (the study it continues: its --out, relative to the folder that holds this --out)");
+    std::vector<const StudyCase*> copy;
+    std::string unfinished;
+    for (const StudyCase& c : cases) {
+        const fs::path src = from / c.name;
+        if (fs::exists(out / c.name) || !fs::is_directory(src)) {
+            if (!fs::exists(out / c.name) && anew) anew->push_back(c.name);
+            continue;
+        }
+        if (!fs::exists(src / "summary.json")) {
+            if (fs::exists(src / "run.ckpt")) unfinished += (unfinished.empty() ? "" : ", ") + c.name;
+            else if (anew) anew->push_back(c.name);
+            continue;
+        }
+        if (!fs::exists(src / "run.ckpt")) {
+            if (anew) anew->push_back(c.name);
+            continue;
+        }
+        try {
+            check_case_folder(src, case_record(s, c));
+        } catch (const std::exception& e) {
+            throw ConfigError("study '" + s.path + "': key 'continues' = \"" + s.continues + "\": " + e.what());
+        }
+        copy.push_back(&c);
+    }
+    if (!unfinished.empty())
+        throw ConfigError("study '" + s.path + "': key 'continues' = \"" + s.continues + "\": " + from.string() +
+                          " holds runs still going (run.ckpt, no summary.json): " + unfinished +
+                          "; let that study finish them first (nothing was copied)");
+    fs::create_directories(out);
+    for (const StudyCase* c : copy) {
+        const fs::path dst = out / c->name, tmp = out / ("." + c->name + ".continuing");
+        fs::remove_all(tmp);  // a copy a killed sweep left half made
+        fs::create_directories(tmp);
+        for (const auto& e : fs::directory_iterator(from / c->name)) {
+            if (e.path().filename().string().rfind('.', 0) == 0) continue;  // a lock, a temporary
+            fs::copy(e.path(), tmp / e.path().filename(), fs::copy_options::recursive);
+        }
+        fs::rename(tmp, dst);
+    }
+    return copy.size();
 }
 
 }  // namespace vpp

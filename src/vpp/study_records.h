@@ -156,4 +156,15 @@ std::size_t restore_published(const std::filesystem::path& results, const std::f
 std::size_t publish_records(const std::filesystem::path& results, const std::filesystem::path& out,
                             const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes);
 
+// A study's second leg (Study::continues, `continues = "NAME"`): each case of `cases` that OUT
+// lacks and FROM holds finished (summary.json) with its run.ckpt is copied into OUT (every file
+// but hidden ones, through a hidden temporary folder renamed when whole; FROM's run stays as it
+// is), to be continued to this study's process.cycles from its run.ckpt. Its case.toml must be
+// this study's case but for a larger process.cycles (check_case_folder), else ConfigError. A case
+// FROM holds unfinished (a run.ckpt without summary.json) is refused with the others (ConfigError
+// naming them, nothing copied); a case FROM lacks, or holds finished without a run.ckpt, runs
+// anew (from its samples or its own preparation) and is named in `anew`. Returns the copies made.
+std::size_t copy_continued_runs(const std::filesystem::path& from, const std::filesystem::path& out, const Study& s,
+                                const std::vector<StudyCase>& cases, std::vector<std::string>* anew = nullptr);
+
 }  // namespace vpp

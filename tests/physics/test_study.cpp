@@ -1108,6 +1108,67 @@ TEST_F(Study, AScriptsBranchRunIsTheStudysCaseWhenItsSettingsAre) {
     fs::remove_all(root);
 }
 
+// Issue 46: a study's second leg (`continues`): the finished runs of another study, copied and
+// continued to more cycles, give the bits of a study that ran them that long from the start; the
+// first study's runs stay as they were; a case still running there is refused before anything is
+// copied; a case that study lacks runs anew.
+TEST_F(Study, ASecondLegContinuesCopiesOfAnotherStudysRuns) {
+    const fs::path root = scratch("continues");
+    fs::remove_all(root);
+    const std::string grid = "[grid]\n\"grains.friction\" = [0.3]\n";
+    write_file(root / "first.toml", kSmallSet + grid);
+    const Outcome r1 = run("sweep " + (root / "first.toml").string() + " --out " + (root / "first").string() +
+                           " --no-plot --quiet --jobs 1");
+    ASSERT_EQ(r1.status, 0) << r1.output;
+    const fs::path first = root / "first" / "grains.friction=0.3";
+    const std::string first_cycles = slurp(first / "cycles.csv");
+
+    // The leg: 3 cycles instead of 2 (kSmallSet's process.cycles, overridden by the later key).
+    std::string three = kSmallSet;
+    three.replace(three.find("\"process.cycles\" = 2"), 20, "\"process.cycles\" = 3");
+    write_file(root / "leg.toml", "continues = \"first\"\n" + three + "[grid]\n\"grains.friction\" = [0.3, 0.6]\n");
+
+    // A run still going in the first study: refused, nothing copied.
+    fs::create_directories(root / "first" / "grains.friction=0.6");
+    write_file(root / "first" / "grains.friction=0.6" / "run.ckpt", "in flight");
+    const Outcome rr = run("sweep " + (root / "leg.toml").string() + " --out " + (root / "leg").string() + " --no-plot");
+    EXPECT_EQ(WEXITSTATUS(rr.status), 2) << rr.output;
+    EXPECT_NE(rr.output.find("holds runs still going (run.ckpt, no summary.json): grains.friction=0.6"),
+              std::string::npos) << rr.output;
+    EXPECT_FALSE(fs::exists(root / "leg" / "grains.friction=0.3"));
+    fs::remove_all(root / "first" / "grains.friction=0.6");
+
+    const Outcome rl = run("sweep " + (root / "leg.toml").string() + " --out " + (root / "leg").string() +
+                           " --no-plot --jobs 1");
+    ASSERT_EQ(rl.status, 0) << rl.output;
+    EXPECT_NE(rl.output.find("1 finished run(s) copied to continue"), std::string::npos) << rl.output;
+    EXPECT_NE(rl.output.find("1 case(s) not there with a run.ckpt run anew: grains.friction=0.6"), std::string::npos)
+        << rl.output;
+    EXPECT_EQ(slurp(first / "cycles.csv"), first_cycles);  // the first study's run as it was
+    EXPECT_EQ(lines_of(root / "leg" / "grains.friction=0.3" / "cycles.csv").size(), 4u);  // header + 3 cycles
+
+    // The same leg from the start: the same bits.
+    write_file(root / "three.toml", three + grid);
+    const Outcome r3 = run("sweep " + (root / "three.toml").string() + " --out " + (root / "three").string() +
+                           " --no-plot --quiet --jobs 1");
+    ASSERT_EQ(r3.status, 0) << r3.output;
+    EXPECT_EQ(slurp(root / "leg" / "grains.friction=0.3" / "cycles.csv"),
+              slurp(root / "three" / "grains.friction=0.3" / "cycles.csv"));
+    EXPECT_EQ(slurp(root / "leg" / "grains.friction=0.3" / "forces.csv"),
+              slurp(root / "three" / "grains.friction=0.3" / "forces.csv"));
+
+    // Bad values: exit 2, naming the key.
+    write_file(root / "bad.toml", "continues = \"nowhere\"\n" + three + grid);
+    const Outcome rb = run("sweep " + (root / "bad.toml").string() + " --out " + (root / "bad").string() + " --no-plot");
+    EXPECT_EQ(WEXITSTATUS(rb.status), 2) << rb.output;
+    EXPECT_NE(rb.output.find("key 'continues' = \"nowhere\": no folder"), std::string::npos) << rb.output;
+    write_file(root / "bad2.toml", "continues = 3\n" + three + grid);
+    const Outcome rb2 = run("sweep " + (root / "bad2.toml").string() + " --out " + (root / "bad2").string() + " --no-plot");
+    EXPECT_EQ(WEXITSTATUS(rb2.status), 2) << rb2.output;
+    EXPECT_NE(rb2.output.find("key 'continues' = 3: must be a folder name or path"), std::string::npos) << rb2.output;
+    fs::remove_all(root);
+}
+
 // Issue 46: --publish keeps the small records of the finished cases (case.toml, summary.json,
 // cycles.csv, build.json) and the tables in a results folder, and a sweep into a new run folder
 // takes them back as finished: it runs nothing and writes the same tables.

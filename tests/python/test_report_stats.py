@@ -217,8 +217,8 @@ def test_every_report_imports_and_prints_its_usage():
     import importlib
     import vppdem.report as rep
     assert set(rep.REPORTS) == {"paper", "operation", "grain_shapes", "robustness", "paired_velocity",
-                                "velocity_cycles", "friction_split", "foil", "device", "device_slices",
-                                "membrane_cylinder"}
+                                "velocity_cycles", "paper_velocity_cycle1", "friction_split", "foil", "device",
+                                "device_slices", "membrane_cylinder"}
     for name, (module, _) in rep.REPORTS.items():
         m = importlib.import_module(f"vppdem.report.{module}")
         assert callable(m.main), name

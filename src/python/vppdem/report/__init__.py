@@ -11,6 +11,8 @@ records (docs/data/) or from run folders. From the shell:
     robustness       docs/robustness.md's settings-table section (scripts/robustness.sh)
     paired_velocity  paired velocity convergence of a sweep with seeds (scripts/trust_studies.sh)
     velocity_cycles  velocity convergence cycle by cycle (scripts/velocity_convergence.sh)
+    paper_velocity_cycle1  cycle 1 at the paper's velocity beside the velocity study's
+                     (docs/data/paper_velocity_cycle1.csv, scripts/trust_studies.sh)
     friction_split   the dissipation split against grain friction (docs/energy_split_friction.png)
     foil             a foil VTK frame rendered to PNG (docs/envelope_0.01MPa.png)
     device           docs/devices.md's study tables and figures (after scripts/device_study.sh)
@@ -31,6 +33,7 @@ REPORTS = {
     "robustness": ("robustness", "docs/robustness.md's settings-table section (CSV DOCS COMMAND COMMIT)"),
     "paired_velocity": ("paired_velocity", "paired velocity convergence of a sweep (DIR [--key K] [--quantities Q] [--out PREFIX])"),
     "velocity_cycles": ("velocity_cycles", "velocity convergence cycle by cycle (SWEEP_DIR [--extra DIR ...] [--reference V] [--out PREFIX])"),
+    "paper_velocity_cycle1": ("paper_velocity_cycle1", "cycle 1 at the paper's velocity beside the velocity study's (VELOCITY_DIR PAPER_DIR [--seed S] [--out FILE])"),
     "friction_split": ("friction_split", "the dissipation split against grain friction (OUT.png DIR [DIR ...] [--cycle N])"),
     "foil": ("foil", "a foil VTK frame rendered to PNG (FRAME.vtk OUT.png [--title TEXT])"),
     "device": ("device", "docs/devices.md's tables and figures of a device study (gripper | gripper_pour | beam)"),

@@ -1752,7 +1752,9 @@ def write(data, out_md, figdir, command):
     ] + ([
         f"- The friction study's second leg (C17, C18; mu 0.1-1.0): its runs taken to 8 cycles by a later build "
         f"({', '.join(leg_commits)}; raising process.cycles on a run.ckpt came after the studies' build), "
-        f"{leg_done} of {leg_all} runs: `VPPDEM_LEG=pinned/leg/vppdem bash scripts/paper_studies.sh friction_8`. "
+        f"{leg_done} of {leg_all} runs: `VPPDEM_LEG=pinned/leg/vppdem bash scripts/paper_studies.sh friction_8` "
+        "(the script before the study files' `continues` and `samples_from`; now `bash scripts/paper_studies.sh "
+        "friction_8` runs studies/paper/friction_8.toml, which takes these runs as finished). "
         f"{cont} continued from their cycle-5 checkpoint (the older build's checkpoint held the cap for its last "
         "step, so cycles 6-8 continue the same samples without being bitwise 8-cycle runs); "
         f"{fresh} ran again from their samples (their checkpoints were gone), and {repeat} of those {fresh} repeat "
