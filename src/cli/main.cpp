@@ -334,7 +334,10 @@ int main(int argc, char** argv) {
             int rc = 0;
             if (*sweep.app && list_only) {
                 const auto cases = vpp::expand_study(st);
-                if (rank == 0) std::printf("%s", vpp::list_cases(cases).c_str());
+                // With samples_from, the sample each group would branch from (its folder's path).
+                std::map<int, std::string> samples;
+                for (const auto& [group, path] : vpp::find_shared_samples(st, so, cases)) samples[group] = path.string();
+                if (rank == 0) std::printf("%s", vpp::list_cases(cases, samples).c_str());
             } else if (*sweep.app) {
                 so.report_only = report_only;
                 const vpp::SweepResult r = vpp::run_sweep(st, so);  // holds --out's lock for the plots too

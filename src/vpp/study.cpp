@@ -157,63 +157,6 @@ void open_study_folder(const Study& s, const SweepOptions& opt, SweepResult& res
     fs::create_directories(out);
 }
 
-// Study::samples_from: per preparation group, the other study's prepared sample it branches from
-// (the first fitting one in folder-name order; sample_misfit); a group no sample fits is not in
-// the map and prepares its own. Read by every rank alike (the same files, the same answer).
-std::map<int, fs::path> find_shared_samples(const Study& s, const SweepOptions& opt, const std::vector<StudyCase>& cases) {
-    std::map<int, fs::path> found;
-    if (s.samples_from.empty()) return found;
-    // The folders in the order given, each one's samples in folder-name order.
-    std::vector<fs::path> samples;
-    std::string where;
-    for (const std::string& name : s.samples_from) {
-        fs::path from(name);
-        if (from.is_relative()) from = fs::path(opt.out_dir).parent_path() / from;
-        if (!fs::is_directory(from))
-            throw ConfigError("study '" + s.path + "': key 'samples_from' names \"" + name + "\": no folder '" +
-                              from.string() + "' (another study's --out, relative to the folder that holds this --out)");
-        std::vector<fs::path> here;
-        for (const auto& e : fs::directory_iterator(from))
-            if (e.is_directory() && fs::exists(e.path() / "prepared.ckpt")) here.push_back(e.path() / "prepared.ckpt");
-        std::sort(here.begin(), here.end());
-        samples.insert(samples.end(), here.begin(), here.end());
-        where += (where.empty() ? "" : ", ") + from.string();
-    }
-    // Each file read once, whatever the number of groups it is matched against.
-    std::vector<std::optional<SampleRecord>> records(samples.size());
-    std::vector<std::string> unreadable(samples.size());
-    for (std::size_t k = 0; k < samples.size(); ++k) {
-        try {
-            records[k] = read_sample_record(samples[k].string());
-        } catch (const std::exception& e) {
-            unreadable[k] = std::string("unreadable: ") + e.what();
-        }
-    }
-    std::size_t groups = 0;
-    for (std::size_t i = 0; i < cases.size(); ++i) {
-        if (cases[i].preparer != i) continue;
-        ++groups;
-        std::string first_why;
-        for (std::size_t k = 0; k < samples.size(); ++k) {
-            const std::string why =
-                records[k] ? sample_misfit(cases[i].config, *records[k], !s.samples_match_geometry) : unreadable[k];
-            if (why.empty()) {
-                found[cases[i].group] = samples[k];
-                break;
-            }
-            if (first_why.empty()) first_why = samples[k].parent_path().filename().string() + ": " + why;
-        }
-        if (!found.count(cases[i].group) && !opt.quiet && opt.rank == 0)
-            std::fprintf(stderr, "sweep: %s: no sample in %s fits (%s); it prepares its own\n", cases[i].name.c_str(),
-                         where.c_str(), samples.empty() ? "none there" : first_why.c_str());
-    }
-    if (!opt.quiet && opt.rank == 0)
-        std::fprintf(stderr, "sweep: samples from %s (%zu there, matched by %s): %zu of %zu preparation(s)\n",
-                     where.c_str(), samples.size(), s.samples_match_geometry ? "geometry" : "preparation",
-                     found.size(), groups);
-    return found;
-}
-
 // This rank's cases (every ranks-th), preparers first, then the branches, each in grid order.
 std::vector<std::size_t> cases_of_this_rank(const std::vector<StudyCase>& cases, const SweepOptions& opt) {
     std::vector<std::size_t> mine;
@@ -515,5 +458,60 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     gather_and_write_tables(s, opt, res, mine);
     return res;
 }
+
+std::map<int, fs::path> find_shared_samples(const Study& s, const SweepOptions& opt, const std::vector<StudyCase>& cases) {
+    std::map<int, fs::path> found;
+    if (s.samples_from.empty()) return found;
+    // The folders in the order given, each one's samples in folder-name order.
+    std::vector<fs::path> samples;
+    std::string where;
+    for (const std::string& name : s.samples_from) {
+        fs::path from(name);
+        if (from.is_relative()) from = fs::path(opt.out_dir).parent_path() / from;
+        if (!fs::is_directory(from))
+            throw ConfigError("study '" + s.path + "': key 'samples_from' names \"" + name + "\": no folder '" +
+                              from.string() + "' (another study's --out, relative to the folder that holds this --out)");
+        std::vector<fs::path> here;
+        for (const auto& e : fs::directory_iterator(from))
+            if (e.is_directory() && fs::exists(e.path() / "prepared.ckpt")) here.push_back(e.path() / "prepared.ckpt");
+        std::sort(here.begin(), here.end());
+        samples.insert(samples.end(), here.begin(), here.end());
+        where += (where.empty() ? "" : ", ") + from.string();
+    }
+    // Each file read once, whatever the number of groups it is matched against.
+    std::vector<std::optional<SampleRecord>> records(samples.size());
+    std::vector<std::string> unreadable(samples.size());
+    for (std::size_t k = 0; k < samples.size(); ++k) {
+        try {
+            records[k] = read_sample_record(samples[k].string());
+        } catch (const std::exception& e) {
+            unreadable[k] = std::string("unreadable: ") + e.what();
+        }
+    }
+    std::size_t groups = 0;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+        if (cases[i].preparer != i) continue;
+        ++groups;
+        std::string first_why;
+        for (std::size_t k = 0; k < samples.size(); ++k) {
+            const std::string why =
+                records[k] ? sample_misfit(cases[i].config, *records[k], !s.samples_match_geometry) : unreadable[k];
+            if (why.empty()) {
+                found[cases[i].group] = samples[k];
+                break;
+            }
+            if (first_why.empty()) first_why = samples[k].parent_path().filename().string() + ": " + why;
+        }
+        if (!found.count(cases[i].group) && !opt.quiet && opt.rank == 0)
+            std::fprintf(stderr, "sweep: %s: no sample in %s fits (%s); it prepares its own\n", cases[i].name.c_str(),
+                         where.c_str(), samples.empty() ? "none there" : first_why.c_str());
+    }
+    if (!opt.quiet && opt.rank == 0)
+        std::fprintf(stderr, "sweep: samples from %s (%zu there, matched by %s): %zu of %zu preparation(s)\n",
+                     where.c_str(), samples.size(), s.samples_match_geometry ? "geometry" : "preparation",
+                     found.size(), groups);
+    return found;
+}
+
 
 }  // namespace vpp

@@ -5,7 +5,9 @@
 // and under MPI round-robin over the ranks.
 #pragma once
 
+#include <filesystem>
 #include <functional>
+#include <map>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -79,5 +81,12 @@ struct SweepResult {
 // folder. A report only takes no lock: it writes its tables atomically and may run beside the
 // sweep.
 SweepResult run_sweep(const Study& s, const SweepOptions& opt);
+
+// Study::samples_from: per preparation group, the other study's prepared sample it branches from
+// (the first fitting one, folder by folder in the order given, in folder-name order; sample_misfit);
+// a group no sample fits is not in the map and prepares its own (said on stderr unless opt.quiet).
+// Read by every rank alike (the same files, the same answer). Empty without samples_from.
+std::map<int, std::filesystem::path> find_shared_samples(const Study& s, const SweepOptions& opt,
+                                                         const std::vector<StudyCase>& cases);
 
 }  // namespace vpp

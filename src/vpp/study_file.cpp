@@ -424,12 +424,16 @@ std::vector<StudyCase> expand_study(const Study& s) {
     return cases;
 }
 
-std::string list_cases(const std::vector<StudyCase>& cases) {
+std::string list_cases(const std::vector<StudyCase>& cases, const std::map<int, std::string>& samples) {
     std::string out;
     for (const StudyCase& c : cases) {
         char buf[64];
         std::snprintf(buf, sizeof buf, "%4zu  prep %-3d ", c.index + 1, c.group + 1);
-        out += buf + c.name + (c.preparer == c.index ? "  (prepares)" : "  (branches from " + cases[c.preparer].name + ")") + "\n";
+        const auto sample = samples.find(c.group);
+        const std::string how = c.preparer != c.index ? "branches from " + cases[c.preparer].name
+                                : sample != samples.end() ? "branches from " + sample->second
+                                                          : std::string("prepares");
+        out += buf + c.name + "  (" + how + ")\n";
     }
     return out;
 }

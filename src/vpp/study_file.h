@@ -17,6 +17,7 @@
 // its prepared.ckpt.
 #pragma once
 
+#include <map>
 #include <string>
 #include <vector>
 
@@ -103,6 +104,7 @@ struct StudyCase {
 std::vector<StudyCase> expand_study(const Study& s);
 
 // One line per case: index, folder name, preparation group and whether it prepares or branches.
-std::string list_cases(const std::vector<StudyCase>& cases);
+std::string list_cases(const std::vector<StudyCase>& cases,
+                       const std::map<int, std::string>& samples = {});
 
 }  // namespace vpp

@@ -991,6 +991,12 @@ TEST_F(Study, ACaseBranchesFromAnotherStudysSampleByName) {
     ASSERT_EQ(ra.status, 0) << ra.output;
 
     write_file(root / "b.toml", "samples_from = \"a\"\n" + kSmallSet + "[grid]\n\"grains.friction\" = [0.6]\n");
+    // --list names the sample each group would branch from.
+    const Outcome rl = run("sweep " + (root / "b.toml").string() + " --out " + b.string() + " --list");
+    ASSERT_EQ(rl.status, 0) << rl.output;
+    EXPECT_NE(rl.output.find("grains.friction=0.6  (branches from " + (a / "grains.friction=0.3" / "prepared.ckpt").string() + ")"),
+              std::string::npos) << rl.output;
+    EXPECT_FALSE(fs::exists(b));  // --list writes nothing
     const Outcome rb = run("sweep " + (root / "b.toml").string() + " --out " + b.string() + " --no-plot --jobs 1");
     ASSERT_EQ(rb.status, 0) << rb.output;
     EXPECT_NE(rb.output.find("1 of 1 preparation(s)"), std::string::npos) << rb.output;
