@@ -503,7 +503,7 @@ std::map<int, fs::path> find_shared_samples(const Study& s, const SweepOptions& 
             if (first_why.empty()) first_why = samples[k].parent_path().filename().string() + ": " + why;
         }
         if (!found.count(cases[i].group) && !opt.quiet && opt.rank == 0)
-            std::fprintf(stderr, "sweep: %s: no sample in %s fits (%s); it prepares its own\n", cases[i].name.c_str(),
+            std::fprintf(stderr, "sweep: %s: no sample in %s fits (%s); it prepares its own if it runs\n", cases[i].name.c_str(),
                          where.c_str(), samples.empty() ? "none there" : first_why.c_str());
     }
     if (!opt.quiet && opt.rank == 0)

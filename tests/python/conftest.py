@@ -57,3 +57,22 @@ def finished(vacuumed):
     d = vppdem.Damper.load(vacuumed, settings=SMALL)
     d.cycle()
     return d
+
+
+def flat_keys(table, prefix=""):
+    """A TOML table as dotted keys ("process.velocity" quoted or as nested tables alike)."""
+    out = {}
+    for k, v in table.items():
+        if isinstance(v, dict):
+            out.update(flat_keys(v, prefix + k + "."))
+        else:
+            out[prefix + k] = v
+    return out
+
+
+def read_study(path):
+    """A study file: its top-level table, its [set] and its [grid] as dotted keys."""
+    import tomllib
+    with open(path, "rb") as f:
+        s = tomllib.load(f)
+    return s, flat_keys(s.get("set", {})), flat_keys(s.get("grid", {}))

@@ -11,10 +11,9 @@ import json
 import os
 import re
 import subprocess
-import tomllib
 
 import vppdem
-from conftest import SOURCE_DIR
+from conftest import SOURCE_DIR, read_study
 
 FOLDER = os.path.join(SOURCE_DIR, "studies", "trust")
 SCRIPT = os.path.join(SOURCE_DIR, "scripts", "trust_studies.sh")
@@ -28,21 +27,8 @@ def path(name):
     return os.path.join(FOLDER, name + ".toml")
 
 
-def flat(table, prefix=""):
-    """A TOML table as dotted keys ("process.velocity" quoted or as nested tables alike)."""
-    out = {}
-    for k, v in table.items():
-        if isinstance(v, dict):
-            out.update(flat(v, prefix + k + "."))
-        else:
-            out[prefix + k] = v
-    return out
-
-
 def study(name):
-    with open(path(name), "rb") as f:
-        s = tomllib.load(f)
-    return s, flat(s.get("set", {})), flat(s.get("grid", {}))
+    return read_study(path(name))
 
 
 def script_parts():

@@ -9,10 +9,9 @@ import json
 import os
 import re
 import subprocess
-import tomllib
 
 import vppdem
-from conftest import SOURCE_DIR
+from conftest import SOURCE_DIR, read_study
 
 FOLDER = os.path.join(SOURCE_DIR, "studies", "velocity")
 BRANCHES = {"small_paper": "small", "quick_slow": "quick", "quick_paper": "quick"}
@@ -23,21 +22,8 @@ def path(name):
     return os.path.join(FOLDER, name + ".toml")
 
 
-def flat(table, prefix=""):
-    """A TOML table as dotted keys ("process.velocity" quoted or as nested tables alike)."""
-    out = {}
-    for k, v in table.items():
-        if isinstance(v, dict):
-            out.update(flat(v, prefix + k + "."))
-        else:
-            out[prefix + k] = v
-    return out
-
-
 def study(name):
-    with open(path(name), "rb") as f:
-        s = tomllib.load(f)
-    return s, flat(s.get("set", {})), flat(s.get("grid", {}))
+    return read_study(path(name))
 
 
 def test_every_velocity_study_loads_and_keeps_the_published_step(tmp_path):

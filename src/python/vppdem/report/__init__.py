@@ -28,7 +28,7 @@ import os
 # NAME -> (module, what it makes): the reports `python3 -m vppdem.report NAME` runs.
 REPORTS = {
     "paper": ("paper", "docs/paper_comparison.md and its figures (assemble DATA TMP | write DATA OUT.md FIGDIR --command TEXT)"),
-    "operation": ("operation", "docs/operation.md and its figures (DATA DOCS)"),
+    "operation": ("operation", "docs/operation.md and its figures (DATA DOCS [--runs OUT]: first the runs' last cycles into DATA)"),
     "grain_shapes": ("grain_shapes", "docs/grains.md and its figure (DATA DOCS [--bench FILE] [--pressure DIR] [--study FILE])"),
     "robustness": ("robustness", "docs/robustness.md's settings-table section (CSV DOCS COMMAND COMMIT)"),
     "paired_velocity": ("paired_velocity", "paired velocity convergence of a sweep (DIR [--key K] [--quantities Q] [--out PREFIX])"),

@@ -1,10 +1,15 @@
 """docs/operation.md and its figures from the operation study's records (issue 23).
 
-usage: python3 -m vppdem.report operation DATA DOCS
+usage: python3 -m vppdem.report operation DATA DOCS [--runs OUT]
   DATA  the records of examples/operation/run.sh (docs/data/operation: pump/<case>/ and
-        constant/<case>/ with summary.json, cycles.csv, case.toml; forces_last_cycle.csv for seed
-        1 at 10 and 20 Hz)
+        constant/<case>/ with summary.json, cycles.csv, case.toml, as `vppdem sweep --publish`
+        keeps them; forces_last_cycle.csv for seed 1 at 10 and 20 Hz)
   DOCS  where operation.md and operation_*.png go (docs)
+  --runs OUT  first the last cycle of forces.csv of each run in OUT/pump/<case>/ and
+        OUT/constant/<case>/ (the sweeps' --out) at seed 1 and 10 or 20 Hz whose records DATA
+        holds, into DATA/<study>/<case>/forces_last_cycle.csv (the header and every row of the
+        largest cycle, byte for byte; a file only when it changed). Runs whose records were put
+        back from DATA have no forces.csv: their published last cycle stays.
 
 Every number comes from the runs' summary.json: W and peak force of the testing machine's loop
 (summary.json "air", W_machine and peak_force_machine: grains + foil + the lid's -dp A, the
@@ -17,11 +22,15 @@ import math
 import os
 import sys
 
-from ..records import fail, read_csv
+from ..records import RecordError, fail, read_csv
 from .stats import interval
 
 P_ATM = 101325.0
 COMMAND = "bash examples/operation/run.sh"
+# The runs whose last cycle is kept (forces_last_cycle.csv, drawn by operation_onset.png and read
+# by the reversal text): seed 1 at these frequencies, both waveforms, both studies.
+LAST_CYCLE_SEED = 1
+LAST_CYCLE_FREQUENCIES = (10.0, 20.0)
 
 
 def parse_name(name):
@@ -65,6 +74,64 @@ def load(data, study):
             cycles_bytes=open(cyc, "rb").read() if os.path.isfile(cyc) else None,
             forces=os.path.join(root, name, "forces_last_cycle.csv"))
     return runs
+
+
+def last_cycle(forces):
+    """The last cycle of a forces.csv as text: its header line and every row whose `cycle` equals
+    the largest cycle in the file, each ending in a newline, the lines as they are in the file.
+    Byte for byte what examples/operation/run.sh's awk wrote before (cycles compared as numbers, the
+    last `cycle` column of the header counting; no row when no cycle exceeds 0)."""
+    with open(forces, newline="") as f:
+        text = f.read()
+    lines = text.split("\n")
+    if lines and lines[-1] == "":
+        lines.pop()
+    if not lines:
+        raise RecordError(f"{forces} is empty")
+    names = lines[0].split(",")
+    if "cycle" not in names:
+        raise RecordError(f"{forces}: no column 'cycle' (columns: {lines[0]})")
+    k = len(names) - 1 - names[::-1].index("cycle")
+    rows, top = [], 0.0
+    for n, line in enumerate(lines[1:], start=2):
+        cells = line.split(",")
+        try:
+            c = float(cells[k])
+        except (IndexError, ValueError):
+            raise RecordError(f"{forces}, line {n}: no cycle number in column {k + 1}") from None
+        rows.append((c, line))
+        top = max(top, c)
+    return "".join(line + "\n" for line in [lines[0]] + [line for c, line in rows if c == top])
+
+
+def publish_last_cycles(runs, data):
+    """forces_last_cycle.csv of the runs in RUNS/<study>/<case>/ that are kept (LAST_CYCLE_SEED at
+    LAST_CYCLE_FREQUENCIES) and finished, into DATA/<study>/<case>/ where DATA holds the case's
+    records; through a temporary name, and only when the text changed. Returns (written, same)."""
+    written = same = 0
+    for study in ("pump", "constant"):
+        root = os.path.join(runs, study)
+        if not os.path.isdir(root):
+            continue
+        for name in sorted(os.listdir(root)):
+            k = parse_name(name)
+            if k is None or k["seed"] != LAST_CYCLE_SEED or k["frequency"] not in LAST_CYCLE_FREQUENCIES:
+                continue
+            run = os.path.join(root, name)
+            dest = os.path.join(data, study, name)
+            if not (os.path.isfile(os.path.join(run, "summary.json")) and os.path.isfile(os.path.join(run, "forces.csv"))
+                    and os.path.isfile(os.path.join(dest, "summary.json"))):
+                continue
+            text = last_cycle(os.path.join(run, "forces.csv"))
+            path = os.path.join(dest, "forces_last_cycle.csv")
+            if os.path.isfile(path) and open(path, newline="").read() == text:
+                same += 1
+                continue
+            with open(path + ".part", "w", newline="") as f:
+                f.write(text)
+            os.replace(path + ".part", path)
+            written += 1
+    return written, same
 
 
 def peak_speed(waveform, f, amplitude):
@@ -179,10 +246,23 @@ def reversal_text(pump, f):
 
 
 def main(argv=None):
-    argv = sys.argv[1:] if argv is None else argv
-    if len(argv) != 2:
-        fail("usage: python3 -m vppdem.report operation DATA DOCS", 2)
+    argv = list(sys.argv[1:] if argv is None else argv)
+    runs = None
+    if "--runs" in argv:
+        i = argv.index("--runs")
+        runs = argv[i + 1] if i + 1 < len(argv) else None
+        argv = argv[:i] + argv[i + 2:]
+        if runs is None or not os.path.isdir(runs):
+            fail(f"--runs {runs or ''}: not a folder (the sweeps' --out folders' parent)", 2)
+    if len(argv) != 2 or argv[0].startswith("-") or argv[1].startswith("-"):
+        fail("usage: python3 -m vppdem.report operation DATA DOCS [--runs OUT]", 2)
     data, docs = argv
+    if runs is not None:
+        try:
+            written, same = publish_last_cycles(runs, data)
+        except RecordError as e:
+            fail(str(e), 1)
+        print(f"vppdem.report operation: last cycles from {runs}: {written} written, {same} unchanged")
     pump, const = load(data, "pump"), load(data, "constant")
     if not pump:
         fail(f"no finished run in {data}/pump: run bash examples/operation/run.sh first", 2)
@@ -400,10 +480,14 @@ def main(argv=None):
             L.append(f"![{p}]({p})")
             L.append("")
     L.append("## Reproduce")
-    L.append(f"`{COMMAND}` runs both studies (about 2 hours on 2 cores; `SAMPLES=DIR` branches from prepared "
-             "samples s1.ckpt ... s3.ckpt instead of preparing them, `JOBS=N`), publishes the records into "
-             f"`docs/data/operation/` and writes this page; `{COMMAND} --report-only` only rewrites the page "
-             "and figures from the records.")
+    L.append(f"`{COMMAND}` runs both studies, one `vppdem sweep STUDY.toml --publish docs/data/operation/STUDY` "
+             "each: `pump.toml` prepares each seed's sample, `constant.toml` prepares nothing and branches from "
+             "those (`samples_from = \"pump\"`); the records in `docs/data/operation/` count as finished, so the "
+             "same command resumes and runs only what they lack (about 2.5 hours on 2 cores from nothing; "
+             "`JOBS=N`). It then keeps the last cycle of seed 1's 10 and 20 Hz runs and writes this page "
+             f"(`python3 -m vppdem.report operation docs/data/operation docs --runs OUT`); `{COMMAND} --report-only` "
+             "only rewrites the page and figures from the records. The build and time step of the published runs, "
+             "and what a run of this build would change: the script's header.")
     md = "\n".join(L) + "\n"
     path = os.path.join(docs, "operation.md")
     with open(path + ".part", "w") as f:
