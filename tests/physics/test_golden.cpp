@@ -53,7 +53,7 @@ void add_rows(Series& s, const std::string& prefix, const std::map<std::string, 
 
 // The tests' small damper (cli_helpers.h): W, peak and lowest force per cycle, and every 8th row
 // of forces.csv (the loops' shape, 20 rows of 160).
-const std::string kDamperArgs = cli_test::kSmallDamper;
+const std::string kDamperArgs = cli_test::kSmallDamperAtTheDefaultStep;
 
 Series damper_series(const fs::path& out) {
     Series s;

@@ -47,7 +47,8 @@ const std::string kSmallSet =
     "\"process.amplitude\" = 0.002\n"
     "\"process.cycles\" = 2\n"
     "\"process.samples_per_cycle\" = 80\n"
-    "\"simulation.threads\" = 1\n";
+    "\"simulation.threads\" = 1\n"
+    "\"simulation.dt_safety\" = 0.45\n";  // the tests' step (tests/physics/cli_helpers.h, kSmallDamper)
 
 fs::path scratch(const std::string& name) { return scratch_path("study_test", name); }
 
@@ -1026,10 +1027,10 @@ TEST_F(Study, ACaseBranchesFromAnotherStudysSampleByName) {
               std::string::npos);
     EXPECT_EQ(slurp(b2 / "grains.friction=0.6" / "cycles.csv"), slurp(bc / "cycles.csv"));
 
-    // By geometry alone: another time step (0.45 against the default 0.3) cycles a's sample (no
+    // By geometry alone: another time step (0.3 against the tests' 0.45) cycles a's sample (no
     // preparation of its own).
     write_file(root / "g.toml", "samples_from = \"a\"\nsamples_match = \"geometry\"\n" + kSmallSet +
-                                    "\"simulation.dt_safety\" = 0.45\n[grid]\n\"grains.friction\" = [0.3]\n");
+                                    "\"simulation.dt_safety\" = 0.3\n[grid]\n\"grains.friction\" = [0.3]\n");
     const Outcome rg = run("sweep " + (root / "g.toml").string() + " --out " + g.string() + " --no-plot --jobs 1");
     ASSERT_EQ(rg.status, 0) << rg.output;
     EXPECT_FALSE(fs::exists(g / "grains.friction=0.3" / "prepared.ckpt"));

@@ -15,6 +15,7 @@ SMALL = {
     "process.cycles": 2,
     "process.samples_per_cycle": 80,
     "simulation.threads": 1,
+    "simulation.dt_safety": 0.45,     # [-] the C++ tests' step (tests/physics/cli_helpers.h): features, not convergence
 }
 
 # The same as the command's --set arguments.
@@ -30,6 +31,7 @@ TINY_STUDY = """
 "process.cycles" = 1
 "process.samples_per_cycle" = 40
 "simulation.threads" = 1
+"simulation.dt_safety" = 0.45
 
 [grid]
 "grains.friction" = [0.3, 0.6]
