@@ -38,7 +38,9 @@ using namespace cli_test;
 
 
 // The small damper of tests/physics/test_damper.cpp as a study's [set].
-const std::string kSmallSet =
+// The [set] of the tests' small damper without a time step (a study that sets its own), and with
+// the tests' (tests/physics/cli_helpers.h, kSmallDamper).
+const std::string kSmallSetAnyStep =
     "[set]\n"
     "\"damper.radius\" = 0.012\n"
     "\"damper.height\" = 0.03\n"
@@ -47,8 +49,8 @@ const std::string kSmallSet =
     "\"process.amplitude\" = 0.002\n"
     "\"process.cycles\" = 2\n"
     "\"process.samples_per_cycle\" = 80\n"
-    "\"simulation.threads\" = 1\n"
-    "\"simulation.dt_safety\" = 0.45\n";  // the tests' step (tests/physics/cli_helpers.h, kSmallDamper)
+    "\"simulation.threads\" = 1\n";
+const std::string kSmallSet = kSmallSetAnyStep + "\"simulation.dt_safety\" = 0.45\n";
 
 fs::path scratch(const std::string& name) { return scratch_path("study_test", name); }
 
@@ -1029,7 +1031,7 @@ TEST_F(Study, ACaseBranchesFromAnotherStudysSampleByName) {
 
     // By geometry alone: another time step (0.3 against the tests' 0.45) cycles a's sample (no
     // preparation of its own).
-    write_file(root / "g.toml", "samples_from = \"a\"\nsamples_match = \"geometry\"\n" + kSmallSet +
+    write_file(root / "g.toml", "samples_from = \"a\"\nsamples_match = \"geometry\"\n" + kSmallSetAnyStep +
                                     "\"simulation.dt_safety\" = 0.3\n[grid]\n\"grains.friction\" = [0.3]\n");
     const Outcome rg = run("sweep " + (root / "g.toml").string() + " --out " + g.string() + " --no-plot --jobs 1");
     ASSERT_EQ(rg.status, 0) << rg.output;
@@ -1086,7 +1088,7 @@ TEST_F(Study, AScriptsBranchRunIsTheStudysCaseWhenItsSettingsAre) {
     ASSERT_EQ(rl.status, 0) << rl.output;
     write_file(legacy / "case.toml", "command = \"vppdem " + command + "\"\n");
 
-    const std::string study = "samples_from = \"base\"\nsamples_match = \"geometry\"\n" + kSmallSet +
+    const std::string study = "samples_from = \"base\"\nsamples_match = \"geometry\"\n" + kSmallSetAnyStep +
                               "\"process.underpressure\" = 60000.0\n[grid]\n\"simulation.dt_safety\" = [0.45]\n";
     write_file(root / "ts.toml", study);
     const Outcome rt = run("sweep " + (root / "ts.toml").string() + " --out " + (root / "ts").string() + " --publish " +
