@@ -21,6 +21,7 @@
 #include "vpp/damper.h"
 #include "vpp/device_def.h"
 #include "vpp/device_run.h"
+#include "vpp/device_study.h"
 #include "vpp/envelope.h"
 #include "vpp/plot.h"
 #include "vpp/settings.h"
@@ -320,6 +321,31 @@ int main(int argc, char** argv) {
             vpp::run_analyze(ao);
         } else if (*sweep.app || *calib.app) {
             StudyCommand& sc = *sweep.app ? sweep : calib;
+            if (vpp::is_device_study(sc.study)) {
+                // A device study (docs/devices.md, "Studies"): its runs one after the other on
+                // this process, each a `vppdem device` run with the threads its device file sets.
+                if (*calib.app) throw cfg::ConfigError("study '" + sc.study + "' is a device study (key 'device'): "
+                                                       "calibrate takes a damper study");
+                if (ranks > 1 || sc.backend != "cpu" || sc.jobs > 1)
+                    throw cfg::ConfigError("study '" + sc.study + "' is a device study: it runs one case at a time on "
+                                           "the CPU (no --jobs above 1, --backend other than cpu, or MPI)");
+                const vpp::DeviceStudy ds = vpp::load_device_study(sc.study, sc.sets, sc.seeds);
+                if (list_only) {
+                    std::printf("%s", vpp::list_device_runs(ds).c_str());
+                    vpp::mpi_finalize();
+                    return 0;
+                }
+                vpp::DeviceSweepOptions dso;
+                dso.out_dir = sc.out;
+                dso.publish = sc.publish;
+                dso.quiet = sc.quiet;
+                dso.report_only = report_only;
+                dso.mix_builds = sc.mix_builds;
+                dso.checkpoint_every = sc.ckpt_every;
+                const vpp::DeviceSweepResult r = vpp::run_device_study(ds, dso);
+                vpp::mpi_finalize();
+                return r.failed && !report_only ? 1 : 0;
+            }
             const vpp::Study st = vpp::load_study(sc.study, sc.sets, sc.seeds);
             vpp::SweepOptions so;
             so.out_dir = sc.out;

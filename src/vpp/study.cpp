@@ -30,6 +30,14 @@ namespace {
 
 void publish(const SweepOptions& opt, const SweepResult& res);
 
+// Another study's folder named by a study key (samples_from, continues): a relative name is the
+// sibling of this --out, in the folder that holds it, as the studies of one project sit side by
+// side (out/paper/friction, out/paper/timestep).
+fs::path sibling_study_folder(const std::string& out_dir, const std::string& name) {
+    const fs::path p(name);
+    return p.is_relative() ? fs::path(out_dir).parent_path() / p : p;
+}
+
 // --report-only: the tables from the records already in DIR. Only reads: no case folder, FAILED
 // marker or case.toml is written, so a sweep running into DIR at the same time is not disturbed
 // (a case it finishes meanwhile is either read whole or not at all: summary.json is written
@@ -138,8 +146,7 @@ void open_study_folder(const Study& s, const SweepOptions& opt, SweepResult& res
     // A second leg's copies of the runs it continues, before the build check: continuing another
     // build's runs mixes builds as much as resuming them does.
     if (opt.rank == 0 && !s.continues.empty()) {
-        fs::path from(s.continues);
-        if (from.is_relative()) from = out.parent_path() / from;
+        const fs::path from = sibling_study_folder(opt.out_dir, s.continues);
         std::vector<std::string> anew;
         const std::size_t n = copy_continued_runs(from, out, s, res.cases, &anew);
         if (!opt.quiet) {
@@ -466,8 +473,7 @@ std::map<int, fs::path> find_shared_samples(const Study& s, const SweepOptions& 
     std::vector<fs::path> samples;
     std::string where;
     for (const std::string& name : s.samples_from) {
-        fs::path from(name);
-        if (from.is_relative()) from = fs::path(opt.out_dir).parent_path() / from;
+        const fs::path from = sibling_study_folder(opt.out_dir, name);
         if (!fs::is_directory(from))
             throw ConfigError("study '" + s.path + "': key 'samples_from' names \"" + name + "\": no folder '" +
                               from.string() + "' (another study's --out, relative to the folder that holds this --out)");

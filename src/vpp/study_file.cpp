@@ -10,6 +10,7 @@
 
 #include "dem/io/csv.h"
 #include "scene/config.h"
+#include "vpp/device_def.h"
 #include "vpp/settings.h"
 
 namespace vpp {
@@ -325,6 +326,105 @@ Study load_study(const std::string& path, const std::vector<std::string>& extra_
             s.grid.erase(it);
         }
         s.grid.push_back(axis_from_text("simulation.seed", "1:" + std::to_string(seeds) + ":1"));
+    }
+    return s;
+}
+
+bool is_device_study(const std::string& path) {
+    try {
+        return fs::is_regular_file(path) && toml::parse_file(path).contains("device");
+    } catch (const toml::parse_error&) {
+        return false;
+    }
+}
+
+DeviceStudy load_device_study(const std::string& path, const std::vector<std::string>& extra_sets, int seeds_override) {
+    if (!fs::is_regular_file(path)) throw ConfigError("study file '" + path + "' not found");
+    const toml::table root = cfg::parse_file(path, "study");
+    DeviceStudy s;
+    s.path = path;
+    const std::string where = "device study '" + path + "': ";
+    const std::string allowed = "device, description, seeds, [set], [cases.NAME]";
+    for (const auto& [k, v] : root) {
+        const std::string key(k.str());
+        if (key != "device" && key != "description" && key != "seeds" && key != "set" && key != "cases")
+            throw ConfigError(where + "unknown key '" + key + "' (allowed in a device study: " + allowed + ")");
+    }
+    const toml::node* d = root.get("device");
+    if (!d->as_string() || d->as_string()->get().empty())
+        throw ConfigError(where + "key 'device' = " + cfg::describe(*d) + ": must be a device file's path (TOML), relative "
+                                  "to the study file");
+    fs::path dev(d->as_string()->get());
+    if (dev.is_relative()) dev = fs::path(path).parent_path() / dev;
+    if (!fs::is_regular_file(dev))
+        throw ConfigError(where + "key 'device' = \"" + d->as_string()->get() + "\": file '" + dev.string() + "' not found");
+    s.device = dev.lexically_normal().string();
+    if (const toml::node* n = root.get("description"); n && !n->as_string())
+        throw ConfigError(where + "key 'description' must be a string");
+    if (const toml::node* n = root.get("seeds")) {
+        const auto v = n->value_exact<int64_t>();
+        if (!v || *v < 1 || *v > kMaxSeeds)
+            throw ConfigError(where + "key 'seeds' = " + cfg::describe(*n) + ": must be an integer in 1.." +
+                              std::to_string(kMaxSeeds) + " (every case with simulation.seed 1, 2, ..., seeds)");
+        s.seeds = int(*v);
+    }
+    if (seeds_override < 0 || seeds_override > kMaxSeeds)
+        throw ConfigError("--seeds " + std::to_string(seeds_override) + ": must be an integer in 1.." +
+                          std::to_string(kMaxSeeds));
+    if (seeds_override > 0) s.seeds = seeds_override;
+    // A table of device keys as overrides "key=literal" in file order (a key twice refused).
+    auto overrides = [&](const toml::node& t, const std::string& table) {
+        if (!t.as_table()) throw ConfigError(where + "'" + table + "' must be a table of device keys");
+        std::vector<std::string> out;
+        std::set<std::string> seen;
+        for (const FlatEntry& e : flat_in_order(*t.as_table())) {
+            std::string lit, label;
+            if (!scalar_literal(*e.node, lit, label))
+                throw ConfigError(where + table + " key '" + e.key + "' = " + cfg::describe(*e.node) +
+                                  ": must be a number, string or boolean");
+            if (e.key == "simulation.seed" && s.seeds > 0)
+                throw ConfigError(where + table + " key 'simulation.seed': the study's seeds set it (leave it out, or "
+                                              "the key 'seeds')");
+            if (!seen.insert(e.key).second)
+                throw ConfigError(where + table + " key '" + e.key + "' is given twice: keep one");
+            out.push_back(e.key + "=" + lit);
+        }
+        return out;
+    };
+    if (const toml::node* st = root.get("set")) s.set = overrides(*st, "[set]");
+    for (const std::string& x : extra_sets) s.set.push_back(x);
+    const toml::node* cs = root.get("cases");
+    if (!cs || !cs->as_table() || cs->as_table()->empty())
+        throw ConfigError(where + "no cases: give one table [cases.NAME] of device keys per case (an empty table "
+                                  "[cases.base] runs the device file as it is)");
+    std::vector<std::pair<std::size_t, DeviceStudyCase>> in_order;
+    for (const auto& [k, v] : *cs->as_table()) {
+        DeviceStudyCase c;
+        c.name = std::string(k.str());
+        const bool safe = !c.name.empty() && c.name.size() <= 100 &&
+                          std::all_of(c.name.begin(), c.name.end(), [](char ch) {
+                              return std::isalnum((unsigned char)ch) || ch == '_' || ch == '-' || ch == '.';
+                          }) && c.name.front() != '.';
+        if (!safe)
+            throw ConfigError(where + "case name '" + c.name + "': must be letters, digits, '_', '-' or '.' (it names "
+                                      "the case's folder), not starting with '.'");
+        if (!v.as_table())
+            throw ConfigError(where + "'cases." + c.name + "' must be a table [cases." + c.name + "] of device keys");
+        c.set = overrides(v, "[cases." + c.name + "]");
+        in_order.emplace_back(v.source().begin.line, std::move(c));
+    }
+    std::stable_sort(in_order.begin(), in_order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+    for (auto& [line, c] : in_order) s.cases.push_back(std::move(c));
+    // Every case as `vppdem device --set` would read it, before anything runs.
+    for (const DeviceStudyCase& c : s.cases) {
+        std::vector<std::string> all = s.set;
+        all.insert(all.end(), c.set.begin(), c.set.end());
+        if (s.seeds > 0) all.push_back("simulation.seed=1");
+        try {
+            (void)load_device(s.device, all);
+        } catch (const ConfigError& e) {
+            throw ConfigError(where + "case '" + c.name + "': " + e.what());
+        }
     }
     return s;
 }

@@ -79,6 +79,35 @@ bool is_shareable_key(const std::string& key);
 inline constexpr int kMaxSeeds = 1000;
 Study load_study(const std::string& path, const std::vector<std::string>& extra_sets = {}, int seeds_override = 0);
 
+// A device study (docs/devices.md, "Studies"): named cases of one device file, each run with
+// every seed, run by `vppdem sweep` like a damper study (a study file with the key `device` is
+// a device study):
+//     description = "holding force against underpressure"
+//     device = "../../examples/devices/gripper.toml"   # relative to the study file
+//     seeds = 5                                        # simulation.seed = 1..5
+//     [set]                                            # fixed overrides of every case
+//     "output.vtk" = false
+//     [cases.dp0]                                      # a case: its name and its overrides
+//     "stages.underpressure" = 0
+struct DeviceStudyCase {
+    std::string name;              // the case's folder name before the seed ("dp0": dp0_s1, ...)
+    std::vector<std::string> set;  // its overrides "key=literal", in file order
+};
+struct DeviceStudy {
+    std::string path;                    // the study file
+    std::string device;                  // the device file (resolved)
+    std::vector<std::string> set;        // [set], then the command line's --set
+    std::vector<DeviceStudyCase> cases;  // in file order
+    int seeds = 0;                       // simulation.seed = 1..seeds; 0: one run per case, the device file's seed
+};
+// Whether the study file is a device study (it has a top-level key `device`). Reads the file;
+// false for one that cannot be parsed (load_study then says why).
+bool is_device_study(const std::string& path);
+// Reads and checks a device study (ConfigError naming the key, the value and what is allowed):
+// every case's overrides are checked against the device file as `vppdem device --set` would.
+DeviceStudy load_device_study(const std::string& path, const std::vector<std::string>& extra_sets = {},
+                              int seeds_override = 0);
+
 // Index of the ensemble axis (grid key simulation.seed), -1 without one.
 int seed_axis(const Study& s);
 

@@ -207,9 +207,12 @@ CaseFolder check_case_folder(const fs::path& dir, const std::string& record) {
     if (!fs::exists(dir / "case.toml")) return CaseFolder::Same;
     const std::string held = read_text(dir / "case.toml");
     if (held == record) return CaseFolder::Same;
-    if (ParsedRecord r; parse_record(record, r) && legacy_branch_fits(held, r)) return CaseFolder::Same;
-    ParsedRecord a, b;
-    if (parse_record(held, a) && parse_record(record, b) && a.head == b.head) {
+    // The study's record parsed once, for both readings of the held one.
+    ParsedRecord b;
+    const bool parsed = parse_record(record, b);
+    if (parsed && legacy_branch_fits(held, b)) return CaseFolder::Same;
+    ParsedRecord a;
+    if (parsed && parse_record(held, a) && a.head == b.head) {
         // The same settings in another order (an older build wrote --set before [set]): the
         // overrides as the case applies them, the last of a key winning, are what count.
         if (a.values == b.values) return CaseFolder::Same;

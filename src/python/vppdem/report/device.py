@@ -1,9 +1,10 @@
 """The device studies' report (issue 47, docs/devices.md).
 
 Reads the published records docs/data/devices/<study>/<case>_s<seed>/ (summary.json, tools.csv.gz,
-as scripts/device_study.sh leaves them), computes each case's mean and 95% Student-t interval
-over its seeds, draws docs/devices_<study>_study.png and writes the table into docs/devices.md
-between the markers <!-- device_report:<study> begin --> and <!-- ... end -->.
+as `vppdem sweep studies/devices/<study>.toml --publish docs/data/devices/<study>` leaves
+them), computes each case's mean and 95% Student-t interval over its seeds, draws
+docs/devices_<study>_study.png and writes the table into docs/devices.md between the markers
+<!-- device_report:<study> begin --> and <!-- ... end -->.
 
 usage: python3 -m vppdem.report device gripper|gripper_pour|beam
 

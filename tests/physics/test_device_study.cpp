@@ -1,0 +1,150 @@
+// Device studies (vpp/device_study.h; docs/devices.md, "Studies"): `vppdem sweep` on a study file
+// with the key `device` runs its named cases (seed by seed), each the run `vppdem device --set`
+// would make, skips finished runs, refuses a changed study, publishes the small records
+// (tools.csv.gz from the press on) and takes them back into a fresh folder.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "cli_helpers.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using cli_test::quote;
+using cli_test::run_vppdem;
+using cli_test::write_file;
+const auto& slurp = cli_test::slurp;
+
+fs::path fresh_dir(const std::string& name) {
+    const fs::path p = fs::path(::testing::TempDir()) / ("device_study_" + std::to_string(::getpid()) + "_" + name);
+    fs::remove_all(p);
+    fs::create_directories(p);
+    return p;
+}
+
+// The tests' tiny gripper (tests/data/devices/tiny_gripper.toml, about 7 s of CPU a run).
+const fs::path kTinyGripper = fs::path(VPPDEM_SOURCE_DIR) / "tests/data/devices/tiny_gripper.toml";
+
+std::string study_text(const std::string& dp50 = "50000") {
+    return "device = " + quote(kTinyGripper.string()) +
+           "\n[set]\n\"output.vtk\" = false\n"
+           "[cases.dp0]\n\"stages.underpressure\" = 0\n"
+           "[cases.dp50]\n\"stages.underpressure\" = " + dp50 + "\n";
+}
+
+// tools.csv's rows from the press on (stage >= 2), each value as "%.6g": the published record.
+std::string press_on(const fs::path& tools) {
+    std::ifstream in(tools);
+    std::string line, out;
+    std::getline(in, line);
+    out = line + "\n";
+    while (std::getline(in, line)) {
+        std::stringstream s(line);
+        std::string c, row;
+        std::vector<double> v;
+        while (std::getline(s, c, ',')) v.push_back(std::stod(c));
+        if (v[1] < 2.0) continue;
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            char b[32];
+            std::snprintf(b, sizeof b, "%.6g", v[i]);
+            if (i) row += ',';
+            row += b;
+        }
+        out += row + "\n";
+    }
+    return out;
+}
+
+}  // namespace
+
+TEST(DeviceStudy, RunsEachCaseAsTheDeviceCommandWouldAndPublishesItsRecords) {
+    const fs::path dir = fresh_dir("run");
+    write_file(dir / "study.toml", study_text());
+    const fs::path out = dir / "out", pub = dir / "results";
+
+    // --list: the runs in order, with their overrides; nothing written.
+    const auto list = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(out) + " --list");
+    ASSERT_EQ(list.rc, 0) << list.output;
+    EXPECT_NE(list.output.find("dp0 dp0 0 output.vtk=false stages.underpressure=0\n"), std::string::npos) << list.output;
+    EXPECT_LT(list.output.find("dp0 dp0"), list.output.find("dp50 dp50"));
+    EXPECT_FALSE(fs::exists(out));
+
+    const auto r = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(out) + " --quiet --publish " + quote(pub));
+    ASSERT_EQ(r.rc, 0) << r.output;
+    for (const char* run : {"dp0", "dp50"}) {
+        EXPECT_NE(slurp(out / run / "summary.json").find("\"stage\": \"done\""), std::string::npos) << run;
+        EXPECT_TRUE(fs::exists(out / run / "build.json")) << run;
+        EXPECT_NE(slurp(out / run / "case.toml").find("stages.underpressure="), std::string::npos) << run;
+        // Published: summary.json as it is, tools.csv.gz the rows from the press on.
+        EXPECT_EQ(slurp(pub / run / "summary.json"), slurp(out / run / "summary.json")) << run;
+        const auto gz = cli_test::shell("gzip -dc " + quote(pub / run / "tools.csv.gz"));
+        EXPECT_EQ(gz.output, press_on(out / run / "tools.csv")) << run;
+    }
+    // summary.csv: a row per run with the numbers of its summary.json, status ok.
+    const std::string table = slurp(out / "summary.csv");
+    EXPECT_EQ(table.rfind("case,seed,folder,holding_force,press_force,underpressure,", 0), 0u) << table;
+    EXPECT_NE(table.find("\ndp0,0,dp0,"), std::string::npos) << table;
+    EXPECT_NE(table.find(",50000,"), std::string::npos) << table;
+    EXPECT_EQ(slurp(pub / "summary.csv"), table);
+
+    // The same run by hand is the study's run, bit for bit.
+    const fs::path hand = dir / "hand";
+    const auto h = run_vppdem("device " + quote(kTinyGripper) + " --out " + quote(hand) +
+                              " --quiet --set output.vtk=false --set stages.underpressure=50000");
+    ASSERT_EQ(h.rc, 0) << h.output;
+    EXPECT_EQ(slurp(hand / "tools.csv"), slurp(out / "dp50" / "tools.csv"));
+    EXPECT_EQ(slurp(hand / "air.csv"), slurp(out / "dp50" / "air.csv"));
+
+    // Again: every run is finished, nothing runs, the records stay.
+    const std::string before = slurp(out / "dp0" / "summary.json");
+    const auto again = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(out));
+    ASSERT_EQ(again.rc, 0) << again.output;
+    EXPECT_EQ(again.output.find("[1/2]"), std::string::npos) << again.output;
+    EXPECT_NE(again.output.find("2 of 2 run(s) finished"), std::string::npos) << again.output;
+    EXPECT_EQ(slurp(out / "dp0" / "summary.json"), before);
+
+    // A fresh folder takes the published records back: finished, nothing runs.
+    const auto back = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(dir / "fresh") + " --publish " + quote(pub));
+    ASSERT_EQ(back.rc, 0) << back.output;
+    EXPECT_NE(back.output.find("2 of 2 run(s) finished"), std::string::npos) << back.output;
+    EXPECT_EQ(slurp(dir / "fresh" / "summary.csv"), table);
+
+    // The study changed under its folder: refused (exit 2) naming the run, nothing runs.
+    write_file(dir / "study.toml", study_text("40000"));
+    const auto changed = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(out) + " --quiet");
+    EXPECT_EQ(changed.rc, 2) << changed.output;
+    EXPECT_NE(changed.output.find("dp50"), std::string::npos) << changed.output;
+    EXPECT_NE(changed.output.find("other settings"), std::string::npos) << changed.output;
+}
+
+TEST(DeviceStudy, BadStudiesAreRefusedNamingTheKey) {
+    const fs::path dir = fresh_dir("bad");
+    const std::string device = "device = " + quote(kTinyGripper.string()) + "\n";
+    struct Case {
+        std::string text, names;
+    };
+    const std::vector<Case> bad = {
+        {device + "[cases.a]\n\"stages.nonsense\" = 1\n", "stages.nonsense"},
+        {device + "[cases.a]\n\"stages.underpressure\" = -5\n", "stages.underpressure"},
+        {device + "grid = 1\n[cases.a]\n", "unknown key 'grid'"},
+        {device, "no cases"},
+        {device + "seeds = 0\n[cases.a]\n", "key 'seeds' = 0"},
+        {device + "seeds = 2\n[cases.a]\n\"simulation.seed\" = 3\n", "simulation.seed"},
+        {"device = \"missing.toml\"\n[cases.a]\n", "missing.toml"},
+        {device + "[cases.\"a b\"]\n", "case name 'a b'"},
+    };
+    for (const Case& c : bad) {
+        write_file(dir / "study.toml", c.text);
+        const auto r = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(dir / "out") + " --quiet");
+        EXPECT_EQ(r.rc, 2) << c.text << r.output;
+        EXPECT_NE(r.output.find(c.names), std::string::npos) << c.text << r.output;
+        EXPECT_FALSE(fs::exists(dir / "out")) << c.text;
+    }
+}
