@@ -36,6 +36,7 @@
 #include "vpp/damper.h"
 #include "vpp/device_def.h"
 #include "vpp/device_run.h"
+#include "vpp/device_study.h"
 #include "vpp/settings.h"
 #include "vpp/records.h"
 #include "vpp/study.h"
@@ -766,6 +767,21 @@ PYBIND11_MODULE(_core, m) {
         [](const std::string& study, const std::string& out, const std::vector<std::string>& sets, int seeds, int jobs,
            bool quiet, py::object progress, const std::string& backend, bool mix_builds, const std::string& publish,
            bool report_only) {
+            if (vpp::is_device_study(study)) {
+                // A device study (docs/devices.md, "Studies"): its runs one after the other.
+                if (jobs > 1 || backend != "cpu" || !progress.is_none())
+                    throw cfg::ConfigError("study '" + study + "' is a device study: it runs one case at a time on the "
+                                           "CPU (no jobs above 1, backend other than \"cpu\", or progress)");
+                const vpp::DeviceStudy ds = vpp::load_device_study(study, sets, seeds);
+                vpp::DeviceSweepOptions o;
+                o.out_dir = out;
+                o.quiet = quiet;
+                o.report_only = report_only;
+                o.mix_builds = mix_builds;
+                o.publish = publish;
+                py::gil_scoped_release release;
+                return vpp::run_device_study(ds, o).failed;
+            }
             const vpp::Study st = vpp::load_study(study, sets, seeds);
             vpp::SweepOptions so;
             so.out_dir = out;
@@ -788,6 +804,25 @@ PYBIND11_MODULE(_core, m) {
     m.def(
         "study_cases",
         [](const std::string& study, const std::vector<std::string>& sets, int seeds) {
+            if (vpp::is_device_study(study)) {
+                // A device study's runs: each its own "preparation" (a device run fills its own).
+                const vpp::DeviceStudy ds = vpp::load_device_study(study, sets, seeds);
+                py::list out;
+                std::size_t i = 0;
+                for (const vpp::DeviceStudyRun& r : vpp::expand_device_study(ds)) {
+                    py::dict d;
+                    d["index"] = ++i;
+                    d["name"] = r.folder;
+                    d["group"] = i;
+                    d["prepares"] = true;
+                    d["branches_from"] = py::none();
+                    d["case"] = ds.cases[r.case_index].name;
+                    d["seed"] = r.seed;
+                    d["overrides"] = r.overrides;
+                    out.append(d);
+                }
+                return out;
+            }
             const std::vector<vpp::StudyCase> cases = vpp::expand_study(vpp::load_study(study, sets, seeds));
             py::list out;
             for (const vpp::StudyCase& c : cases) {

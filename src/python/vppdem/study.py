@@ -47,6 +47,11 @@ class Study:
     ``seeds``: 0 (the study file's own ``seeds``, if any) or N in 1..1000, as --seeds.
     ``publish``: a results folder, as --publish (None: none).
 
+    A device study file (the key ``device``; docs/devices.md, "Studies") works the same way:
+    ``cases()`` lists its runs (with ``case``, ``seed`` and ``overrides`` besides), ``run()`` and
+    ``report()`` are ``vppdem sweep`` on it, ``summary()`` reads its summary.csv (case, seed,
+    folder, the numbers of each run's summary.json, status, message).
+
     Units are those of the records (docs/studies.md, "Outputs"): W [J/m^2], dissipated_energy [J],
     peak_force [N], run_seconds [s]; the grid values in the damper config's units (docs/config.md).
     """
