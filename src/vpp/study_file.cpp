@@ -131,6 +131,24 @@ std::string sanitize(const std::string& s) {
     return out;
 }
 
+// A study's ensemble size: the file's top-level `seeds` (0 when absent), replaced by the command
+// line's --seeds when that is > 0. ConfigError naming the key or the option when out of range.
+int study_seeds(const toml::table& root, const std::string& where, int seeds_override) {
+    int seeds = 0;
+    if (const toml::node* n = root.get("seeds")) {
+        const auto v = n->value_exact<int64_t>();
+        if (!v || *v < 1 || *v > kMaxSeeds)
+            throw ConfigError(where + "key 'seeds' = " + cfg::describe(*n) + ": must be an integer in 1.." +
+                              std::to_string(kMaxSeeds) + " (an ensemble of that many realisations: simulation.seed "
+                              "1, 2, ..., seeds)");
+        seeds = int(*v);
+    }
+    if (seeds_override < 0 || seeds_override > kMaxSeeds)
+        throw ConfigError("--seeds " + std::to_string(seeds_override) + ": must be an integer in 1.." +
+                          std::to_string(kMaxSeeds));
+    return seeds_override > 0 ? seeds_override : seeds;
+}
+
 }  // namespace
 
 std::string study_reference_markdown() {
@@ -191,19 +209,7 @@ Study load_study(const std::string& path, const std::vector<std::string>& extra_
         const std::string key(k.str());
         if (!study_key(key)) throw ConfigError(where + "unknown key '" + key + "' (allowed: " + allowed_study_keys() + ")");
     }
-    int seeds = 0;
-    if (const toml::node* n = root.get("seeds")) {
-        const auto v = n->value_exact<int64_t>();
-        if (!v || *v < 1 || *v > kMaxSeeds)
-            throw ConfigError(where + "key 'seeds' = " + cfg::describe(*n) + ": must be an integer in 1.." +
-                              std::to_string(kMaxSeeds) + " (an ensemble of that many realisations: simulation.seed "
-                              "1, 2, ..., seeds)");
-        seeds = int(*v);
-    }
-    if (seeds_override < 0 || seeds_override > kMaxSeeds)
-        throw ConfigError("--seeds " + std::to_string(seeds_override) + ": must be an integer in 1.." +
-                          std::to_string(kMaxSeeds));
-    if (seeds_override > 0) seeds = seeds_override;
+    const int seeds = study_seeds(root, where, seeds_override);
     if (const toml::node* b = root.get("base")) {
         if (!b->as_string()) throw ConfigError(where + "key 'base' must be a string (a config file path)");
         fs::path p(b->as_string()->get());
@@ -361,17 +367,7 @@ DeviceStudy load_device_study(const std::string& path, const std::vector<std::st
     s.device = dev.lexically_normal().string();
     if (const toml::node* n = root.get("description"); n && !n->as_string())
         throw ConfigError(where + "key 'description' must be a string");
-    if (const toml::node* n = root.get("seeds")) {
-        const auto v = n->value_exact<int64_t>();
-        if (!v || *v < 1 || *v > kMaxSeeds)
-            throw ConfigError(where + "key 'seeds' = " + cfg::describe(*n) + ": must be an integer in 1.." +
-                              std::to_string(kMaxSeeds) + " (every case with simulation.seed 1, 2, ..., seeds)");
-        s.seeds = int(*v);
-    }
-    if (seeds_override < 0 || seeds_override > kMaxSeeds)
-        throw ConfigError("--seeds " + std::to_string(seeds_override) + ": must be an integer in 1.." +
-                          std::to_string(kMaxSeeds));
-    if (seeds_override > 0) s.seeds = seeds_override;
+    s.seeds = study_seeds(root, where, seeds_override);
     // A table of device keys as overrides "key=literal" in file order (a key twice refused).
     auto overrides = [&](const toml::node& t, const std::string& table) {
         if (!t.as_table()) throw ConfigError(where + "'" + table + "' must be a table of device keys");
