@@ -1,6 +1,6 @@
-// The damper run's record: the checkpoint's state (RunState), forces.csv's and energy.csv's
-// tables, the result and summary.json, the report on the terminal; run_damper(). The files of a
-// run's folder are written by its recorder (damper_recorder.cpp): here what goes into them.
+// The damper run's record: the result (the cycles analysed, the warnings over the whole record),
+// summary.json's text, the report on the terminal; run_damper(). The files of a run's folder are
+// written by its recorder (damper_recorder.cpp): here what goes into them.
 #include <algorithm>
 #include <charconv>
 #include <chrono>
@@ -30,75 +30,27 @@ namespace fs = std::filesystem;
 
 namespace damper_detail {
 
-void DamperRun::checkpoint(bool force) {
-    if (!recorder_.checkpoint_due(force, options_.checkpoint_every)) return;
-    if (options_.batch) options_.batch->sync(world_);
-    if (state_.settings.empty()) {
-        // Before its settings are applied to the sample (while preparing), a run's run.ckpt
-        // carries them all the same: resuming it continues this run. Without them, a run
-        // started with --set process.velocity=0.1, killed while filling and resumed with
-        // `--from DIR/run.ckpt` alone ran at the default velocity (found by
-        // tools/kill_resume.py). prepared.ckpt keeps none (a sample takes the settings it is
-        // given).
-        RunState s = state_;
-        s.settings = run_settings();
-        recorder_.save_run(world_, s.save());
-    } else {
-        recorder_.save_run(world_, state_.save());
-    }
-    if (state_.stage == Stage::Cycling || state_.stage == Stage::Done) recorder_.write_records(forces(), energy());
-}
-
-void DamperRun::save_prepared() {
-    if (!recorder_.writes()) return;
-    // A sample carries no run settings, also when this run resumed a run.ckpt that did.
-    RunState s = state_;
-    s.settings.clear();
-    recorder_.save_prepared(world_, s.save());
-}
-
-void DamperRun::vtk_frame(const char* tag) {
-    if (!recorder_.writes()) return;
-    if (options_.batch) options_.batch->sync(world_);
-    recorder_.vtk_frame(world_, tag);
-}
-
-void DamperRun::save(const std::string& path) const {
-    // A prepared sample is saved as prepared.ckpt is: without the settings just applied to it, so
-    // that a run from it takes the settings it is given (a branch, as `--from prepared.ckpt`).
-    if (state_.stage == Stage::Prepared) {
-        RunState s = state_;
-        s.settings.clear();
-        DamperRecorder::save_world(path, world_, s.save());
-        return;
-    }
-    DamperRecorder::save_world(path, world_, state_.save());
-}
-
-void DamperRun::write_records(const std::string& dir) const {
-    DamperRecorder::write_forces(dir, forces());
-    DamperRecorder::write_energy(dir, energy());
-}
-
 DamperResult DamperRun::result() const {
+    const dem::World& world = scene_.world;
+    const Config& config = scene_.config;
     DamperResult r;
-    r.grains = grain_count_now();
-    r.foil_particles = lattice_.particles.size();
-    r.bonds = world_.bonds().size();
-    r.foil_columns = lattice_.cols;
-    r.foil_rows = lattice_.rows;
-    r.foil_radius = lattice_.radius;
-    if (mesh_foil()) {
-        r.foil_vacancies = membrane_.vacancies;
+    r.grains = scene_.grain_count_now();
+    r.foil_particles = scene_.lattice.particles.size();
+    r.bonds = world.bonds().size();
+    r.foil_columns = scene_.lattice.cols;
+    r.foil_rows = scene_.lattice.rows;
+    r.foil_radius = scene_.lattice.radius;
+    if (scene_.mesh_foil()) {
+        r.foil_vacancies = scene_.membrane.vacancies;
         double sum = 0;
-        for (uint32_t b : membrane_.bonds) sum += world_.bonds().phys[b].kn;
-        r.foil_bond_kn_mean = membrane_.bonds.empty() ? 0.0 : sum / double(membrane_.bonds.size());
+        for (uint32_t b : scene_.membrane.bonds) sum += world.bonds().phys[b].kn;
+        r.foil_bond_kn_mean = scene_.membrane.bonds.empty() ? 0.0 : sum / double(scene_.membrane.bonds.size());
     }
-    r.height = z_top_;
-    r.dt = world_.params.dt;
-    r.inertial_number = inertial_number(config_, z_top_);
+    r.height = scene_.z_top;
+    r.dt = world.params.dt;
+    r.inertial_number = inertial_number(config, scene_.z_top);
     LoopSeries ls;
-    const int S = int(config_.process.samples_per_cycle);
+    const int S = int(config.process.samples_per_cycle);
     // Only the cycles the run finished are analysed: a cycle stopped part way (Ctrl-C in Python,
     // a run.ckpt written mid-cycle and loaded) has a loop cut short, whose area is not the
     // cycle's W (77 J/m^2 for 25 of 80 samples where the full cycle gives 388). Its samples stay
@@ -116,11 +68,11 @@ DamperResult DamperRun::result() const {
         ls.force.push_back(state_.samples[k].grains + state_.samples[k].foil);
         ls.cycle.push_back(int(k / S) + 1);
     }
-    r.cycles = analyze_cycles(ls, config_.damper.radius);
+    r.cycles = analyze_cycles(ls, config.damper.radius);
     // Energy per cycle: ledger differences between the first samples of consecutive cycles;
     // the last cycle ends at the last step of cycling (one step before the cycle's end).
     if (!state_.energy.empty() && state_.energy.size() == state_.samples.size()) {
-        const EnergyRow last = energy_row(world_.energy(), world_.energy().time - state_.cycle_t0);
+        const EnergyRow last = energy_row(world.energy(), world.energy().time - state_.cycle_t0);
         for (CycleResult& cr : r.cycles) {
             const std::size_t a = std::size_t(cr.cycle - 1) * std::size_t(S), b = a + std::size_t(S);
             if (a >= state_.energy.size()) continue;
@@ -138,12 +90,12 @@ DamperResult DamperRun::result() const {
             cr.energy_residual = d("residual");
         }
     }
-    r.settling = mark_settled(r.cycles, config_.analysis.settle_tolerance);
+    r.settling = mark_settled(r.cycles, config.analysis.settle_tolerance);
     if (air_complete(state_) && !ls.force.empty()) {
         // The machine's loop: forces.csv's force_machine_zeroed through the same analysis.
         const double m0 = ls.force[0] - state_.air[0].dp * state_.air[0].lid_area;
         for (std::size_t k = 0; k < ls.force.size(); ++k) ls.force[k] += -state_.air[k].dp * state_.air[k].lid_area - m0;
-        for (const CycleResult& m : analyze_cycles(ls, config_.damper.radius)) {
+        for (const CycleResult& m : analyze_cycles(ls, config.damper.radius)) {
             AirCycle a;
             a.cycle = m.cycle;
             a.W_machine = m.W;
@@ -164,32 +116,32 @@ DamperResult DamperRun::result() const {
     r.report = state_.report;
     r.warnings = state_.warnings;
     if (!incomplete.empty()) r.warnings.push_back(incomplete);
-    const std::size_t asked = std::size_t(config_.process.cycles) * std::size_t(S);
+    const std::size_t asked = std::size_t(config.process.cycles) * std::size_t(S);
     if (state_.stage == Stage::Done && state_.samples.size() < asked) {
         r.incomplete = true;
         r.warnings.push_back("incomplete: " + std::to_string(state_.samples.size() / std::size_t(S)) + " of process.cycles = " +
-                             std::to_string(config_.process.cycles) + " cycles recorded (" +
+                             std::to_string(config.process.cycles) + " cycles recorded (" +
                              std::to_string(state_.samples.size()) + " of " + std::to_string(asked) +
                              " samples): the samples fell behind the time step; lower process.samples_per_cycle or "
                              "the frequency (process.frequency, process.velocity)");
     }
     // The pump model's dp follows the gas: a leak that outruns the pump lets it fall far below
     // the set value, and the run is then not one at process.underpressure.
-    if (config_.process.pressure_model != 0)
+    if (config.process.pressure_model != 0)
         for (const AirCycle& a : r.air)
-            if (a.underpressure_min < 0.5 * config_.process.underpressure) {
+            if (a.underpressure_min < 0.5 * config.process.underpressure) {
                 char msg[400];
                 std::snprintf(msg, sizeof msg,
                               "pump model: dp fell to %.4g Pa in cycle %d, below half the set process.underpressure "
                               "%.4g Pa: the leak (process.leak_rate %.3g m^3/s) or the stroke outruns the pump "
                               "(process.pump_speed %.3g m^3/s); this is not a run at the set underpressure",
-                              a.underpressure_min, a.cycle, config_.process.underpressure, config_.process.leak_rate,
-                              config_.process.pump_speed);
+                              a.underpressure_min, a.cycle, config.process.underpressure, config.process.leak_rate,
+                              config.process.pump_speed);
                 r.warnings.push_back(msg);
                 break;
             }
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    r.config = config_;
+    r.config = config;
     return r;
 }
 
