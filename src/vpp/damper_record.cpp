@@ -2,22 +2,17 @@
 // summary.json's text, the report on the terminal; run_damper(). The files of a run's folder are
 // written by its recorder (damper_recorder.cpp): here what goes into them.
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 
 #include "scene/scene_runner.h"
 #include "dem/detect/cell_grid.h"
-#include "dem/io/archive.h"
-#include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
-#include "dem/batch/batch_stepper.h"
 #include "vpp/damper_run.h"
 #include "vpp/records.h"
 #include "vpp/plot.h"
@@ -270,9 +265,8 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
 DamperResult write_damper_outputs(const Damper& d, const DamperOptions& opt) {
     d.write_records(opt.out_dir);
     DamperResult r = d.result();
-    const fs::path out(opt.out_dir);
-    write_cycles_csv((out / "cycles.csv").string(), r.cycles);
-    dem::write_text_atomic((out / "summary.json").string(), damper_summary_json(r, opt.from));
+    damper_detail::DamperRecorder::write_cycles(opt.out_dir, r.cycles);
+    damper_detail::DamperRecorder::write_summary(opt.out_dir, damper_summary_json(r, opt.from));
     return r;
 }
 
