@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
+#include <optional>
 #include <stdexcept>
 
 #include "dem/io/checkpoint.h"
@@ -52,7 +54,7 @@ std::string show_value(const std::string& key, double v) {
     if (key == "process.waveform") return v == 0.0 ? "\"triangle\"" : "\"sine\"";
     if (key == "output.energy" || key == "damper.refill") return v != 0.0 ? "true" : "false";
     if (key == "foil.builder") return v == 0.0 ? "\"lattice\"" : "\"mesh\"";
-    if (key == "foil.bond_arm") return "\"" + std::string(dem::bond_arm_name(dem::BondArm(int(v)))) + "\"";
+    if (key == "foil.bond_arm") return std::string("\"") + dem::bond_arm_name(dem::BondArm(int(v))) + "\"";
     if (key == "simulation.dt" && v == 0.0) return "\"auto\"";
     if (key == "damper.cap_friction" && v < 0.0) return "(unset: the grains' friction)";
     // Words, not the numbers the checkpoint keeps for them (a refusal said "grains.shape = 5").
@@ -77,44 +79,79 @@ std::map<std::string, double> sample_keys_of(const Config& c) {
     return m;
 }
 
+namespace {
+
+// The sample's keys as a checkpoint stores them: its geometry (an older vppdem's missing keys at
+// their legacy values) and the keys that acted during its preparation (those it recorded).
+std::map<std::string, double> stored_sample_keys(const RunState& ck) {
+    std::map<std::string, double> keys = ck.geometry;
+    for (const StoredKey& k : kGeometryKeys)
+        if (!keys.count(k.key) && std::isfinite(k.legacy)) keys[k.key] = k.legacy;
+    return keys;
+}
+
+// How a refusal words a stored value against the config's: "key = stored (<asks> value<note>)",
+// the note after a preparation key's value.
+struct Wording {
+    const char* asks;
+    const char* preparation_note;
+};
+
+// The keys whose values `stored` (stored_sample_keys) differ from c's, as a refusal lists them,
+// in the tables' order joined by ", ": every geometry key (one not stored: "?"), and with
+// `preparation` every preparation key stored (an older vppdem's sample did not record them).
+// `take`, when given, is asked first about each stored geometry key: nullopt to compare it, or
+// the entry to list in its place ("" for none).
+std::string sample_differences(const Config& c, const std::map<std::string, double>& stored, bool preparation,
+                               const Wording& wording,
+                               const std::function<std::optional<std::string>(const StoredKey&, double)>& take = {}) {
+    std::string diffs;
+    auto add = [&](const std::string& entry) {
+        if (!entry.empty()) diffs += (diffs.empty() ? "" : ", ") + entry;
+    };
+    auto compare = [&](const StoredKey& k, bool geometry) {
+        const auto it = stored.find(k.key);
+        if (it == stored.end() && !geometry) return;  // an older vppdem's sample: not recorded
+        if (it != stored.end() && geometry && take)
+            if (const std::optional<std::string> entry = take(k, it->second)) return add(*entry);
+        const double value = k.get(c);
+        if (it != stored.end() && same_value(it->second, value)) return;
+        add(std::string(k.key) + " = " + (it == stored.end() ? std::string("?") : show_value(k.key, it->second)) + " (" +
+            wording.asks + " " + show_value(k.key, value) + (geometry ? "" : wording.preparation_note) + ")");
+    };
+    for (const StoredKey& k : kGeometryKeys) compare(k, true);
+    if (preparation)
+        for (const StoredKey& k : kPreparationKeys) compare(k, false);
+    return diffs;
+}
+
+}  // namespace
+
 CheckpointStart adopt_checkpoint_settings(Config& config, const DamperOptions& options) {
     CheckpointStart start;
     dem::World scratch;  // only the app state is needed here; run() loads the World itself
     const RunState ck = RunState::load(dem::load_checkpoint(options.from, scratch), options.from);
     // Geometry: a key the config gives must match the sample's; the others take its values.
-    std::string diffs;
-    std::map<std::string, double> geometry = ck.geometry;
-    for (const StoredKey& k : kGeometryKeys)
-        if (!geometry.count(k.key) && std::isfinite(k.legacy)) geometry[k.key] = k.legacy;
-    for (const StoredKey& k : kGeometryKeys) {
-        const auto it = geometry.find(k.key);
-        const double value = k.get(config);
-        if (it != geometry.end() && !config.given.count(k.key)) {
-            k.set(config, it->second);
-        } else if (it != geometry.end() && (std::string(k.key) == "grains.sieve_curve" ||
-                                            std::string(k.key) == "grains.clump_template") &&
-                   !same_value(it->second, value)) {
-            const std::string& file = std::string(k.key) == "grains.sieve_curve" ? config.grains.sieve_curve
-                                                                                 : config.grains.clump_template;
-            diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + ": the sample was drawn from " +
-                     (it->second == 0.0 ? std::string("none") : std::string("a file with other numbers")) +
-                     " (the config asks for " + (file.empty() ? std::string("none") : "'" + file + "'") + ")";
-        } else if (it == geometry.end() || !same_value(it->second, value)) {
-            diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + " = " +
-                     (it == geometry.end() ? std::string("?") : show_value(k.key, it->second)) +
-                     " (the config asks for " + show_value(k.key, value) + ")";
-        }
-    }
     // A study's branch: the keys that acted during the preparation must be the case's too, or
     // the case would cycle a sample its settings did not make (a stiffer grain settles into
     // another packing). A checkpoint of an older vppdem did not record them: not checked.
-    if (options.check_preparation && ck.stage == Stage::Prepared)
-        for (const StoredKey& k : kPreparationKeys) {
-            const auto it = ck.geometry.find(k.key);
-            if (it != ck.geometry.end() && !same_value(it->second, k.get(config)))
-                diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + " = " + show_value(k.key, it->second) +
-                         " (the config asks for " + show_value(k.key, k.get(config)) + "; it acts during the preparation)";
+    auto take = [&](const StoredKey& k, double stored) -> std::optional<std::string> {
+        if (!config.given.count(k.key)) {
+            k.set(config, stored);
+            return std::string();
         }
+        // A file key is stored as its numbers' fingerprint: the message names the file, not two fingerprints.
+        const bool file = std::string(k.key) == "grains.sieve_curve" || std::string(k.key) == "grains.clump_template";
+        if (!file || same_value(stored, k.get(config))) return std::nullopt;
+        const std::string& path = std::string(k.key) == "grains.sieve_curve" ? config.grains.sieve_curve
+                                                                             : config.grains.clump_template;
+        return std::string(k.key) + ": the sample was drawn from " +
+               (stored == 0.0 ? std::string("none") : std::string("a file with other numbers")) +
+               " (the config asks for " + (path.empty() ? std::string("none") : "'" + path + "'") + ")";
+    };
+    const std::string diffs = sample_differences(config, stored_sample_keys(ck),
+                                                 options.check_preparation && ck.stage == Stage::Prepared,
+                                                 {"the config asks for", "; it acts during the preparation"}, take);
     start.grains = ck.grains;
     if (!diffs.empty())
         throw std::runtime_error("checkpoint '" + options.from + "' was prepared with another geometry: " + diffs +
@@ -169,29 +206,14 @@ SampleRecord read_sample_record(const std::string& checkpoint) {
     const RunState ck = RunState::load(dem::load_checkpoint(checkpoint, scratch), checkpoint);
     SampleRecord r;
     r.prepared = ck.stage == Stage::Prepared;
-    r.keys = ck.geometry;
-    for (const StoredKey& k : kGeometryKeys)
-        if (!r.keys.count(k.key) && std::isfinite(k.legacy)) r.keys[k.key] = k.legacy;
+    r.keys = stored_sample_keys(ck);
     return r;
 }
 
 std::string sample_misfit(const Config& c, const SampleRecord& sample, bool preparation_keys) {
     using namespace damper_detail;
     if (!sample.prepared) return "not a prepared sample (its stage is past the preparation)";
-    const std::map<std::string, double>& stored = sample.keys;
-    std::string diffs;
-    auto compare = [&](const StoredKey& k, bool missing_differs) {
-        const auto it = stored.find(k.key);
-        if (it == stored.end() && !missing_differs) return;  // an older vppdem's sample: not recorded
-        if (it != stored.end() && same_value(it->second, k.get(c))) return;
-        diffs += (diffs.empty() ? "" : ", ") + std::string(k.key) + " = " +
-                 (it == stored.end() ? std::string("?") : show_value(k.key, it->second)) + " (the case: " +
-                 show_value(k.key, k.get(c)) + ")";
-    };
-    for (const StoredKey& k : kGeometryKeys) compare(k, true);
-    if (preparation_keys)
-        for (const StoredKey& k : kPreparationKeys) compare(k, false);
-    return diffs;
+    return sample_differences(c, sample.keys, preparation_keys, {"the case:", ""});
 }
 
 }  // namespace vpp
