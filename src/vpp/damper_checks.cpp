@@ -41,8 +41,9 @@ std::string step_key(const Config& c) {
 }  // namespace
 
 std::vector<std::string> check_process(const DamperScene& scene) {
+    const Config& config = scene.config;
     std::vector<std::string> warnings;
-    const ProcessDef& p = scene.config.process;
+    const ProcessDef& p = config.process;
     const double H = scene.z_top, A = p.amplitude, off = p.start_offset;
     // The stroke against the sample's height H. A poured packing (about 0.6) reaches the densest
     // packing of spheres (0.74) at a compression of 1 - 0.6 / 0.74 = 19% of its height: beyond
@@ -91,23 +92,23 @@ std::vector<std::string> check_process(const DamperScene& scene) {
         constexpr double kMaxOverlap = 0.5;    // [grain radii]
         constexpr double kMaxHoopStrain = 0.5; // [-]
         constexpr double kGravity = 9.81;      // [m/s^2]
-        const double weight = scene.config.grains.density * kGravity * H;  // [Pa] at the column's foot
+        const double weight = config.grains.density * kGravity * H;  // [Pa] at the column's foot
         const double load = std::max(p.underpressure, weight);    // [Pa]
-        const double overlap = 8.0 * load / scene.config.grains.young;
+        const double overlap = 8.0 * load / config.grains.young;
         const std::string by = weight > p.underpressure
-                                   ? " with 'grains.density' = " + show_value("", scene.config.grains.density) + ": under the column's "
+                                   ? " with 'grains.density' = " + show_value("", config.grains.density) + ": under the column's "
                                      "weight rho g H = " + fmt("%.4g", weight) + " Pa"
                                    : ": under process.underpressure = " + show_value("", p.underpressure) + " Pa";
         if (!(overlap <= kMaxOverlap))
             throw std::runtime_error(
-                "config key 'grains.young' = " + show_value("", scene.config.grains.young) + by + " the grains would overlap by about " +
+                "config key 'grains.young' = " + show_value("", config.grains.young) + by + " the grains would overlap by about " +
                 fmt("%.3g", overlap) + " of their radius (8 load / E); allowed: at least " +
                 fmt("%.4g", 8.0 * load / kMaxOverlap) + " Pa here (an overlap under half the radius)");
-        const double strain = p.underpressure * scene.lattice.radius / (scene.config.foil.young * scene.config.foil.thickness);
+        const double strain = p.underpressure * scene.lattice.radius / (config.foil.young * config.foil.thickness);
         if (!(strain <= kMaxHoopStrain))
             throw std::runtime_error(
-                "config key 'foil.young' = " + show_value("", scene.config.foil.young) + " with 'foil.thickness' = " +
-                show_value("", scene.config.foil.thickness) + ": under process.underpressure = " + show_value("", p.underpressure) +
+                "config key 'foil.young' = " + show_value("", config.foil.young) + " with 'foil.thickness' = " +
+                show_value("", config.foil.thickness) + ": under process.underpressure = " + show_value("", p.underpressure) +
                 " Pa the foil would stretch by " + fmt("%.3g", strain) + " (the hoop strain dp R / (E_f t_f), R = " +
                 fmt("%.4g", scene.lattice.radius) + " m); allowed: E_f t_f at least " +
                 fmt("%.4g", p.underpressure * scene.lattice.radius / kMaxHoopStrain) + " N/m here (a strain under 50%: beyond, "
@@ -115,14 +116,14 @@ std::vector<std::string> check_process(const DamperScene& scene) {
     }
     // Local damping above 0.5: an oscillation already loses most of its amplitude each half
     // period; more holds the grains back, and the loop's area is then largely the damping's.
-    if (cycling_local_damping(scene.config) > 0.5)
-        warnings.push_back("local damping " + show_value("", cycling_local_damping(scene.config)) + " from the vacuum on (" +
-                           (scene.config.process.local_damping >= 0.0 ? "process" : "simulation") + ".local_damping) is above 0.5: "
+    if (cycling_local_damping(config) > 0.5)
+        warnings.push_back("local damping " + show_value("", cycling_local_damping(config)) + " from the vacuum on (" +
+                           (config.process.local_damping >= 0.0 ? "process" : "simulation") + ".local_damping) is above 0.5: "
                            "it holds the grains back, and W is then largely the damping's (cycles.csv "
                            "damping_dissipation)");
     // A frequency sets the period and the start offset's speed (2 A f): the velocity is then
     // not used at all.
-    if (p.frequency > 0.0 && scene.config.given.count("process.velocity"))
+    if (p.frequency > 0.0 && config.given.count("process.velocity"))
         warnings.push_back("process.velocity = " + show_value("", p.velocity) + " m/s is not the cap's speed: process.frequency = " +
                            show_value("", p.frequency) + " Hz sets the period (peak speed " +
                            fmt("%.4g", peak_speed(p)) + " m/s) and the start offset's speed: the velocity is not used");
@@ -130,8 +131,8 @@ std::vector<std::string> check_process(const DamperScene& scene) {
     // waiting five of them. The gas volume is at most the foil's interior less the poured grains.
     if (p.pressure_model != 0 && p.pump_down && p.pump_speed > 0.0) {
         constexpr double kMaxPumpDown = 60.0;  // [s] of simulated time: a minute (2 m^3/h on the paper's damper: 0.7 s)
-        const double r_in = scene.lattice.radius - scene.config.foil.particle_radius;
-        const double gas = std::numbers::pi * r_in * r_in * H * (1.0 - scene.config.grains.volume_fraction);
+        const double r_in = scene.lattice.radius - config.foil.particle_radius;
+        const double gas = std::numbers::pi * r_in * r_in * H * (1.0 - config.grains.volume_fraction);
         const double t = 5.0 * gas / p.pump_speed;
         if (t > kMaxPumpDown)
             throw std::runtime_error(
@@ -145,20 +146,21 @@ std::vector<std::string> check_process(const DamperScene& scene) {
 }
 
 void check_steps(const DamperScene& scene) {
-    const SimulationDef& sim = scene.config.simulation;
-    const ProcessDef& p = scene.config.process;
+    const Config& config = scene.config;
+    const SimulationDef& sim = config.simulation;
+    const ProcessDef& p = config.process;
     const double dt = scene.world.params.dt, critical = scene.world.critical_dt();
     // The automatic step comes from every contact's stiffness and every particle's mass; a
     // message names first the key farthest from its default (step_key).
     auto from_auto = [&] {
         return "simulation.dt_safety = " + show_value("", sim.dt_safety) + " times the critical step sqrt(m/k) of the "
-               "contacts, here from " + step_key(scene.config) + " (of grains.young, grains.density, grains.radius, "
+               "contacts, here from " + step_key(config) + " (of grains.young, grains.density, grains.radius, "
                "foil.young, foil.thickness, foil.density, the stiffness ratios)";
     };
     const bool tiny = !(dt >= std::numeric_limits<double>::min());
     // A modulus of 1e300 or 5e-324 leaves a step of 0, a subnormal or infinity: nothing to integrate with.
     if (tiny || !std::isfinite(dt)) {
-        const std::string key = sim.dt_auto ? step_key(scene.config) : "simulation.dt = " + show_value("", sim.dt);
+        const std::string key = sim.dt_auto ? step_key(config) : "simulation.dt = " + show_value("", sim.dt);
         throw std::runtime_error("config key '" + key.substr(0, key.find(' ')) + "' = " + key.substr(key.find('=') + 2) +
                                  ": the time step " + fmt("%.3g", dt) + " s (" +
                                  (sim.dt_auto ? from_auto() : key) + ") is not a positive finite number of "
@@ -190,7 +192,7 @@ void check_steps(const DamperScene& scene) {
         const bool blame_step = std::log10(1e-9 / dt) > std::log10(total / 1e3);
         std::string what;
         if (blame_step) {
-            const std::string key = sim.dt_auto ? step_key(scene.config) : "simulation.dt = " + show_value("", sim.dt);
+            const std::string key = sim.dt_auto ? step_key(config) : "simulation.dt = " + show_value("", sim.dt);
             what = key;
         } else if (cycling >= p.ramp_time && cycling >= p.hold_time) {
             // One cycle longer than a whole run: the period's key; else the count of cycles.
@@ -214,8 +216,9 @@ void check_steps(const DamperScene& scene) {
 }
 
 std::vector<std::string> check_sampling(const DamperScene& scene, bool refuse) {
+    const Config& config = scene.config;
     std::vector<std::string> warnings;
-    const ProcessDef& p = scene.config.process;
+    const ProcessDef& p = config.process;
     const double T = cycle_period(p), dt = scene.world.params.dt;
     if (!(dt > 0.0)) return warnings;
     const double spacing = T / double(p.samples_per_cycle);  // [s] between two samples
@@ -245,14 +248,15 @@ std::vector<std::string> check_sampling(const DamperScene& scene, bool refuse) {
 }
 
 std::vector<std::string> check_grains_fit(const DamperScene& scene, std::size_t n) {
+    const Config& config = scene.config;
     const double rk = scene.sizes.max_radius();
-    const double r_in = scene.lattice.radius - scene.config.foil.particle_radius;  // [m] inner surface of the foil
+    const double r_in = scene.lattice.radius - config.foil.particle_radius;  // [m] inner surface of the foil
     if (rk > r_in / 3.0) {
         const char* const kinds[] = {"single", "uniform", "lognormal", "sieve"};
         const std::string what = scene.sizes.kind == scene::SizeDistribution::Kind::Single
                                      ? "config key 'grains.radius' = " + show_value("", rk) + ": too large"
                                      : std::string("config key 'grains.radius_distribution' = \"") +
-                                           kinds[scene.config.grains.radius_distribution] + "\": its largest grain (radius " +
+                                           kinds[config.grains.radius_distribution] + "\": its largest grain (radius " +
                                            show_value("", rk) + " m) is too large";
         throw std::runtime_error(what + " for the damper; at most a third of the foil's inner radius (" +
                                  show_value("", r_in / 3.0) + " m)");
@@ -263,8 +267,8 @@ std::vector<std::string> check_grains_fit(const DamperScene& scene, std::size_t 
     // a third of it is refused.
     if (scene.clumps() && scene.grain_reach(rk) > 0.5 * r_in) {
         const char* const shapes[] = {"sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"};
-        const std::string what = scene.config.grains.shape == 5 ? "config key 'grains.clump_template' = '" + scene.config.grains.clump_template + "'"
-                                                      : std::string("config key 'grains.shape' = \"") + shapes[scene.config.grains.shape] + "\"";
+        const std::string what = config.grains.shape == 5 ? "config key 'grains.clump_template' = '" + config.grains.clump_template + "'"
+                                                      : std::string("config key 'grains.shape' = \"") + shapes[config.grains.shape] + "\"";
         throw std::runtime_error(what + ": its grains reach " + show_value("", scene.grain_reach(rk)) + " m from their centre (at "
                                  "grains.radius " + show_value("", rk) + " m); at most half the foil's inner radius (" +
                                  show_value("", 0.5 * r_in) + " m), so that a grain can turn inside the foil");
@@ -277,8 +281,8 @@ std::vector<std::string> check_grains_fit(const DamperScene& scene, std::size_t 
     const std::size_t n_layer = std::size_t(std::max(1.0, std::floor(0.9069 * (r_in / rk) * (r_in / rk))));
     if (n < n_layer) {
         const double phi_min = double(n_layer) * v_grain /
-                               (std::numbers::pi * scene.config.damper.radius * scene.config.damper.radius * scene.config.damper.height);
-        throw std::runtime_error("config key 'grains.volume_fraction' = " + show_value("", scene.config.grains.volume_fraction) +
+                               (std::numbers::pi * config.damper.radius * config.damper.radius * config.damper.height);
+        throw std::runtime_error("config key 'grains.volume_fraction' = " + show_value("", config.grains.volume_fraction) +
                                  ": gives " + std::to_string(n) + " grain(s) in this damper; at least " +
                                  std::to_string(n_layer) + " are needed (one layer across the foil's inner radius " +
                                  show_value("", r_in) + " m), i.e. grains.volume_fraction >= " + show_value("", phi_min));
@@ -291,7 +295,7 @@ std::vector<std::string> check_grains_fit(const DamperScene& scene, std::size_t 
     const double v_in = std::numbers::pi * r_in * r_in * scene.z_top;
     const double phi_in = double(n) * v_grain / v_in;
     if (phi_in > 0.74)
-        throw std::runtime_error("config key 'grains.volume_fraction' = " + show_value("", scene.config.grains.volume_fraction) +
+        throw std::runtime_error("config key 'grains.volume_fraction' = " + show_value("", config.grains.volume_fraction) +
                                  ": " + std::to_string(n) + " grains fill " + show_value("", std::round(1000 * phi_in) / 10) +
                                  "% of the foil's interior (radius " + show_value("", r_in) + " m, height " +
                                  show_value("", scene.z_top) + " m); at most 74% (the densest sphere packing) can be prepared");
