@@ -5,8 +5,10 @@
 //   cycle:   upper cap and top foil ring moved together, triangular displacement
 //   record:  forces.csv (grains on the cap, foil on the top ring), cycles.csv, summary.json
 // vpp::Damper runs these stages one call at a time (the Python module drives it); run_damper()
-// runs them all and writes the outputs. The code lives in damper_world.cpp (the damper's
-// world), damper_stages.cpp (the stages) and damper_record.cpp (checkpoint, records, report).
+// runs them all and writes the outputs. The code lives in damper_scene.cpp (the damper's world
+// and its parts), damper_stages.cpp (the stages), damper_run.cpp (the run that composes them),
+// damper_recorder.cpp (every file of the output folder) and damper_record.cpp (result, summary,
+// report); damper_run.h lists them all.
 #pragma once
 
 #include <cstdint>
@@ -117,7 +119,7 @@ std::string sample_misfit(const Config& c, const SampleRecord& sample, bool prep
 // With opt.from: the checkpoint's geometry replaces the config's (a geometry key the config
 // gives with another value is an error), and a checkpoint of a run that started (run.ckpt past
 // the preparation) also gives its contact, process and simulation settings (kRunKeys in
-// damper_world.cpp; a key given with another value is an error naming both values).
+// damper_stored_settings.cpp; a key given with another value is an error naming both values).
 DamperResult run_damper(const Config& c, const DamperOptions& opt);
 
 // One recorded sample of the cycling: the forces averaged over process.sample_window before it.

@@ -1,23 +1,18 @@
-// The damper run's record: the checkpoint's state (RunState), forces.csv's and energy.csv's
-// tables, the result and summary.json, the report on the terminal; run_damper(). The files of a
-// run's folder are written by its recorder (damper_recorder.cpp): here what goes into them.
+// The damper run's record: the result (the cycles analysed, the warnings over the whole record),
+// summary.json's text, the report on the terminal; run_damper(). The files of a run's folder are
+// written by its recorder (damper_recorder.cpp): here what goes into them.
 #include <algorithm>
-#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <limits>
-#include <sstream>
 #include <stdexcept>
 
 #include "scene/scene_runner.h"
 #include "dem/detect/cell_grid.h"
-#include "dem/io/archive.h"
-#include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
-#include "dem/batch/batch_stepper.h"
 #include "vpp/damper_run.h"
 #include "vpp/records.h"
 #include "vpp/plot.h"
@@ -30,275 +25,27 @@ namespace fs = std::filesystem;
 
 namespace damper_detail {
 
-EnergyRow energy_row(const dem::EnergyLedger& L, double time) {
-    EnergyRow r;
-    dem::energy_csv_row(L, time, r.v);
-    return r;
-}
-
-// The state's fields in the run-state archive (dem/io/archive.h), the format of the World's own
-// sections: one section "RUNS"; S is `const RunState` when saving.
-template <class A, class S> void RunState::fields(A& a, S& r) {
-    a.section("RUNS", [&](A& s) {
-        int32_t stage = int32_t(r.stage);
-        int64_t window_n = r.window_n;
-        uint64_t grains = r.grains;
-        s.pod(stage);
-        s.pod(r.stage_t0);
-        s.pod(r.cap_d0);
-        s.pod(r.cycle_t0);
-        s.pod(r.window_grains);
-        s.pod(r.window_foil);
-        s.pod(window_n);
-        s.numbers(r.geometry);
-        s.numbers(r.settings);
-        s.pod(grains);
-        s.numbers(r.report);
-        s.strings(r.warnings);
-        s.vec(r.samples);
-        s.vec(r.energy);
-        s.pod(r.gas_amount);
-        s.pod(r.gas_volume);
-        s.pod(r.gas_work);
-        s.vec(r.air);
-        if constexpr (A::kLoading) {
-            // Stage(stage) outside the enum would index past stage_name()'s table.
-            if (stage < int32_t(Stage::Fill) || stage > int32_t(Stage::Done))
-                throw std::runtime_error("damper state entry 'stage' holds " + std::to_string(stage) +
-                                         ", not a stage (0 fill ... 5 done)");
-            r.stage = Stage(stage);
-            r.window_n = long(window_n);
-            r.grains = std::size_t(grains);
-        }
-    });
-}
-
-std::string RunState::save() const {
-    dem::io::Writer w;
-    fields(w, *this);
-    return w.buf;
-}
-
-namespace {
-
-// One number of the state blob. std::from_chars, not operator>>: the blob holds what operator<<
-// wrote, "nan" and "inf" included (the report of a run that went wrong), which >> does not read
-// back; it stopped the reading there, and the rest of the state was silently left out.
-template <class T> T state_number(std::istream& is, const std::string& entry, const std::string& path) {
-    std::string tok;
-    T v{};
-    if (is >> tok) {
-        const auto r = std::from_chars(tok.data(), tok.data() + tok.size(), v);
-        if (r.ec == std::errc() && r.ptr == tok.data() + tok.size()) return v;
-    }
-    throw std::runtime_error("checkpoint '" + path + "': damper state entry '" + entry + "' holds " +
-                             (tok.empty() ? std::string("nothing") : "'" + tok + "'") + " where a number belongs");
-}
-
-}  // namespace
-
-RunState RunState::load(const std::string& blob, const std::string& path) {
-    if (blob.size() >= 4 && blob.compare(0, 4, "RUNS") == 0) {
-        RunState r;
-        dem::io::Reader in(blob.data(), blob.size(), path);
-        try {
-            fields(in, r);
-        } catch (const std::runtime_error& e) {
-            const std::string what = e.what();
-            if (what.starts_with("checkpoint '")) throw;
-            throw std::runtime_error("checkpoint '" + path + "': " + what);
-        }
-        if (!in.done()) dem::io::corrupt(path, "unexpected data after the damper state");
-        return r;
-    }
-    return load_text(blob, path);
-}
-
-RunState RunState::load_text(const std::string& text, const std::string& path) {
-    RunState r;
-    std::istringstream is(text);
-    std::string key;
-    int stage = 0;
-    auto real = [&](const std::string& entry) { return state_number<double>(is, entry, path); };
-    auto name = [&](const std::string& entry) {
-        std::string k;
-        if (!(is >> k)) throw std::runtime_error("checkpoint '" + path + "': damper state entry '" + entry + "' has no name");
-        return k;
-    };
-    while (is >> key) {
-        if (key == "stage") stage = state_number<int>(is, key, path);
-        else if (key == "stage_t0") r.stage_t0 = real(key);
-        else if (key == "cap_d0") r.cap_d0 = real(key);
-        else if (key == "cycle_t0") r.cycle_t0 = real(key);
-        else if (key == "window") {
-            r.window_grains = real(key);
-            r.window_foil = real(key);
-            r.window_n = state_number<long>(is, key, path);
-        } else if (key == "geometry") {
-            const std::string k = name(key);
-            r.geometry[k] = real(key + " " + k);
-        } else if (key == "setting") {
-            const std::string k = name(key);
-            r.settings[k] = real(key + " " + k);
-        } else if (key == "grains") {
-            r.grains = state_number<std::size_t>(is, key, path);
-        } else if (key == "report") {
-            const std::string k = name(key);
-            r.report[k] = real(key + " " + k);
-        } else if (key == "warning") {
-            std::string w;
-            std::getline(is, w);
-            r.warnings.push_back(w.empty() ? w : w.substr(1));  // the space after the key
-        } else if (key == "sample") {
-            Sample s;
-            s.time = real(key);
-            s.displacement = real(key);
-            s.grains = real(key);
-            s.foil = real(key);
-            r.samples.push_back(s);
-        } else if (key == "energy") {
-            EnergyRow e;
-            for (double& v : e.v) v = real(key);
-            r.energy.push_back(e);
-        } else if (key == "gas") {
-            r.gas_amount = real(key);
-            r.gas_volume = real(key);
-            r.gas_work = real(key);
-        } else if (key == "air") {
-            AirSample a;
-            a.enclosed = real(key);
-            a.gas = real(key);
-            a.p_inside = real(key);
-            a.dp = real(key);
-            a.lid_area = real(key);
-            a.gas_work = real(key);
-            r.air.push_back(a);
-        } else throw std::runtime_error("checkpoint '" + path + "': unknown damper state entry '" + key + "'");
-    }
-    // Stage(stage) outside the enum would index past stage_name()'s table.
-    if (stage < int(Stage::Fill) || stage > int(Stage::Done))
-        throw std::runtime_error("checkpoint '" + path + "': damper state entry 'stage' holds " + std::to_string(stage) +
-                                 ", not a stage (0 fill ... 5 done)");
-    r.stage = Stage(stage);
-    return r;
-}
-
-void DamperRun::checkpoint(bool force) {
-    if (!recorder_.checkpoint_due(force, options_.checkpoint_every)) return;
-    if (options_.batch) options_.batch->sync(world_);
-    if (state_.settings.empty()) {
-        // Before its settings are applied to the sample (while preparing), a run's run.ckpt
-        // carries them all the same: resuming it continues this run. Without them, a run
-        // started with --set process.velocity=0.1, killed while filling and resumed with
-        // `--from DIR/run.ckpt` alone ran at the default velocity (found by
-        // tools/kill_resume.py). prepared.ckpt keeps none (a sample takes the settings it is
-        // given).
-        RunState s = state_;
-        s.settings = run_settings();
-        recorder_.save_run(world_, s.save());
-    } else {
-        recorder_.save_run(world_, state_.save());
-    }
-    if (state_.stage == Stage::Cycling || state_.stage == Stage::Done) recorder_.write_records(forces(), energy());
-}
-
-void DamperRun::save_prepared() {
-    if (!recorder_.writes()) return;
-    // A sample carries no run settings, also when this run resumed a run.ckpt that did.
-    RunState s = state_;
-    s.settings.clear();
-    recorder_.save_prepared(world_, s.save());
-}
-
-void DamperRun::vtk_frame(const char* tag) {
-    if (!recorder_.writes()) return;
-    if (options_.batch) options_.batch->sync(world_);
-    recorder_.vtk_frame(world_, tag);
-}
-
-// The air's records are written when every sample has one (pump model or output.air; a run
-// that turned output.air on when resumed has none for its first samples and writes none).
-static bool air_complete(const RunState& st) { return !st.air.empty() && st.air.size() == st.samples.size(); }
-
-ForcesTable DamperRun::energy() const {
-    ForcesTable t;
-    if (state_.energy.empty()) return t;
-    const bool air = air_complete(state_) && state_.air.size() == state_.energy.size();
-    // The columns of dem::energy_csv_header(), and the gas's work with the air record.
-    t.columns = dem::energy_column_names();
-    if (air) t.columns.push_back("gas_work");
-    t.rows.reserve(state_.energy.size());
-    for (std::size_t k = 0; k < state_.energy.size(); ++k) {
-        std::vector<double> row(state_.energy[k].v, state_.energy[k].v + kEnergyRowSize);
-        if (air) row.push_back(state_.air[k].gas_work);
-        t.rows.push_back(std::move(row));
-    }
-    return t;
-}
-
-ForcesTable DamperRun::forces() const {
-    ForcesTable t;
-    const bool air = air_complete(state_);
-    t.columns = sample_column_names(air);
-    // The air (docs/damper.md, "The air inside"): force_lid is what dp adds to the testing
-    // machine's force on the lid (the atmosphere pushes the lid in: -dp times its area,
-    // compression positive); force_machine_zeroed is the machine's force, grains + foil + lid,
-    // zeroed at the first sample as force_zeroed is. With a constant dp the two zeroed columns agree.
-    const int S = int(config_.process.samples_per_cycle);
-    const double f0 = state_.samples.empty() ? 0.0 : state_.samples[0].grains + state_.samples[0].foil;
-    const double m0 = air ? f0 - state_.air[0].dp * state_.air[0].lid_area : 0.0;
-    t.rows.reserve(state_.samples.size());
-    for (std::size_t k = 0; k < state_.samples.size(); ++k) {
-        const Sample& s = state_.samples[k];
-        const double total = s.grains + s.foil;
-        std::vector<double> row = {s.time - state_.cycle_t0, s.displacement, total, s.grains, s.foil, total - f0,
-                                   double(k / S + 1)};
-        if (air) {
-            const AirSample& a = state_.air[k];
-            const double lid = -a.dp * a.lid_area;
-            row.insert(row.end(), {a.enclosed, a.gas, a.p_inside, a.dp, lid, total + lid - m0});
-        }
-        t.rows.push_back(std::move(row));
-    }
-    return t;
-}
-
-void DamperRun::save(const std::string& path) const {
-    // A prepared sample is saved as prepared.ckpt is: without the settings just applied to it, so
-    // that a run from it takes the settings it is given (a branch, as `--from prepared.ckpt`).
-    if (state_.stage == Stage::Prepared) {
-        RunState s = state_;
-        s.settings.clear();
-        DamperRecorder::save_world(path, world_, s.save());
-        return;
-    }
-    DamperRecorder::save_world(path, world_, state_.save());
-}
-
-void DamperRun::write_records(const std::string& dir) const {
-    DamperRecorder::write_forces(dir, forces());
-    DamperRecorder::write_energy(dir, energy());
-}
-
 DamperResult DamperRun::result() const {
+    const dem::World& world = scene_.world;
+    const Config& config = scene_.config;
     DamperResult r;
-    r.grains = grain_count_now();
-    r.foil_particles = lattice_.particles.size();
-    r.bonds = world_.bonds().size();
-    r.foil_columns = lattice_.cols;
-    r.foil_rows = lattice_.rows;
-    r.foil_radius = lattice_.radius;
-    if (mesh_foil()) {
-        r.foil_vacancies = membrane_.vacancies;
+    r.grains = scene_.grain_count_now();
+    r.foil_particles = scene_.lattice.particles.size();
+    r.bonds = world.bonds().size();
+    r.foil_columns = scene_.lattice.cols;
+    r.foil_rows = scene_.lattice.rows;
+    r.foil_radius = scene_.lattice.radius;
+    if (scene_.mesh_foil()) {
+        r.foil_vacancies = scene_.membrane.vacancies;
         double sum = 0;
-        for (uint32_t b : membrane_.bonds) sum += world_.bonds().phys[b].kn;
-        r.foil_bond_kn_mean = membrane_.bonds.empty() ? 0.0 : sum / double(membrane_.bonds.size());
+        for (uint32_t b : scene_.membrane.bonds) sum += world.bonds().phys[b].kn;
+        r.foil_bond_kn_mean = scene_.membrane.bonds.empty() ? 0.0 : sum / double(scene_.membrane.bonds.size());
     }
-    r.height = z_top_;
-    r.dt = world_.params.dt;
-    r.inertial_number = inertial_number(config_, z_top_);
+    r.height = scene_.z_top;
+    r.dt = world.params.dt;
+    r.inertial_number = inertial_number(config, scene_.z_top);
     LoopSeries ls;
-    const int S = int(config_.process.samples_per_cycle);
+    const int S = int(config.process.samples_per_cycle);
     // Only the cycles the run finished are analysed: a cycle stopped part way (Ctrl-C in Python,
     // a run.ckpt written mid-cycle and loaded) has a loop cut short, whose area is not the
     // cycle's W (77 J/m^2 for 25 of 80 samples where the full cycle gives 388). Its samples stay
@@ -316,11 +63,11 @@ DamperResult DamperRun::result() const {
         ls.force.push_back(state_.samples[k].grains + state_.samples[k].foil);
         ls.cycle.push_back(int(k / S) + 1);
     }
-    r.cycles = analyze_cycles(ls, config_.damper.radius);
+    r.cycles = analyze_cycles(ls, config.damper.radius);
     // Energy per cycle: ledger differences between the first samples of consecutive cycles;
     // the last cycle ends at the last step of cycling (one step before the cycle's end).
     if (!state_.energy.empty() && state_.energy.size() == state_.samples.size()) {
-        const EnergyRow last = energy_row(world_.energy(), world_.energy().time - state_.cycle_t0);
+        const EnergyRow last = energy_row(world.energy(), world.energy().time - state_.cycle_t0);
         for (CycleResult& cr : r.cycles) {
             const std::size_t a = std::size_t(cr.cycle - 1) * std::size_t(S), b = a + std::size_t(S);
             if (a >= state_.energy.size()) continue;
@@ -338,12 +85,12 @@ DamperResult DamperRun::result() const {
             cr.energy_residual = d("residual");
         }
     }
-    r.settling = mark_settled(r.cycles, config_.analysis.settle_tolerance);
+    r.settling = mark_settled(r.cycles, config.analysis.settle_tolerance);
     if (air_complete(state_) && !ls.force.empty()) {
         // The machine's loop: forces.csv's force_machine_zeroed through the same analysis.
         const double m0 = ls.force[0] - state_.air[0].dp * state_.air[0].lid_area;
         for (std::size_t k = 0; k < ls.force.size(); ++k) ls.force[k] += -state_.air[k].dp * state_.air[k].lid_area - m0;
-        for (const CycleResult& m : analyze_cycles(ls, config_.damper.radius)) {
+        for (const CycleResult& m : analyze_cycles(ls, config.damper.radius)) {
             AirCycle a;
             a.cycle = m.cycle;
             a.W_machine = m.W;
@@ -364,32 +111,32 @@ DamperResult DamperRun::result() const {
     r.report = state_.report;
     r.warnings = state_.warnings;
     if (!incomplete.empty()) r.warnings.push_back(incomplete);
-    const std::size_t asked = std::size_t(config_.process.cycles) * std::size_t(S);
+    const std::size_t asked = std::size_t(config.process.cycles) * std::size_t(S);
     if (state_.stage == Stage::Done && state_.samples.size() < asked) {
         r.incomplete = true;
         r.warnings.push_back("incomplete: " + std::to_string(state_.samples.size() / std::size_t(S)) + " of process.cycles = " +
-                             std::to_string(config_.process.cycles) + " cycles recorded (" +
+                             std::to_string(config.process.cycles) + " cycles recorded (" +
                              std::to_string(state_.samples.size()) + " of " + std::to_string(asked) +
                              " samples): the samples fell behind the time step; lower process.samples_per_cycle or "
                              "the frequency (process.frequency, process.velocity)");
     }
     // The pump model's dp follows the gas: a leak that outruns the pump lets it fall far below
     // the set value, and the run is then not one at process.underpressure.
-    if (config_.process.pressure_model != 0)
+    if (config.process.pressure_model != 0)
         for (const AirCycle& a : r.air)
-            if (a.underpressure_min < 0.5 * config_.process.underpressure) {
+            if (a.underpressure_min < 0.5 * config.process.underpressure) {
                 char msg[400];
                 std::snprintf(msg, sizeof msg,
                               "pump model: dp fell to %.4g Pa in cycle %d, below half the set process.underpressure "
                               "%.4g Pa: the leak (process.leak_rate %.3g m^3/s) or the stroke outruns the pump "
                               "(process.pump_speed %.3g m^3/s); this is not a run at the set underpressure",
-                              a.underpressure_min, a.cycle, config_.process.underpressure, config_.process.leak_rate,
-                              config_.process.pump_speed);
+                              a.underpressure_min, a.cycle, config.process.underpressure, config.process.leak_rate,
+                              config.process.pump_speed);
                 r.warnings.push_back(msg);
                 break;
             }
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
-    r.config = config_;
+    r.config = config;
     return r;
 }
 
@@ -518,9 +265,8 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
 DamperResult write_damper_outputs(const Damper& d, const DamperOptions& opt) {
     d.write_records(opt.out_dir);
     DamperResult r = d.result();
-    const fs::path out(opt.out_dir);
-    write_cycles_csv((out / "cycles.csv").string(), r.cycles);
-    dem::write_text_atomic((out / "summary.json").string(), damper_summary_json(r, opt.from));
+    damper_detail::DamperRecorder::write_cycles(opt.out_dir, r.cycles);
+    damper_detail::DamperRecorder::write_summary(opt.out_dir, damper_summary_json(r, opt.from));
     return r;
 }
 

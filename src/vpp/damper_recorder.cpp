@@ -1,5 +1,5 @@
 // The damper run's recorder (damper_recorder.h): the output folder, its lock and clearing, the
-// checkpoints, forces.csv, energy.csv and the VTK frames. Each file's name, content and atomic
+// checkpoints, forces.csv, energy.csv, cycles.csv, summary.json and the VTK frames. Each file's name, content and atomic
 // write (PATH.part renamed to PATH) are contracts: tests compare them byte for byte and resumed
 // runs load the checkpoints bit for bit.
 #include "vpp/damper_recorder.h"
@@ -14,6 +14,7 @@
 #include "dem/io/csv.h"
 #include "dem/io/vtk.h"
 #include "vpp/membrane.h"
+#include "vpp/records.h"
 
 namespace vpp::damper_detail {
 
@@ -120,6 +121,14 @@ void DamperRecorder::write_energy(const fs::path& dir, const ForcesTable& energy
 void DamperRecorder::write_records(const ForcesTable& forces, const ForcesTable& energy) const {
     write_forces(out_, forces);
     write_energy(out_, energy);
+}
+
+void DamperRecorder::write_cycles(const fs::path& dir, const std::vector<CycleResult>& cycles) {
+    write_cycles_csv((dir / "cycles.csv").string(), cycles);
+}
+
+void DamperRecorder::write_summary(const fs::path& dir, const std::string& summary_json) {
+    dem::write_text_atomic((dir / "summary.json").string(), summary_json);
 }
 
 }  // namespace vpp::damper_detail

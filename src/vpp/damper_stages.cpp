@@ -1,5 +1,8 @@
-// The protocol stages of the damper run: fill, compress (the preparation), vacuum, cycle; and
-// vpp::Damper, which runs them one call at a time.
+// The protocol stages of the damper run (damper_stages.h): fill, compress (the preparation),
+// vacuum, cycle, each a function of the scene and the run state, and their helpers: the re-fill,
+// the air, the cycling's motion.
+#include "vpp/damper_stages.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,11 +11,9 @@
 #include <string>
 
 #include "dem/batch/batch_stepper.h"
-#include "vpp/damper_run.h"
+#include "vpp/gas.h"
 
-namespace vpp {
-
-namespace damper_detail {
+namespace vpp::damper_detail::stages {
 
 namespace {
 
@@ -61,99 +62,316 @@ double unbalanced_force(const dem::World& w) {
     return (net / double(nfree)) / (fc / double(nc));
 }
 
-
-}  // namespace
-
-void DamperRun::next_stage(Stage s) {
-    state_.stage = s;
-    state_.stage_t0 = world_.time;
-    state_.cap_d0 = world_.planes[kTopCap].motion.displacement(world_.time).z;
-    checkpoint(true);
-    vtk_frame(stage_name(s));
+// Settling checks fall at fixed times after the stage start (every `check` seconds), so a
+// resumed run takes its decisions at the same steps as an uninterrupted one.
+double next_check_after(const RunState& state, double t, double check) {
+    return state.stage_t0 + check * (std::floor((t - state.stage_t0) / check) + 1.0);
 }
 
-double DamperRun::top_ring_force_z() const {
-    double f = 0;
-    for (uint32_t i : top_ring_) f += world_.particles.force[i].z;
-    return f;
-}
+// The air (docs/damper.md, "The air inside") is recorded with the pump model, or output.air.
+bool air_recorded(const Config& config) { return config.process.pressure_model != 0 || config.output.air; }
 
-void DamperRun::stage_fill() {
-    const double max_time = 1.5;  // [s] of falling; a column of 20 cm settles in well under 1 s
-    const double check = 2e-3;    // [s] between settling checks
-    StageProgress prog("prepare: fill", uint64_t(max_time / world_.params.dt), options_);
-    double next_check = next_check_after(world_.time, check);
-    for (;;) {
-        world_.step();
-        prog.update(uint64_t((world_.time - state_.stage_t0) / world_.params.dt), world_.time);
-        checkpoint(false);
-        if (world_.time < next_check) continue;
-        next_check = next_check_after(world_.time, check);
-        const double t = world_.time - state_.stage_t0;
-        const double ke = grains_kinetic_energy(world_, first_grain_, end_grain_);
-        // The grains start at rest: a minimum time lets them fall first (a re-fill's grains
-        // start just above the others and fall less far).
-        const bool refilled = state_.report.count("prepare.refills") > 0;
-        bool settled = false;
-        if (t > (refilled ? 0.1 : 0.15) && ke < 1e-4 * settle_energy_scale()) {
-            log("[prepare] grains settled after %.3f s (kinetic energy %.3g J)\n", t, ke);
-            settled = true;
-        } else if (t > max_time) {
-            warn("prepare: grains not fully settled after 1.5 s of filling");
-            settled = true;
+// Re-fill (damper.refill): adds grains above the settled ones when their level is below the
+// damper height (or their volume below damper.packing_target); returns false when the level is
+// reached (or re-filling is off or exhausted).
+bool refill(DamperScene& scene, RunState& state, StageServices& services) {
+    dem::World& world = scene.world;
+    const Config& config = scene.config;
+    if (!config.damper.refill) return false;
+    // The level the grains must reach before the cap comes down: the damper height plus a
+    // quarter of a grain radius, so that the cap meets the top layer, not a few grains that
+    // stand out of it (kRefillMargin, measured: docs/damper.md "Preparation").
+    constexpr double kRefillMargin = 0.25;  // [grain radii]
+    constexpr int kMaxRefills = 8;
+    const double rk = config.grains.radius, r_in = scene.lattice.radius - config.foil.particle_radius;
+    const double target = scene.z_top + kRefillMargin * rk, level = scene.fill_level();
+    const double v_k = scene.sizes.mean_volume();
+    const double area = std::numbers::pi * r_in * r_in;
+    const int done = state.report.count("prepare.refills") ? int(state.report.at("prepare.refills")) : 0;
+    char msg[256];
+    // With damper.packing_target the grains' volume decides, not their level: the grains missing
+    // to the target (to the nearest grain), however high they then stand; the cap compresses them.
+    std::size_t add = 0;
+    const double phi_now = config.damper.packing_target > 0.0 ? scene.packing_fraction(r_in, scene.z_top) : 0.0;  // [-] before this re-fill
+    if (config.damper.packing_target > 0.0) {
+        const double missing = std::round((config.damper.packing_target - phi_now) * area * scene.z_top / v_k);
+        if (missing < 1.0) {
+            if (done == 0 && missing < -0.5) {
+                std::snprintf(msg, sizeof msg,
+                              "prepare: the pour alone fills %.4f of the foil's interior, above damper.packing_target "
+                              "= %.4g: lower grains.volume_fraction to reach the target",
+                              phi_now, config.damper.packing_target);
+                services.warn(state, msg);
+            }
+            return false;
         }
-        if (!settled) continue;
-        if (!refill()) break;
-        // A re-fill starts the stage again: a checkpoint with the new grains, the settling clock.
-        next_stage(Stage::Fill);
-        next_check = next_check_after(world_.time, check);
+        add = std::size_t(missing);
+    } else if (level >= target) {
+        return false;
+    }
+    if (done >= kMaxRefills) {
+        if (config.damper.packing_target > 0.0)
+            std::snprintf(msg, sizeof msg,
+                          "prepare: after %d re-fills the grains fill %.4f of the foil's interior, below "
+                          "damper.packing_target = %.4g", done, phi_now,
+                          config.damper.packing_target);
+        else
+            std::snprintf(msg, sizeof msg,
+                          "prepare: after %d re-fills the grains reach %.4g m, below the damper height %.4g m: the "
+                          "cap compresses less than the top layer", done, level, scene.z_top);
+        services.warn(state, msg);
+        return false;
+    }
+    // Without a target: as many grains as fill the gap at the packing fraction of the bed below
+    // (the grains settle to about the same packing), one more so that every re-fill adds one.
+    if (add == 0) {
+        const double phi_bed = double(scene.grain_count_now()) * v_k / (area * level);
+        add = std::size_t(std::ceil(phi_bed * area * (target - level) / v_k)) + 1;
+    }
+    // Written by the fill; a checkpoint of the fill stage without it (an older vppdem's, or an
+    // edited one) cannot be re-filled: say so rather than fail with a bare map lookup.
+    const auto funnel = state.report.find("prepare.funnel_height");
+    if (funnel == state.report.end())
+        throw std::runtime_error("checkpoint '" + services.options().from + "' holds a sample in the fill stage without its funnel "
+                                 "height (prepare.funnel_height): it cannot be re-filled; prepare a new sample (run "
+                                 "without --from)");
+    double funnel_h = funnel->second;
+    if (scene.sizes.sieve_radius.empty() && scene.sizes.kind == scene::SizeDistribution::Kind::Sieve)
+        throw std::runtime_error("checkpoint '" + services.options().from + "' holds a sample drawn from a sieve curve in the fill stage: "
+                                 "give grains.sieve_curve (the sample's curve) to re-fill it");
+    if (scene.clumps() && scene.shape.members.empty())
+        throw std::runtime_error("checkpoint '" + services.options().from + "' holds clumps of a template in the fill stage: give "
+                                 "grains.clump_template (the sample's template) to re-fill it");
+    const auto pos = scene.refill_sites(add, funnel_h, uint64_t(done + 1));
+    if (pos.empty()) {
+        services.warn(state, "prepare: no room in the funnel for a re-fill; the grains stay below the damper height");
+        return false;
+    }
+    scene.add_grains(pos, scene.draw_radii(pos.size(), uint64_t(done + 1)), uint64_t(done + 1));
+    state.grains = scene.grain_count_now();
+    // A smaller grain than any before lowers the critical step (one radius: the same grains).
+    if (scene.sizes.kind != scene::SizeDistribution::Kind::Single)
+        world.params.dt = std::min(world.params.dt, resolve_dt(config.simulation, world));
+    state.report["prepare.refills"] = done + 1;
+    world.invalidate_candidates();
+    if (config.damper.packing_target > 0.0)
+        services.log("[prepare] grains fill %.4f of the foil's interior, below the target %.4g: re-fill %d adds %zu grains (%u "
+            "in all)\n", phi_now,
+            config.damper.packing_target, done + 1, pos.size(), scene.grain_count_now());
+    else
+        services.log("[prepare] grains level %.4f m, below %.4f m: re-fill %d adds %zu grains (%u in all)\n", level, target,
+            done + 1, pos.size(), scene.grain_count_now());
+    return true;
+}
+
+// The drawn radii's statistics into the preparation's report (size distributions only).
+void report_grain_sizes(const DamperScene& scene, RunState& state) {
+    if (scene.sizes.kind == scene::SizeDistribution::Kind::Single) return;  // every grain grains.radius
+    const scene::SizeStats s = scene::size_stats(scene.grain_radii());
+    auto& rep = state.report;
+    rep["prepare.radius_mean"] = s.mean;
+    rep["prepare.radius_sd"] = s.sd;
+    rep["prepare.radius_min"] = s.min;
+    rep["prepare.radius_max"] = s.max;
+    rep["prepare.d10"] = s.d10;
+    rep["prepare.d50"] = s.d50;
+    rep["prepare.d90"] = s.d90;
+}
+
+// Before each step of the vacuum and the cycling: the gas volume from the foil's shape as it
+// stands, the gas's work over the last step, and with the pump model the gas advanced by the
+// step and the step's dp (the regulator set to the underpressure dp_set [Pa]).
+void air_step(DamperScene& scene, RunState& state, double dp_set) {
+    dem::World& world = scene.world;
+    const Config& config = scene.config;
+    const double v = scene.foil_volume() - scene.grain_volume();
+    if (!(v > 0.0))
+        throw std::runtime_error("air: the gas volume inside the foil is " + std::to_string(v) +
+                                 " m^3 (the foil's enclosure minus the grains); the foil has collapsed onto them");
+    const bool pump = config.process.pressure_model != 0;
+    if (pump && state.gas_amount == 0.0) state.gas_amount = kAtmosphericPressure * v;  // sealed at the atmosphere's
+    // The gas's work over the step just taken, at the amount it held (isothermal: exact for a
+    // fixed amount; the constant model's gas is at p_atm - dp).
+    if (state.gas_volume > 0.0) {
+        state.gas_work += pump ? isothermal_work(state.gas_amount, state.gas_volume, v)
+                             : (kAtmosphericPressure - world.pressure.dp) * (v - state.gas_volume);
+    }
+    state.gas_volume = v;
+    if (!pump) return;
+    const double p_set = kAtmosphericPressure - dp_set;
+    if (state.stage == Stage::Vacuum && !config.process.pump_down) {
+        // Evacuated along the constant model's ramp: the gas is held at the set point.
+        state.gas_amount = p_set * v;
+    } else {
+        PumpLine line;
+        line.speed = config.process.pump_speed;
+        line.bleed = config.process.bleed_rate;
+        line.leak = config.process.leak_rate;
+        line.p_set = p_set;
+        line.p_atm = kAtmosphericPressure;
+        state.gas_amount = advance_gas(state.gas_amount, v, world.params.dt, line);
+    }
+    // At the set point (the regulator closed there: advance_gas returns p_set v itself) dp is
+    // the set dp, bit for bit: a pump that keeps up runs the constant model's steps exactly.
+    world.pressure.dp = state.gas_amount == p_set * v ? dp_set : kAtmosphericPressure - state.gas_amount / v;
+}
+
+// The air at a sample: the state of the step it is taken at.
+AirSample air_sample(const DamperScene& scene, const RunState& state) {
+    const dem::World& world = scene.world;
+    AirSample a;
+    a.gas = state.gas_volume;
+    a.enclosed = state.gas_volume + scene.grain_volume();
+    a.dp = world.pressure.dp;
+    a.p_inside = kAtmosphericPressure - world.pressure.dp;
+    a.lid_area = scene.lid_area();
+    a.gas_work = state.gas_work;
+    return a;
+}
+
+// The sample as cycling starts (after the vacuum and the start offset): the cap's height and
+// force, the packing fraction in the foil as the vacuum has drawn it in (its mean radius over the
+// free rows; the end rings stay at the build radius), and the cap's travel on the grains since it
+// first met them in the preparation.
+void record_start_of_cycling(const DamperScene& scene, RunState& state, const Sample& first) {
+    const dem::World& world = scene.world;
+    const Config& config = scene.config;
+    double sum = 0;
+    std::size_t cnt = 0;
+    for (uint32_t i : scene.free_foil) {
+        sum += std::hypot(world.particles.pos[i].x, world.particles.pos[i].y);
+        ++cnt;
+    }
+    const double r_foil = cnt ? sum / double(cnt) : scene.lattice.radius;
+    const double cap_z = world.plane_point(kTopCap).z;
+    auto& r = state.report;
+    r["cycle.foil_mean_radius"] = r_foil;
+    r["cycle.cap_height"] = cap_z;
+    r["cycle.cap_force"] = first.grains;
+    r["cycle.packing_fraction"] = scene.packing_fraction(r_foil - config.foil.particle_radius, cap_z);
+    if (r.count("prepare.grain_top")) r["cycle.cap_travel"] = std::max(0.0, r.at("prepare.grain_top") - cap_z);
+}
+
+// The cap's and the top ring's knots of cycles k0 .. k1 - 1 and the end of cycle k1, from the
+// start positions cap0, ring0 [m] (the knot at the start of cycle k0 too when first_knot).
+void lay_out_cycles(const Config& config, const RunState& state, dem::Motion& cap, dem::Motion& ring, double cap0,
+                    double ring0, int k0, int k1, bool first_knot) {
+    const double A = config.process.amplitude, T = cycle_period(config.process);
+    const bool sine = config.process.waveform == 1;
+    const double sign = config.process.compression_first ? -1.0 : 1.0;  // z direction of the first leg
+    // The sine as kSineKnots straight segments per cycle: within A (pi / kSineKnots)^2 / 4 =
+    // 2.5e-6 A of the curve, the speed within 1.6e-6 of its own.
+    constexpr int kSineKnots = 1000;
+    for (int k = k0; sine && k <= k1; ++k)
+        for (int j = 0; j < (k < k1 ? kSineKnots : 1); ++j) {
+            if (k == k0 && j == 0 && !first_knot) continue;  // the first knot is there
+            const double d = sign * A * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * j / kSineKnots));
+            const double t = state.cycle_t0 + (k + double(j) / kSineKnots) * T;
+            cap.history.push_back({t, {0, 0, cap0 + d}});
+            ring.history.push_back({t, {0, 0, ring0 + d}});
+        }
+    for (int k = k0; !sine && k <= k1; ++k) {
+        if (k > k0 || first_knot) {
+            cap.history.push_back({state.cycle_t0 + k * T, {0, 0, cap0}});
+            ring.history.push_back({state.cycle_t0 + k * T, {0, 0, ring0}});
+        }
+        if (k < k1) {
+            cap.history.push_back({state.cycle_t0 + (k + 0.5) * T, {0, 0, cap0 + sign * A}});
+            ring.history.push_back({state.cycle_t0 + (k + 0.5) * T, {0, 0, ring0 + sign * A}});
+        }
     }
 }
 
-void DamperRun::stage_compress() {
+}  // namespace
+
+void next_stage(DamperScene& scene, RunState& state, StageServices& services, Stage s) {
+    dem::World& world = scene.world;
+    state.stage = s;
+    state.stage_t0 = world.time;
+    state.cap_d0 = world.planes[kTopCap].motion.displacement(world.time).z;
+    services.checkpoint(scene, state, true);
+    services.vtk_frame(scene, stage_name(s));
+}
+
+void fill(DamperScene& scene, RunState& state, StageServices& services) {
+    dem::World& world = scene.world;
+    const double max_time = 1.5;  // [s] of falling; a column of 20 cm settles in well under 1 s
+    const double check = 2e-3;    // [s] between settling checks
+    StageProgress prog("prepare: fill", uint64_t(max_time / world.params.dt), services.options());
+    double next_check = next_check_after(state, world.time, check);
+    for (;;) {
+        world.step();
+        prog.update(uint64_t((world.time - state.stage_t0) / world.params.dt), world.time);
+        services.checkpoint(scene, state, false);
+        if (world.time < next_check) continue;
+        next_check = next_check_after(state, world.time, check);
+        const double t = world.time - state.stage_t0;
+        const double ke = grains_kinetic_energy(world, scene.first_grain, scene.end_grain);
+        // The grains start at rest: a minimum time lets them fall first (a re-fill's grains
+        // start just above the others and fall less far).
+        const bool refilled = state.report.count("prepare.refills") > 0;
+        bool settled = false;
+        if (t > (refilled ? 0.1 : 0.15) && ke < 1e-4 * scene.settle_energy_scale()) {
+            services.log("[prepare] grains settled after %.3f s (kinetic energy %.3g J)\n", t, ke);
+            settled = true;
+        } else if (t > max_time) {
+            services.warn(state, "prepare: grains not fully settled after 1.5 s of filling");
+            settled = true;
+        }
+        if (!settled) continue;
+        if (!refill(scene, state, services)) break;
+        // A re-fill starts the stage again: a checkpoint with the new grains, the settling clock.
+        next_stage(scene, state, services, Stage::Fill);
+        next_check = next_check_after(state, world.time, check);
+    }
+}
+
+void compress(DamperScene& scene, RunState& state, StageServices& services) {
+    dem::World& world = scene.world;
+    const Config& config = scene.config;
     // Bring the cap just above the highest grain (nothing touches it on the way), then move it
     // down to the top ring at 0.1 m/s and let the grains rearrange; the re-filled grains stand
     // above the top ring, so the cap meets them and pushes them down to the damper height.
-    const double top = highest_grain_top(), level = fill_level();
-    const double z_cap0 = world_.planes[kTopCap].point.z;
-    const double z_start = std::max(z_top_, top + 1e-4);
+    const double top = scene.highest_grain_top(), level = scene.fill_level();
+    const double z_cap0 = world.planes[kTopCap].point.z;
+    const double z_start = std::max(scene.z_top, top + 1e-4);
     const double speed = 0.1, hold = 0.02, window = 0.005;  // [m/s], [s], [s] (cap force averaged over the window)
-    const double t0 = world_.time, t1 = t0 + (z_start - z_top_) / speed;
+    const double t0 = world.time, t1 = t0 + (z_start - scene.z_top) / speed;
     dem::Motion m;
-    m.history = {{t0 - 1e-12, {0, 0, z_start - z_cap0}}, {t1 + 1e-12, {0, 0, z_top_ - z_cap0}}};
-    world_.planes[kTopCap].motion = m;
-    world_.invalidate_candidates();
-    log("[prepare] cap from %.4f m down to %.4f m (grains top %.4f m, level of the top layer %.4f m)\n", z_start,
-        z_top_, top, level);
-    const uint64_t n = uint64_t((t1 + hold - world_.time) / world_.params.dt) + 1;
-    StageProgress prog("prepare: compress", n, options_);
+    m.history = {{t0 - 1e-12, {0, 0, z_start - z_cap0}}, {t1 + 1e-12, {0, 0, scene.z_top - z_cap0}}};
+    world.planes[kTopCap].motion = m;
+    world.invalidate_candidates();
+    services.log("[prepare] cap from %.4f m down to %.4f m (grains top %.4f m, level of the top layer %.4f m)\n", z_start,
+        scene.z_top, top, level);
+    const uint64_t n = uint64_t((t1 + hold - world.time) / world.params.dt) + 1;
+    StageProgress prog("prepare: compress", n, services.options());
     double f_max = 0, f_sum = 0;
     long f_n = 0;
     for (uint64_t s = 0; s < n; ++s) {
-        world_.step();
-        prog.update(s + 1, world_.time);
-        const double f = world_.wall_force(kTopCap).z;  // [N] grains on the cap, pushing it up
+        world.step();
+        prog.update(s + 1, world.time);
+        const double f = world.wall_force(kTopCap).z;  // [N] grains on the cap, pushing it up
         f_max = std::max(f_max, f);
-        if (world_.time > t1 + hold - window) {
+        if (world.time > t1 + hold - window) {
             f_sum += f;
             ++f_n;
         }
     }
-    world_.clear_facets();  // the funnel goes
-    const double r_in = lattice_.radius - config_.foil.particle_radius;
+    world.clear_facets();  // the funnel goes
+    const double r_in = scene.lattice.radius - config.foil.particle_radius;
     const double cap_force = f_n ? f_sum / double(f_n) : 0.0;
-    auto& r = state_.report;
-    r["prepare.grains"] = double(grain_count_now());
+    auto& r = state.report;
+    r["prepare.grains"] = double(scene.grain_count_now());
     r["prepare.grain_top"] = top;
     r["prepare.fill_level"] = level;
-    r["prepare.cap_travel"] = std::max(0.0, top - z_top_);
+    r["prepare.cap_travel"] = std::max(0.0, top - scene.z_top);
     r["prepare.cap_force"] = cap_force;
     r["prepare.cap_force_max"] = f_max;
-    r["prepare.packing_fraction"] = packing_fraction(r_in, z_top_);
+    r["prepare.packing_fraction"] = scene.packing_fraction(r_in, scene.z_top);
     r["prepare.packing_fraction_nominal"] =
-        packing_fraction(config_.damper.radius, config_.damper.height);
-    report_grain_sizes();
-    log("[prepare] cap travel %.3g mm on the grains, cap force %.4g N at the end (%.4g N at most), packing "
+        scene.packing_fraction(config.damper.radius, config.damper.height);
+    report_grain_sizes(scene, state);
+    services.log("[prepare] cap travel %.3g mm on the grains, cap force %.4g N at the end (%.4g N at most), packing "
         "fraction %.4f of the foil's interior\n", 1e3 * r["prepare.cap_travel"], cap_force, f_max,
         r["prepare.packing_fraction"]);
     if (!(cap_force > 0)) {
@@ -161,46 +379,48 @@ void DamperRun::stage_compress() {
         std::snprintf(msg, sizeof msg,
                       "prepare: the cap ends above the grains (no force on it at the damper height %.4g m; their "
                       "top layer is at %.4g m): the first part of every compression meets no grains%s",
-                      z_top_, level, config_.damper.refill ? "" : "; damper.refill = true fills the foil up to the cap");
-        warn(msg);
+                      scene.z_top, level, config.damper.refill ? "" : "; damper.refill = true fills the foil up to the cap");
+        services.warn(state, msg);
     }
 }
 
-void DamperRun::stage_vacuum() {
-    const double ramp = config_.process.ramp_time, min_hold = 0.02, check = 2e-3;
-    set_foil_pressure();
-    const double dp = config_.process.underpressure;
-    const bool pump = config_.process.pressure_model != 0;
+void vacuum(DamperScene& scene, RunState& state, StageServices& services) {
+    dem::World& world = scene.world;
+    const Config& config = scene.config;
+    const double ramp = config.process.ramp_time, min_hold = 0.02, check = 2e-3;
+    scene.set_foil_pressure();
+    const double dp = config.process.underpressure;
+    const bool pump = config.process.pressure_model != 0;
     // The pump model follows the constant model's ramp (a sample evacuated long before its
     // test) unless process.pump_down asks the pump to draw the gas down from the atmosphere:
     // time constant V / S (at 2 m^3/h on the paper's damper, 0.08 L of gas: 0.14 s), and the
     // hold may then last five of those.
-    const bool pump_down = pump && config_.process.pump_down;
+    const bool pump_down = pump && config.process.pump_down;
     double max_hold = 0.5;
-    if (pump_down && config_.process.pump_speed > 0.0) max_hold += 5.0 * (foil_volume() - grain_volume()) / config_.process.pump_speed;
-    StageProgress prog("vacuum", uint64_t((ramp + max_hold) / world_.params.dt), options_);
-    double next_check = next_check_after(world_.time, check);
-    const double ke_ref = settle_energy_scale();
+    if (pump_down && config.process.pump_speed > 0.0) max_hold += 5.0 * (scene.foil_volume() - scene.grain_volume()) / config.process.pump_speed;
+    StageProgress prog("vacuum", uint64_t((ramp + max_hold) / world.params.dt), services.options());
+    double next_check = next_check_after(state, world.time, check);
+    const double ke_ref = scene.settle_energy_scale();
     for (;;) {
-        const double t = world_.time - state_.stage_t0;
+        const double t = world.time - state.stage_t0;
         const double dp_set = dp * std::min(1.0, t / ramp);
-        if (!pump) world_.pressure.dp = dp_set;
-        if (air_recorded()) air_step(pump_down ? dp : dp_set);
-        if (pump_down && !state_.report.count("cycle.pump_down_time") && world_.pressure.dp == dp)
-            state_.report["cycle.pump_down_time"] = t;
-        world_.step();
-        prog.update(uint64_t(t / world_.params.dt), world_.time);
-        checkpoint(false);
-        if (world_.time < next_check) continue;
-        next_check = next_check_after(world_.time, check);
+        if (!pump) world.pressure.dp = dp_set;
+        if (air_recorded(config)) air_step(scene, state, pump_down ? dp : dp_set);
+        if (pump_down && !state.report.count("cycle.pump_down_time") && world.pressure.dp == dp)
+            state.report["cycle.pump_down_time"] = t;
+        world.step();
+        prog.update(uint64_t(t / world.params.dt), world.time);
+        services.checkpoint(scene, state, false);
+        if (world.time < next_check) continue;
+        next_check = next_check_after(state, world.time, check);
         if (t < ramp + min_hold) continue;
         // Forces of the step just taken (computing them again would advance the shear springs).
-        const double ke = grains_kinetic_energy(world_, first_grain_, end_grain_);
-        const double ub = unbalanced_force(world_);
+        const double ke = grains_kinetic_energy(world, scene.first_grain, scene.end_grain);
+        const double ub = unbalanced_force(world);
         // A pump-down also waits for the set underpressure.
-        const bool drawn = !pump_down || world_.pressure.dp == dp;
+        const bool drawn = !pump_down || world.pressure.dp == dp;
         if (ke < 1e-4 * ke_ref && ub < 0.05 && drawn) {
-            log("[vacuum] at rest %.3f s after the ramp: kinetic energy %.3g J, unbalanced force %.3g\n",
+            services.log("[vacuum] at rest %.3f s after the ramp: kinetic energy %.3g J, unbalanced force %.3g\n",
                 t - ramp, ke, ub);
             break;
         }
@@ -209,276 +429,154 @@ void DamperRun::stage_vacuum() {
             if (!drawn)
                 std::snprintf(msg, sizeof msg, "vacuum: the pump has not drawn the set underpressure %.4g Pa %.2f s after "
                               "the ramp (dp = %.4g Pa; process.pump_speed %.3g m^3/s against process.leak_rate %.3g "
-                              "m^3/s): cycling starts at this dp", dp, t - ramp, world_.pressure.dp, config_.process.pump_speed,
-                              config_.process.leak_rate);
+                              "m^3/s): cycling starts at this dp", dp, t - ramp, world.pressure.dp, config.process.pump_speed,
+                              config.process.leak_rate);
             else
                 std::snprintf(msg, sizeof msg, "vacuum: sample not at rest %.2f s after the ramp (kinetic energy %.3g J, "
                               "unbalanced force %.3g)", t - ramp, ke, ub);
-            warn(msg);
+            services.warn(state, msg);
             break;
         }
     }
 }
 
-void DamperRun::set_foil_pressure() {
-    // The lattice: the paper's intersection nodes off the end rows. The mesh: a fan on every
-    // particle off the end rings. Either way the end rings carry no pressure: the caps close the
-    // foil there (rigid walls, which the grains, not the air, load in the model).
-    if (mesh_foil()) world_.pressure.fans = membrane_pressure_fans(membrane_);
-    else world_.pressure.nodes = cylinder_pressure_nodes(lattice_);
-}
-
-double DamperRun::foil_volume() const {
-    return mesh_foil() ? enclosed_volume(membrane_, world_.particles.pos) : enclosed_volume(lattice_, world_.particles.pos);
-}
-
-double DamperRun::grain_volume() const {
-    // Summed once: the grains are fixed after the preparation, and air_step asks every step.
-    if (grain_volume_ == 0.0) grain_volume_ = grains_volume_now();
-    return grain_volume_;
-}
-
-double DamperRun::lid_area() const {
-    // The polygon of the top ring's particle centres (shoelace, projected on the cap's plane).
-    const std::vector<uint32_t>& ring = top_ring_;
-    double a2 = 0.0;
-    for (std::size_t k = 0; k < ring.size(); ++k) {
-        const Vec3& p = world_.particles.pos[ring[k]];
-        const Vec3& q = world_.particles.pos[ring[(k + 1) % ring.size()]];
-        a2 += p.x * q.y - q.x * p.y;
-    }
-    return 0.5 * std::abs(a2);
-}
-
-void DamperRun::air_step(double dp_set) {
-    const double v = foil_volume() - grain_volume();
-    if (!(v > 0.0))
-        throw std::runtime_error("air: the gas volume inside the foil is " + std::to_string(v) +
-                                 " m^3 (the foil's enclosure minus the grains); the foil has collapsed onto them");
-    const bool pump = config_.process.pressure_model != 0;
-    if (pump && state_.gas_amount == 0.0) state_.gas_amount = kAtmosphericPressure * v;  // sealed at the atmosphere's
-    // The gas's work over the step just taken, at the amount it held (isothermal: exact for a
-    // fixed amount; the constant model's gas is at p_atm - dp).
-    if (state_.gas_volume > 0.0) {
-        state_.gas_work += pump ? isothermal_work(state_.gas_amount, state_.gas_volume, v)
-                             : (kAtmosphericPressure - world_.pressure.dp) * (v - state_.gas_volume);
-    }
-    state_.gas_volume = v;
-    if (!pump) return;
-    const double p_set = kAtmosphericPressure - dp_set;
-    if (state_.stage == Stage::Vacuum && !config_.process.pump_down) {
-        // Evacuated along the constant model's ramp: the gas is held at the set point.
-        state_.gas_amount = p_set * v;
-    } else {
-        PumpLine line;
-        line.speed = config_.process.pump_speed;
-        line.bleed = config_.process.bleed_rate;
-        line.leak = config_.process.leak_rate;
-        line.p_set = p_set;
-        line.p_atm = kAtmosphericPressure;
-        state_.gas_amount = advance_gas(state_.gas_amount, v, world_.params.dt, line);
-    }
-    // At the set point (the regulator closed there: advance_gas returns p_set v itself) dp is
-    // the set dp, bit for bit: a pump that keeps up runs the constant model's steps exactly.
-    world_.pressure.dp = state_.gas_amount == p_set * v ? dp_set : kAtmosphericPressure - state_.gas_amount / v;
-}
-
-AirSample DamperRun::air_sample() const {
-    AirSample a;
-    a.gas = state_.gas_volume;
-    a.enclosed = state_.gas_volume + grain_volume();
-    a.dp = world_.pressure.dp;
-    a.p_inside = kAtmosphericPressure - world_.pressure.dp;
-    a.lid_area = lid_area();
-    a.gas_work = state_.gas_work;
-    return a;
-}
-
-// The sample as cycling starts (after the vacuum and the start offset): the cap's height and
-// force, the packing fraction in the foil as the vacuum has drawn it in (its mean radius over the
-// free rows; the end rings stay at the build radius), and the cap's travel on the grains since it
-// first met them in the preparation.
-void DamperRun::record_start_of_cycling(const Sample& first) {
-    double sum = 0;
-    std::size_t cnt = 0;
-    for (uint32_t i : free_foil_) {
-        sum += std::hypot(world_.particles.pos[i].x, world_.particles.pos[i].y);
-        ++cnt;
-    }
-    const double r_foil = cnt ? sum / double(cnt) : lattice_.radius;
-    const double cap_z = world_.plane_point(kTopCap).z;
-    auto& r = state_.report;
-    r["cycle.foil_mean_radius"] = r_foil;
-    r["cycle.cap_height"] = cap_z;
-    r["cycle.cap_force"] = first.grains;
-    r["cycle.packing_fraction"] = packing_fraction(r_foil - config_.foil.particle_radius, cap_z);
-    if (r.count("prepare.grain_top")) r["cycle.cap_travel"] = std::max(0.0, r.at("prepare.grain_top") - cap_z);
-}
-
-void DamperRun::lay_out_cycles(dem::Motion& cap, dem::Motion& ring, double cap0, double ring0, int k0, int k1,
-                               bool first_knot) const {
-    const double A = config_.process.amplitude, T = cycle_period(config_.process);
-    const bool sine = config_.process.waveform == 1;
-    const double sign = config_.process.compression_first ? -1.0 : 1.0;  // z direction of the first leg
-    // The sine as kSineKnots straight segments per cycle: within A (pi / kSineKnots)^2 / 4 =
-    // 2.5e-6 A of the curve, the speed within 1.6e-6 of its own.
-    constexpr int kSineKnots = 1000;
-    for (int k = k0; sine && k <= k1; ++k)
-        for (int j = 0; j < (k < k1 ? kSineKnots : 1); ++j) {
-            if (k == k0 && j == 0 && !first_knot) continue;  // the first knot is there
-            const double d = sign * A * 0.5 * (1.0 - std::cos(2.0 * std::numbers::pi * j / kSineKnots));
-            const double t = state_.cycle_t0 + (k + double(j) / kSineKnots) * T;
-            cap.history.push_back({t, {0, 0, cap0 + d}});
-            ring.history.push_back({t, {0, 0, ring0 + d}});
-        }
-    for (int k = k0; !sine && k <= k1; ++k) {
-        if (k > k0 || first_knot) {
-            cap.history.push_back({state_.cycle_t0 + k * T, {0, 0, cap0}});
-            ring.history.push_back({state_.cycle_t0 + k * T, {0, 0, ring0}});
-        }
-        if (k < k1) {
-            cap.history.push_back({state_.cycle_t0 + (k + 0.5) * T, {0, 0, cap0 + sign * A}});
-            ring.history.push_back({state_.cycle_t0 + (k + 0.5) * T, {0, 0, ring0 + sign * A}});
-        }
-    }
-}
-
-void DamperRun::extend_cycling(int from) {
-    const int ncyc = int(config_.process.cycles);
-    if (ncyc <= from || (state_.samples.empty() && state_.window_n == 0 && state_.cycle_t0 == 0.0)) return;
+void extend_cycling(DamperScene& scene, RunState& state, StageServices& services, int from) {
+    dem::World& world = scene.world;
+    const Config& config = scene.config;
+    const int ncyc = int(config.process.cycles);
+    if (ncyc <= from || (state.samples.empty() && state.window_n == 0 && state.cycle_t0 == 0.0)) return;
     // The motion ends on a knot at the cycling's start position: the end of cycle K, K = from + 1
-    // (stage_cycle lays out a cycle more than it runs; K = from in a checkpoint of a vppdem that
+    // (cycle() lays out a cycle more than it runs; K = from in a checkpoint of a vppdem that
     // did not). The knots of cycles K .. ncyc follow, those a run of ncyc cycles lays out.
-    dem::Motion& cap = world_.planes[kTopCap].motion;
-    dem::Motion& ring = world_.motions.at(std::size_t(world_.particles.motion.at(top_ring_.front())));
-    const double T = cycle_period(config_.process);
-    const int K = int(std::llround((cap.history.back().time - state_.cycle_t0) / T));
+    dem::Motion& cap = world.planes[kTopCap].motion;
+    dem::Motion& ring = world.motions.at(std::size_t(world.particles.motion.at(scene.top_ring.front())));
+    const double T = cycle_period(config.process);
+    const int K = int(std::llround((cap.history.back().time - state.cycle_t0) / T));
     const double cap0 = cap.history.back().displacement.z, ring0 = ring.history.back().displacement.z;
-    lay_out_cycles(cap, ring, cap0, ring0, K, ncyc + 1, false);
+    lay_out_cycles(config, state, cap, ring, cap0, ring0, K, ncyc + 1, false);
     if (K <= from)
-        warn("process.cycles raised on a checkpoint of an older vppdem: its last step held the cap where a run of " +
+        services.warn(state, "process.cycles raised on a checkpoint of an older vppdem: its last step held the cap where a run of " +
              std::to_string(ncyc) + " cycles moves it on, so the record is a continuation, not bitwise that run's");
-    // Such a checkpoint kept no window for the next cycle's first sample either (see stage_cycle).
-    else if (state_.stage == Stage::Done && state_.window_n == 0 && config_.process.sample_window > world_.params.dt)
-        warn("process.cycles raised: the first sample of cycle " + std::to_string(from + 1) +
+    // Such a checkpoint kept no window for the next cycle's first sample either (see cycle()).
+    else if (state.stage == Stage::Done && state.window_n == 0 && config.process.sample_window > world.params.dt)
+        services.warn(state, "process.cycles raised: the first sample of cycle " + std::to_string(from + 1) +
              " averages a shorter window than process.sample_window");
-    if (state_.stage == Stage::Done) {
+    if (state.stage == Stage::Done) {
         // Cycling again: the end of the run (next_stage(Done)) moved the displacements' origin to
         // where the cap stood then; the cycling's is the start position, the motion's last knot.
-        state_.stage = Stage::Cycling;
-        state_.cap_d0 = cap0;
+        state.stage = Stage::Cycling;
+        state.cap_d0 = cap0;
     }
-    log("damper: process.cycles %d -> %d: the run continues with cycles %d-%d\n", from, ncyc, from + 1, ncyc);
+    services.log("damper: process.cycles %d -> %d: the run continues with cycles %d-%d\n", from, ncyc, from + 1, ncyc);
 }
 
-void DamperRun::stage_cycle(int upto) {
-    const double A = config_.process.amplitude, T = cycle_period(config_.process);
-    const double v = config_.process.frequency > 0.0 ? 2.0 * A / T : config_.process.velocity;  // the offset move's speed
-    const int S = int(config_.process.samples_per_cycle), ncyc = int(config_.process.cycles);
-    const double win = config_.process.sample_window;
-    if (state_.samples.empty() && state_.window_n == 0 && state_.cycle_t0 == 0.0) {
+void cycle(DamperScene& scene, RunState& state, StageServices& services, int upto) {
+    dem::World& world = scene.world;
+    const Config& config = scene.config;
+    const double A = config.process.amplitude, T = cycle_period(config.process);
+    const double v = config.process.frequency > 0.0 ? 2.0 * A / T : config.process.velocity;  // the offset move's speed
+    const int S = int(config.process.samples_per_cycle), ncyc = int(config.process.cycles);
+    const double win = config.process.sample_window;
+    if (state.samples.empty() && state.window_n == 0 && state.cycle_t0 == 0.0) {
         // Start of cycling: cap and top ring follow one history: an optional offset move, then
         // `cycles` triangles of the amplitude (down first for compression, up for extension).
-        const double d0 = world_.planes[kTopCap].motion.displacement(world_.time).z;
-        const double off = config_.process.start_offset;
+        const double d0 = world.planes[kTopCap].motion.displacement(world.time).z;
+        const double off = config.process.start_offset;
         const double t_off = std::abs(off) / v;
         dem::Motion cap, ring;
-        cap.history.push_back({world_.time, {0, 0, d0}});
-        ring.history.push_back({world_.time, {0, 0, 0}});
-        state_.cycle_t0 = world_.time + t_off;
+        cap.history.push_back({world.time, {0, 0, d0}});
+        ring.history.push_back({world.time, {0, 0, 0}});
+        state.cycle_t0 = world.time + t_off;
         // One cycle more than the run cycles: the last step, which may end a fraction of a step
         // past the last cycle's end, moves as a longer run's does; so a run given more cycles
         // when it is resumed (extend_cycling) is that longer run, bit for bit. The run's records
         // end with the sample before (the extra knots move nothing it records).
-        lay_out_cycles(cap, ring, d0 - off, -off, 0, ncyc + 1, t_off > 0);
-        world_.planes[kTopCap].motion = cap;
-        const uint32_t m = world_.add_motion(ring);
-        for (uint32_t i : top_ring_) world_.set_prescribed(i, m);
-        state_.cap_d0 = d0 - off;  // displacements are recorded from the cycling start position
+        lay_out_cycles(config, state, cap, ring, d0 - off, -off, 0, ncyc + 1, t_off > 0);
+        world.planes[kTopCap].motion = cap;
+        const uint32_t m = world.add_motion(ring);
+        for (uint32_t i : scene.top_ring) world.set_prescribed(i, m);
+        state.cap_d0 = d0 - off;  // displacements are recorded from the cycling start position
         // Energy ledger (energy.csv); restarted at the first sample, the start of cycling.
-        world_.params.track_energy = config_.output.energy;
-        if (config_.output.energy) world_.reset_energy();
-    } else if (!world_.params.track_energy && config_.output.energy) {
-        warn("energy: resumed from a checkpoint without an energy ledger (an older vppdem's); no energy.csv");
+        world.params.track_energy = config.output.energy;
+        if (config.output.energy) world.reset_energy();
+    } else if (!world.params.track_energy && config.output.energy) {
+        services.warn(state, "energy: resumed from a checkpoint without an energy ledger (an older vppdem's); no energy.csv");
     }
-    const bool energy = world_.params.track_energy;
-    const double t_end = state_.cycle_t0 + upto * T;  // the end of cycle `upto`
-    const uint64_t total = uint64_t(std::ceil((t_end - world_.time) / world_.params.dt));
-    StageProgress prog("cycle", total, options_);
+    const bool energy = world.params.track_energy;
+    const double t_end = state.cycle_t0 + upto * T;  // the end of cycle `upto`
+    const uint64_t total = uint64_t(std::ceil((t_end - world.time) / world.params.dt));
+    StageProgress prog("cycle", total, services.options());
     uint64_t done = 0;
-    auto sample_time = [&](std::size_t s) { return state_.cycle_t0 + double(s) * T / S; };
-    world_.profile().enable(options_.profile);
-    world_.profile().reset();
-    const bool air = air_recorded();
+    auto sample_time = [&](std::size_t s) { return state.cycle_t0 + double(s) * T / S; };
+    world.profile().enable(services.options().profile);
+    world.profile().reset();
+    const bool air = air_recorded(config);
     // In a batch the World's particles are the batch's between the half steps: they are handed
     // back (sync) before anything here reads them (the air's volume, a checkpoint, a VTK frame),
     // and for good when the stage ends or throws.
-    dem::batch::BatchStepper* const batch = options_.batch;
+    dem::batch::BatchStepper* const batch = services.options().batch;
     struct LeaveBatch {
         dem::batch::BatchStepper* b;
         dem::World& w;
         ~LeaveBatch() {
             if (b) b->leave(w);
         }
-    } leave_batch{batch, world_};
-    while (world_.time < t_end - 0.5 * world_.params.dt) {
+    } leave_batch{batch, world};
+    while (world.time < t_end - 0.5 * world.params.dt) {
         if (air) {
-            if (batch) batch->sync(world_);
-            air_step(config_.process.underpressure);
+            if (batch) batch->sync(world);
+            air_step(scene, state, config.process.underpressure);
         }
-        if (batch) batch->compute_forces(world_);
-        else world_.compute_forces();
-        const std::size_t s = state_.samples.size();
+        if (batch) batch->compute_forces(world);
+        else world.compute_forces();
+        const std::size_t s = state.samples.size();
         bool sampled = false;
         // The window of the sample that would open the cycle after the last is kept too (it lies
         // before the run's end; the sample is never taken): a run given more cycles when it is
         // resumed (extend_cycling) takes that sample as a run of that many cycles does.
         if (s <= std::size_t(ncyc) * S) {
             const double ts = sample_time(s);
-            if (world_.time > ts - win - 0.5 * world_.params.dt) {
-                state_.window_grains += world_.wall_force(kTopCap).z;
-                state_.window_foil += top_ring_force_z();
-                ++state_.window_n;
+            if (world.time > ts - win - 0.5 * world.params.dt) {
+                state.window_grains += world.wall_force(kTopCap).z;
+                state.window_foil += scene.top_ring_force_z();
+                ++state.window_n;
             }
-            if (s < std::size_t(ncyc) * S && world_.time >= ts - 0.5 * world_.params.dt) {
+            if (s < std::size_t(ncyc) * S && world.time >= ts - 0.5 * world.params.dt) {
                 Sample smp;
-                smp.time = world_.time;
-                smp.displacement = state_.cap_d0 - world_.planes[kTopCap].motion.displacement(world_.time).z;
-                smp.grains = state_.window_grains / double(state_.window_n);
-                smp.foil = state_.window_foil / double(state_.window_n);
-                state_.samples.push_back(smp);
-                state_.window_grains = state_.window_foil = 0;
-                state_.window_n = 0;
+                smp.time = world.time;
+                smp.displacement = state.cap_d0 - world.planes[kTopCap].motion.displacement(world.time).z;
+                smp.grains = state.window_grains / double(state.window_n);
+                smp.foil = state.window_foil / double(state.window_n);
+                state.samples.push_back(smp);
+                state.window_grains = state.window_foil = 0;
+                state.window_n = 0;
                 sampled = true;
                 // The ledger counts from the first sample: works and dissipations are 0 there.
-                if (energy && s == 0) world_.reset_energy();
+                if (energy && s == 0) world.reset_energy();
                 if (air) {
-                    if (s == 0) state_.gas_work = 0.0;
-                    state_.air.push_back(air_sample());
+                    if (s == 0) state.gas_work = 0.0;
+                    state.air.push_back(air_sample(scene, state));
                 }
                 if (s == 0) {
-                    if (batch) batch->sync(world_);  // it reads the sample's geometry
-                    record_start_of_cycling(smp);
+                    if (batch) batch->sync(world);  // it reads the sample's geometry
+                    record_start_of_cycling(scene, state, smp);
                 }
             }
         }
-        world_.profile().lap(dem::Phase::kOutput);
-        if (batch) batch->integrate(world_);
-        else world_.integrate();
+        world.profile().lap(dem::Phase::kOutput);
+        if (batch) batch->integrate(world);
+        else world.integrate();
         // The ledger at this sample's time is complete once the step is integrated.
-        if (energy && sampled) state_.energy.push_back(energy_row(world_.energy(), world_.energy().time - state_.cycle_t0));
-        prog.update(++done, world_.time);
-        checkpoint(false);
-        if (config_.output.vtk_interval > 0 && recorder_.cycle_frame_due(world_.time)) {
-            vtk_frame("cycle");
-            recorder_.cycle_frame_written(world_.time, config_.output.vtk_interval);
-        }
-        world_.profile().lap(dem::Phase::kOutput);
+        if (energy && sampled) state.energy.push_back(energy_row(world.energy(), world.energy().time - state.cycle_t0));
+        prog.update(++done, world.time);
+        services.checkpoint(scene, state, false);
+        services.cycle_frame(scene);
+        world.profile().lap(dem::Phase::kOutput);
     }
-    if (batch) batch->leave(world_);
-    if (options_.profile && done > 0) {
-        const dem::PhaseProfile& pr = world_.profile();
-        std::fprintf(stderr, "[cycle] time per phase over %llu steps (%d threads):\n", (unsigned long long)done, world_.params.threads);
+    if (batch) batch->leave(world);
+    if (services.options().profile && done > 0) {
+        const dem::PhaseProfile& pr = world.profile();
+        std::fprintf(stderr, "[cycle] time per phase over %llu steps (%d threads):\n", (unsigned long long)done, world.params.threads);
         for (int k = 0; k < int(dem::Phase::kCount); ++k) {
             const auto ph = dem::Phase(k);
             std::fprintf(stderr, "  %-18s %10.3f s %9.2f us/step %6.1f%%\n", dem::phase_name(ph), pr.seconds(ph),
@@ -486,90 +584,19 @@ void DamperRun::stage_cycle(int upto) {
         }
         std::fprintf(stderr, "  %-18s %10.3f s %9.2f us/step\n", "total", pr.total(), 1e6 * pr.total() / double(done));
     }
-    world_.profile().enable(false);
+    world.profile().enable(false);
 }
 
-
-void DamperRun::prepare() {
-    if (state_.stage == Stage::Fill) {
-        stage_fill();
-        next_stage(Stage::Compress);
-    }
-    if (state_.stage == Stage::Compress) {
-        stage_compress();
-        next_stage(Stage::Prepared);
-        save_prepared();
-        apply_config_to_prepared();
-    }
-}
-
-void DamperRun::vacuum() {
-    prepare();
-    warn_once(process_warnings_);  // after prepared.ckpt (see process_warnings_); once on a resume
-    if (state_.stage == Stage::Prepared) next_stage(Stage::Vacuum);
-    if (state_.stage == Stage::Vacuum) {
-        stage_vacuum();
-        next_stage(Stage::Cycling);
-    }
-}
-
-int DamperRun::cycles_done() const {
-    const int ncyc = int(config_.process.cycles);
-    if (state_.stage == Stage::Done) return ncyc;
-    if (state_.stage < Stage::Cycling || (state_.samples.empty() && state_.window_n == 0 && state_.cycle_t0 == 0.0)) return 0;
-    // The test that ends stage_cycle(k), so a run stopped there counts k (and one stopped within
+int cycles_done(const DamperScene& scene, const RunState& state) {
+    const int ncyc = int(scene.config.process.cycles);
+    if (state.stage == Stage::Done) return ncyc;
+    if (state.stage < Stage::Cycling || (state.samples.empty() && state.window_n == 0 && state.cycle_t0 == 0.0)) return 0;
+    // The test that ends cycle(k), so a run stopped there counts k (and one stopped within
     // a cycle, in a checkpoint, the cycles before it).
-    const double T = cycle_period(config_.process);
+    const double T = cycle_period(scene.config.process);
     for (int k = ncyc; k > 0; --k)
-        if (!(world_.time < state_.cycle_t0 + k * T - 0.5 * world_.params.dt)) return k;
+        if (!(scene.world.time < state.cycle_t0 + k * T - 0.5 * scene.world.params.dt)) return k;
     return 0;
 }
 
-int DamperRun::cycle(int n) {
-    vacuum();
-    const int ncyc = int(config_.process.cycles);
-    const int done = cycles_done();
-    if (n == 0) return done;
-    const int upto = n < 0 ? ncyc : done + n;
-    if (upto > ncyc)
-        throw std::runtime_error("cycle(" + std::to_string(n) + "): " + std::to_string(ncyc - done) + " of process.cycles = " +
-                                 std::to_string(ncyc) + " cycle(s) remain; the cycling's motion is laid out for "
-                                 "process.cycles when it starts: set process.cycles to the cycles wanted");
-    if (state_.stage == Stage::Done) return done;
-    stage_cycle(upto);
-    if (upto == ncyc) next_stage(Stage::Done);
-    return upto;
-}
-
-}  // namespace damper_detail
-
-Damper::Damper(const Config& c, const DamperOptions& opt) : run_(std::make_unique<damper_detail::DamperRun>(c, opt)) {}
-Damper::~Damper() = default;
-Damper::Damper(Damper&&) noexcept = default;
-Damper& Damper::operator=(Damper&&) noexcept = default;
-
-void Damper::prepare() { run_->prepare(); }
-void Damper::vacuum() { run_->vacuum(); }
-int Damper::cycle(int n) { return run_->cycle(n); }
-void Damper::save(const std::string& path) const { run_->save(path); }
-void Damper::set_progress(std::function<void(const char*, uint64_t, uint64_t, double)> hook) {
-    run_->set_progress(std::move(hook));
-}
-std::string Damper::stage() const { return damper_detail::stage_name(run_->state().stage); }
-int Damper::cycles_done() const { return run_->cycles_done(); }
-int Damper::cycles_total() const { return int(run_->config().process.cycles); }
-const std::vector<DamperSample>& Damper::samples() const { return run_->state().samples; }
-const std::vector<DamperAirSample>& Damper::air() const { return run_->state().air; }
-ForcesTable Damper::forces() const { return run_->forces(); }
-std::vector<std::vector<double>> Damper::energy() const {
-    std::vector<std::vector<double>> rows;
-    for (const damper_detail::EnergyRow& e : run_->state().energy)
-        rows.emplace_back(e.v, e.v + damper_detail::kEnergyRowSize);
-    return rows;
-}
-std::vector<std::string> Damper::energy_columns() { return dem::energy_column_names(); }
-void Damper::write_records(const std::string& dir) const { run_->write_records(dir); }
-const dem::World& Damper::world() const { return run_->world(); }
-const Config& Damper::config() const { return run_->config(); }
-
-}  // namespace vpp
+}  // namespace vpp::damper_detail::stages
