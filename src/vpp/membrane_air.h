@@ -8,8 +8,8 @@
 // is pumped down or bled through the regulator (vpp::advance_gas), and dp = p_atm - amount / V_gas.
 // The gas's work on its boundary is summed in both (isothermal in the pump model).
 //
-// A copy of DamperRun::air_step's rules rather than a call into it: the damper's code path stays
-// bit for bit as it is, and a device has no DamperRun.
+// A copy of the damper stage's air_step rules (vpp/damper_stages.cpp) rather than a call into
+// it: the damper's code path stays bit for bit as it is, and a device has no damper run.
 #pragma once
 
 #include "dem/world/world.h"

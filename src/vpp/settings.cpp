@@ -50,8 +50,8 @@ std::string short_key(const Setting& s) {
 // preparation (prepared.ckpt) may differ between the cases of one preparation; everything else
 // would give a case a sample it did not ask for.
 // - grains.friction, damper.cap_friction: the fill and the cap's compression are frictionless
-//   (the grain, cap and funnel materials have friction 0 until apply_config_to_prepared() in
-//   damper.cpp gives them the config's);
+//   (the grain, cap and funnel materials have friction 0 until DamperScene::apply_run_settings()
+//   in vpp/damper_scene.cpp gives them the config's);
 // - process.*: the vacuum and the cycles come after prepared.ckpt;
 // - simulation.threads (results do not depend on it), output.* (files only), analysis.*
 //   (post-processing).
@@ -482,7 +482,7 @@ const std::vector<Setting>& table() {
          FIELD(simulation.dt_safety)},
         // At most 0.9: the damping removes the fraction lambda of each force's power; near 1 it
         // holds the grains back instead of damping them (process.local_damping = 0.999999 gave
-        // W 125,099 J/m^2 against 388). Above 0.5 is warned (vpp/damper_world.cpp).
+        // W 125,099 J/m^2 against 388). Above 0.5 is warned (vpp/damper_checks.cpp).
         {.key = "simulation.local_damping", .type = T::Real, .unit = "-", .def = 0.2, .check = C::Range, .lo = 0.0,
          .hi = 0.9, .allowed = "must be in [0, 0.9] (above, the damping, not the grains, dissipates; 0 only from a "
                                "prepared sample: the preparation needs it)", .acts = A::Simulation, .run = 18, .summary = 20,
@@ -606,7 +606,7 @@ const char* acts_name(Acts a) {
     return "?";
 }
 
-// The checks that weigh keys against each other and against the built damper (vpp/damper_world.cpp,
+// The checks that weigh keys against each other and against the built damper (vpp/damper_checks.cpp,
 // check_process, check_steps and check_sampling; vpp/damper_record.cpp), which a single key's range cannot say.
 std::string limits_markdown() {
     return "### Limits from the physics\n\n"

@@ -1,10 +1,10 @@
 // The damper's settings table: every config key of the VPP commands (damper, sweep, calibrate,
 // tension, envelope) described once, with its type, default, unit, allowed range, what it acts
 // on and whether cases of a study may share a preparation across it. The config reader
-// (vpp/config.cpp), the range messages, the study's sharing rule (vpp/study_file.cpp), what a damper
-// run records in its checkpoints and summary.json (vpp/damper_record.cpp) and docs/config.md
-// (`vppdem config-reference`) all come from it, so a key cannot be documented one way and read
-// another.
+// (vpp/config.cpp), the range messages, the study's sharing rule (vpp/study_file.cpp), what a
+// damper run records in its checkpoints (vpp/damper_stored_settings.cpp) and summary.json
+// (vpp/damper_record.cpp) and docs/config.md (`vppdem config-reference`) all come from it, so a
+// key cannot be documented one way and read another.
 #pragma once
 
 #include <cmath>

@@ -24,7 +24,7 @@ namespace {
 using dem::Vec3;
 constexpr double kPi = std::numbers::pi;
 
-// The damper's mesh foil definition (DamperRun::membrane_def): the paper's foil, MatchFoil x
+// The damper's mesh foil definition (DamperScene::membrane_def): the paper's foil, MatchFoil x
 // 2.05, 25% vacancies seeded.
 vpp::MembraneDef damper_membrane(uint64_t seed) {
     vpp::MembraneDef d;
