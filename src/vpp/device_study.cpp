@@ -33,14 +33,7 @@ std::string case_record(const DeviceStudy& s, const DeviceStudyRun& r) {
     return t + "]\n";
 }
 
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::ostringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-// The overrides a folder's case.toml records (empty when it has none: a run of the script
+// The overrides a folder's case.toml records; nullopt when it has none (a run of the script
 // before the studies ran devices, accepted as the case its folder names).
 std::optional<std::vector<std::string>> recorded_overrides(const fs::path& dir) {
     if (!fs::exists(dir / "case.toml")) return std::nullopt;
@@ -59,7 +52,7 @@ std::optional<std::vector<std::string>> recorded_overrides(const fs::path& dir) 
 // The folder's summary.json when the run finished (stage "done"), else null.
 nlohmann::json finished_summary(const fs::path& dir) {
     if (!fs::exists(dir / "summary.json")) return nullptr;
-    nlohmann::json j = nlohmann::json::parse(read_text(dir / "summary.json"), nullptr, false);
+    nlohmann::json j = nlohmann::json::parse(dem::read_text((dir / "summary.json").string()), nullptr, false);
     if (j.is_object() && j.value("stage", std::string()) == "done") return j;
     return nullptr;
 }
@@ -74,11 +67,8 @@ DeviceRunOutcome outcome_of(const nlohmann::json& summary) {
     return o;
 }
 
-void copy_if_changed(const fs::path& from, const fs::path& to) {
-    const std::string text = read_text(from);
-    if (fs::exists(to) && read_text(to) == text) return;
-    fs::create_directories(to.parent_path());
-    dem::write_text_atomic(to.string(), text);
+bool copy_if_changed(const fs::path& from, const fs::path& to) {
+    return dem::copy_text_if_changed(from.string(), to.string());
 }
 
 // tools.csv from the press on (stage >= 2), each value with six digits, gzipped into `to`
@@ -109,13 +99,6 @@ void publish_tools(const fs::path& from, const fs::path& to) {
     fs::rename(tmp, to);
 }
 
-std::string cell(double v) {
-    if (!std::isfinite(v)) return "";
-    std::string s;
-    dem::append_number(s, v);
-    return s;
-}
-
 std::string summary_csv(const DeviceStudy& s, const DeviceSweepResult& r) {
     std::string t = "case,seed,folder";
     for (const std::string& k : device_study_numbers()) t += "," + k;
@@ -124,17 +107,16 @@ std::string summary_csv(const DeviceStudy& s, const DeviceSweepResult& r) {
         const DeviceStudyRun& run = r.runs[i];
         const DeviceRunOutcome& o = r.outcomes[i];
         t += s.cases[run.case_index].name + "," + std::to_string(run.seed) + "," + run.folder;
+        // The CSV rules of every hand-built table (dem/io/csv.h): numbers round-trip, empty when
+        // missing; the message quoted when it holds a comma or a quote.
         for (std::size_t k = 0; k < device_study_numbers().size(); ++k) {
             t += ',';
-            if (k < o.numbers.size()) t += cell(o.numbers[k]);
+            if (k < o.numbers.size()) t += dem::csv_number(o.numbers[k]);
         }
-        std::string msg = o.message;
-        for (char& c : msg)
-            if (c == ',' || c == '\n' || c == '"') c = ' ';
         t += ',';
         t += o.status;
         t += ',';
-        t += msg;
+        t += dem::csv_text(o.message);
         t += '\n';
     }
     return t;
@@ -267,10 +249,10 @@ DeviceSweepResult run_device_study(const DeviceStudy& s, const DeviceSweepOption
         for (std::size_t i = 0; i < r.runs.size(); ++i) {
             if (r.outcomes[i].status != "ok") continue;
             const fs::path from = out / r.runs[i].folder, to = pub / r.runs[i].folder;
-            // tools.csv.gz again only when the run's record changed (a gzip of the same rows is
+            // tools.csv.gz again only when the run's summary changed (a gzip of the same rows is
             // the same record: a republished study leaves its files as they were).
-            const bool changed = !fs::exists(to / "summary.json") || read_text(to / "summary.json") != read_text(from / "summary.json");
-            for (const char* f : {"summary.json", "case.toml", "build.json"})
+            const bool changed = copy_if_changed(from / "summary.json", to / "summary.json");  // ok: the run has one
+            for (const char* f : {"case.toml", "build.json"})
                 if (fs::exists(from / f)) copy_if_changed(from / f, to / f);
             if ((changed || !fs::exists(to / "tools.csv.gz")) && fs::exists(from / "tools.csv"))
                 publish_tools(from / "tools.csv", to / "tools.csv.gz");

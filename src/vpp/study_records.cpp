@@ -29,12 +29,7 @@ namespace {
 std::string csv_field(const std::string& s) { return dem::csv_text(s); }
 std::string num(double v) { return dem::csv_number(v); }
 
-std::string read_text(const fs::path& p) {
-    std::ifstream in(p, std::ios::binary);
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-}
+std::string read_text(const fs::path& p) { return dem::read_text(p.string()); }
 
 // Shares of the dissipation in a cycle: friction / total, damping / total (NaN without energy).
 void dissipation_shares(double friction, double damping, double viscous, CaseOutcome& o) {
@@ -447,13 +442,7 @@ std::string write_study_tables(const fs::path& out, const Study& s, const std::v
 
 namespace {
 
-// Copies `from` to `to` when their bytes differ (or `to` is missing), atomically.
-void copy_if_changed(const fs::path& from, const fs::path& to) {
-    const std::string text = read_text(from);
-    if (fs::exists(to) && read_text(to) == text) return;
-    fs::create_directories(to.parent_path());
-    dem::write_text_atomic(to.string(), text);
-}
+void copy_if_changed(const fs::path& from, const fs::path& to) { dem::copy_text_if_changed(from.string(), to.string()); }
 
 // The finished runs ("ok" rows) of a published summary.csv; 0 when there is none.
 std::size_t ok_rows(const fs::path& summary) {

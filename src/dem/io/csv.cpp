@@ -188,4 +188,19 @@ void write_text_atomic(const std::string& path, const std::string& text) {
     std::filesystem::rename(tmp, path);
 }
 
+std::string read_text(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    std::ostringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+bool copy_text_if_changed(const std::string& from, const std::string& to) {
+    const std::string text = read_text(from);
+    if (std::filesystem::exists(to) && read_text(to) == text) return false;
+    std::filesystem::create_directories(std::filesystem::path(to).parent_path());
+    write_text_atomic(to, text);
+    return true;
+}
+
 }  // namespace dem

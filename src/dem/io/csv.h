@@ -56,5 +56,11 @@ std::vector<std::vector<double>> read_numeric_csv(const std::string& path, std::
 
 // Writes `text` to `path` atomically (temporary file, then rename).
 void write_text_atomic(const std::string& path, const std::string& text);
+// The bytes of the file at `path` ("" when it cannot be read).
+std::string read_text(const std::string& path);
+// Copies `from` to `to` (its folder made) atomically when their bytes differ or `to` is missing:
+// a results folder republished with the same records keeps its files as they were. Returns
+// whether it wrote.
+bool copy_text_if_changed(const std::string& from, const std::string& to);
 
 }  // namespace dem
