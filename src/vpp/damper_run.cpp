@@ -177,13 +177,8 @@ int DamperRun::cycle(int n) {
 void DamperRun::save(const std::string& path) const {
     // A prepared sample is saved as prepared.ckpt is: without the settings just applied to it, so
     // that a run from it takes the settings it is given (a branch, as `--from prepared.ckpt`).
-    if (state_.stage == Stage::Prepared) {
-        RunState s = state_;
-        s.settings.clear();
-        DamperRecorder::save_world(path, scene_.world, s.save());
-        return;
-    }
-    DamperRecorder::save_world(path, scene_.world, state_.save());
+    DamperRecorder::save_world(path, scene_.world,
+                               state_.stage == Stage::Prepared ? state_.save_as_sample() : state_.save());
 }
 
 void DamperRun::write_records(const std::string& dir) const {

@@ -34,9 +34,7 @@ void StageServices::checkpoint(DamperScene& scene, const RunState& state, bool f
 void StageServices::save_prepared(const DamperScene& scene, const RunState& state) {
     if (!recorder_.writes()) return;
     // A sample carries no run settings, also when this run resumed a run.ckpt that did.
-    RunState s = state;
-    s.settings.clear();
-    recorder_.save_prepared(scene.world, s.save());
+    recorder_.save_prepared(scene.world, state.save_as_sample());
 }
 
 void StageServices::vtk_frame(DamperScene& scene, const char* tag) {

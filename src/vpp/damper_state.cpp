@@ -62,6 +62,12 @@ std::string RunState::save() const {
     return w.buf;
 }
 
+std::string RunState::save_as_sample() const {
+    RunState s = *this;
+    s.settings.clear();
+    return s.save();
+}
+
 namespace {
 
 // One number of the state blob. std::from_chars, not operator>>: the blob holds what operator<<

@@ -71,6 +71,9 @@ struct RunState {
     // The checkpoint's app blob: the run-state archive of the World's sections
     // (dem/io/archive.h), bit for bit what load() reads back.
     std::string save() const;
+    // The blob of the state as a prepared sample: save() without the run settings, so that a run
+    // from it takes the settings it is given (prepared.ckpt, and a Damper saved at that stage).
+    std::string save_as_sample() const;
     // Reads save()'s blob, or the key/value text of checkpoints written before vppdem kept all
     // run state in one format (load_text). Throws std::runtime_error naming the checkpoint's
     // path on damaged data, an unknown entry, a value that is not a number, or a stage outside
