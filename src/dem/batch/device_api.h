@@ -5,8 +5,8 @@
 //
 // Memory: the particles, bonds and pressure nodes of all systems concatenated (Globals, laid
 // out as BatchSystems); per system its contact stores, candidate lists, interaction lists,
-// walls, rebuild positions and scratch (SysView, device pointers); one outbox for all systems
-// (what comes back per half step, downloaded in one copy).
+// walls, rebuild positions, lifecycle and scratch (SysView, device pointers); one outbox for all
+// systems (what comes back per half step, downloaded in one copy).
 #pragma once
 
 #include <cstddef>
@@ -26,14 +26,16 @@ inline constexpr uint32_t kNone = 0xffffffffu;  // kNoSlot
 inline constexpr uint32_t kSmooth = 1u << 31;    // kSmoothBit
 VPPDEM_HD inline int64_t blocks(int64_t n) { return (n + kBlock - 1) / kBlock; }
 
-// One ActiveContacts store on the device (size: slots in use, holes included).
+// One ActiveContacts store on the device. Its size (slots in use, holes included) is the
+// system's Life::size; cap is its room, which no size reaches between two layouts (a store holds
+// at most one slot per candidate: see DeviceBatch::ensure_stores).
 struct Store {
     uint32_t *i = nullptr, *j = nullptr, *cand = nullptr;
     ContactPhys* phys = nullptr;
     Vec3 *shear = nullptr, *prev = nullptr, *force = nullptr, *torque1 = nullptr, *torque2 = nullptr, *point = nullptr,
          *fv = nullptr;
     double* terms = nullptr;  // scratch: kPairSums per slot (the ledger)
-    uint32_t size = 0;
+    uint32_t cap = 0;
 };
 
 struct Cands {
@@ -42,19 +44,30 @@ struct Cands {
     uint32_t size = 0;
 };
 
-// What the touch test and the contact kernels found, appended by all systems to one stream of
-// records (system, kind, a, b) that the host sorts: (particle, candidate) for a touching
-// candidate without a contact, (slot, 0) for a contact found apart.
-enum Kind : uint32_t { kFoundPP, kFoundPW, kOpenFric, kOpenSmooth, kOpenWalls };
+// A system's contact lifecycle as the device keeps it (ContactSet's counts): written by the forces
+// kernel, mirrored by the host after each forces half, set by the host at each layout.
+struct Life {
+    uint64_t found[2] = {0, 0};      // this step's (particle, candidate) records touching without a contact: pp, pw
+    uint64_t opened[3] = {0, 0, 0};  // this step's slots found apart, per store
+    uint64_t holes = 0;              // ContactSet::holes (World's count, which decides its compactions)
+    uint32_t size[3] = {0, 0, 0};    // slots per store, holes included (ActiveContacts::size)
+    uint32_t free[3] = {0, 0, 0};    // holes per store (a placement with none appends at once)
+    uint32_t overflow = 0;           // nonzero: a list or a store had no room (DeviceBatch throws)
+    uint32_t pad = 0;
+};
+
+// A material's coefficients as the contact lifecycle reads them (dem::Material without its name).
+struct MatCoef {
+    double young = 0, ratio = 0, friction = 0;  // [Pa], [-] ks/kn, [-]
+};
 
 // What comes back per half step (device pointers into the outbox sections, this system's part).
 struct Outbox {
-    uint32_t sys = 0;
-    uint32_t* stream = nullptr;  // 4 words per record
-    uint64_t* count = nullptr;   // [0] records appended, [1] set when the stream overflowed
-    uint64_t cap = 0;            // records
+    Life* life = nullptr;        // this system's lifecycle (mirrored by the host)
     uint64_t* max_d2 = nullptr;  // this system's largest squared move (a double's bits)
     Vec3* walls = nullptr;       // per wall slot: force, torque2, point, fv (the reactions and the ledger)
+    uint32_t* wall_topo = nullptr;  // per wall slot: i, j, cand before the frees, cand after them
+    uint32_t* pair_topo = nullptr;  // per frictional, then frictionless slot: i, j, cand after the frees (the ledger)
     Vec3* presc = nullptr;       // per prescribed particle: force, pressure force
     double *sum_fric = nullptr, *sum_smooth = nullptr, *sum_walls = nullptr, *sum_bonds = nullptr,
            *sum_particles = nullptr;  // the ledger's block sums
@@ -74,7 +87,19 @@ struct SysView {
     float pair_reach = 0, wall_reach = 0;
     Cands pp, pw;
     Store fric, smooth, walls;
-    uint32_t *link_start = nullptr, *link_count = nullptr, *link_ref = nullptr;
+    // Each particle's interaction list: ref[start[i] .. start[i] + count[i]), room for cap[i]
+    // (its bonds and one entry per candidate it is in: a list never outgrows it between layouts).
+    uint32_t *link_start = nullptr, *link_count = nullptr, *link_cap = nullptr, *link_ref = nullptr;
+    // The lifecycle's scratch: the records found this step (2 words each, room for every candidate)
+    // and the slots found apart (room for every slot of the store).
+    uint32_t *found_pp = nullptr, *found_pw = nullptr;
+    uint32_t* opened[3] = {nullptr, nullptr, nullptr};
+    // The new contacts' coefficients: the materials, the damping ratio of each pair of them
+    // (zeta[a * materials + b], from the host: see contact_phys_of), each wall's material.
+    const MatCoef* mats = nullptr;
+    const double* zeta = nullptr;
+    uint32_t materials = 0;
+    const uint32_t* wall_mat = nullptr;
     const WallNow* wall_now = nullptr;
     const FloatVec3* ref_pos = nullptr;
     double* pterms = nullptr;   // scratch: kParticleSums per particle
@@ -86,6 +111,7 @@ struct SysView {
 struct Globals {
     Vec3 *x = nullptr, *v = nullptr, *w = nullptr, *f = nullptr, *fx = nullptr, *t = nullptr;
     double *m = nullptr, *inv_m = nullptr, *inv_i = nullptr, *r = nullptr;
+    uint32_t* mat = nullptr;  // each particle's material (index into its system's SysView::mats)
     Vec3* pressure_slot = nullptr;
     int64_t *bi = nullptr, *bj = nullptr;
     double *kn = nullptr, *ks = nullptr, *rest = nullptr;
@@ -113,7 +139,6 @@ public:
     virtual void copy(void* dst, const void* src, std::size_t bytes) = 0;  // device -> device
     virtual void zero(void* dst, std::size_t bytes) = 0;
     virtual void apply(const Patch* patches, uint32_t n, const uint32_t* payload) = 0;
-    virtual void touch(const Globals& g, const SysView* views, int B) = 0;
     virtual void forces(const Globals& g, const SysView* views, int B) = 0;
     virtual void motion(const Globals& g, const SysView* views, int B) = 0;
 };

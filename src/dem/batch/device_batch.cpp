@@ -17,29 +17,29 @@ static_assert(kernels::kElastic == 0 && kernels::kSlip == 1 && kernels::kRelease
 
 struct DeviceBatch::Sys {
     struct St {
-        Buf i, j, cand, phys, shear, prev, force, torque1, torque2, point, fv, terms;
-        std::size_t cap = 0;
+        Buf i, j, cand, phys, shear, prev, force, torque1, torque2, point, fv, terms, opened;
+        std::size_t cap = 0;  // slots of room
     };
     St st[3];  // frictional, frictionless, wall
-    Buf pp_start, pp_other, pp_slot, pp_gap, pw_start, pw_other, pw_slot, pw_gap;
+    Buf pp_start, pp_other, pp_slot, pp_gap, pw_start, pw_other, pw_slot, pw_gap, found_pp, found_pw;
     std::size_t pp_size = 0, pw_size = 0;
-    Buf link_start, link_count, link_ref;
-    std::size_t ref_size = 0;
+    Buf link_start, link_count, link_cap, link_ref;
+    Buf mats, zeta, wall_mat;
+    uint32_t materials = 0;
     Buf ref_pos, pterms, bterms;
     std::size_t off_now = 0;  // this system's walls in the walls-now section
     // This system's parts of the outbox sections (entries of each).
-    std::size_t off_walls = 0, off_sums = 0, off_fv = 0;
+    std::size_t off_walls = 0, off_wtopo = 0, off_ptopo = 0, off_fv = 0;
     std::size_t sum_fric = 0, sum_smooth = 0, sum_walls = 0, sum_bonds = 0, sum_particles = 0;
-    // What the stream brought this half.
-    std::vector<uint32_t> found_pp, found_pw, open[3];
     float pair_reach = 0, wall_reach = 0;
     int track = 0;
     std::vector<Buf*> bufs() {
-        std::vector<Buf*> v{&pp_start, &pp_other, &pp_slot, &pp_gap, &pw_start, &pw_other, &pw_slot, &pw_gap,
-                            &link_start, &link_count, &link_ref, &ref_pos, &pterms, &bterms};
+        std::vector<Buf*> v{&pp_start, &pp_other, &pp_slot, &pp_gap, &pw_start, &pw_other, &pw_slot, &pw_gap, &found_pp,
+                            &found_pw, &link_start, &link_count, &link_cap, &link_ref, &mats, &zeta, &wall_mat,
+                            &ref_pos, &pterms, &bterms};
         for (St& t : st)
             for (Buf* b : {&t.i, &t.j, &t.cand, &t.phys, &t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point,
-                           &t.fv, &t.terms})
+                           &t.fv, &t.terms, &t.opened})
                 v.push_back(b);
         return v;
     }
@@ -47,6 +47,12 @@ struct DeviceBatch::Sys {
 
 namespace {
 ActiveContacts& store_of(ContactSet& c, int k) { return k == 0 ? c.fric : k == 1 ? c.smooth : c.walls; }
+// The host's copy of a store holds `size` slots (the device placed and freed them).
+void resize_store(ActiveContacts& a, std::size_t size) {
+    for (auto* v : {&a.i, &a.j, &a.cand}) v->resize(size);
+    a.phys.resize(size);
+    for (auto* v : {&a.shear, &a.prev_normal, &a.force, &a.torque1, &a.torque2, &a.point, &a.fv}) v->resize(size);
+}
 template <class T> T* at(DeviceBatch::Buf& b, std::size_t k) { return static_cast<T*>(b.p) + k; }
 // Adds the wall time of its scope to a counter (host or total seconds of the timing report).
 struct Lap {
@@ -80,7 +86,7 @@ void DeviceBatch::free_all() {
     for (Buf& b : globals_)
         if (b.p) dev_->release(b.p);
     globals_.clear();
-    for (Buf* b : {&views_buf_, &patches_buf_, &payload_buf_, &wallnow_, &stream_, &count_, &maxd2_, &sec_})
+    for (Buf* b : {&views_buf_, &patches_buf_, &payload_buf_, &wallnow_, &maxd2_, &sec_})
         if (b->p) {
             dev_->release(b->p);
             *b = Buf{};
@@ -150,8 +156,20 @@ void DeviceBatch::load(BatchSystems& b) {
         g_.ring = static_cast<int64_t*>(buf.p);
     }
     up(g_.prescribed, b.prescribed);
+    {
+        std::vector<uint32_t> mat;
+        mat.reserve(b.particles());
+        for (std::size_t s = 0; s < b.systems(); ++s) {
+            const std::vector<uint32_t>& m = b.world[s]->particles.material;
+            if (int64_t(m.size()) != b.first[s + 1] - b.first[s]) throw std::logic_error("batch: a system's materials");
+            mat.insert(mat.end(), m.begin(), m.end());
+        }
+        up(g_.mat, mat);
+    }
     sys_.resize(b.systems());
     views_.assign(b.systems(), dev::SysView{});
+    life_.assign(b.systems(), dev::Life{});
+    life_up_.assign(b.systems(), 1);
     for (std::size_t s = 0; s < b.systems(); ++s) {
         const std::size_t n = std::size_t(b.first[s + 1] - b.first[s]);
         Sys& y = sys_[s];
@@ -168,16 +186,19 @@ void DeviceBatch::load(BatchSystems& b) {
 }
 
 void DeviceBatch::ensure_stores(BatchSystems& b, std::size_t s) {
+    // A store never holds more slots than its candidates: it appends only when it has no hole, so
+    // then its size is its live contacts, one per candidate (and a layout drops the holes). With
+    // that room the device places every contact between two layouts.
     ContactSet& c = b.world[s]->engine_contacts();
     Sys& y = sys_[s];
     for (int k = 0; k < 3; ++k) {
         Sys::St& t = y.st[k];
-        const std::size_t size = store_of(c, k).size();
-        if (size <= t.cap && t.i.p) continue;
-        const std::size_t cap = std::max<std::size_t>({size, 2 * t.cap, 256});
-        for (Buf* bf : {&t.i, &t.j, &t.cand}) ensure(*bf, cap * 4, true);
-        ensure(t.phys, cap * sizeof(ContactPhys), true);
-        for (Buf* bf : {&t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point, &t.fv}) ensure(*bf, cap * sizeof(Vec3), true);
+        const std::size_t need = std::max(store_of(c, k).size(), k == 2 ? c.pw.other.size() : c.pp.other.size());
+        if (need <= t.cap && t.i.p) continue;
+        const std::size_t cap = std::max<std::size_t>({need, t.cap + t.cap / 2, 256});
+        for (Buf* bf : {&t.i, &t.j, &t.cand, &t.opened}) ensure(*bf, cap * 4, false);
+        ensure(t.phys, cap * sizeof(ContactPhys), false);
+        for (Buf* bf : {&t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point, &t.fv}) ensure(*bf, cap * sizeof(Vec3), false);
         ensure(t.terms, cap * dev::kPairSums * sizeof(double), false);
         t.cap = cap;
         layout_dirty_ = true;
@@ -190,6 +211,8 @@ void DeviceBatch::upload_contacts(BatchSystems& b, std::size_t s) {
     Sys& y = sys_[s];
     const std::size_t n = std::size_t(b.first[s + 1] - b.first[s]);
     ensure_stores(b, s);
+    dev::Life& life = life_[s];
+    life = dev::Life{};
     for (int k = 0; k < 3; ++k) {
         const ActiveContacts& a = store_of(c, k);
         Sys::St& t = y.st[k];
@@ -209,9 +232,14 @@ void DeviceBatch::upload_contacts(BatchSystems& b, std::size_t s) {
         up(t.torque2, a.torque2);
         up(t.point, a.point);
         up(t.fv, a.fv);
+        life.size[k] = uint32_t(m);
+        life.free[k] = uint32_t(m - a.live_count());
     }
-    const auto cands = [&](const CandidateList& cl, Buf& start, Buf& other, Buf& slot, Buf& gap, std::size_t& size) {
+    life.holes = c.holes;
+    life_up_[s] = 1;
+    const auto cands = [&](const CandidateList& cl, Buf& start, Buf& other, Buf& slot, Buf& gap, Buf& found, std::size_t& size) {
         size = cl.other.empty() || cl.start.size() != n + 1 ? 0 : cl.other.size();
+        ensure(found, std::max<std::size_t>(size, 1) * 8, false);
         if (!size) return;
         put(start, cl.start.data(), (n + 1) * 4);
         put(other, cl.other.data(), size * 4);
@@ -219,45 +247,111 @@ void DeviceBatch::upload_contacts(BatchSystems& b, std::size_t s) {
         put(gap, cl.gap.data(), size * sizeof(float));
     };
     std::size_t pp = y.pp_size, pw = y.pw_size;
-    cands(c.pp, y.pp_start, y.pp_other, y.pp_slot, y.pp_gap, y.pp_size);
-    cands(c.pw, y.pw_start, y.pw_other, y.pw_slot, y.pw_gap, y.pw_size);
+    cands(c.pp, y.pp_start, y.pp_other, y.pp_slot, y.pp_gap, y.found_pp, y.pp_size);
+    cands(c.pw, y.pw_start, y.pw_other, y.pw_slot, y.pw_gap, y.found_pw, y.pw_size);
     if (pp != y.pp_size || pw != y.pw_size) layout_dirty_ = true;
+    // Each particle's list with room for its bonds and one entry per candidate it is in (its
+    // content is World's; where it lies in ref does not change the gather).
     const InteractionLists& l = c.links;
-    ensure(y.link_start, std::max<std::size_t>(n, 1) * 4, false);
-    ensure(y.link_count, std::max<std::size_t>(n, 1) * 4, false);
-    if (l.start.size() == n && l.count.size() == n) {
-        put(y.link_start, l.start.data(), n * 4);
-        put(y.link_count, l.count.data(), n * 4);
-    } else {
-        dev_->zero(y.link_count.p, std::max<std::size_t>(n, 1) * 4);
-        dev_->zero(y.link_start.p, std::max<std::size_t>(n, 1) * 4);
+    std::vector<uint32_t> room(n, 0), start(n, 0), count(n, 0), ref;
+    const bool lists = l.start.size() == n && l.count.size() == n;
+    for (std::size_t i = 0; i < n && lists; ++i)
+        for (uint32_t e = 0; e < l.count[i]; ++e) room[i] += (l.ref[l.start[i] + e] >> 30) == InteractionLists::kBond;
+    if (y.pp_size)
+        for (std::size_t i = 0; i < n; ++i) {
+            room[i] += c.pp.start[i + 1] - c.pp.start[i];
+            for (uint32_t k = c.pp.start[i]; k < c.pp.start[i + 1]; ++k) ++room[c.pp.other[k]];
+        }
+    if (y.pw_size)
+        for (std::size_t i = 0; i < n; ++i) room[i] += c.pw.start[i + 1] - c.pw.start[i];
+    std::size_t total = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+        start[i] = uint32_t(total);
+        total += room[i];
     }
-    put(y.link_ref, l.ref.data(), std::max<std::size_t>(l.ref.size(), 1) * 4);
-    y.ref_size = l.ref.size();
+    ref.assign(std::max<std::size_t>(total, 1), 0);
+    for (std::size_t i = 0; i < n && lists; ++i) {
+        if (l.count[i] > room[i]) throw std::logic_error("batch: a particle's list exceeds its candidates");
+        count[i] = l.count[i];
+        std::copy(l.ref.begin() + l.start[i], l.ref.begin() + l.start[i] + l.count[i], ref.begin() + start[i]);
+    }
+    const std::size_t nn = std::max<std::size_t>(n, 1);
+    start.resize(nn);
+    count.resize(nn);
+    room.resize(nn);
+    put(y.link_start, start.data(), nn * 4);
+    put(y.link_count, count.data(), nn * 4);
+    put(y.link_cap, room.data(), nn * 4);
+    put(y.link_ref, ref.data(), ref.size() * 4);
+    // The new contacts' coefficients: the materials, the pairs' damping ratios (the host's log),
+    // the walls' materials, the particles' materials.
+    const std::vector<Material>& mat = wd.materials;
+    std::vector<dev::MatCoef> mc;
+    std::vector<double> zeta;
+    for (const Material& m : mat) mc.push_back({m.young, m.stiffness_ratio, m.friction});
+    for (const Material& a : mat)
+        for (const Material& q : mat) zeta.push_back(pair_damping_ratio(a, q));
+    std::vector<uint32_t> wm;
+    for (const Plane& p : wd.planes) wm.push_back(p.material);
+    for (const Facet& f : wd.facets) wm.push_back(f.material);
+    for (uint32_t m : wm)
+        if (m >= mat.size()) throw std::logic_error("batch: a wall's material");
+    for (uint32_t m : wd.particles.material)
+        if (m >= mat.size()) throw std::logic_error("batch: a particle's material");
+    mc.resize(std::max<std::size_t>(mc.size(), 1));
+    zeta.resize(std::max<std::size_t>(zeta.size(), 1));
+    wm.resize(std::max<std::size_t>(wm.size(), 1));
+    put(y.mats, mc.data(), mc.size() * sizeof(dev::MatCoef));
+    put(y.zeta, zeta.data(), zeta.size() * sizeof(double));
+    put(y.wall_mat, wm.data(), wm.size() * 4);
+    y.materials = uint32_t(mat.size());
+    if (n) {
+        dev_->put(g_.mat + b.first[s], wd.particles.material.data(), n * 4);
+        up_ += n * 4;
+    }
+    views_stale_ = true;
 }
 
 void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s) {
     ContactSet& c = b.world[s]->engine_contacts();
     Sys& y = sys_[s];
+    const dev::Life& life = life_[s];
     for (int k = 0; k < 3; ++k) {
         ActiveContacts& a = store_of(c, k);
         Sys::St& t = y.st[k];
-        const std::size_t m = std::min(a.size(), t.cap);
+        const std::size_t m = life.size[k];
+        resize_store(a, m);
+        get(a.i.data(), t.i.p, m * 4);
+        get(a.j.data(), t.j.p, m * 4);
+        get(a.cand.data(), t.cand.p, m * 4);
+        get(a.phys.data(), t.phys.p, m * sizeof(ContactPhys));
         for (auto [dst, bf] : {std::pair{&a.shear, &t.shear}, {&a.prev_normal, &t.prev}, {&a.force, &t.force},
                                {&a.torque1, &t.torque1}, {&a.torque2, &t.torque2}, {&a.point, &t.point}, {&a.fv, &t.fv}})
             get(dst->data(), bf->p, m * sizeof(Vec3));
     }
+    if (y.pp_size) get(c.pp.slot.data(), y.pp_slot.p, y.pp_size * 4);
+    if (y.pw_size) get(c.pw.slot.data(), y.pw_slot.p, y.pw_size * 4);
+    c.holes = std::size_t(life.holes);
+}
+
+void DeviceBatch::put_life(std::size_t s) {
+    if (!sec_.p) return;  // layout_outbox() puts them all
+    dev_->put(static_cast<char*>(sec_.p) + o_life_ + s * sizeof(dev::Life), &life_[s], sizeof(dev::Life));
+    up_ += sizeof(dev::Life);
+    life_up_[s] = 0;
 }
 
 void DeviceBatch::layout_outbox(BatchSystems& b) {
-    std::size_t stream = 64, walls = 0, sums = 0, fv = 0;
+    std::size_t walls = 0, wtopo = 0, ptopo = 0, sums = 0, fv = 0;
     for (std::size_t s = 0; s < sys_.size(); ++s) {
         Sys& y = sys_[s];
         const int64_t n = b.first[s + 1] - b.first[s], nb = b.bond_first[s + 1] - b.bond_first[s];
-        stream += y.pp_size + y.pw_size + y.st[0].cap + y.st[1].cap + y.st[2].cap;
         y.off_walls = walls;
         walls += 4 * y.st[2].cap;
-        y.off_sums = sums;
+        y.off_wtopo = wtopo;
+        wtopo += 4 * y.st[2].cap;
+        y.off_ptopo = ptopo;
+        ptopo += 3 * (y.st[0].cap + y.st[1].cap);
         y.sum_fric = sums;
         sums += std::size_t(dev::kPairSums * dev::blocks(int64_t(y.st[0].cap)));
         y.sum_smooth = sums;
@@ -271,13 +365,14 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
         y.off_fv = fv;
         fv += y.st[0].cap + y.st[1].cap;
     }
-    stream_cap_ = stream;
-    ensure(stream_, stream * 16, false);
-    ensure(count_, 16, false);
+    const auto round8 = [](std::size_t x) { return (x + 7) / 8 * 8; };
     ensure(maxd2_, std::max<std::size_t>(sys_.size(), 1) * 8, false);
-    o_presc_ = 0;
+    o_life_ = 0;
+    o_presc_ = o_life_ + sys_.size() * sizeof(dev::Life);
     o_walls_ = o_presc_ + 2 * b.prescribed.size() * sizeof(Vec3);
-    o_fv_ = o_walls_ + walls * sizeof(Vec3);
+    o_wtopo_ = o_walls_ + walls * sizeof(Vec3);
+    o_ptopo_ = o_wtopo_ + round8(wtopo * 4);
+    o_fv_ = o_ptopo_ + round8(ptopo * 4);
     o_sums_ = o_fv_ + fv * sizeof(Vec3);
     o_vel_ = o_sums_ + sums * sizeof(double);
     o_end_ = o_vel_ + b.particles() * sizeof(Vec3);
@@ -285,12 +380,15 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
     h_sec_.resize(std::max<std::size_t>(o_end_, 8));
     h_maxd2_.resize(sys_.size());
     layout_dirty_ = false;
+    views_stale_ = true;
+    // The section moved: every system's lifecycle goes up again.
+    if (!life_.empty()) put(sec_, life_.data(), life_.size() * sizeof(dev::Life));
+    std::fill(life_up_.begin(), life_up_.end(), 0);
 }
 
 void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     Sys& y = sys_[s];
     dev::SysView& v = views_[s];
-    World& wd = *b.world[s];
     v.active = 1;
     v.track = y.track;
     v.base = b.first[s];
@@ -318,7 +416,6 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     };
     cands(v.pp, y.pp_start, y.pp_other, y.pp_slot, y.pp_gap, y.pp_size);
     cands(v.pw, y.pw_start, y.pw_other, y.pw_slot, y.pw_gap, y.pw_size);
-    ContactSet& c = wd.engine_contacts();
     for (int k = 0; k < 3; ++k) {
         Sys::St& t = y.st[k];
         dev::Store& d = k == 0 ? v.fric : k == 1 ? v.smooth : v.walls;
@@ -334,23 +431,30 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
         d.point = at<Vec3>(t.point, 0);
         d.fv = at<Vec3>(t.fv, 0);
         d.terms = y.track ? at<double>(t.terms, 0) : nullptr;
-        d.size = uint32_t(store_of(c, k).size());
+        d.cap = uint32_t(t.cap);
+        v.opened[k] = at<uint32_t>(t.opened, 0);
     }
     v.link_start = at<uint32_t>(y.link_start, 0);
     v.link_count = at<uint32_t>(y.link_count, 0);
+    v.link_cap = at<uint32_t>(y.link_cap, 0);
     v.link_ref = at<uint32_t>(y.link_ref, 0);
+    v.found_pp = at<uint32_t>(y.found_pp, 0);
+    v.found_pw = at<uint32_t>(y.found_pw, 0);
+    v.mats = at<dev::MatCoef>(y.mats, 0);
+    v.zeta = at<double>(y.zeta, 0);
+    v.materials = y.materials;
+    v.wall_mat = at<uint32_t>(y.wall_mat, 0);
     v.wall_now = at<WallNow>(wallnow_, y.off_now);
     v.ref_pos = at<FloatVec3>(y.ref_pos, 0);
     v.pterms = at<double>(y.pterms, 0);
     v.bterms = at<double>(y.bterms, 0);
     dev::Outbox& o = v.out;
-    o.sys = uint32_t(s);
-    o.stream = at<uint32_t>(stream_, 0);
-    o.count = at<uint64_t>(count_, 0);
-    o.cap = stream_cap_;
-    o.max_d2 = at<uint64_t>(maxd2_, s);
     char* const sec = static_cast<char*>(sec_.p);
+    o.life = reinterpret_cast<dev::Life*>(sec + o_life_) + s;
+    o.max_d2 = at<uint64_t>(maxd2_, s);
     o.walls = reinterpret_cast<Vec3*>(sec + o_walls_) + y.off_walls;
+    o.wall_topo = reinterpret_cast<uint32_t*>(sec + o_wtopo_) + y.off_wtopo;
+    o.pair_topo = reinterpret_cast<uint32_t*>(sec + o_ptopo_) + y.off_ptopo;
     o.presc = reinterpret_cast<Vec3*>(sec + o_presc_) + 2 * b.presc_first[s];
     double* const sums = reinterpret_cast<double*>(sec + o_sums_);
     o.sum_fric = sums + y.sum_fric;
@@ -376,12 +480,6 @@ void DeviceBatch::patch(Patches& to, void* dst, const void* src, std::size_t byt
     const std::size_t from = to.payload.size();
     to.payload.resize(from + words);
     std::memcpy(to.payload.data() + from, src, bytes);
-}
-
-void DeviceBatch::patch_list(Patches& to, Sys& y, const InteractionLists& l, uint32_t i) {
-    patch(to, at<uint32_t>(y.link_start, i), &l.start[i], 4);
-    patch(to, at<uint32_t>(y.link_count, i), &l.count[i], 4);
-    patch(to, at<uint32_t>(y.link_ref, l.start[i]), l.ref.data() + l.start[i], std::size_t(l.count[i]) * 4);
 }
 
 void DeviceBatch::flush_patches() {
@@ -411,45 +509,6 @@ void DeviceBatch::flush_patches() {
                 reinterpret_cast<const uint32_t*>(static_cast<const char*>(patches_buf_.p) + head));
 }
 
-void DeviceBatch::read_stream() {
-    uint64_t count[2];
-    get(count, count_.p, 16);
-    if (count[1] || count[0] > stream_cap_)
-        throw std::runtime_error("batch: the device's stream of found contacts overflowed (" + std::to_string(count[0]) + " of " +
-                                 std::to_string(stream_cap_) + ")");
-    h_stream_.resize(std::size_t(count[0]) * 4);
-    get(h_stream_.data(), stream_.p, h_stream_.size() * 4);
-    for (Sys& y : sys_) {
-        y.found_pp.clear();
-        y.found_pw.clear();
-        for (auto& o : y.open) o.clear();
-    }
-    for (std::size_t r = 0; r < std::size_t(count[0]); ++r) {
-        const uint32_t* e = h_stream_.data() + 4 * r;
-        Sys& y = sys_.at(e[0]);
-        switch (e[1]) {
-            case dev::kFoundPP: y.found_pp.insert(y.found_pp.end(), {e[2], e[3]}); break;
-            case dev::kFoundPW: y.found_pw.insert(y.found_pw.end(), {e[2], e[3]}); break;
-            default: y.open[e[1] - dev::kOpenFric].push_back(e[2]);
-        }
-    }
-    // The device appends in any order: the host's order (particle, then candidate; slots ascending).
-    const auto pairs = [](std::vector<uint32_t>& v) {
-        std::vector<std::pair<uint32_t, uint32_t>> p(v.size() / 2);
-        for (std::size_t q = 0; q < p.size(); ++q) p[q] = {v[2 * q], v[2 * q + 1]};
-        std::sort(p.begin(), p.end());
-        for (std::size_t q = 0; q < p.size(); ++q) {
-            v[2 * q] = p[q].first;
-            v[2 * q + 1] = p[q].second;
-        }
-    };
-    for (Sys& y : sys_) {
-        pairs(y.found_pp);
-        pairs(y.found_pw);
-        for (auto& o : y.open) std::sort(o.begin(), o.end());
-    }
-}
-
 void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
     Lap lap{total_s_};
     const std::size_t B = b.systems();
@@ -461,7 +520,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
         views_stale_ = true;
     };
     // The walls' motion, the rebuild test and the broad phase, World's (its positions and
-    // contact state from the device first when it rebuilds or compacts).
+    // contacts from the device first when it rebuilds or compacts, all of them up again after).
     std::vector<int> on(B, 0);
     // The walls now of all systems go up in one copy (their number does not change in a step).
     std::size_t walls_now = 0;
@@ -494,7 +553,9 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             if (walls.now.size() != nw) throw std::logic_error("batch: a system's walls were not moved");
             std::copy(walls.now.begin(), walls.now.end(), now);
             std::tie(y.pair_reach, y.wall_reach) = wd.engine_reach();
-            y.track = wd.params.track_energy ? 1 : 0;
+            const int track = wd.params.track_energy ? 1 : 0;
+            if (track != y.track) views_stale_ = true;
+            y.track = track;
             b.dp[s] = world_underpressure(wd);
             on[s] = 1;
         } catch (...) {
@@ -503,97 +564,47 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
     });
     put(wallnow_, h_wallnow_.data(), h_wallnow_.size() * sizeof(WallNow));
     if (layout_dirty_) layout_outbox(b);
+    for (std::size_t s = 0; s < B; ++s)
+        if (life_up_[s]) put_life(s);
+    bool any_track = false;
     for (std::size_t s = 0; s < B; ++s) {
         if (on[s]) fill_view(b, s);
         else views_[s].active = 0;
+        any_track |= on[s] && sys_[s].track;
     }
     upload_views();
-    dev_->zero(count_.p, 16);
-    dev_->touch(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
-    read_stream();
-
-    // World places the new contacts in candidate order; the placements go to the device.
-    each(B, [&](std::size_t s, Patches& pt) {
-        if (!on[s]) return;
-        try {
-            World& wd = *b.world[s];
-            Sys& y = sys_[s];
-            ContactSet& c = wd.engine_contacts();
-            c.new_pp[0] = y.found_pp;
-            c.new_pw[0] = y.found_pw;
-            wd.engine_activate();
-            ensure_stores(b, s);
-            const InteractionLists& l = c.links;
-            std::vector<uint32_t> touched;
-            static const Vec3 zero[7] = {};
-            const auto place = [&](int k, uint32_t q) {
-                const ActiveContacts& a = store_of(c, k);
-                Sys::St& t = y.st[k];
-                patch(pt, at<uint32_t>(t.i, q), &a.i[q], 4);
-                patch(pt, at<uint32_t>(t.j, q), &a.j[q], 4);
-                patch(pt, at<uint32_t>(t.cand, q), &a.cand[q], 4);
-                patch(pt, at<ContactPhys>(t.phys, q), &a.phys[q], sizeof(ContactPhys));
-                for (Buf* bf : {&t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point, &t.fv})
-                    patch(pt, at<Vec3>(*bf, q), zero, sizeof(Vec3));
-                touched.push_back(a.i[q]);
-                if (k != 2) touched.push_back(a.j[q]);
-            };
-            for (std::size_t e = 0; e < y.found_pp.size(); e += 2) {
-                const uint32_t k = y.found_pp[e + 1], slot = c.pp.slot[k];
-                patch(pt, at<uint32_t>(y.pp_slot, k), &c.pp.slot[k], 4);
-                place(slot & kSmoothBit ? 1 : 0, slot & ~kSmoothBit);
-            }
-            for (std::size_t e = 0; e < y.found_pw.size(); e += 2) {
-                const uint32_t k = y.found_pw[e + 1];
-                patch(pt, at<uint32_t>(y.pw_slot, k), &c.pw.slot[k], 4);
-                place(2, c.pw.slot[k]);
-            }
-            if (l.ref.size() != y.ref_size || y.link_ref.bytes < l.ref.size() * 4) {
-                // A list outgrew its room and moved to the end: the lists go whole.
-                const std::size_t n = l.start.size();
-                put(y.link_start, l.start.data(), n * 4);
-                put(y.link_count, l.count.data(), n * 4);
-                put(y.link_ref, l.ref.data(), std::max<std::size_t>(l.ref.size(), 1) * 4);
-                y.ref_size = l.ref.size();
-            } else {
-                std::sort(touched.begin(), touched.end());
-                touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-                for (uint32_t i : touched) patch_list(pt, y, l, i);
-            }
-        } catch (...) {
-            fail(s);
-            on[s] = 0;
-        }
-    });
-    bool any_track = false;
-    for (std::size_t s = 0; s < B; ++s) any_track |= on[s] && sys_[s].track;
-    if (layout_dirty_) layout_outbox(b);
-    for (std::size_t s = 0; s < B; ++s)
-        if (on[s]) fill_view(b, s);
-    flush_patches();
-    upload_views();
-    dev_->zero(count_.p, 16);
+    // One launch: the touch test, the new contacts' slots, the forces, the frees.
     dev_->forces(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
-    read_stream();
-    // The prescribed particles and the wall store (with the ledger also the dashpot forces and
-    // the block sums) in one copy.
-    const std::size_t upto = any_track ? o_vel_ : o_fv_;
-    get(h_sec_.data() + o_presc_, static_cast<const char*>(sec_.p) + o_presc_, upto - o_presc_);
+    // The lifecycles, the prescribed particles and the wall store (with the ledger also the
+    // particle stores' slots, the dashpot forces and the block sums) in one copy.
+    const std::size_t upto = any_track ? o_vel_ : o_ptopo_;
+    get(h_sec_.data() + o_life_, static_cast<const char*>(sec_.p) + o_life_, upto - o_life_);
 
-    // World's wall reactions and the frees of the opened contacts (which go to the device).
-    each(B, [&](std::size_t s, Patches& pt) {
+    // World's copy of the contacts: the counts, the wall store (its reactions), and with the
+    // ledger the particle stores' slots and dashpot forces.
+    each(B, [&](std::size_t s, Patches&) {
         if (!on[s]) return;
         try {
             World& wd = *b.world[s];
             Sys& y = sys_[s];
             ContactSet& c = wd.engine_contacts();
+            dev::Life& life = life_[s];
+            std::memcpy(&life, h_sec_.data() + o_life_ + s * sizeof(dev::Life), sizeof(dev::Life));
+            if (life.overflow)
+                throw std::logic_error("batch: a store or an interaction list on the device had no room (a bug: docs/gpu.md)");
+            for (int k = 0; k < 3; ++k) resize_store(store_of(c, k), life.size[k]);
+            const uint32_t* wt = hu(o_wtopo_) + y.off_wtopo;
             for (std::size_t q = 0; q < c.walls.size(); ++q) {
                 const Vec3* e = hv(o_walls_) + y.off_walls + 4 * q;
                 c.walls.force[q] = e[0];
                 c.walls.torque2[q] = e[1];
                 c.walls.point[q] = e[2];
                 c.walls.fv[q] = e[3];
+                c.walls.i[q] = wt[4 * q];
+                c.walls.j[q] = wt[4 * q + 1];
+                c.walls.cand[q] = wt[4 * q + 2];  // before the frees: the reactions count the opened ones
             }
+            wd.engine_activate();  // nothing found here (the device placed them): the ledger's blocks sized
             if (y.track) {
                 EnergyBook& book = wd.engine_book();
                 const auto sums = [&](std::vector<double>& to, std::size_t off) {
@@ -603,37 +614,21 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
                 sums(book.smooth, y.sum_smooth);
                 sums(book.walls, y.sum_walls);
                 sums(book.bonds, y.sum_bonds);
-                std::copy(hv(o_fv_) + y.off_fv, hv(o_fv_) + y.off_fv + c.fric.size(), c.fric.fv.begin());
-                const std::size_t sm = y.off_fv + y.st[0].cap;
-                std::copy(hv(o_fv_) + sm, hv(o_fv_) + sm + c.smooth.size(), c.smooth.fv.begin());
-            }
-            c.opened_fric[0] = y.open[0];
-            c.opened_smooth[0] = y.open[1];
-            c.opened_walls[0] = y.open[2];
-            // The candidates and particles of the opened contacts, read before World frees them.
-            std::vector<uint32_t> cand[3], touched;
-            for (int k = 0; k < 3; ++k) {
-                const ActiveContacts& a = store_of(c, k);
-                for (uint32_t q : y.open[k]) {
-                    cand[k].push_back(a.cand[q]);
-                    touched.push_back(a.i[q]);
-                    if (k != 2) touched.push_back(a.j[q]);
+                for (int k = 0; k < 2; ++k) {
+                    ActiveContacts& a = store_of(c, k);
+                    const uint32_t* pt = hu(o_ptopo_) + y.off_ptopo + 3 * (k == 0 ? 0 : y.st[0].cap);
+                    const Vec3* fv = hv(o_fv_) + y.off_fv + (k == 0 ? 0 : y.st[0].cap);
+                    for (std::size_t q = 0; q < a.size(); ++q) {
+                        a.i[q] = pt[3 * q];
+                        a.j[q] = pt[3 * q + 1];
+                        a.cand[q] = pt[3 * q + 2];
+                        a.fv[q] = fv[q];
+                    }
                 }
             }
-            wd.engine_end_forces();
-            for (int k = 0; k < 3; ++k) {
-                const ActiveContacts& a = store_of(c, k);
-                const CandidateList& cl = k == 2 ? c.pw : c.pp;
-                Buf& slot = k == 2 ? y.pw_slot : y.pp_slot;
-                for (std::size_t e = 0; e < y.open[k].size(); ++e) {
-                    const uint32_t q = y.open[k][e], kk = cand[k][e];
-                    patch(pt, at<uint32_t>(y.st[k].cand, q), &a.cand[q], 4);
-                    if (kk != kNoSlot) patch(pt, at<uint32_t>(slot, kk), &cl.slot[kk], 4);
-                }
-            }
-            std::sort(touched.begin(), touched.end());
-            touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
-            for (uint32_t i : touched) patch_list(pt, y, c.links, i);
+            wd.engine_end_forces();  // the wall reactions (no opened list: the device freed them)
+            for (std::size_t q = 0; q < c.walls.size(); ++q) c.walls.cand[q] = wt[4 * q + 3];
+            c.holes = std::size_t(life.holes);
             const int64_t base = b.first[s];
             for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {
                 const uint32_t i = b.prescribed[std::size_t(q)];
@@ -644,7 +639,6 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             fail(s);
         }
     });
-    flush_patches();
 }
 
 void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
@@ -718,6 +712,7 @@ void DeviceBatch::pull(BatchSystems& b, std::size_t s) {
                            {&b.torque1, g_.btorque1}, {&b.torque2, g_.btorque2}})
         get(host->data() + b0, d + b0, nb * sizeof(Vec3));
     download_contacts(b, s);
+    b.world[s]->engine_relink();
 }
 
 }  // namespace dem::batch

@@ -1,17 +1,18 @@
 // The batch engine's device backend (docs/gpu.md): the systems of a BatchSystems stepped on a
-// device (dev::Device: CUDA, or the emulated device whose kernels run on the host). What must be
-// decided in one place per system stays World's, on the host, in step()'s order (the walls'
-// motion, the rebuild and the broad phase, the contact lifecycle, the wall reactions, the
-// prescribed motions, the clock, the ledger's books); the device keeps the state and runs the
-// per-index bodies. Per forces half: the touch test on the device, the (particle, candidate)
-// pairs found come back, World places them, the placements go to the device as patches; the
-// contact kernels, the pressure, the bonds, the gather on the device; back come the slots found
-// apart, the wall store, the prescribed particles' forces (and with the ledger its block sums and
-// the dashpot forces); World frees the slots and the frees go as patches. Per motion half: the
-// integrator on the device, back comes each system's largest move (and with the ledger its sums
-// and the velocities); World moves its prescribed particles, they go as patches. At a rebuild or
-// a compaction the system's positions and contact state come back first and its lists and stores
-// go whole afterwards.
+// device (dev::Device: CUDA, or the emulated device whose kernels run on the host). The device
+// keeps the state and runs the step: the per-index bodies and the contact lifecycle between
+// layouts (the touch test, the new contacts' slots in candidate order, the frees, the interaction
+// lists), as World's ContactSet does it, so that one launch does a system's forces half. What
+// must be decided in one place per system with the whole state stays World's, on the host, in
+// step()'s order: the walls' motion, the rebuild test and the broad phase, the compactions, the
+// wall reactions, the prescribed motions, the clock, the ledger's books. Per forces half: up the
+// walls now; the forces kernel; back the lifecycle's counts, the wall store, the prescribed
+// particles' forces (and with the ledger its block sums, the dashpot forces and the particle
+// stores' slots). Per motion half: the integrator; back each system's largest move (and with
+// the ledger its sums and the velocities); up the prescribed particles' motions. At a rebuild or
+// a compaction the system's positions and contacts come back whole, World lays them out, and
+// they go up whole; the host's copy of a system's contacts is otherwise only as current as the
+// counts, the wall store and (with the ledger) the particle stores' slots.
 #pragma once
 
 #include <atomic>
@@ -68,9 +69,12 @@ private:
     void put(Buf& b, const void* src, std::size_t bytes);
     void get(void* dst, const void* src, std::size_t bytes);
     void free_all();
-    void upload_contacts(BatchSystems& b, std::size_t s);    // the system's stores, candidates, lists whole
-    void download_contacts(BatchSystems& b, std::size_t s);  // the stores' state into World's
-    void ensure_stores(BatchSystems& b, std::size_t s);      // device stores as large as World's
+    // The system's contacts up whole (stores, candidates, lists, lifecycle counts, materials).
+    void upload_contacts(BatchSystems& b, std::size_t s);
+    // The system's stores and candidates' slots into World's (then its lists are rebuilt by
+    // World: a compaction, or engine_relink).
+    void download_contacts(BatchSystems& b, std::size_t s);
+    void ensure_stores(BatchSystems& b, std::size_t s);  // device stores with room for every candidate
     void layout_outbox(BatchSystems& b);
     void fill_view(BatchSystems& b, std::size_t s);
     void upload_views();
@@ -80,10 +84,9 @@ private:
         std::vector<uint32_t> payload;
     };
     static void patch(Patches& to, void* dst, const void* src, std::size_t bytes);
-    static void patch_list(Patches& to, Sys& y, const struct InteractionLists& l, uint32_t i);
     // f(s, patches) for every system s, the systems shared among the host threads.
     template <class F> void each(std::size_t B, F&& f);
-    void read_stream();
+    void put_life(std::size_t s);  // life_[s] into the outbox's lifecycle section
 
     std::unique_ptr<dev::Device> dev_;
     dev::Globals g_;
@@ -98,18 +101,21 @@ private:
     Patches merged_;
     int threads_ = 1;
     ThreadTeam team_;
-    // The outbox sections (device) and their host copies.
-    // One section for what the forces and motion halves bring back besides the stream, laid out
-    // [prescribed | wall store | dashpot forces | block sums | velocities] so that each half gets
-    // what it reads in one copy (bytes offsets o_*).
-    Buf stream_, count_, maxd2_, sec_;
+    // The outbox (device) and its host copy: one section for what the forces and motion halves
+    // bring back, laid out [lifecycles | prescribed | wall store | wall slots | particle stores'
+    // slots | dashpot forces | block sums | velocities] so that each half gets what it reads in
+    // one copy (byte offsets o_*). The lifecycles are the device's: the host's copy (life_) is
+    // taken after each forces half and changed by a layout (then put back: life_up_).
+    Buf maxd2_, sec_;
     std::vector<char> h_sec_;
-    std::size_t o_presc_ = 0, o_walls_ = 0, o_fv_ = 0, o_sums_ = 0, o_vel_ = 0, o_end_ = 0;
+    std::size_t o_life_ = 0, o_presc_ = 0, o_walls_ = 0, o_wtopo_ = 0, o_ptopo_ = 0, o_fv_ = 0, o_sums_ = 0, o_vel_ = 0,
+                o_end_ = 0;
     Vec3* hv(std::size_t o) { return reinterpret_cast<Vec3*>(h_sec_.data() + o); }
     double* hd(std::size_t o) { return reinterpret_cast<double*>(h_sec_.data() + o); }
-    std::vector<uint32_t> h_stream_;
+    uint32_t* hu(std::size_t o) { return reinterpret_cast<uint32_t*>(h_sec_.data() + o); }
+    std::vector<dev::Life> life_;
+    std::vector<char> life_up_;
     std::vector<uint64_t> h_maxd2_;
-    uint64_t stream_cap_ = 0;
     std::atomic<bool> layout_dirty_{true};
     std::atomic<uint64_t> up_{0}, down_{0};
     double host_s_ = 0, total_s_ = 0;

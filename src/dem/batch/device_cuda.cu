@@ -32,7 +32,6 @@ void check(cudaError_t e, const char* what) {
     if (e != cudaSuccess) throw std::runtime_error(std::string("CUDA: ") + what + ": " + cudaGetErrorString(e));
 }
 
-__global__ void __launch_bounds__(kThreads) k_touch(Globals g, const SysView* v) { touch_body(g, v[blockIdx.x], int(threadIdx.x), int(blockDim.x)); }
 __global__ void __launch_bounds__(kThreads) k_forces(Globals g, const SysView* v) { forces_body(g, v[blockIdx.x], int(threadIdx.x), int(blockDim.x)); }
 __global__ void __launch_bounds__(kThreads) k_motion(Globals g, const SysView* v) { motion_body(g, v[blockIdx.x], int(threadIdx.x), int(blockDim.x)); }
 __global__ void k_apply(const Patch* p, uint32_t n, const uint32_t* payload) {
@@ -86,7 +85,6 @@ public:
         k_apply<<<(n + 255) / 256, 256, 0, stream_>>>(p, n, payload);
         check(cudaGetLastError(), "the patch kernel");
     }
-    void touch(const Globals& g, const SysView* v, int B) override { launch(k_touch, g, v, B, "the touch kernel"); }
     void forces(const Globals& g, const SysView* v, int B) override { launch(k_forces, g, v, B, "the force kernel"); }
     void motion(const Globals& g, const SysView* v, int B) override { launch(k_motion, g, v, B, "the motion kernel"); }
 

@@ -56,9 +56,6 @@ public:
     void apply(const Patch* p, uint32_t n, const uint32_t* payload) override {
         for (uint32_t q = 0; q < n; ++q) apply_patch(p, payload, q);
     }
-    void touch(const Globals& g, const SysView* v, int B) override {
-        launch(B, [&](int s, int tid, int nt) { touch_body(g, v[s], tid, nt); });
-    }
     void forces(const Globals& g, const SysView* v, int B) override {
         launch(B, [&](int s, int tid, int nt) { forces_body(g, v[s], tid, nt); });
     }

@@ -2,7 +2,10 @@
 // one thread block per system, thread `tid` of `nt`) and by device_emul.cpp (the host compiler:
 // one thread, tid = 0, nt = 1). The per-index work is the host backend's bodies
 // (pair_step.h, bond_step.h, particle_step.h, gather_particle), in the host backend's order; what
-// a kernel adds is only the loop, the barriers and the appends to the outbox.
+// a kernel adds is only the loop, the barriers and the appends to the outbox. The contact
+// lifecycle is here too, as ContactSet does it (the found contacts' slots in candidate order, the
+// lowest holes first; the frees; each particle's sorted list), so that a step needs no round trip
+// to the host between the touch test and the forces: one thread of the block decides the slots.
 //
 // Before including: VPPDEM_KFN (__device__ or nothing: the kernels' bodies), VPPDEM_SYNC() (a block barrier), vppdem_append(uint64_t* counter) (returns
 // the old value, atomically on a device), vppdem_max_bits(uint64_t* word, double d2) (the largest
@@ -13,29 +16,19 @@
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
 #include "dem/detect/candidates.h"
+#include "dem/contact/contact_physics.h"
 #include "dem/contact/interaction_lists.h"
 
 namespace dem::batch::dev {
 
-// Appends a record to the outbox's stream.
-VPPDEM_KFN inline void emit(const Outbox& o, uint32_t kind, uint32_t a, uint32_t b) {
-    const uint64_t c = vppdem_append(&o.count[0]);
-    if (c < o.cap) {
-        uint32_t* r = o.stream + 4 * c;
-        r[0] = o.sys;
-        r[1] = kind;
-        r[2] = a;
-        r[3] = b;
-    } else {
-        o.count[1] = 1;
-    }
-}
-
 VPPDEM_HD inline PairEnd end_of(const Globals& g, int64_t k) { return PairEnd{g.x[k], g.v[k], g.w[k], g.r[k]}; }
 
-// The touch test of the candidates without a contact (as step_forces, ContactSet::find_new).
+// ---- the contact lifecycle (ContactSet's find_new, activate_new, release_opened on the device)
+
+// The touch test of the candidates without a contact (as ContactSet::find_new): each found
+// (particle, candidate) is appended to the system's records, in any order.
 VPPDEM_KFN inline void touch_body(const Globals& g, const SysView& s, int tid, int nt) {
-    if (!s.active) return;
+    Life& L = *s.out.life;
     for (int64_t i = tid; i < s.n; i += nt) {
         const int64_t a = s.base + i;
         if (s.pp.size)
@@ -43,15 +36,165 @@ VPPDEM_KFN inline void touch_body(const Globals& g, const SysView& s, int tid, i
                 if (!open_candidate(s.pp.slot[k], s.pp.gap[k], s.pair_reach)) continue;
                 const int64_t b = s.base + s.pp.other[k];
                 if (!spheres_touch(g.x[a], g.r[a], g.x[b], g.r[b])) continue;
-                emit(s.out, kFoundPP, uint32_t(i), k);
+                const uint64_t c = vppdem_append(&L.found[0]);
+                s.found_pp[2 * c] = uint32_t(i);
+                s.found_pp[2 * c + 1] = k;
             }
         if (s.pw.size)
             for (uint32_t k = s.pw.start[i]; k < s.pw.start[i + 1]; ++k) {
                 if (!open_candidate(s.pw.slot[k], s.pw.gap[k], s.wall_reach)) continue;
                 ContactGeom geo;
                 if (!wall_geometry(end_of(g, a), s.wall_now[s.pw.other[k]], geo)) continue;
-                emit(s.out, kFoundPW, uint32_t(i), k);
+                const uint64_t c = vppdem_append(&L.found[1]);
+                s.found_pw[2 * c] = uint32_t(i);
+                s.found_pw[2 * c + 1] = k;
             }
+    }
+}
+
+// The records (particle, candidate) in candidate order (a shell sort: one thread sorts, and a
+// step finds few). Candidates are unique, so the order is World's (activate_new sorts them so).
+VPPDEM_HD inline void sort_by_candidate(uint32_t* rec, uint32_t n) {
+    uint32_t gap = 1;
+    while (gap < n / 3) gap = 3 * gap + 1;
+    for (; gap > 0; gap /= 3)
+        for (uint32_t e = gap; e < n; ++e) {
+            const uint32_t i = rec[2 * e], k = rec[2 * e + 1];
+            uint32_t q = e;
+            for (; q >= gap && rec[2 * (q - gap) + 1] > k; q -= gap) {
+                rec[2 * q] = rec[2 * (q - gap)];
+                rec[2 * q + 1] = rec[2 * (q - gap) + 1];
+            }
+            rec[2 * q] = i;
+            rec[2 * q + 1] = k;
+        }
+}
+
+// InteractionLists::insert and erase on the device's lists (kept sorted by reference; the room
+// is never short between layouts, else the system's overflow is set).
+VPPDEM_HD inline void link_insert(const SysView& s, uint32_t i, uint32_t r) {
+    const uint32_t n = s.link_count[i];
+    if (n >= s.link_cap[i]) {
+        s.out.life->overflow = 1;
+        return;
+    }
+    uint32_t* b = s.link_ref + s.link_start[i];
+    uint32_t e = n;
+    for (; e > 0 && b[e - 1] > r; --e) b[e] = b[e - 1];
+    b[e] = r;
+    s.link_count[i] = n + 1;
+}
+VPPDEM_HD inline void link_erase(const SysView& s, uint32_t i, uint32_t r) {
+    uint32_t* b = s.link_ref + s.link_start[i];
+    const uint32_t n = s.link_count[i];
+    uint32_t e = 0;
+    while (e < n && b[e] < r) ++e;
+    if (e == n || b[e] != r) return;
+    for (; e + 1 < n; ++e) b[e] = b[e + 1];
+    s.link_count[i] = n - 1;
+}
+
+VPPDEM_HD inline const Store& store_at(const SysView& s, int k) { return k == 0 ? s.fric : k == 1 ? s.smooth : s.walls; }
+
+// ActiveContacts::place: a new contact with zero history in the first hole at or after the
+// cursor (which moves past it), or in a new slot at the end; returns the slot (kNone: no room).
+VPPDEM_HD inline uint32_t place(const SysView& s, int k, uint32_t a, uint32_t b, uint32_t candidate, const ContactPhys& p,
+                                uint32_t& cursor) {
+    Life& L = *s.out.life;
+    const Store& st = store_at(s, k);
+    const uint32_t size = L.size[k];
+    if (L.free[k] == 0) cursor = cursor > size ? cursor : size;  // no hole: the scan would reach the end
+    while (cursor < size && st.cand[cursor] != kNone) ++cursor;
+    uint32_t q;
+    if (cursor >= size) {
+        if (size >= st.cap) {
+            L.overflow = 1;
+            return kNone;
+        }
+        q = size;
+        L.size[k] = size + 1;
+        cursor = size + 1;
+    } else {
+        q = cursor++;
+        --L.free[k];
+    }
+    st.i[q] = a;
+    st.j[q] = b;
+    st.cand[q] = candidate;
+    st.phys[q] = p;
+    st.shear[q] = st.prev[q] = st.force[q] = st.torque1[q] = st.torque2[q] = st.point[q] = st.fv[q] = Vec3{};
+    return q;
+}
+
+// ContactPhysics::pair and ::wall from the device's copies of the materials.
+VPPDEM_HD inline ContactPhys pair_phys(const Globals& g, const SysView& s, uint32_t i, uint32_t j) {
+    const int64_t a = s.base + i, b = s.base + j;
+    const MatCoef &ma = s.mats[g.mat[a]], &mb = s.mats[g.mat[b]];
+    const double m_eff = pair_mass(g.inv_m[a] != 0.0, g.m[a], g.inv_m[b] != 0.0, g.m[b]);
+    return contact_phys_of(ma.young, ma.ratio, ma.friction, g.r[a], mb.young, mb.ratio, mb.friction, g.r[b], m_eff,
+                           s.zeta[g.mat[a] * s.materials + g.mat[b]]);
+}
+VPPDEM_HD inline ContactPhys wall_phys(const Globals& g, const SysView& s, uint32_t i, uint32_t w) {
+    const int64_t a = s.base + i;
+    const uint32_t wm = s.wall_mat[w];
+    const MatCoef &mw = s.mats[wm], &mp = s.mats[g.mat[a]];
+    return contact_phys_of(mw.young, mw.ratio, mw.friction, g.r[a], mp.young, mp.ratio, mp.friction, g.r[a], g.m[a],
+                           s.zeta[wm * s.materials + g.mat[a]]);
+}
+
+// ContactSet::activate_new (one thread): the records found get slots in candidate order, the
+// lowest holes first, and their entries in the lists.
+VPPDEM_HD inline void place_found(const Globals& g, const SysView& s) {
+    using IL = InteractionLists;
+    Life& L = *s.out.life;
+    const uint32_t npp = uint32_t(L.found[0]), npw = uint32_t(L.found[1]);
+    sort_by_candidate(s.found_pp, npp);
+    sort_by_candidate(s.found_pw, npw);
+    const uint64_t before = uint64_t(L.size[0]) + L.size[1] + L.size[2];
+    uint32_t cursor[3] = {0, 0, 0};
+    for (uint32_t e = 0; e < npp; ++e) {
+        const uint32_t i = s.found_pp[2 * e], k = s.found_pp[2 * e + 1], j = s.pp.other[k];
+        const ContactPhys ph = pair_phys(g, s, i, j);
+        const bool smooth = ph.mu == 0.0;
+        const uint32_t q = place(s, smooth ? 1 : 0, i, j, k, ph, cursor[smooth ? 1 : 0]);
+        if (q == kNone) return;
+        s.pp.slot[k] = q | (smooth ? kSmooth : 0u);
+        const IL::Source src = smooth ? IL::kFrictionless : IL::kFrictional;
+        link_insert(s, i, IL::make(src, false, q));
+        link_insert(s, j, IL::make(src, true, q));
+    }
+    for (uint32_t e = 0; e < npw; ++e) {
+        const uint32_t i = s.found_pw[2 * e], k = s.found_pw[2 * e + 1], w = s.pw.other[k];
+        const uint32_t q = place(s, 2, i, w, k, wall_phys(g, s, i, w), cursor[2]);
+        if (q == kNone) return;
+        s.pw.slot[k] = q;
+        link_insert(s, i, IL::make(IL::kWall, true, q));
+    }
+    const uint64_t filled = uint64_t(npp + npw) - (uint64_t(L.size[0]) + L.size[1] + L.size[2] - before);
+    L.holes = L.holes > filled ? L.holes - filled : 0;
+}
+
+// ContactSet::release_opened (one thread): the slots found apart become holes.
+VPPDEM_HD inline void release_opened(const SysView& s) {
+    using IL = InteractionLists;
+    Life& L = *s.out.life;
+    for (int k = 0; k < 3; ++k) {
+        const Store& st = store_at(s, k);
+        const Cands& cl = k == 2 ? s.pw : s.pp;
+        const IL::Source src = k == 0 ? IL::kFrictional : k == 1 ? IL::kFrictionless : IL::kWall;
+        for (uint64_t e = 0; e < L.opened[k]; ++e) {
+            const uint32_t q = s.opened[k][e];
+            cl.slot[st.cand[q]] = kNone;
+            st.cand[q] = kNone;
+            ++L.holes;
+            ++L.free[k];
+            if (k == 2) {
+                link_erase(s, st.i[q], IL::make(src, true, q));
+            } else {
+                link_erase(s, st.i[q], IL::make(src, false, q));
+                link_erase(s, st.j[q], IL::make(src, true, q));
+            }
+        }
     }
 }
 
@@ -74,15 +217,27 @@ template <int K> VPPDEM_HD inline void lane_sums(const double* terms, int64_t n,
     }
 }
 
-// Forces at t of one system: the three stores' contacts, the pressure, the bonds, the ledger's
-// block sums, the gather; into the outbox: the slots found apart, the wall store, the prescribed
-// particles' forces (and with the ledger the dashpot forces).
+// Forces at t of one system (World::step_forces' order): the touch test and the new contacts'
+// slots, the three stores' contacts, the pressure, the bonds, the ledger's block sums, the
+// gather, then the slots found apart freed; into the outbox: the lifecycle's counts, the wall
+// store and its slots, the prescribed particles' forces (and with the ledger the dashpot forces
+// and the particle stores' slots after the frees).
 VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, int nt) {
     if (!s.active) return;
     const double dt = s.dt;
     const bool track = s.track != 0;
-    const auto pair = [&](const Store& st, bool smooth, uint32_t kind) {
-        for (int64_t q = tid; q < int64_t(st.size); q += nt) {
+    Life& L = *s.out.life;
+    if (tid == 0) L.found[0] = L.found[1] = L.opened[0] = L.opened[1] = L.opened[2] = 0;
+    VPPDEM_SYNC();
+    touch_body(g, s, tid, nt);
+    VPPDEM_SYNC();
+    if (tid == 0) place_found(g, s);
+    VPPDEM_SYNC();
+    if (L.overflow) return;  // the host throws; no thread goes on
+    const uint32_t size[3] = {L.size[0], L.size[1], L.size[2]};
+    const auto pair = [&](const Store& st, int kind) {
+        const bool smooth = kind == 1;
+        for (int64_t q = tid; q < int64_t(size[kind]); q += nt) {
             double* t = st.terms ? st.terms + q * kPairSums : nullptr;
             if (st.cand[q] == kNone) {
                 if (track) t[0] = t[1] = t[2] = t[3] = 0.0;
@@ -100,17 +255,17 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
                 st.torque1[q] = o.torque1;
                 st.torque2[q] = o.torque2;
             }
-            if (!o.touch) emit(s.out, kind, uint32_t(q), 0);
+            if (!o.touch) s.opened[kind][vppdem_append(&L.opened[kind])] = uint32_t(q);
             if (track) {
                 put_terms(t, en);
                 st.fv[q] = en.fv;
             }
         }
     };
-    pair(s.fric, false, kOpenFric);
-    pair(s.smooth, true, kOpenSmooth);
+    pair(s.fric, 0);
+    pair(s.smooth, 1);
     const Store& wl = s.walls;
-    for (int64_t q = tid; q < int64_t(wl.size); q += nt) {
+    for (int64_t q = tid; q < int64_t(size[2]); q += nt) {
         double* t = wl.terms ? wl.terms + q * kPairSums : nullptr;
         if (wl.cand[q] == kNone) {
             if (track) t[0] = t[1] = t[2] = t[3] = 0.0;
@@ -128,7 +283,7 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
             if (track) wl.fv[q] = en.fv;
         } else {
             wl.fv[q] = Vec3{};
-            emit(s.out, kOpenWalls, uint32_t(q), 0);
+            s.opened[2][vppdem_append(&L.opened[2])] = uint32_t(q);
         }
         if (track) put_terms(t, en);
     }
@@ -152,25 +307,29 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
     }
     VPPDEM_SYNC();
     if (track) {
-        lane_sums<kPairSums>(s.fric.terms, s.fric.size, s.out.sum_fric, tid, nt);
-        lane_sums<kPairSums>(s.smooth.terms, s.smooth.size, s.out.sum_smooth, tid, nt);
+        lane_sums<kPairSums>(s.fric.terms, size[0], s.out.sum_fric, tid, nt);
+        lane_sums<kPairSums>(s.smooth.terms, size[1], s.out.sum_smooth, tid, nt);
         lane_sums<1>(s.bterms, s.bond1 - s.bond0, s.out.sum_bonds, tid, nt);
         // The wall store: one running sum per block, in slot order (the scalar wall kernel).
-        for (int64_t b = tid; b < blocks(wl.size); b += nt) {
+        for (int64_t b = tid; b < blocks(size[2]); b += nt) {
             double sum[kPairSums] = {0.0, 0.0, 0.0, 0.0};
-            const int64_t e1 = (b + 1) * kBlock < int64_t(wl.size) ? (b + 1) * kBlock : int64_t(wl.size);
+            const int64_t e1 = (b + 1) * kBlock < int64_t(size[2]) ? (b + 1) * kBlock : int64_t(size[2]);
             for (int64_t e = b * kBlock; e < e1; ++e)
                 for (int k = 0; k < kPairSums; ++k) sum[k] += wl.terms[e * kPairSums + k];
             for (int k = 0; k < kPairSums; ++k) s.out.sum_walls[b * kPairSums + k] = sum[k];
         }
-        for (int64_t q = tid; q < int64_t(s.fric.size); q += nt) s.out.fv_fric[q] = s.fric.fv[q];
-        for (int64_t q = tid; q < int64_t(s.smooth.size); q += nt) s.out.fv_smooth[q] = s.smooth.fv[q];
+        for (int64_t q = tid; q < int64_t(size[0]); q += nt) s.out.fv_fric[q] = s.fric.fv[q];
+        for (int64_t q = tid; q < int64_t(size[1]); q += nt) s.out.fv_smooth[q] = s.smooth.fv[q];
     }
-    for (int64_t q = tid; q < int64_t(wl.size); q += nt) {
+    for (int64_t q = tid; q < int64_t(size[2]); q += nt) {
         s.out.walls[4 * q] = wl.force[q];
         s.out.walls[4 * q + 1] = wl.torque2[q];
         s.out.walls[4 * q + 2] = wl.point[q];
         s.out.walls[4 * q + 3] = wl.fv[q];
+        uint32_t* w = s.out.wall_topo + 4 * q;
+        w[0] = wl.i[q];
+        w[1] = wl.j[q];
+        w[2] = wl.cand[q];
     }
     // The gather of World (gather_in_order): each particle's interaction list in order.
     const GatherTables tb{{s.fric.force, s.smooth.force, s.walls.force, g.bforce + s.bond0},
@@ -191,6 +350,20 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
         s.out.presc[2 * (q - s.presc0)] = g.f[k];
         s.out.presc[2 * (q - s.presc0) + 1] = g.pressure_slot[k];
     }
+    // After the gather (World: engine_end_forces): the opened slots freed.
+    if (tid == 0) release_opened(s);
+    VPPDEM_SYNC();
+    for (int64_t q = tid; q < int64_t(size[2]); q += nt) s.out.wall_topo[4 * q + 3] = wl.cand[q];
+    if (track)
+        for (int k = 0; k < 2; ++k) {
+            const Store& st = store_at(s, k);
+            uint32_t* out = s.out.pair_topo + 3 * (k == 0 ? 0 : int64_t(s.fric.cap));
+            for (int64_t q = tid; q < int64_t(size[k]); q += nt) {
+                out[3 * q] = st.i[q];
+                out[3 * q + 1] = st.j[q];
+                out[3 * q + 2] = st.cand[q];
+            }
+        }
 }
 
 // Motion to t + dt of the free particles (advance_particle), the largest squared move since the

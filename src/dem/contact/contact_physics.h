@@ -6,11 +6,21 @@
 #include <vector>
 
 #include "dem/contact/linear_law.h"
+#include "dem/core/hd.h"
 #include "dem/core/material.h"
 #include "dem/core/particles.h"
 #include "dem/walls/wall.h"
 
 namespace dem {
+
+// The reduced mass [kg] of a pair of particles of masses mi, mj [kg]: against a particle that does
+// not move (fixed or prescribed) the moving one meets an infinite mass. ContactPhysics' and the
+// batch engine's device's.
+VPPDEM_HD inline double pair_mass(bool moves_i, double mi, bool moves_j, double mj) {
+    if (!moves_i) return mj;
+    if (!moves_j) return mi;
+    return mi * mj / (mi + mj);
+}
 
 struct ContactPhysics {
     const Particles* p = nullptr;
@@ -22,10 +32,7 @@ struct ContactPhysics {
     // infinite mass; a clump member's mass is its clump's.
     ContactPhys pair(uint32_t i, uint32_t j) const {
         const Particles& q = *p;
-        double m_eff;
-        if (!moves(q, i)) m_eff = q.mass[j];
-        else if (!moves(q, j)) m_eff = q.mass[i];
-        else m_eff = q.mass[i] * q.mass[j] / (q.mass[i] + q.mass[j]);
+        const double m_eff = pair_mass(moves(q, i), q.mass[i], moves(q, j), q.mass[j]);
         const auto& m = *materials;
         return make_contact_phys(m[q.material[i]], q.radius[i], m[q.material[j]], q.radius[j], m_eff);
     }

@@ -22,7 +22,7 @@ struct InteractionLists {
     enum Source : uint32_t { kFrictional = 0, kFrictionless = 1, kWall = 2, kBond = 3 };
     static constexpr uint32_t kSecond = 1u << 29;
     static constexpr uint32_t kIndexMask = kSecond - 1;
-    static uint32_t make(Source s, bool second, uint32_t index) {
+    VPPDEM_HD static uint32_t make(Source s, bool second, uint32_t index) {
         return (uint32_t(s) << 30) | (second ? kSecond : 0u) | index;
     }
 

@@ -42,19 +42,34 @@ inline double damping_ratio_from_restitution(double e) {
     return -l / std::sqrt(std::numbers::pi * std::numbers::pi + l * l);
 }
 
-// Coefficients for a pair. r1, r2: radii [m] (a wall passes the sphere's radius for both);
-// m_eff: reduced mass [kg] (the particle's mass against a wall or a fixed particle).
-inline ContactPhys make_contact_phys(const Material& a, double r1, const Material& b, double r2,
-                                     double m_eff) {
+// Coefficients for a pair from the two sides' moduli [Pa], ks/kn ratios [-], friction
+// coefficients [-] and radii r1, r2 [m] (a wall passes the sphere's radius for both), the reduced
+// mass m_eff [kg] (the particle's mass against a wall or a fixed particle) and the damping ratio
+// zeta [-] (damping_ratio_from_restitution of the smaller restitution). One source for World and
+// the batch engine's device, which places contacts itself; zeta comes from the host because a
+// device's log need not round as the host's does.
+VPPDEM_HD inline ContactPhys contact_phys_of(double young_a, double ratio_a, double friction_a, double r1,
+                                             double young_b, double ratio_b, double friction_b, double r2,
+                                             double m_eff, double zeta) {
     ContactPhys p;
-    const double ea = a.young * r1, eb = b.young * r2;
+    const double ea = young_a * r1, eb = young_b * r2;
     p.kn = harmonic_stiffness(ea, eb);
-    p.ks = harmonic_stiffness(ea * a.stiffness_ratio, eb * b.stiffness_ratio);
-    p.mu = std::min(a.friction, b.friction);  // min of the angles, as Yade: tan is monotonic
-    // Two materials with different restitution: the pair takes the smaller (more dissipative).
-    const double zeta = damping_ratio_from_restitution(std::min(a.restitution, b.restitution));
+    p.ks = harmonic_stiffness(ea * ratio_a, eb * ratio_b);
+    p.mu = friction_b < friction_a ? friction_b : friction_a;  // min of the angles, as Yade: tan is monotonic
     p.cn = 2.0 * zeta * std::sqrt(m_eff * p.kn);
     return p;
+}
+
+// Two materials with different restitution: the pair takes the smaller (more dissipative).
+inline double pair_damping_ratio(const Material& a, const Material& b) {
+    return damping_ratio_from_restitution(std::min(a.restitution, b.restitution));
+}
+
+// Coefficients for a pair (contact_phys_of) of two materials.
+inline ContactPhys make_contact_phys(const Material& a, double r1, const Material& b, double r2,
+                                     double m_eff) {
+    return contact_phys_of(a.young, a.stiffness_ratio, a.friction, r1, b.young, b.stiffness_ratio, b.friction, r2,
+                           m_eff, pair_damping_ratio(a, b));
 }
 
 #include "dem/contact/linear_law-inl.h"  // IWYU pragma: export

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "dem/core/hd.h"
+
 namespace dem {
 
 struct Material {
@@ -17,6 +19,6 @@ struct Material {
 // Yade's FrictPhys convention: each side is a spring of stiffness E*R in series,
 //   kn = 2 E1 R1 E2 R2 / (E1 R1 + E2 R2),  ks = the same with E*R*alpha.
 // With equal alphas, ks = alpha * kn. A wall counts as a sphere of the particle's radius.
-inline double harmonic_stiffness(double a, double b) { return 2.0 * a * b / (a + b); }
+VPPDEM_HD inline double harmonic_stiffness(double a, double b) { return 2.0 * a * b / (a + b); }
 
 }  // namespace dem

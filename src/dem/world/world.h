@@ -172,6 +172,9 @@ public:
     //   the engine's integration   of the free particles
     //   engine_follow_motions(fp)  the prescribed particles (World's arrays: the engine copies them)
     //   engine_end_step(d2)        the largest squared move since the rebuild [m^2], the clock, the ledger
+    // An engine may instead place and free the contacts itself by the same rules (the device
+    // backend: it hands World empty found and opened lists, and the stores whole at a rebuild or
+    // a compaction and when it hands a World back, then engine_relink()).
     // With params.track_energy the engine leaves the kernels' block sums in engine_book() (as the
     // SIMD kernels do), the prescribed particles' forces in particles.force and every velocity in
     // particles.vel before engine_end_step(); fp is its pressure force per particle [N] (for the
@@ -195,6 +198,10 @@ public:
     void engine_end_step(double max_d2);
     // The engine wrote the particles back: the pair kernels' packed copy is stale.
     void engine_handback() { packed_valid_ = false; }
+    // An engine that keeps the contact lifecycle itself (the device backend) wrote the stores and
+    // the candidates' slots back: each particle's interaction list from them (the same content,
+    // hence the same gather order, as the lists the engine kept).
+    void engine_relink() { contacts_.build_interaction_lists(bond_tables_, particles.size()); }
 
     // Writes (Self = const World) or reads (Self = World, Archive::kLoading) the whole state,
     // section by section: the checkpoint format (dem/io/checkpoint.h) of `version`; the field
