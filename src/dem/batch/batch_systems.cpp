@@ -5,7 +5,7 @@
 #include <string>
 
 #include "dem/batch/bond_step.h"
-#include "dem/batch/lane_sums.h"
+#include "dem/core/lane_sums.h"
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
 #include "dem/kernels/kernels.h"

@@ -67,12 +67,12 @@ struct Outbox {
     uint64_t* max_d2 = nullptr;  // this system's largest squared move (a double's bits)
     Vec3* walls = nullptr;       // per wall slot: force, torque2, point, fv (the reactions and the ledger)
     uint32_t* wall_topo = nullptr;  // per wall slot: i, j, cand before the frees, cand after them
-    uint32_t* pair_topo = nullptr;  // per frictional, then frictionless slot: i, j, cand after the frees (the ledger)
     Vec3* presc = nullptr;       // per prescribed particle: force, pressure force
     double *sum_fric = nullptr, *sum_smooth = nullptr, *sum_walls = nullptr, *sum_bonds = nullptr,
            *sum_particles = nullptr;  // the ledger's block sums
-    Vec3 *fv_fric = nullptr, *fv_smooth = nullptr;  // the dashpot forces (the ledger's forward half)
-    Vec3* v = nullptr;                              // the velocities after the motion half (the ledger)
+    // The dashpots' forward halves (EnergyBook::dashpot_blocks) per block of the frictional,
+    // frictionless and wall stores, at blocks(cap) apart.
+    double* sum_dashpots = nullptr;
 };
 
 struct SysView {
@@ -101,6 +101,7 @@ struct SysView {
     uint32_t materials = 0;
     const uint32_t* wall_mat = nullptr;
     const WallNow* wall_now = nullptr;
+    const Vec3* wall_vnext = nullptr;  // [m/s] each wall's velocity over the next step (the ledger)
     const FloatVec3* ref_pos = nullptr;
     double* pterms = nullptr;   // scratch: kParticleSums per particle
     double* bterms = nullptr;   // scratch: one per bond

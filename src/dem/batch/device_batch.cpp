@@ -29,8 +29,8 @@ struct DeviceBatch::Sys {
     Buf ref_pos, pterms, bterms;
     std::size_t off_now = 0;  // this system's walls in the walls-now section
     // This system's parts of the outbox sections (entries of each).
-    std::size_t off_walls = 0, off_wtopo = 0, off_ptopo = 0, off_fv = 0;
-    std::size_t sum_fric = 0, sum_smooth = 0, sum_walls = 0, sum_bonds = 0, sum_particles = 0;
+    std::size_t off_walls = 0, off_wtopo = 0;
+    std::size_t sum_fric = 0, sum_smooth = 0, sum_walls = 0, sum_bonds = 0, sum_particles = 0, sum_dashpots = 0;
     float pair_reach = 0, wall_reach = 0;
     int track = 0;
     std::vector<Buf*> bufs() {
@@ -86,7 +86,7 @@ void DeviceBatch::free_all() {
     for (Buf& b : globals_)
         if (b.p) dev_->release(b.p);
     globals_.clear();
-    for (Buf* b : {&views_buf_, &patches_buf_, &payload_buf_, &wallnow_, &maxd2_, &sec_})
+    for (Buf* b : {&views_buf_, &patches_buf_, &payload_buf_, &wallnow_, &vnext_, &maxd2_, &sec_})
         if (b->p) {
             dev_->release(b->p);
             *b = Buf{};
@@ -169,6 +169,7 @@ void DeviceBatch::load(BatchSystems& b) {
     sys_.resize(b.systems());
     views_.assign(b.systems(), dev::SysView{});
     life_.assign(b.systems(), dev::Life{});
+    vnext_scratch_.assign(b.systems(), {});
     life_up_.assign(b.systems(), 1);
     for (std::size_t s = 0; s < b.systems(); ++s) {
         const std::size_t n = std::size_t(b.first[s + 1] - b.first[s]);
@@ -342,7 +343,7 @@ void DeviceBatch::put_life(std::size_t s) {
 }
 
 void DeviceBatch::layout_outbox(BatchSystems& b) {
-    std::size_t walls = 0, wtopo = 0, ptopo = 0, sums = 0, fv = 0;
+    std::size_t walls = 0, wtopo = 0, sums = 0;
     for (std::size_t s = 0; s < sys_.size(); ++s) {
         Sys& y = sys_[s];
         const int64_t n = b.first[s + 1] - b.first[s], nb = b.bond_first[s + 1] - b.bond_first[s];
@@ -350,8 +351,6 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
         walls += 4 * y.st[2].cap;
         y.off_wtopo = wtopo;
         wtopo += 4 * y.st[2].cap;
-        y.off_ptopo = ptopo;
-        ptopo += 3 * (y.st[0].cap + y.st[1].cap);
         y.sum_fric = sums;
         sums += std::size_t(dev::kPairSums * dev::blocks(int64_t(y.st[0].cap)));
         y.sum_smooth = sums;
@@ -362,8 +361,8 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
         sums += std::size_t(dev::blocks(nb));
         y.sum_particles = sums;
         sums += std::size_t(dev::kParticleSums * dev::blocks(n));
-        y.off_fv = fv;
-        fv += y.st[0].cap + y.st[1].cap;
+        y.sum_dashpots = sums;
+        for (const Sys::St& t : y.st) sums += std::size_t(dev::blocks(int64_t(t.cap)));
     }
     const auto round8 = [](std::size_t x) { return (x + 7) / 8 * 8; };
     ensure(maxd2_, std::max<std::size_t>(sys_.size(), 1) * 8, false);
@@ -371,11 +370,8 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
     o_presc_ = o_life_ + sys_.size() * sizeof(dev::Life);
     o_walls_ = o_presc_ + 2 * b.prescribed.size() * sizeof(Vec3);
     o_wtopo_ = o_walls_ + walls * sizeof(Vec3);
-    o_ptopo_ = o_wtopo_ + round8(wtopo * 4);
-    o_fv_ = o_ptopo_ + round8(ptopo * 4);
-    o_sums_ = o_fv_ + fv * sizeof(Vec3);
-    o_vel_ = o_sums_ + sums * sizeof(double);
-    o_end_ = o_vel_ + b.particles() * sizeof(Vec3);
+    o_sums_ = o_wtopo_ + round8(wtopo * 4);
+    o_end_ = o_sums_ + sums * sizeof(double);
     ensure(sec_, std::max<std::size_t>(o_end_, 8), false);
     h_sec_.resize(std::max<std::size_t>(o_end_, 8));
     h_maxd2_.resize(sys_.size());
@@ -445,6 +441,7 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     v.materials = y.materials;
     v.wall_mat = at<uint32_t>(y.wall_mat, 0);
     v.wall_now = at<WallNow>(wallnow_, y.off_now);
+    v.wall_vnext = at<Vec3>(vnext_, y.off_now);
     v.ref_pos = at<FloatVec3>(y.ref_pos, 0);
     v.pterms = at<double>(y.pterms, 0);
     v.bterms = at<double>(y.bterms, 0);
@@ -454,7 +451,6 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     o.max_d2 = at<uint64_t>(maxd2_, s);
     o.walls = reinterpret_cast<Vec3*>(sec + o_walls_) + y.off_walls;
     o.wall_topo = reinterpret_cast<uint32_t*>(sec + o_wtopo_) + y.off_wtopo;
-    o.pair_topo = reinterpret_cast<uint32_t*>(sec + o_ptopo_) + y.off_ptopo;
     o.presc = reinterpret_cast<Vec3*>(sec + o_presc_) + 2 * b.presc_first[s];
     double* const sums = reinterpret_cast<double*>(sec + o_sums_);
     o.sum_fric = sums + y.sum_fric;
@@ -462,9 +458,7 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     o.sum_walls = sums + y.sum_walls;
     o.sum_bonds = sums + y.sum_bonds;
     o.sum_particles = sums + y.sum_particles;
-    o.fv_fric = reinterpret_cast<Vec3*>(sec + o_fv_) + y.off_fv;
-    o.fv_smooth = reinterpret_cast<Vec3*>(sec + o_fv_) + y.off_fv + y.st[0].cap;
-    o.v = reinterpret_cast<Vec3*>(sec + o_vel_) + b.first[s];
+    o.sum_dashpots = sums + y.sum_dashpots;
 }
 
 void DeviceBatch::upload_views() {
@@ -563,6 +557,9 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
         }
     });
     put(wallnow_, h_wallnow_.data(), h_wallnow_.size() * sizeof(WallNow));
+    if (h_vnext_.size() != h_wallnow_.size()) views_stale_ = true;
+    h_vnext_.resize(h_wallnow_.size());
+    ensure(vnext_, h_vnext_.size() * sizeof(Vec3), false);
     if (layout_dirty_) layout_outbox(b);
     for (std::size_t s = 0; s < B; ++s)
         if (life_up_[s]) put_life(s);
@@ -576,12 +573,11 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
     // One launch: the touch test, the new contacts' slots, the forces, the frees.
     dev_->forces(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
     // The lifecycles, the prescribed particles and the wall store (with the ledger also the
-    // particle stores' slots, the dashpot forces and the block sums) in one copy.
-    const std::size_t upto = any_track ? o_vel_ : o_ptopo_;
+    // block sums) in one copy.
+    const std::size_t upto = any_track ? o_end_ : o_sums_;
     get(h_sec_.data() + o_life_, static_cast<const char*>(sec_.p) + o_life_, upto - o_life_);
 
-    // World's copy of the contacts: the counts, the wall store (its reactions), and with the
-    // ledger the particle stores' slots and dashpot forces.
+    // World's copy of the contacts: the counts and the wall store (its reactions).
     each(B, [&](std::size_t s, Patches&) {
         if (!on[s]) return;
         try {
@@ -614,17 +610,6 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
                 sums(book.smooth, y.sum_smooth);
                 sums(book.walls, y.sum_walls);
                 sums(book.bonds, y.sum_bonds);
-                for (int k = 0; k < 2; ++k) {
-                    ActiveContacts& a = store_of(c, k);
-                    const uint32_t* pt = hu(o_ptopo_) + y.off_ptopo + 3 * (k == 0 ? 0 : y.st[0].cap);
-                    const Vec3* fv = hv(o_fv_) + y.off_fv + (k == 0 ? 0 : y.st[0].cap);
-                    for (std::size_t q = 0; q < a.size(); ++q) {
-                        a.i[q] = pt[3 * q];
-                        a.j[q] = pt[3 * q + 1];
-                        a.cand[q] = pt[3 * q + 2];
-                        a.fv[q] = fv[q];
-                    }
-                }
             }
             wd.engine_end_forces();  // the wall reactions (no opened list: the device freed them)
             for (std::size_t q = 0; q < c.walls.size(); ++q) c.walls.cand[q] = wt[4 * q + 3];
@@ -652,13 +637,29 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
         }
         any_track |= views_[s].active && views_[s].track;
     }
+    // The ledger's dashpots take each wall's velocity over the next step (up in one copy).
+    if (any_track) {
+        each(B, [&](std::size_t s, Patches&) {
+            if (!views_[s].active || !views_[s].track) return;
+            try {
+                b.world[s]->engine_next_wall_velocities(vnext_scratch_[s]);
+                const std::vector<Vec3>& v = vnext_scratch_[s];
+                std::copy(v.begin(), v.end(), h_vnext_.begin() + std::ptrdiff_t(sys_[s].off_now));
+            } catch (...) {
+                err[s] = std::current_exception();
+                views_[s].active = 0;
+                views_stale_ = true;
+            }
+        });
+        put(vnext_, h_vnext_.data(), h_vnext_.size() * sizeof(Vec3));
+    }
     // The views are the forces half's unless a system dropped out since.
     if (views_stale_) upload_views();
     dev_->zero(maxd2_.p, B * 8);
     dev_->motion(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
     get(h_maxd2_.data(), maxd2_.p, B * 8);
     if (any_track) {
-        // The block sums and the velocities in one copy.
+        // The block sums in one copy.
         get(h_sec_.data() + o_sums_, static_cast<const char*>(sec_.p) + o_sums_, o_end_ - o_sums_);
     }
     each(B, [&](std::size_t s, Patches& pt) {
@@ -673,7 +674,13 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
                 EnergyBook& book = wd.engine_book();
                 const std::size_t m = std::size_t(dev::blocks(n) * dev::kParticleSums);
                 book.particles.assign(hd(o_sums_) + y.sum_particles, hd(o_sums_) + y.sum_particles + m);
-                std::copy(hv(o_vel_) + base, hv(o_vel_) + base + n, wd.particles.vel.begin());
+                book.dashpot_blocks.clear();
+                const double* from = hd(o_sums_) + y.sum_dashpots;
+                for (int k = 0; k < 3; ++k) {
+                    book.dashpot_blocks.insert(book.dashpot_blocks.end(), from, from + dev::blocks(life_[s].size[k]));
+                    from += dev::blocks(int64_t(y.st[k].cap));
+                }
+                book.dashpot_blocks_given = true;
             }
             max_d2 = std::max(max_d2, wd.engine_follow_motions(b.pressure_slot.data() + base));
             for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {

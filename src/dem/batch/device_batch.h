@@ -97,19 +97,20 @@ private:
     std::vector<char> staged_;             // the patches' records and payload, for one copy
     std::atomic<bool> views_stale_{true};  // views_ changed since they went up
     std::vector<WallNow> h_wallnow_;  // all systems' walls now, staged for one copy
+    Buf vnext_;                       // each wall's velocity over the next step (the ledger), as h_vnext_
+    std::vector<Vec3> h_vnext_;
+    std::vector<std::vector<Vec3>> vnext_scratch_;  // per system
     std::vector<Patches> patches_;  // per host thread
     Patches merged_;
     int threads_ = 1;
     ThreadTeam team_;
     // The outbox (device) and its host copy: one section for what the forces and motion halves
-    // bring back, laid out [lifecycles | prescribed | wall store | wall slots | particle stores'
-    // slots | dashpot forces | block sums | velocities] so that each half gets what it reads in
-    // one copy (byte offsets o_*). The lifecycles are the device's: the host's copy (life_) is
+    // bring back, laid out [lifecycles | prescribed | wall store | wall slots | block sums] so
+    // that each half gets what it reads in one copy (byte offsets o_*). The lifecycles are the device's: the host's copy (life_) is
     // taken after each forces half and changed by a layout (then put back: life_up_).
     Buf maxd2_, sec_;
     std::vector<char> h_sec_;
-    std::size_t o_life_ = 0, o_presc_ = 0, o_walls_ = 0, o_wtopo_ = 0, o_ptopo_ = 0, o_fv_ = 0, o_sums_ = 0, o_vel_ = 0,
-                o_end_ = 0;
+    std::size_t o_life_ = 0, o_presc_ = 0, o_walls_ = 0, o_wtopo_ = 0, o_sums_ = 0, o_end_ = 0;
     Vec3* hv(std::size_t o) { return reinterpret_cast<Vec3*>(h_sec_.data() + o); }
     double* hd(std::size_t o) { return reinterpret_cast<double*>(h_sec_.data() + o); }
     uint32_t* hu(std::size_t o) { return reinterpret_cast<uint32_t*>(h_sec_.data() + o); }

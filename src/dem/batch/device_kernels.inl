@@ -12,7 +12,7 @@
 // non-negative double, by its bits).
 #include "dem/batch/bond_step.h"
 #include "dem/batch/device_api.h"
-#include "dem/batch/lane_sums.h"
+#include "dem/core/lane_sums.h"
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
 #include "dem/detect/candidates.h"
@@ -220,8 +220,7 @@ template <int K> VPPDEM_HD inline void lane_sums(const double* terms, int64_t n,
 // Forces at t of one system (World::step_forces' order): the touch test and the new contacts'
 // slots, the three stores' contacts, the pressure, the bonds, the ledger's block sums, the
 // gather, then the slots found apart freed; into the outbox: the lifecycle's counts, the wall
-// store and its slots, the prescribed particles' forces (and with the ledger the dashpot forces
-// and the particle stores' slots after the frees).
+// store and its slots, the prescribed particles' forces (and with the ledger the block sums).
 VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, int nt) {
     if (!s.active) return;
     const double dt = s.dt;
@@ -318,8 +317,6 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
                 for (int k = 0; k < kPairSums; ++k) sum[k] += wl.terms[e * kPairSums + k];
             for (int k = 0; k < kPairSums; ++k) s.out.sum_walls[b * kPairSums + k] = sum[k];
         }
-        for (int64_t q = tid; q < int64_t(size[0]); q += nt) s.out.fv_fric[q] = s.fric.fv[q];
-        for (int64_t q = tid; q < int64_t(size[1]); q += nt) s.out.fv_smooth[q] = s.smooth.fv[q];
     }
     for (int64_t q = tid; q < int64_t(size[2]); q += nt) {
         s.out.walls[4 * q] = wl.force[q];
@@ -354,20 +351,11 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
     if (tid == 0) release_opened(s);
     VPPDEM_SYNC();
     for (int64_t q = tid; q < int64_t(size[2]); q += nt) s.out.wall_topo[4 * q + 3] = wl.cand[q];
-    if (track)
-        for (int k = 0; k < 2; ++k) {
-            const Store& st = store_at(s, k);
-            uint32_t* out = s.out.pair_topo + 3 * (k == 0 ? 0 : int64_t(s.fric.cap));
-            for (int64_t q = tid; q < int64_t(size[k]); q += nt) {
-                out[3 * q] = st.i[q];
-                out[3 * q + 1] = st.j[q];
-                out[3 * q + 2] = st.cand[q];
-            }
-        }
 }
 
 // Motion to t + dt of the free particles (advance_particle), the largest squared move since the
-// rebuild, the ledger's block sums (and the velocities, which the ledger reads).
+// rebuild, the ledger's block sums (the particles', and the dashpots' forward halves, which need
+// the new velocities).
 VPPDEM_KFN inline void motion_body(const Globals& g, const SysView& s, int tid, int nt) {
     if (!s.active) return;
     const bool track = s.track != 0;
@@ -401,7 +389,23 @@ VPPDEM_KFN inline void motion_body(const Globals& g, const SysView& s, int tid, 
     VPPDEM_SYNC();
     if (track) {
         lane_sums<kParticleSums>(s.pterms, s.n, s.out.sum_particles, tid, nt);
-        for (int64_t i = tid; i < s.n; i += nt) s.out.v[i] = g.v[s.base + i];
+        // The dashpots' forward halves with the velocities at t + dt/2 (EnergyBook::account).
+        const Life& L = *s.out.life;
+        const double h = 0.5 * s.dt;
+        double* out = s.out.sum_dashpots;
+        for (int k = 0; k < 3; ++k) {
+            const Store& st = store_at(s, k);
+            const int64_t n = L.size[k];
+            for (int64_t b = tid; b < blocks(n); b += nt)
+                out[b] = lane_block_sum(b * kBlock, (b + 1) * kBlock < n ? (b + 1) * kBlock : n, [&](int64_t q) {
+                    // Body 2 against body 1: a wall contact's particle is its body 2.
+                    const Vec3 vi = g.v[s.base + st.i[q]];
+                    const Vec3 v1 = k == 2 ? s.wall_vnext[st.j[q]] : vi;
+                    const Vec3 v2 = k == 2 ? vi : g.v[s.base + st.j[q]];
+                    return dashpot_forward_work(st.cand[q] != kNone, st.fv[q], v1, v2, h);
+                });
+            out += blocks(st.cap);
+        }
     }
 }
 

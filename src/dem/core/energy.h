@@ -13,9 +13,19 @@
 
 #include <cstdint>
 
+#include "dem/core/hd.h"
 #include "dem/core/vec3.h"
 
 namespace dem {
+
+// The forward half of a live contact's dashpot work over [t_n, t_n + dt/2] [J]: its dashpot force
+// fv on body 2 [N] against the relative velocity v2 - v1 at t_n + dt/2 [m/s], h = dt/2 [s]; zero
+// for a hole or a contact without dashpot force. The ledger adds these per block of a store
+// (lane_block_sum) and books minus their sum as pending viscous dissipation: World's ledger and
+// the batch engine's device form the same sums.
+VPPDEM_HD inline double dashpot_forward_work(bool live, const Vec3& fv, const Vec3& v1, const Vec3& v2, double h) {
+    return live && !(fv == Vec3{}) ? dot(fv, v2 - v1) * h : 0.0;
+}
 
 struct EnergyLedger {
     // Work done on the particles since t0 [J].

@@ -1,5 +1,8 @@
 #include "dem/world/energy_book.h"
 
+#include <algorithm>
+
+#include "dem/core/lane_sums.h"
 #include "dem/kernels/kernels.h"
 
 namespace dem {
@@ -10,6 +13,14 @@ void EnergyBook::size_blocks(const ContactSet& c, std::size_t bond_count) {
     smooth.resize(std::size_t(block_count(c.smooth.size()) * kPairSums));
     walls.resize(std::size_t(block_count(c.walls.size()) * kPairSums));
     bonds.resize(std::size_t(block_count(bond_count)));
+}
+
+void EnergyBook::next_wall_velocities(const std::vector<Plane>& planes, const std::vector<Facet>& facets, double time,
+                                      double dt, std::vector<Vec3>& v_next) {
+    v_next.resize(planes.size() + facets.size());
+    for (std::size_t k = 0; k < planes.size(); ++k) v_next[k] = planes[k].motion.mean_velocity(time - dt, time);
+    for (std::size_t k = 0; k < facets.size(); ++k)
+        v_next[planes.size() + k] = facets[k].motion.mean_velocity(time - dt, time);
 }
 
 void EnergyBook::account(const Step& st) {
@@ -25,11 +36,8 @@ void EnergyBook::account(const Step& st) {
     // Walls translate: their work is the force on the particles times the wall's displacement.
     // The forward half uses the velocity the next step's move_walls() will compute.
     const std::size_t nw = planes.size() + facets.size();
-    wall_vel_next.resize(nw);
     std::vector<Vec3>& v_next = wall_vel_next;
-    for (std::size_t k = 0; k < planes.size(); ++k) v_next[k] = planes[k].motion.mean_velocity(time - dt, time);
-    for (std::size_t k = 0; k < facets.size(); ++k)
-        v_next[planes.size() + k] = facets[k].motion.mean_velocity(time - dt, time);
+    next_wall_velocities(planes, facets, time, dt, v_next);
 
     double back[kTerms] = {}, fwd[kTerms] = {}, kinetic = 0;
     for (const std::vector<double>* blocks : {&particles, &clumps})
@@ -53,19 +61,31 @@ void EnergyBook::account(const Step& st) {
             for (int k = 0; k < kernels::kPairSums; ++k) cs[k] += (*blocks)[b + k];
     double elastic_b = 0;
     for (double e : bonds) elastic_b += e;
-    // The dashpots' forward halves need the velocities after integration: v(t_n + dt/2).
+    // The dashpots' forward halves need the velocities after integration: v(t_n + dt/2). They
+    // are summed per block of each store as the kernels sum their terms, so that an engine that
+    // keeps the stores elsewhere (the batch engine's device) forms the same sums.
     double visc_fwd = 0;
     bool dashpots = false;
     for (const Material& m : *st.materials) dashpots |= m.restitution < 1.0;
-    if (dashpots) {
-        for (const ActiveContacts* a : {&c.fric, &c.smooth})
-            for (std::size_t s = 0; s < a->size(); ++s)
-                if (a->cand[s] != kNoSlot && a->fv[s] != Vec3{})
-                    visc_fwd -= dot(a->fv[s], p.vel[a->j[s]] - p.vel[a->i[s]]) * h;
-        for (std::size_t s = 0; s < c.walls.size(); ++s)
-            if (c.walls.cand[s] != kNoSlot && c.walls.fv[s] != Vec3{})
-                visc_fwd -= dot(c.walls.fv[s], p.vel[c.walls.i[s]] - v_next[c.walls.j[s]]) * h;
+    if (dashpots && dashpot_blocks_given) {
+        for (double b : dashpot_blocks) visc_fwd -= b;
+    } else if (dashpots) {
+        // Body 2 against body 1: a particle pair's j against i, a wall contact's particle (its
+        // body 2) against the wall.
+        const auto blocks = [&](const ActiveContacts& a, auto&& v1, auto&& v2) {
+            const int64_t n = int64_t(a.size());
+            for (int64_t e0 = 0; e0 < n; e0 += kernels::kBlock)
+                visc_fwd -= lane_block_sum(e0, std::min(n, e0 + kernels::kBlock), [&](int64_t s) {
+                    return dashpot_forward_work(a.cand[s] != kNoSlot, a.fv[s], v1(s), v2(s), h);
+                });
+        };
+        const auto vi = [&](const ActiveContacts& a) { return [&](int64_t s) { return p.vel[a.i[s]]; }; };
+        const auto vj = [&](const ActiveContacts& a) { return [&](int64_t s) { return p.vel[a.j[s]]; }; };
+        blocks(c.fric, vi(c.fric), vj(c.fric));
+        blocks(c.smooth, vi(c.smooth), vj(c.smooth));
+        blocks(c.walls, [&](int64_t s) { return v_next[c.walls.j[s]]; }, vi(c.walls));
     }
+    dashpot_blocks_given = false;
     const double release = cs[kernels::kRelease] + st.contacts->dropped_shear_energy;
     st.contacts->dropped_shear_energy = 0;
 

@@ -25,6 +25,11 @@ struct EnergyBook {
     // clumps (integrate()).
     std::vector<double> fric, smooth, walls, bonds, particles, clumps;
     double prescribed[2] = {};        // [J] boundary work of prescribed particles: back, forward half
+    // The dashpots' forward halves per block of the frictional, frictionless and wall stores, in
+    // that order (dashpot_forward_work, lane_block_sum), when an engine formed them (then
+    // `dashpot_blocks_given`; account() forms them from the stores otherwise).
+    std::vector<double> dashpot_blocks;
+    bool dashpot_blocks_given = false;
     std::vector<Vec3> wall_vel_next;  // scratch of account()
 
     // Room for the block sums of the contact stores and bonds (every block is written).
@@ -43,6 +48,10 @@ struct EnergyBook {
     };
     // Adds step n (forces at t_n, velocities v(t_n -/+ dt/2)) to the ledger.
     void account(const Step& s);
+    // Each wall's velocity over the next step [m/s] (the forward half of its work), for the
+    // clock's time after integration (Step::time).
+    static void next_wall_velocities(const std::vector<Plane>& planes, const std::vector<Facet>& facets, double time,
+                                     double dt, std::vector<Vec3>& v_next);
 };
 
 }  // namespace dem

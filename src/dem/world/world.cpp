@@ -642,6 +642,14 @@ double World::engine_follow_motions(const Vec3* pressure) {
     return follow_motions(params.track_energy, pressure);
 }
 
+void World::engine_next_wall_velocities(std::vector<Vec3>& v) const {
+    StepClock clock = clock_;  // the time engine_end_step() will move the clock to
+    double t = time;
+    uint64_t n = steps;
+    clock.advance(t, n, params.dt);
+    EnergyBook::next_wall_velocities(planes, facets, t, params.dt, v);
+}
+
 void World::engine_end_step(double max_d2) {
     const double t_n = time;
     broad_.record_moves(max_d2);

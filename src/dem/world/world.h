@@ -196,6 +196,9 @@ public:
     void engine_end_forces();
     double engine_follow_motions(const Vec3* pressure);
     void engine_end_step(double max_d2);
+    // Each wall's velocity over the next step [m/s], as the ledger of engine_end_step() will
+    // take it (for an engine that forms the dashpots' forward halves itself: EnergyBook).
+    void engine_next_wall_velocities(std::vector<Vec3>& v) const;
     // The engine wrote the particles back: the pair kernels' packed copy is stale.
     void engine_handback() { packed_valid_ = false; }
     // An engine that keeps the contact lifecycle itself (the device backend) wrote the stores and

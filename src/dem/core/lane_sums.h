@@ -1,14 +1,15 @@
 // The energy ledger's block sums as World's SIMD kernels form them (dem/kernels/kernels.h, for_blocks):
 // within a block of kernels::kBlock entries, entry e adds its K terms to virtual lane e % 8 in entry
 // order, then the 8 lanes are added in order. One source for the batch engine's host backend
-// (batch_systems.cpp) and its device kernels (device_kernels.inl).
+// (batch_systems.cpp), its device kernels (device_kernels.inl) and the ledger's own sums that the
+// device forms too (EnergyBook: the dashpots' forward halves).
 #pragma once
 
 #include <cstdint>
 
 #include "dem/core/hd.h"
 
-namespace dem::batch {
+namespace dem {
 
 template <int K> struct LaneSums {
     double lane[K][8];
@@ -30,4 +31,17 @@ template <int K> struct LaneSums {
     }
 };
 
-}  // namespace dem::batch
+// The sum of term(e) over the entries e0 .. e1 of one block (e0 a multiple of 8), as LaneSums
+// forms it.
+template <class Term> VPPDEM_HD inline double lane_block_sum(int64_t e0, int64_t e1, Term&& term) {
+    LaneSums<1> sums;
+    for (int64_t e = e0; e < e1; ++e) {
+        const double t = term(e);
+        sums.add(e, &t);
+    }
+    double out;
+    sums.flush(&out);
+    return out;
+}
+
+}  // namespace dem
