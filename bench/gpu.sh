@@ -50,9 +50,9 @@ bench() {  # name, args...: one `vppdem bench checkpoint` line; its rate into ra
     rate[$name]=$r
     dt=$(echo "$line" | field dt)
     if [[ $line == *host_us_per_step* ]]; then
-      extra[$name]=$(printf '%.0f | %.0f | %.0f | %.0f' "$(echo "$line" | field host_us_per_step)" \
-        "$(echo "$line" | field device_us_per_step)" "$(echo "$line" | field bytes_up_per_step)" \
-        "$(echo "$line" | field bytes_down_per_step)")
+      extra[$name]=$(printf '%.0f | %.0f | %.0f | %.0f | %.0f' "$(echo "$line" | field host_us_per_step)" \
+        "$(echo "$line" | field device_us_per_step)" "$(echo "$line" | field exchanges_per_step)" \
+        "$(echo "$line" | field bytes_up_per_step)" "$(echo "$line" | field bytes_down_per_step)")
     fi
     echo "gpu.sh: $name: $line"
   fi
@@ -67,7 +67,7 @@ if [ $cpu_only = 0 ]; then
     [ "$B" = 1 ] && steps=$ONE_STEPS
     bench "device batch $B" --batch "$B" --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$steps"
   done
-  # What the ledger costs (World's ledger reads every contact's dashpot force and every velocity).
+  # What the ledger costs (its block sums come back every half step).
   ENERGY="" bench "device batch 256, ledger off" --batch 256 --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$DEVICE_STEPS"
 fi
 bench "CPU World, 1 thread" --threads 1 --steps "$CPU_STEPS"
@@ -92,12 +92,12 @@ rate[$name]=$sum
 rows+=("$name")
 
 echo
-echo "| run | rate | unit | host us/step | bus+device us/step | bytes up/step | bytes down/step |"
-echo "|---|---|---|---|---|---|---|"
+echo "| run | rate | unit | host us/step | bus+device us/step | exchanges/step | bytes up/step | bytes down/step |"
+echo "|---|---|---|---|---|---|---|---|"
 for name in "${rows[@]}"; do
   unit="system-steps/s"
   case $name in "device batch 1"|"CPU World"*) unit="steps/s";; esac
-  printf '| %s | %.0f | %s | %s |\n' "$name" "${rate[$name]}" "$unit" "${extra[$name]:-| | |}"
+  printf '| %s | %.0f | %s | %s |\n' "$name" "${rate[$name]}" "$unit" "${extra[$name]:-| | | |}"
 done
 echo
 if [ $cpu_only = 0 ] && [ -n "$dt" ]; then

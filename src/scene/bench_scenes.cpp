@@ -155,7 +155,7 @@ void batch_of_copies(dem::World& w, const BenchOptions& opt) {
     };
     if (dev) dev->load(b);
     steps(1);  // untimed: the first rebuild
-    const uint64_t up0 = dev ? dev->bytes_up() : 0, down0 = dev ? dev->bytes_down() : 0;
+    const uint64_t up0 = dev ? dev->bytes_up() : 0, down0 = dev ? dev->bytes_down() : 0, calls0 = dev ? dev->exchanges() : 0;
     const double host0 = dev ? dev->host_seconds() : 0.0, device0 = dev ? dev->device_seconds() : 0.0;
     const auto t0 = std::chrono::steady_clock::now();
     steps(uint64_t(opt.steps));
@@ -163,15 +163,18 @@ void batch_of_copies(dem::World& w, const BenchOptions& opt) {
     const double sps = double(opt.steps) / wall;
     const double up = dev ? double(dev->bytes_up() - up0) / double(opt.steps) : 0.0;
     const double down = dev ? double(dev->bytes_down() - down0) / double(opt.steps) : 0.0;
+    const double calls = dev ? double(dev->exchanges() - calls0) / double(opt.steps) : 0.0;
     // Where a step's time goes: the host's per-system parts and the rest (copies, launches, kernels).
     const double host_us = dev ? 1e6 * (dev->host_seconds() - host0) / double(opt.steps) : 0.0;
     const double device_us = dev ? 1e6 * (dev->device_seconds() - device0) / double(opt.steps) : 0.0;
     std::printf("{\"scene\": \"checkpoint\", \"backend\": \"batch-%s\", \"device\": \"%s\", \"systems\": %d, "
                 "\"particles\": %zu, \"steps\": %ld, \"threads\": %d, \"wall_s\": %.6g, \"steps_per_s\": %.6g, "
                 "\"system_steps_per_s\": %.6g, \"bytes_up_per_step\": %.6g, \"bytes_down_per_step\": %.6g, "
-                "\"host_us_per_step\": %.6g, \"device_us_per_step\": %.6g, \"energy\": %s, \"dt\": %.6g}\n",
+                "\"exchanges_per_step\": %.6g, \"host_us_per_step\": %.6g, \"device_us_per_step\": %.6g, \"energy\": %s, "
+                "\"dt\": %.6g}\n",
                 opt.backend.c_str(), dev ? dev->device_name() : "host", opt.batch, w.particles.size(), opt.steps,
-                opt.threads, wall, sps, sps * opt.batch, up, down, host_us, device_us, opt.energy ? "true" : "false", w.params.dt);
+                opt.threads, wall, sps, sps * opt.batch, up, down, calls, host_us, device_us, opt.energy ? "true" : "false",
+                w.params.dt);
     std::fflush(stdout);
 }
 

@@ -123,15 +123,11 @@ TEST(DeviceBatch, ABatchOfOneGivesTheWorldsBitsOver10000Steps) {
 
 TEST(DeviceBatch, ABatchOfEightMixedCasesGivesEachCasesBits) {
     SKIP_WITHOUT_DEVICE();
-    struct Case { int seed; double dp, mu; bool energy; };
-    std::vector<Case> cases;
-    for (int seed : {1, 2})
-        for (double dp : {40e3, 80e3})
-            for (double mu : {0.2, 0.6}) cases.push_back({seed, dp, mu, cases.size() % 3 != 1});
+    const std::vector<batch_test::Case> cases = batch_test::eight_cases();
     const int steps = steps_or(3000);
     std::vector<World> ref, mine;
-    for (const Case& c : cases) {
-        ref.push_back(load_case(sample(c.seed), c.dp, c.mu, c.energy));
+    for (const batch_test::Case& c : cases) {
+        ref.push_back(load_case(sample(c.seed), c.dp, c.mu, c.energy, c.restitution));
         mine.push_back(ref.back());
         for (int k = 0; k < steps; ++k) ref.back().step();
     }

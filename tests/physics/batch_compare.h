@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "dem/io/checkpoint.h"
 #include "dem/world/world.h"
@@ -17,14 +18,16 @@ using dem::World;
 
 // The sample in `ckpt` (a run.ckpt after its cycle), at underpressure dp [Pa] and grain friction mu, with the
 // top cap and the ring pressed down 2 mm over the next 0.03 s (past the 10,000 steps), its energy
-// ledger started afresh (or off).
-inline World load_case(const std::string& ckpt, double dp, double mu, bool energy = true) {
+// ledger started afresh (or off), every material's restitution (below 1: normal dashpots in every
+// contact, grain, foil and cap, whose work the ledger books) as given.
+inline World load_case(const std::string& ckpt, double dp, double mu, bool energy = true, double restitution = 1.0) {
     World w;
     dem::load_checkpoint(ckpt, w);
     w.params.track_energy = energy;
     w.reset_energy();
     w.pressure.dp = dp;
     w.materials[0].friction = mu;
+    for (dem::Material& m : w.materials) m.restitution = restitution;  // grains, foil and caps
     w.invalidate_contact_physics();
     const double t1 = w.time + 0.03;
     const auto press = [&](dem::Motion& m) {
@@ -34,6 +37,24 @@ inline World load_case(const std::string& ckpt, double dp, double mu, bool energ
     for (dem::Plane& p : w.planes) press(p.motion);
     for (dem::Motion& m : w.motions) press(m);
     return w;
+}
+
+// The mixed cases of the batch tests: two packings (seeds), two underpressures, two grain
+// frictions; the ledger on in most; the cases at friction 0.6 with restitution 0.5 (normal
+// dashpots in every contact, whose forward halves the ledger sums per block: two of them with the
+// ledger on).
+struct Case {
+    int seed;
+    double dp, mu;  // [Pa], [-]
+    bool energy;
+    double restitution;  // [-]
+};
+inline std::vector<Case> eight_cases() {
+    std::vector<Case> cases;
+    for (int seed : {1, 2})
+        for (double dp : {40e3, 80e3})
+            for (double mu : {0.2, 0.6}) cases.push_back({seed, dp, mu, cases.size() % 3 != 1, mu > 0.5 ? 0.5 : 1.0});
+    return cases;
 }
 
 inline void expect_same(const World& a, const World& b, const std::string& what) {

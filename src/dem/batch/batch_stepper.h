@@ -44,7 +44,16 @@ public:
     void leave(World& world) noexcept;
 
     uint64_t launches() const { return launches_; }        // batch half steps run so far
-    std::size_t most_systems() const { return most_; }     // the most systems one launch stepped
+    // The most systems one launch stepped.
+    std::size_t most_systems() const {
+        std::lock_guard<std::mutex> lk(mu_);
+        return most_;
+    }
+    // Worlds waiting at a forces half to join (a test's way to make two runs overlap for sure).
+    std::size_t joining() const {
+        std::lock_guard<std::mutex> lk(mu_);
+        return joining_.size();
+    }
 
 private:
     enum class Half { kForces, kMotion };
@@ -54,7 +63,7 @@ private:
     void run_half();
     std::size_t index_of(const World& world) const;  // its system, or SIZE_MAX
 
-    std::mutex mu_;
+    mutable std::mutex mu_;
     std::condition_variable cv_;
     BatchSystems batch_;
     std::vector<bool> gone_;           // per system: its World left

@@ -61,12 +61,18 @@ struct MatCoef {
     double young = 0, ratio = 0, friction = 0;  // [Pa], [-] ks/kn, [-]
 };
 
+// What changes every step and goes up before the forces half (one copy for all systems, with
+// the walls now and their next velocities).
+struct StepIn {
+    double dp = 0;                          // [Pa] the foil's underpressure
+    float pair_reach = 0, wall_reach = 0;  // [m] World::engine_reach()
+};
+
 // What comes back per half step (device pointers into the outbox sections, this system's part).
 struct Outbox {
     Life* life = nullptr;        // this system's lifecycle (mirrored by the host)
     uint64_t* max_d2 = nullptr;  // this system's largest squared move (a double's bits)
-    Vec3* walls = nullptr;       // per wall slot: force, torque2, point, fv (the reactions and the ledger)
-    uint32_t* wall_topo = nullptr;  // per wall slot: i, j, cand before the frees, cand after them
+    Vec3* reactions = nullptr;   // per wall: force, torque (WallState::sum_reactions)
     Vec3* presc = nullptr;       // per prescribed particle: force, pressure force
     double *sum_fric = nullptr, *sum_smooth = nullptr, *sum_walls = nullptr, *sum_bonds = nullptr,
            *sum_particles = nullptr;  // the ledger's block sums
@@ -82,9 +88,11 @@ struct SysView {
     int bond_point = 0;      // the bonds' shear springs driven at the bond point (dem::BondArm)
     int64_t base = 0, n = 0;  // particles base .. base + n of Globals
     int64_t bond0 = 0, bond1 = 0, node0 = 0, node1 = 0, presc0 = 0, presc1 = 0;
-    double dt = 0, lambda = 0, dp = 0;
+    double dt = 0, lambda = 0;
     Vec3 gravity;
-    float pair_reach = 0, wall_reach = 0;
+    const StepIn* in = nullptr;  // dp and the reaches of this step
+    const Vec3* presc_in = nullptr;  // per prescribed particle: its position and velocity at t + dt (World's motions)
+    uint32_t walls_n = 0;        // walls (planes, then facets)
     Cands pp, pw;
     Store fric, smooth, walls;
     // Each particle's interaction list: ref[start[i] .. start[i] + count[i]), room for cap[i]
@@ -122,12 +130,6 @@ struct Globals {
     uint32_t* prescribed = nullptr;
 };
 
-// A write of `words` 32-bit words from the payload (at word `from`) to device address dst.
-struct Patch {
-    uint64_t dst;
-    uint32_t words, from;
-};
-
 // A device: memory and the launches over B systems (views: B SysViews in device memory).
 class Device {
 public:
@@ -139,7 +141,6 @@ public:
     virtual void get(void* dst, const void* src, std::size_t bytes) = 0;   // device -> host
     virtual void copy(void* dst, const void* src, std::size_t bytes) = 0;  // device -> device
     virtual void zero(void* dst, std::size_t bytes) = 0;
-    virtual void apply(const Patch* patches, uint32_t n, const uint32_t* payload) = 0;
     virtual void forces(const Globals& g, const SysView* views, int B) = 0;
     virtual void motion(const Globals& g, const SysView* views, int B) = 0;
 };

@@ -29,9 +29,8 @@ struct DeviceBatch::Sys {
     Buf ref_pos, pterms, bterms;
     std::size_t off_now = 0;  // this system's walls in the walls-now section
     // This system's parts of the outbox sections (entries of each).
-    std::size_t off_walls = 0, off_wtopo = 0;
+    std::size_t off_reactions = 0;  // this system's walls in the reactions section
     std::size_t sum_fric = 0, sum_smooth = 0, sum_walls = 0, sum_bonds = 0, sum_particles = 0, sum_dashpots = 0;
-    float pair_reach = 0, wall_reach = 0;
     int track = 0;
     std::vector<Buf*> bufs() {
         std::vector<Buf*> v{&pp_start, &pp_other, &pp_slot, &pp_gap, &pw_start, &pw_other, &pw_slot, &pw_gap, &found_pp,
@@ -63,7 +62,7 @@ struct Lap {
 }  // namespace
 
 DeviceBatch::DeviceBatch(std::unique_ptr<dev::Device> device, int threads)
-    : dev_(std::move(device)), patches_(std::size_t(threads > 1 ? threads : 1)), threads_(threads > 1 ? threads : 1) {
+    : dev_(std::move(device)), threads_(threads > 1 ? threads : 1) {
     if (!dev_) throw std::invalid_argument("batch: no device");
 }
 
@@ -72,7 +71,7 @@ template <class F> void DeviceBatch::each(std::size_t B, F&& f) {
     const int nt = int(std::min<std::size_t>(std::size_t(threads_), std::max<std::size_t>(B, 1)));
     team_.run(nt, [&](int tid) {
         const auto [s0, s1] = thread_range(int64_t(B), tid, nt);
-        for (int64_t s = s0; s < s1; ++s) f(std::size_t(s), patches_[std::size_t(tid)]);
+        for (int64_t s = s0; s < s1; ++s) f(std::size_t(s));
     });
 }
 
@@ -86,7 +85,7 @@ void DeviceBatch::free_all() {
     for (Buf& b : globals_)
         if (b.p) dev_->release(b.p);
     globals_.clear();
-    for (Buf* b : {&views_buf_, &patches_buf_, &payload_buf_, &wallnow_, &vnext_, &maxd2_, &sec_})
+    for (Buf* b : {&views_buf_, &in_, &presc_in_, &sec_})
         if (b->p) {
             dev_->release(b->p);
             *b = Buf{};
@@ -110,17 +109,18 @@ void DeviceBatch::ensure(Buf& b, std::size_t bytes, bool keep) {
 void DeviceBatch::put(Buf& b, const void* src, std::size_t bytes) {
     ensure(b, bytes, false);
     dev_->put(b.p, src, bytes);
+    ++calls_;
     up_ += bytes;
 }
 
 void DeviceBatch::get(void* dst, const void* src, std::size_t bytes) {
     dev_->get(dst, src, bytes);
+    ++calls_;
     down_ += bytes;
 }
 
 void DeviceBatch::load(BatchSystems& b) {
     free_all();
-    views_stale_ = true;
     const auto up = [&](auto*& ptr, const auto& vec) {
         Buf buf;
         put(buf, vec.data(), vec.size() * sizeof(vec[0]));
@@ -170,6 +170,10 @@ void DeviceBatch::load(BatchSystems& b) {
     views_.assign(b.systems(), dev::SysView{});
     life_.assign(b.systems(), dev::Life{});
     vnext_scratch_.assign(b.systems(), {});
+    reaction_scratch_.assign(b.systems(), {});
+    h_presc_.assign(2 * b.prescribed.size(), Vec3{});
+    ensure(presc_in_, std::max<std::size_t>(h_presc_.size(), 1) * sizeof(Vec3), false);
+    views_up_.clear();
     life_up_.assign(b.systems(), 1);
     for (std::size_t s = 0; s < b.systems(); ++s) {
         const std::size_t n = std::size_t(b.first[s + 1] - b.first[s]);
@@ -182,7 +186,7 @@ void DeviceBatch::load(BatchSystems& b) {
         ensure(y.bterms, std::size_t(b.bond_first[s + 1] - b.bond_first[s]) * sizeof(double), false);
     }
     layout_dirty_ = true;
-    up_ = down_ = 0;
+    up_ = down_ = calls_ = 0;
     host_s_ = total_s_ = 0;
 }
 
@@ -220,6 +224,7 @@ void DeviceBatch::upload_contacts(BatchSystems& b, std::size_t s) {
         const std::size_t m = a.size();
         const auto up = [&](Buf& bf, const auto& vec) {
             dev_->put(bf.p, vec.data(), m * sizeof(vec[0]));
+            ++calls_;
             up_ += m * sizeof(vec[0]);
         };
         up(t.i, a.i);
@@ -308,9 +313,9 @@ void DeviceBatch::upload_contacts(BatchSystems& b, std::size_t s) {
     y.materials = uint32_t(mat.size());
     if (n) {
         dev_->put(g_.mat + b.first[s], wd.particles.material.data(), n * 4);
+        ++calls_;
         up_ += n * 4;
     }
-    views_stale_ = true;
 }
 
 void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s) {
@@ -338,19 +343,18 @@ void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s) {
 void DeviceBatch::put_life(std::size_t s) {
     if (!sec_.p) return;  // layout_outbox() puts them all
     dev_->put(static_cast<char*>(sec_.p) + o_life_ + s * sizeof(dev::Life), &life_[s], sizeof(dev::Life));
+    ++calls_;
     up_ += sizeof(dev::Life);
     life_up_[s] = 0;
 }
 
 void DeviceBatch::layout_outbox(BatchSystems& b) {
-    std::size_t walls = 0, wtopo = 0, sums = 0;
+    std::size_t reactions = 0, sums = 0, msums = 0;
     for (std::size_t s = 0; s < sys_.size(); ++s) {
         Sys& y = sys_[s];
         const int64_t n = b.first[s + 1] - b.first[s], nb = b.bond_first[s + 1] - b.bond_first[s];
-        y.off_walls = walls;
-        walls += 4 * y.st[2].cap;
-        y.off_wtopo = wtopo;
-        wtopo += 4 * y.st[2].cap;
+        y.off_reactions = reactions;
+        reactions += 2 * (b.world[s]->planes.size() + b.world[s]->facets.size());
         y.sum_fric = sums;
         sums += std::size_t(dev::kPairSums * dev::blocks(int64_t(y.st[0].cap)));
         y.sum_smooth = sums;
@@ -359,24 +363,21 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
         sums += std::size_t(dev::kPairSums * dev::blocks(int64_t(y.st[2].cap)));
         y.sum_bonds = sums;
         sums += std::size_t(dev::blocks(nb));
-        y.sum_particles = sums;
-        sums += std::size_t(dev::kParticleSums * dev::blocks(n));
-        y.sum_dashpots = sums;
-        for (const Sys::St& t : y.st) sums += std::size_t(dev::blocks(int64_t(t.cap)));
+        y.sum_particles = msums;
+        msums += std::size_t(dev::kParticleSums * dev::blocks(n));
+        y.sum_dashpots = msums;
+        for (const Sys::St& t : y.st) msums += std::size_t(dev::blocks(int64_t(t.cap)));
     }
-    const auto round8 = [](std::size_t x) { return (x + 7) / 8 * 8; };
-    ensure(maxd2_, std::max<std::size_t>(sys_.size(), 1) * 8, false);
     o_life_ = 0;
     o_presc_ = o_life_ + sys_.size() * sizeof(dev::Life);
-    o_walls_ = o_presc_ + 2 * b.prescribed.size() * sizeof(Vec3);
-    o_wtopo_ = o_walls_ + walls * sizeof(Vec3);
-    o_sums_ = o_wtopo_ + round8(wtopo * 4);
-    o_end_ = o_sums_ + sums * sizeof(double);
+    o_reactions_ = o_presc_ + 2 * b.prescribed.size() * sizeof(Vec3);
+    o_fsums_ = o_reactions_ + reactions * sizeof(Vec3);
+    o_maxd2_ = o_fsums_ + sums * sizeof(double);
+    o_msums_ = o_maxd2_ + sys_.size() * 8;
+    o_end_ = o_msums_ + msums * sizeof(double);
     ensure(sec_, std::max<std::size_t>(o_end_, 8), false);
     h_sec_.resize(std::max<std::size_t>(o_end_, 8));
-    h_maxd2_.resize(sys_.size());
     layout_dirty_ = false;
-    views_stale_ = true;
     // The section moved: every system's lifecycle goes up again.
     if (!life_.empty()) put(sec_, life_.data(), life_.size() * sizeof(dev::Life));
     std::fill(life_up_.begin(), life_up_.end(), 0);
@@ -398,11 +399,14 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     v.presc1 = b.presc_first[s + 1];
     v.dt = b.dt[s];
     v.lambda = b.lambda[s];
-    v.dp = b.dp[s];
     v.with_pressure = b.with_pressure(s);
     v.gravity = b.gravity[s];
-    v.pair_reach = y.pair_reach;
-    v.wall_reach = y.wall_reach;
+    v.walls_n = uint32_t(b.world[s]->planes.size() + b.world[s]->facets.size());
+    char* const in = static_cast<char*>(in_.p);
+    v.in = reinterpret_cast<const dev::StepIn*>(in) + s;
+    v.presc_in = at<Vec3>(presc_in_, 2 * std::size_t(b.presc_first[s]));
+    v.wall_now = reinterpret_cast<const WallNow*>(in + o_in_now_) + y.off_now;
+    v.wall_vnext = reinterpret_cast<const Vec3*>(in + o_in_vnext_) + y.off_now;
     const auto cands = [](dev::Cands& c, Buf& start, Buf& other, Buf& slot, Buf& gap, std::size_t size) {
         c.start = at<uint32_t>(start, 0);
         c.other = at<uint32_t>(other, 0);
@@ -440,67 +444,32 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     v.zeta = at<double>(y.zeta, 0);
     v.materials = y.materials;
     v.wall_mat = at<uint32_t>(y.wall_mat, 0);
-    v.wall_now = at<WallNow>(wallnow_, y.off_now);
-    v.wall_vnext = at<Vec3>(vnext_, y.off_now);
     v.ref_pos = at<FloatVec3>(y.ref_pos, 0);
     v.pterms = at<double>(y.pterms, 0);
     v.bterms = at<double>(y.bterms, 0);
     dev::Outbox& o = v.out;
     char* const sec = static_cast<char*>(sec_.p);
     o.life = reinterpret_cast<dev::Life*>(sec + o_life_) + s;
-    o.max_d2 = at<uint64_t>(maxd2_, s);
-    o.walls = reinterpret_cast<Vec3*>(sec + o_walls_) + y.off_walls;
-    o.wall_topo = reinterpret_cast<uint32_t*>(sec + o_wtopo_) + y.off_wtopo;
+    o.max_d2 = reinterpret_cast<uint64_t*>(sec + o_maxd2_) + s;
+    o.reactions = reinterpret_cast<Vec3*>(sec + o_reactions_) + y.off_reactions;
     o.presc = reinterpret_cast<Vec3*>(sec + o_presc_) + 2 * b.presc_first[s];
-    double* const sums = reinterpret_cast<double*>(sec + o_sums_);
+    double* const sums = reinterpret_cast<double*>(sec + o_fsums_);
     o.sum_fric = sums + y.sum_fric;
     o.sum_smooth = sums + y.sum_smooth;
     o.sum_walls = sums + y.sum_walls;
     o.sum_bonds = sums + y.sum_bonds;
-    o.sum_particles = sums + y.sum_particles;
-    o.sum_dashpots = sums + y.sum_dashpots;
+    double* const msums = reinterpret_cast<double*>(sec + o_msums_);
+    o.sum_particles = msums + y.sum_particles;
+    o.sum_dashpots = msums + y.sum_dashpots;
 }
 
 void DeviceBatch::upload_views() {
-    put(views_buf_, views_.data(), views_.size() * sizeof(dev::SysView));
-    views_stale_ = false;
-}
-
-void DeviceBatch::patch(Patches& to, void* dst, const void* src, std::size_t bytes) {
-    if (bytes % 4) throw std::logic_error("batch: a patch of " + std::to_string(bytes) + " bytes");
-    const uint32_t words = uint32_t(bytes / 4);
-    if (!words) return;
-    to.p.push_back({uint64_t(reinterpret_cast<uintptr_t>(dst)), words, uint32_t(to.payload.size())});
-    const std::size_t from = to.payload.size();
-    to.payload.resize(from + words);
-    std::memcpy(to.payload.data() + from, src, bytes);
-}
-
-void DeviceBatch::flush_patches() {
-    // The threads' patches in one list (no two write the same words: each system's are its own).
-    Patches& m = merged_;
-    m.p.clear();
-    m.payload.clear();
-    for (Patches& t : patches_) {
-        const uint32_t base = uint32_t(m.payload.size());
-        for (dev::Patch q : t.p) {
-            q.from += base;
-            m.p.push_back(q);
-        }
-        m.payload.insert(m.payload.end(), t.payload.begin(), t.payload.end());
-        t.p.clear();
-        t.payload.clear();
-    }
-    if (m.p.empty()) return;
-    // The records and their payload in one copy.
-    static_assert(sizeof(dev::Patch) == 16);
-    const std::size_t head = m.p.size() * sizeof(dev::Patch);
-    staged_.resize(head + m.payload.size() * 4);
-    std::memcpy(staged_.data(), m.p.data(), head);
-    std::memcpy(staged_.data() + head, m.payload.data(), m.payload.size() * 4);
-    put(patches_buf_, staged_.data(), staged_.size());
-    dev_->apply(static_cast<const dev::Patch*>(patches_buf_.p), uint32_t(m.p.size()),
-                reinterpret_cast<const uint32_t*>(static_cast<const char*>(patches_buf_.p) + head));
+    // Only when they changed (a layout, a system that joined the ledger or left): what changes
+    // every step goes up with the walls (StepIn).
+    const std::size_t bytes = views_.size() * sizeof(dev::SysView);
+    if (views_up_.size() == bytes && std::memcmp(views_up_.data(), views_.data(), bytes) == 0) return;
+    put(views_buf_, views_.data(), bytes);
+    views_up_.assign(reinterpret_cast<const char*>(views_.data()), reinterpret_cast<const char*>(views_.data()) + bytes);
 }
 
 void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
@@ -511,19 +480,21 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
     const auto fail = [&](std::size_t s) {
         err[s] = std::current_exception();
         views_[s].active = 0;
-        views_stale_ = true;
     };
+    // What goes up every step, in one copy: [StepIn per system | walls now | the walls' next
+    // velocities] (the number of walls does not change in a step).
+    std::size_t walls_n = 0;
+    for (std::size_t s = 0; s < B; ++s) {
+        sys_[s].off_now = walls_n;
+        walls_n += b.world[s]->planes.size() + b.world[s]->facets.size();
+    }
+    o_in_now_ = B * sizeof(dev::StepIn);
+    o_in_vnext_ = o_in_now_ + walls_n * sizeof(WallNow);
+    h_in_.resize(std::max<std::size_t>(o_in_vnext_ + walls_n * sizeof(Vec3), 8));
+    std::vector<int> on(B, 0);
     // The walls' motion, the rebuild test and the broad phase, World's (its positions and
     // contacts from the device first when it rebuilds or compacts, all of them up again after).
-    std::vector<int> on(B, 0);
-    // The walls now of all systems go up in one copy (their number does not change in a step).
-    std::size_t walls_now = 0;
-    for (std::size_t s = 0; s < B; ++s) {
-        sys_[s].off_now = walls_now;
-        walls_now += b.world[s]->planes.size() + b.world[s]->facets.size();
-    }
-    h_wallnow_.resize(std::max<std::size_t>(walls_now, 1));
-    each(B, [&](std::size_t s, Patches&) {
+    each(B, [&](std::size_t s) {
         if (!live(s)) return;
         try {
             World& wd = *b.world[s];
@@ -542,24 +513,27 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             }
             const WallState& walls = wd.wall_state();
             const std::size_t nw = wd.planes.size() + wd.facets.size();
-            if (y.off_now + nw > walls_now) throw std::logic_error("batch: a system's walls changed in a step");
-            WallNow* now = h_wallnow_.data() + y.off_now;
+            if (y.off_now + nw > walls_n) throw std::logic_error("batch: a system's walls changed in a step");
             if (walls.now.size() != nw) throw std::logic_error("batch: a system's walls were not moved");
-            std::copy(walls.now.begin(), walls.now.end(), now);
-            std::tie(y.pair_reach, y.wall_reach) = wd.engine_reach();
-            const int track = wd.params.track_energy ? 1 : 0;
-            if (track != y.track) views_stale_ = true;
-            y.track = track;
+            std::memcpy(h_in_.data() + o_in_now_ + y.off_now * sizeof(WallNow), walls.now.data(), nw * sizeof(WallNow));
+            y.track = wd.params.track_energy ? 1 : 0;
+            if (y.track) {
+                // The ledger's dashpots take each wall's velocity over the next step.
+                wd.engine_next_wall_velocities(vnext_scratch_[s]);
+                if (vnext_scratch_[s].size() != nw) throw std::logic_error("batch: a system's walls' velocities");
+                std::memcpy(h_in_.data() + o_in_vnext_ + y.off_now * sizeof(Vec3), vnext_scratch_[s].data(), nw * sizeof(Vec3));
+            }
+            dev::StepIn in;
+            std::tie(in.pair_reach, in.wall_reach) = wd.engine_reach();
             b.dp[s] = world_underpressure(wd);
+            in.dp = b.dp[s];
+            std::memcpy(h_in_.data() + s * sizeof(dev::StepIn), &in, sizeof in);
             on[s] = 1;
         } catch (...) {
             fail(s);
         }
     });
-    put(wallnow_, h_wallnow_.data(), h_wallnow_.size() * sizeof(WallNow));
-    if (h_vnext_.size() != h_wallnow_.size()) views_stale_ = true;
-    h_vnext_.resize(h_wallnow_.size());
-    ensure(vnext_, h_vnext_.size() * sizeof(Vec3), false);
+    put(in_, h_in_.data(), h_in_.size());
     if (layout_dirty_) layout_outbox(b);
     for (std::size_t s = 0; s < B; ++s)
         if (life_up_[s]) put_life(s);
@@ -570,15 +544,16 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
         any_track |= on[s] && sys_[s].track;
     }
     upload_views();
-    // One launch: the touch test, the new contacts' slots, the forces, the frees.
+    // One launch: the touch test, the new contacts' slots, the forces, the reactions, the frees.
     dev_->forces(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
-    // The lifecycles, the prescribed particles and the wall store (with the ledger also the
-    // block sums) in one copy.
-    const std::size_t upto = any_track ? o_end_ : o_sums_;
+    ++calls_;
+    // The lifecycles, the prescribed particles' forces and the walls' reactions (with the ledger
+    // also the block sums) in one copy.
+    const std::size_t upto = any_track ? o_maxd2_ : o_fsums_;
     get(h_sec_.data() + o_life_, static_cast<const char*>(sec_.p) + o_life_, upto - o_life_);
 
-    // World's copy of the contacts: the counts and the wall store (its reactions).
-    each(B, [&](std::size_t s, Patches&) {
+    // World's part: the counts of its contacts (the device keeps them), the reactions, the ledger.
+    each(B, [&](std::size_t s) {
         if (!on[s]) return;
         try {
             World& wd = *b.world[s];
@@ -589,30 +564,27 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             if (life.overflow)
                 throw std::logic_error("batch: a store or an interaction list on the device had no room (a bug: docs/gpu.md)");
             for (int k = 0; k < 3; ++k) resize_store(store_of(c, k), life.size[k]);
-            const uint32_t* wt = hu(o_wtopo_) + y.off_wtopo;
-            for (std::size_t q = 0; q < c.walls.size(); ++q) {
-                const Vec3* e = hv(o_walls_) + y.off_walls + 4 * q;
-                c.walls.force[q] = e[0];
-                c.walls.torque2[q] = e[1];
-                c.walls.point[q] = e[2];
-                c.walls.fv[q] = e[3];
-                c.walls.i[q] = wt[4 * q];
-                c.walls.j[q] = wt[4 * q + 1];
-                c.walls.cand[q] = wt[4 * q + 2];  // before the frees: the reactions count the opened ones
-            }
+            c.holes = std::size_t(life.holes);
             wd.engine_activate();  // nothing found here (the device placed them): the ledger's blocks sized
             if (y.track) {
                 EnergyBook& book = wd.engine_book();
                 const auto sums = [&](std::vector<double>& to, std::size_t off) {
-                    std::copy(hd(o_sums_) + off, hd(o_sums_) + off + to.size(), to.begin());
+                    std::copy(hd(o_fsums_) + off, hd(o_fsums_) + off + to.size(), to.begin());
                 };
                 sums(book.fric, y.sum_fric);
                 sums(book.smooth, y.sum_smooth);
                 sums(book.walls, y.sum_walls);
                 sums(book.bonds, y.sum_bonds);
             }
-            wd.engine_end_forces();  // the wall reactions (no opened list: the device freed them)
-            for (std::size_t q = 0; q < c.walls.size(); ++q) c.walls.cand[q] = wt[4 * q + 3];
+            const Vec3* r = hv(o_reactions_) + y.off_reactions;
+            const std::size_t nw = wd.planes.size() + wd.facets.size();
+            std::vector<Vec3>& force = reaction_scratch_[s];
+            force.assign(2 * nw, Vec3{});
+            for (std::size_t w = 0; w < nw; ++w) {
+                force[w] = r[2 * w];
+                force[nw + w] = r[2 * w + 1];
+            }
+            wd.engine_end_forces(force.data(), force.data() + nw);  // (no opened list: the device freed them)
             c.holes = std::size_t(life.holes);
             const int64_t base = b.first[s];
             for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {
@@ -631,71 +603,56 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
     const std::size_t B = b.systems();
     bool any_track = false;
     for (std::size_t s = 0; s < B; ++s) {
-        if (((s < skip.size() && skip[s]) || err[s]) && views_[s].active) {
-            views_[s].active = 0;
-            views_stale_ = true;
-        }
+        if (((s < skip.size() && skip[s]) || err[s]) && views_[s].active) views_[s].active = 0;
         any_track |= views_[s].active && views_[s].track;
     }
-    // The ledger's dashpots take each wall's velocity over the next step (up in one copy).
-    if (any_track) {
-        each(B, [&](std::size_t s, Patches&) {
-            if (!views_[s].active || !views_[s].track) return;
-            try {
-                b.world[s]->engine_next_wall_velocities(vnext_scratch_[s]);
-                const std::vector<Vec3>& v = vnext_scratch_[s];
-                std::copy(v.begin(), v.end(), h_vnext_.begin() + std::ptrdiff_t(sys_[s].off_now));
-            } catch (...) {
-                err[s] = std::current_exception();
-                views_[s].active = 0;
-                views_stale_ = true;
-            }
+    // The prescribed particles where their motions put them at t + dt (World's, as
+    // engine_follow_motions() will set them after the launch), up in one copy.
+    if (!h_presc_.empty()) {
+        each(B, [&](std::size_t s) {
+            if (!views_[s].active) return;
+            const World& wd = *b.world[s];
+            for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q)
+                std::tie(h_presc_[2 * std::size_t(q)], h_presc_[2 * std::size_t(q) + 1]) =
+                    wd.engine_prescribed_next(b.prescribed[std::size_t(q)]);
         });
-        put(vnext_, h_vnext_.data(), h_vnext_.size() * sizeof(Vec3));
+        put(presc_in_, h_presc_.data(), h_presc_.size() * sizeof(Vec3));
     }
     // The views are the forces half's unless a system dropped out since.
-    if (views_stale_) upload_views();
-    dev_->zero(maxd2_.p, B * 8);
+    upload_views();
     dev_->motion(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
-    get(h_maxd2_.data(), maxd2_.p, B * 8);
-    if (any_track) {
-        // The block sums in one copy.
-        get(h_sec_.data() + o_sums_, static_cast<const char*>(sec_.p) + o_sums_, o_end_ - o_sums_);
-    }
-    each(B, [&](std::size_t s, Patches& pt) {
+    ++calls_;
+    // Each system's largest move (with the ledger also the block sums) in one copy.
+    const std::size_t upto = any_track ? o_end_ : o_msums_;
+    get(h_sec_.data() + o_maxd2_, static_cast<const char*>(sec_.p) + o_maxd2_, upto - o_maxd2_);
+    each(B, [&](std::size_t s) {
         if (!views_[s].active) return;
         try {
             World& wd = *b.world[s];
             Sys& y = sys_[s];
             const int64_t base = b.first[s], n = b.first[s + 1] - base;
             double max_d2;
-            std::memcpy(&max_d2, &h_maxd2_[s], 8);
+            std::memcpy(&max_d2, h_sec_.data() + o_maxd2_ + s * 8, 8);
             if (y.track) {
                 EnergyBook& book = wd.engine_book();
                 const std::size_t m = std::size_t(dev::blocks(n) * dev::kParticleSums);
-                book.particles.assign(hd(o_sums_) + y.sum_particles, hd(o_sums_) + y.sum_particles + m);
+                book.particles.assign(hd(o_msums_) + y.sum_particles, hd(o_msums_) + y.sum_particles + m);
                 book.dashpot_blocks.clear();
-                const double* from = hd(o_sums_) + y.sum_dashpots;
+                const double* from = hd(o_msums_) + y.sum_dashpots;
                 for (int k = 0; k < 3; ++k) {
                     book.dashpot_blocks.insert(book.dashpot_blocks.end(), from, from + dev::blocks(life_[s].size[k]));
                     from += dev::blocks(int64_t(y.st[k].cap));
                 }
                 book.dashpot_blocks_given = true;
             }
+            // World moves its prescribed particles (they go up with the next forces half).
             max_d2 = std::max(max_d2, wd.engine_follow_motions(b.pressure_slot.data() + base));
-            for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {
-                const uint32_t i = b.prescribed[std::size_t(q)];
-                patch(pt, g_.x + base + i, &wd.particles.pos[i], sizeof(Vec3));
-                patch(pt, g_.v + base + i, &wd.particles.vel[i], sizeof(Vec3));
-            }
             wd.engine_end_step(max_d2);
         } catch (...) {
             err[s] = std::current_exception();
             views_[s].active = 0;
-            views_stale_ = true;
         }
     });
-    flush_patches();
 }
 
 void DeviceBatch::step(BatchSystems& b, uint64_t steps) {
@@ -714,6 +671,7 @@ void DeviceBatch::pull(BatchSystems& b, std::size_t s) {
     const std::size_t base = std::size_t(b.first[s]), n = std::size_t(b.first[s + 1]) - base;
     for (auto [host, d] : {std::pair{&b.x, g_.x}, {&b.v, g_.v}, {&b.w, g_.w}, {&b.f, g_.f}, {&b.t, g_.t}})
         get(host->data() + base, d + base, n * sizeof(Vec3));
+
     const std::size_t b0 = std::size_t(b.bond_first[s]), nb = std::size_t(b.bond_first[s + 1]) - b0;
     for (auto [host, d] : {std::pair{&b.shear, g_.bshear}, {&b.prev_normal, g_.bprev}, {&b.bond_force, g_.bforce},
                            {&b.torque1, g_.btorque1}, {&b.torque2, g_.btorque2}})

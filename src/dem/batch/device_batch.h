@@ -1,18 +1,19 @@
 // The batch engine's device backend (docs/gpu.md): the systems of a BatchSystems stepped on a
 // device (dev::Device: CUDA, or the emulated device whose kernels run on the host). The device
-// keeps the state and runs the step: the per-index bodies and the contact lifecycle between
-// layouts (the touch test, the new contacts' slots in candidate order, the frees, the interaction
-// lists), as World's ContactSet does it, so that one launch does a system's forces half. What
-// must be decided in one place per system with the whole state stays World's, on the host, in
-// step()'s order: the walls' motion, the rebuild test and the broad phase, the compactions, the
-// wall reactions, the prescribed motions, the clock, the ledger's books. Per forces half: up the
-// walls now; the forces kernel; back the lifecycle's counts, the wall store, the prescribed
-// particles' forces (and with the ledger its block sums, the dashpot forces and the particle
-// stores' slots). Per motion half: the integrator; back each system's largest move (and with
-// the ledger its sums and the velocities); up the prescribed particles' motions. At a rebuild or
-// a compaction the system's positions and contacts come back whole, World lays them out, and
-// they go up whole; the host's copy of a system's contacts is otherwise only as current as the
-// counts, the wall store and (with the ledger) the particle stores' slots.
+// keeps the state and runs the step: the per-index bodies, and between layouts the contact
+// lifecycle (the touch test, the new contacts' slots in candidate order, the frees, the
+// interaction lists) as World's ContactSet does it, the walls' reactions and the ledger's sums,
+// so that a forces half is one launch. What must be decided in one place per system with the
+// whole state stays World's, on the host, in step()'s order: the walls' motion, the rebuild test
+// and the broad phase, the compactions, the prescribed motions, the clock, the ledger's books.
+// Per forces half: up, in one copy, each system's reaches and dp, its walls now (and with the
+// ledger their next velocities); the forces kernel; down, in one copy, the lifecycles' counts,
+// the prescribed particles' forces, the walls' reactions (and with the ledger the block sums).
+// Per motion half: up the prescribed particles' positions and velocities at t + dt (World's
+// motions); the integrator; down each system's largest move (and with the ledger its sums). At a
+// rebuild or a compaction the system's positions and contacts come back whole, World lays them
+// out, and they go up whole; World's copy of a system's contacts is otherwise only as current as
+// their counts.
 #pragma once
 
 #include <atomic>
@@ -52,9 +53,11 @@ public:
     const char* device_name() const { return dev_->name(); }
     uint64_t bytes_up() const { return up_; }      // host -> device since load, [bytes]
     uint64_t bytes_down() const { return down_; }  // device -> host since load, [bytes]
-    // Where the time went since load [s]: the host's per-system parts (World's bookkeeping, the
-    // patches; wall-clock of the shared loops) and the rest of the halves (the copies each way,
-    // the launches and the waits for the kernels).
+    // Copies each way and launches since load: each is a wait for the device (its latency).
+    uint64_t exchanges() const { return calls_; }
+    // Where the time went since load [s]: the host's per-system parts (World's bookkeeping and
+    // the staging; wall-clock of the shared loops) and the rest of the halves (the copies each
+    // way, the launches and the waits for the kernels).
     double host_seconds() const { return host_s_; }
     double device_seconds() const { return total_s_ - host_s_; }
 
@@ -78,13 +81,7 @@ private:
     void layout_outbox(BatchSystems& b);
     void fill_view(BatchSystems& b, std::size_t s);
     void upload_views();
-    void flush_patches();
-    struct Patches {
-        std::vector<dev::Patch> p;
-        std::vector<uint32_t> payload;
-    };
-    static void patch(Patches& to, void* dst, const void* src, std::size_t bytes);
-    // f(s, patches) for every system s, the systems shared among the host threads.
+    // f(s) for every system s, the systems shared among the host threads.
     template <class F> void each(std::size_t B, F&& f);
     void put_life(std::size_t s);  // life_[s] into the outbox's lifecycle section
 
@@ -93,32 +90,33 @@ private:
     std::vector<Buf> globals_;
     std::vector<Sys> sys_;
     std::vector<dev::SysView> views_;
-    Buf views_buf_, patches_buf_, payload_buf_, wallnow_;
-    std::vector<char> staged_;             // the patches' records and payload, for one copy
-    std::atomic<bool> views_stale_{true};  // views_ changed since they went up
-    std::vector<WallNow> h_wallnow_;  // all systems' walls now, staged for one copy
-    Buf vnext_;                       // each wall's velocity over the next step (the ledger), as h_vnext_
-    std::vector<Vec3> h_vnext_;
-    std::vector<std::vector<Vec3>> vnext_scratch_;  // per system
-    std::vector<Patches> patches_;  // per host thread
-    Patches merged_;
+    Buf views_buf_;
+    std::vector<char> views_up_;  // the views as they last went up
+    // What goes up every forces half (in_ on the device, h_in_ staged here): [StepIn per system |
+    // walls now | the walls' next velocities (the ledger)], byte offsets o_in_*.
+    Buf in_;
+    std::vector<char> h_in_;
+    std::size_t o_in_now_ = 0, o_in_vnext_ = 0;
+    // What goes up every motion half: each prescribed particle's position and velocity at t + dt.
+    Buf presc_in_;
+    std::vector<Vec3> h_presc_;
+    std::vector<std::vector<Vec3>> vnext_scratch_, reaction_scratch_;  // per system
     int threads_ = 1;
     ThreadTeam team_;
     // The outbox (device) and its host copy: one section for what the forces and motion halves
-    // bring back, laid out [lifecycles | prescribed | wall store | wall slots | block sums] so
-    // that each half gets what it reads in one copy (byte offsets o_*). The lifecycles are the device's: the host's copy (life_) is
+    // bring back, laid out [lifecycles | prescribed | reactions | the forces' block sums | largest
+    // moves | the motion's block sums] so that each half gets what it reads in one copy (byte
+    // offsets o_*). The lifecycles are the device's: the host's copy (life_) is
     // taken after each forces half and changed by a layout (then put back: life_up_).
-    Buf maxd2_, sec_;
+    Buf sec_;
     std::vector<char> h_sec_;
-    std::size_t o_life_ = 0, o_presc_ = 0, o_walls_ = 0, o_wtopo_ = 0, o_sums_ = 0, o_end_ = 0;
+    std::size_t o_life_ = 0, o_presc_ = 0, o_reactions_ = 0, o_fsums_ = 0, o_maxd2_ = 0, o_msums_ = 0, o_end_ = 0;
     Vec3* hv(std::size_t o) { return reinterpret_cast<Vec3*>(h_sec_.data() + o); }
     double* hd(std::size_t o) { return reinterpret_cast<double*>(h_sec_.data() + o); }
-    uint32_t* hu(std::size_t o) { return reinterpret_cast<uint32_t*>(h_sec_.data() + o); }
     std::vector<dev::Life> life_;
     std::vector<char> life_up_;
-    std::vector<uint64_t> h_maxd2_;
     std::atomic<bool> layout_dirty_{true};
-    std::atomic<uint64_t> up_{0}, down_{0};
+    std::atomic<uint64_t> up_{0}, down_{0}, calls_{0};
     double host_s_ = 0, total_s_ = 0;
 };
 

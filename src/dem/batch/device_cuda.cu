@@ -34,10 +34,6 @@ void check(cudaError_t e, const char* what) {
 
 __global__ void __launch_bounds__(kThreads) k_forces(Globals g, const SysView* v) { forces_body(g, v[blockIdx.x], int(threadIdx.x), int(blockDim.x)); }
 __global__ void __launch_bounds__(kThreads) k_motion(Globals g, const SysView* v) { motion_body(g, v[blockIdx.x], int(threadIdx.x), int(blockDim.x)); }
-__global__ void k_apply(const Patch* p, uint32_t n, const uint32_t* payload) {
-    const uint32_t q = blockIdx.x * blockDim.x + threadIdx.x;
-    if (q < n) apply_patch(p, payload, q);
-}
 
 class Cuda final : public Device {
 public:
@@ -79,11 +75,6 @@ public:
     }
     void zero(void* dst, std::size_t bytes) override {
         if (bytes) check(cudaMemsetAsync(dst, 0, bytes, stream_), "cudaMemset");
-    }
-    void apply(const Patch* p, uint32_t n, const uint32_t* payload) override {
-        if (!n) return;
-        k_apply<<<(n + 255) / 256, 256, 0, stream_>>>(p, n, payload);
-        check(cudaGetLastError(), "the patch kernel");
     }
     void forces(const Globals& g, const SysView* v, int B) override { launch(k_forces, g, v, B, "the force kernel"); }
     void motion(const Globals& g, const SysView* v, int B) override { launch(k_motion, g, v, B, "the motion kernel"); }

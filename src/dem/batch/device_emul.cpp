@@ -53,9 +53,6 @@ public:
     void get(void* dst, const void* src, std::size_t bytes) override { if (bytes) std::memcpy(dst, src, bytes); }
     void copy(void* dst, const void* src, std::size_t bytes) override { if (bytes) std::memmove(dst, src, bytes); }
     void zero(void* dst, std::size_t bytes) override { if (bytes) std::memset(dst, 0, bytes); }
-    void apply(const Patch* p, uint32_t n, const uint32_t* payload) override {
-        for (uint32_t q = 0; q < n; ++q) apply_patch(p, payload, q);
-    }
     void forces(const Globals& g, const SysView* v, int B) override {
         launch(B, [&](int s, int tid, int nt) { forces_body(g, v[s], tid, nt); });
     }

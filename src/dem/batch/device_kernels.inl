@@ -18,6 +18,7 @@
 #include "dem/detect/candidates.h"
 #include "dem/contact/contact_physics.h"
 #include "dem/contact/interaction_lists.h"
+#include "dem/world/wall_state.h"
 
 namespace dem::batch::dev {
 
@@ -33,7 +34,7 @@ VPPDEM_KFN inline void touch_body(const Globals& g, const SysView& s, int tid, i
         const int64_t a = s.base + i;
         if (s.pp.size)
             for (uint32_t k = s.pp.start[i]; k < s.pp.start[i + 1]; ++k) {
-                if (!open_candidate(s.pp.slot[k], s.pp.gap[k], s.pair_reach)) continue;
+                if (!open_candidate(s.pp.slot[k], s.pp.gap[k], s.in->pair_reach)) continue;
                 const int64_t b = s.base + s.pp.other[k];
                 if (!spheres_touch(g.x[a], g.r[a], g.x[b], g.r[b])) continue;
                 const uint64_t c = vppdem_append(&L.found[0]);
@@ -42,7 +43,7 @@ VPPDEM_KFN inline void touch_body(const Globals& g, const SysView& s, int tid, i
             }
         if (s.pw.size)
             for (uint32_t k = s.pw.start[i]; k < s.pw.start[i + 1]; ++k) {
-                if (!open_candidate(s.pw.slot[k], s.pw.gap[k], s.wall_reach)) continue;
+                if (!open_candidate(s.pw.slot[k], s.pw.gap[k], s.in->wall_reach)) continue;
                 ContactGeom geo;
                 if (!wall_geometry(end_of(g, a), s.wall_now[s.pw.other[k]], geo)) continue;
                 const uint64_t c = vppdem_append(&L.found[1]);
@@ -219,8 +220,8 @@ template <int K> VPPDEM_HD inline void lane_sums(const double* terms, int64_t n,
 
 // Forces at t of one system (World::step_forces' order): the touch test and the new contacts'
 // slots, the three stores' contacts, the pressure, the bonds, the ledger's block sums, the
-// gather, then the slots found apart freed; into the outbox: the lifecycle's counts, the wall
-// store and its slots, the prescribed particles' forces (and with the ledger the block sums).
+// gather, then the slots found apart freed; into the outbox: the lifecycle's counts, the walls'
+// reactions, the prescribed particles' forces (and with the ledger the block sums).
 VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, int nt) {
     if (!s.active) return;
     const double dt = s.dt;
@@ -288,7 +289,7 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
     }
     for (int64_t k = s.node0 + tid; k < s.node1; k += nt) {
         const int64_t* q = g.ring + 4 * k;
-        g.pressure_slot[g.node[k]] = pressure_force(g.x[q[0]], g.x[q[1]], g.x[q[2]], g.x[q[3]], s.dp);
+        g.pressure_slot[g.node[k]] = pressure_force(g.x[q[0]], g.x[q[1]], g.x[q[2]], g.x[q[3]], s.in->dp);
     }
     for (int64_t k = s.bond0 + tid; k < s.bond1; k += nt) {
         const int64_t i = g.bi[k], j = g.bj[k];
@@ -318,15 +319,14 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
             for (int k = 0; k < kPairSums; ++k) s.out.sum_walls[b * kPairSums + k] = sum[k];
         }
     }
-    for (int64_t q = tid; q < int64_t(size[2]); q += nt) {
-        s.out.walls[4 * q] = wl.force[q];
-        s.out.walls[4 * q + 1] = wl.torque2[q];
-        s.out.walls[4 * q + 2] = wl.point[q];
-        s.out.walls[4 * q + 3] = wl.fv[q];
-        uint32_t* w = s.out.wall_topo + 4 * q;
-        w[0] = wl.i[q];
-        w[1] = wl.j[q];
-        w[2] = wl.cand[q];
+    // The walls' reactions (WallState::sum_reactions: each wall's live contacts in slot order),
+    // a wall per thread.
+    for (int64_t w = tid; w < int64_t(s.walls_n); w += nt) {
+        Vec3 force, torque;
+        for (uint32_t q = 0; q < size[2]; ++q)
+            if (wl.cand[q] != kNone && wl.j[q] == uint32_t(w)) add_wall_reaction(force, torque, wl.force[q], wl.point[q]);
+        s.out.reactions[2 * w] = force;
+        s.out.reactions[2 * w + 1] = torque;
     }
     // The gather of World (gather_in_order): each particle's interaction list in order.
     const GatherTables tb{{s.fric.force, s.smooth.force, s.walls.force, g.bforce + s.bond0},
@@ -349,16 +349,16 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
     }
     // After the gather (World: engine_end_forces): the opened slots freed.
     if (tid == 0) release_opened(s);
-    VPPDEM_SYNC();
-    for (int64_t q = tid; q < int64_t(size[2]); q += nt) s.out.wall_topo[4 * q + 3] = wl.cand[q];
 }
 
-// Motion to t + dt of the free particles (advance_particle), the largest squared move since the
-// rebuild, the ledger's block sums (the particles', and the dashpots' forward halves, which need
+// Motion to t + dt of the free particles (advance_particle) and of the prescribed ones (from the
+// host), the largest squared move of the free ones since the rebuild, the ledger's block sums (the particles', and the dashpots' forward halves, which need
 // the new velocities).
 VPPDEM_KFN inline void motion_body(const Globals& g, const SysView& s, int tid, int nt) {
     if (!s.active) return;
     const bool track = s.track != 0;
+    if (tid == 0) *s.out.max_d2 = 0;  // this system's word: its block's threads only
+    VPPDEM_SYNC();
     double max_d2 = 0.0;
     for (int64_t i = tid; i < s.n; i += nt) {
         const int64_t k = s.base + i;
@@ -386,6 +386,13 @@ VPPDEM_KFN inline void motion_body(const Globals& g, const SysView& s, int tid, 
         max_d2 = d2 > max_d2 ? d2 : max_d2;
     }
     vppdem_max_bits(s.out.max_d2, max_d2);
+    // The prescribed particles where their motions put them (World::follow_motions; the host
+    // counts their moves): the ledger's dashpots read their velocities.
+    for (int64_t q = s.presc0 + tid; q < s.presc1; q += nt) {
+        const int64_t k = s.base + g.prescribed[q];
+        g.x[k] = s.presc_in[2 * (q - s.presc0)];
+        g.v[k] = s.presc_in[2 * (q - s.presc0) + 1];
+    }
     VPPDEM_SYNC();
     if (track) {
         lane_sums<kParticleSums>(s.pterms, s.n, s.out.sum_particles, tid, nt);
@@ -407,12 +414,6 @@ VPPDEM_KFN inline void motion_body(const Globals& g, const SysView& s, int tid, 
             out += blocks(st.cap);
         }
     }
-}
-
-// The patches (device_api.h), one per index.
-VPPDEM_HD inline void apply_patch(const Patch* p, const uint32_t* payload, uint32_t q) {
-    uint32_t* dst = reinterpret_cast<uint32_t*>(p[q].dst);
-    for (uint32_t e = 0; e < p[q].words; ++e) dst[e] = payload[p[q].from + e];
 }
 
 }  // namespace dem::batch::dev

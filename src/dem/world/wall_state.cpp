@@ -28,8 +28,7 @@ void WallState::sum_reactions(const ActiveContacts& walls, std::size_t nw) {
     for (std::size_t s = 0; s < walls.size(); ++s) {
         if (walls.cand[s] == kNoSlot) continue;
         const uint32_t w = walls.j[s];
-        force[w] -= walls.force[s];
-        torque[w] += cross(walls.point[s], -walls.force[s]);
+        add_wall_reaction(force[w], torque[w], walls.force[s], walls.point[s]);
     }
 }
 

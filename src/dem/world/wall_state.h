@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dem/contact/active_contacts.h"
+#include "dem/core/hd.h"
 #include "dem/core/vec3.h"
 #include "dem/walls/wall.h"
 #include "dem/walls/wall_now.h"
@@ -26,6 +27,14 @@ struct WallState {
     // Reactions from the live wall contacts of `walls` for nw walls, in slot order.
     void sum_reactions(const ActiveContacts& walls, std::size_t nw);
 };
+
+// One live wall contact's reaction added to its wall's force [N] and torque about the origin
+// [N m]: the contact's force f on the particle [N] at the contact point [m] (sum_reactions' body,
+// also the batch engine's device's, which adds a wall's contacts in slot order as sum_reactions).
+VPPDEM_HD inline void add_wall_reaction(Vec3& force, Vec3& torque, const Vec3& f, const Vec3& point) {
+    force -= f;
+    torque += cross(point, -f);
+}
 
 // Wall k (planes first, then facets) as the wall bodies read it (dem/kernels/step_bodies.h):
 // WallState::now, which World's wall kernel and touch test and the batch engine's kernels read.

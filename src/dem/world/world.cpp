@@ -566,18 +566,21 @@ double World::advance_clumps(bool track) {
     return *std::max_element(thread_max.begin(), thread_max.end());
 }
 
+std::pair<Vec3, Vec3> World::prescribed_next(uint32_t i) const {
+    const Motion& m = motions[particles.motion[i]];
+    const double t1 = time + params.dt;
+    return {particles.ref_pos[i] + m.displacement(t1), m.mean_velocity(time, t1)};
+}
+
 double World::follow_motions(bool track, const Vec3* pressure) {
     // Few particles: serial, in index order.
     Particles& p = particles;
-    const double t1 = time + params.dt;
     const bool packed = packed_.size() == p.size();
     double max_d2 = 0.0;
     book_.prescribed[0] = book_.prescribed[1] = 0.0;
     for (uint32_t i : prescribed_) {
-        const Motion& m = motions[p.motion[i]];
         const Vec3 v0 = p.vel[i];
-        p.vel[i] = m.mean_velocity(time, t1);
-        p.pos[i] = p.ref_pos[i] + m.displacement(t1);
+        std::tie(p.pos[i], p.vel[i]) = prescribed_next(i);
         if (packed) packed_[i] = kernels::pack(p, i);
         const FloatVec3 r = broad_.ref_pos[i];
         max_d2 = std::max(max_d2, norm2(p.pos[i] - Vec3{r.x, r.y, r.z}));
@@ -623,6 +626,13 @@ void World::engine_begin_forces() {
 
 void World::engine_end_forces() {
     wall_reactions();
+    close_contacts();
+}
+
+void World::engine_end_forces(const Vec3* force, const Vec3* torque) {
+    const std::size_t nw = wall_count();
+    walls_now_.force.assign(force, force + nw);
+    walls_now_.torque.assign(torque, torque + nw);
     close_contacts();
 }
 

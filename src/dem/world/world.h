@@ -194,11 +194,17 @@ public:
     void engine_activate();
     EnergyBook& engine_book() { return book_; }
     void engine_end_forces();
+    // The same with the walls' reactions formed by the engine (force and torque per wall, as
+    // WallState::sum_reactions forms them: add_wall_reaction in slot order).
+    void engine_end_forces(const Vec3* force, const Vec3* torque);
     double engine_follow_motions(const Vec3* pressure);
     void engine_end_step(double max_d2);
     // Each wall's velocity over the next step [m/s], as the ledger of engine_end_step() will
     // take it (for an engine that forms the dashpots' forward halves itself: EnergyBook).
     void engine_next_wall_velocities(std::vector<Vec3>& v) const;
+    // Prescribed particle i's position [m] and velocity [m/s] after this step, as
+    // engine_follow_motions() will set them (for an engine whose ledger reads them first).
+    std::pair<Vec3, Vec3> engine_prescribed_next(uint32_t i) const { return prescribed_next(i); }
     // The engine wrote the particles back: the pair kernels' packed copy is stale.
     void engine_handback() { packed_valid_ = false; }
     // An engine that keeps the contact lifecycle itself (the device backend) wrote the stores and
@@ -233,6 +239,8 @@ private:
     // Prescribed particles; their largest squared move [m^2]. `pressure`: the pressure's force per
     // particle (nullptr: pressure_forces_).
     double follow_motions(bool track, const Vec3* pressure = nullptr);
+    // Prescribed particle i where its motion puts it at time + dt: position, velocity over the step.
+    std::pair<Vec3, Vec3> prescribed_next(uint32_t i) const;
     void advance_clock();
     void account_energy(double t_n);
     void refresh_prescribed();  // the list of prescribed particles, when it changed
