@@ -72,7 +72,7 @@ struct StepIn {
 struct Outbox {
     Life* life = nullptr;        // this system's lifecycle (mirrored by the host)
     uint64_t* max_d2 = nullptr;  // this system's largest squared move (a double's bits)
-    Vec3* reactions = nullptr;   // per wall: force, torque (WallState::sum_reactions)
+    Vec3* reactions = nullptr;   // the walls' forces, then their torques (WallState::sum_reactions)
     Vec3* presc = nullptr;       // per prescribed particle: force, pressure force
     double *sum_fric = nullptr, *sum_smooth = nullptr, *sum_walls = nullptr, *sum_bonds = nullptr,
            *sum_particles = nullptr;  // the ledger's block sums
@@ -139,8 +139,6 @@ public:
     virtual void release(void* p) = 0;
     virtual void put(void* dst, const void* src, std::size_t bytes) = 0;   // host -> device
     virtual void get(void* dst, const void* src, std::size_t bytes) = 0;   // device -> host
-    virtual void copy(void* dst, const void* src, std::size_t bytes) = 0;  // device -> device
-    virtual void zero(void* dst, std::size_t bytes) = 0;
     virtual void forces(const Globals& g, const SysView* views, int B) = 0;
     virtual void motion(const Globals& g, const SysView* views, int B) = 0;
 };

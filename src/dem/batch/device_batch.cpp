@@ -94,23 +94,24 @@ void DeviceBatch::free_all() {
     layout_dirty_ = true;
 }
 
-void DeviceBatch::ensure(Buf& b, std::size_t bytes, bool keep) {
+void DeviceBatch::ensure(Buf& b, std::size_t bytes) {
     if (bytes <= b.bytes && b.p) return;
     const std::size_t cap = std::max<std::size_t>({bytes, b.bytes + b.bytes / 2, 64});
     void* p = dev_->alloc(cap);
-    if (b.p) {
-        if (keep) dev_->copy(p, b.p, b.bytes);
-        dev_->release(b.p);
-    }
+    if (b.p) dev_->release(b.p);
     b.p = p;
     b.bytes = cap;
 }
 
-void DeviceBatch::put(Buf& b, const void* src, std::size_t bytes) {
-    ensure(b, bytes, false);
-    dev_->put(b.p, src, bytes);
+void DeviceBatch::send(void* dst, const void* src, std::size_t bytes) {
+    dev_->put(dst, src, bytes);
     ++calls_;
     up_ += bytes;
+}
+
+void DeviceBatch::put(Buf& b, const void* src, std::size_t bytes) {
+    ensure(b, bytes);
+    send(b.p, src, bytes);
 }
 
 void DeviceBatch::get(void* dst, const void* src, std::size_t bytes) {
@@ -170,9 +171,8 @@ void DeviceBatch::load(BatchSystems& b) {
     views_.assign(b.systems(), dev::SysView{});
     life_.assign(b.systems(), dev::Life{});
     vnext_scratch_.assign(b.systems(), {});
-    reaction_scratch_.assign(b.systems(), {});
     h_presc_.assign(2 * b.prescribed.size(), Vec3{});
-    ensure(presc_in_, std::max<std::size_t>(h_presc_.size(), 1) * sizeof(Vec3), false);
+    ensure(presc_in_, std::max<std::size_t>(h_presc_.size(), 1) * sizeof(Vec3));
     views_up_.clear();
     life_up_.assign(b.systems(), 1);
     for (std::size_t s = 0; s < b.systems(); ++s) {
@@ -180,10 +180,10 @@ void DeviceBatch::load(BatchSystems& b) {
         Sys& y = sys_[s];
         upload_contacts(b, s);
         const std::vector<FloatVec3>& ref = b.world[s]->broad_phase().ref_pos;
-        ensure(y.ref_pos, n * sizeof(FloatVec3), false);
+        ensure(y.ref_pos, n * sizeof(FloatVec3));
         if (ref.size() == n) put(y.ref_pos, ref.data(), n * sizeof(FloatVec3));
-        ensure(y.pterms, n * dev::kParticleSums * sizeof(double), false);
-        ensure(y.bterms, std::size_t(b.bond_first[s + 1] - b.bond_first[s]) * sizeof(double), false);
+        ensure(y.pterms, n * dev::kParticleSums * sizeof(double));
+        ensure(y.bterms, std::size_t(b.bond_first[s + 1] - b.bond_first[s]) * sizeof(double));
     }
     layout_dirty_ = true;
     up_ = down_ = calls_ = 0;
@@ -201,10 +201,10 @@ void DeviceBatch::ensure_stores(BatchSystems& b, std::size_t s) {
         const std::size_t need = std::max(store_of(c, k).size(), k == 2 ? c.pw.other.size() : c.pp.other.size());
         if (need <= t.cap && t.i.p) continue;
         const std::size_t cap = std::max<std::size_t>({need, t.cap + t.cap / 2, 256});
-        for (Buf* bf : {&t.i, &t.j, &t.cand, &t.opened}) ensure(*bf, cap * 4, false);
-        ensure(t.phys, cap * sizeof(ContactPhys), false);
-        for (Buf* bf : {&t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point, &t.fv}) ensure(*bf, cap * sizeof(Vec3), false);
-        ensure(t.terms, cap * dev::kPairSums * sizeof(double), false);
+        for (Buf* bf : {&t.i, &t.j, &t.cand, &t.opened}) ensure(*bf, cap * 4);
+        ensure(t.phys, cap * sizeof(ContactPhys));
+        for (Buf* bf : {&t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point, &t.fv}) ensure(*bf, cap * sizeof(Vec3));
+        ensure(t.terms, cap * dev::kPairSums * sizeof(double));
         t.cap = cap;
         layout_dirty_ = true;
     }
@@ -222,11 +222,7 @@ void DeviceBatch::upload_contacts(BatchSystems& b, std::size_t s) {
         const ActiveContacts& a = store_of(c, k);
         Sys::St& t = y.st[k];
         const std::size_t m = a.size();
-        const auto up = [&](Buf& bf, const auto& vec) {
-            dev_->put(bf.p, vec.data(), m * sizeof(vec[0]));
-            ++calls_;
-            up_ += m * sizeof(vec[0]);
-        };
+        const auto up = [&](Buf& bf, const auto& vec) { send(bf.p, vec.data(), m * sizeof(vec[0])); };
         up(t.i, a.i);
         up(t.j, a.j);
         up(t.cand, a.cand);
@@ -245,7 +241,7 @@ void DeviceBatch::upload_contacts(BatchSystems& b, std::size_t s) {
     life_up_[s] = 1;
     const auto cands = [&](const CandidateList& cl, Buf& start, Buf& other, Buf& slot, Buf& gap, Buf& found, std::size_t& size) {
         size = cl.other.empty() || cl.start.size() != n + 1 ? 0 : cl.other.size();
-        ensure(found, std::max<std::size_t>(size, 1) * 8, false);
+        ensure(found, std::max<std::size_t>(size, 1) * 8);
         if (!size) return;
         put(start, cl.start.data(), (n + 1) * 4);
         put(other, cl.other.data(), size * 4);
@@ -311,11 +307,7 @@ void DeviceBatch::upload_contacts(BatchSystems& b, std::size_t s) {
     put(y.zeta, zeta.data(), zeta.size() * sizeof(double));
     put(y.wall_mat, wm.data(), wm.size() * 4);
     y.materials = uint32_t(mat.size());
-    if (n) {
-        dev_->put(g_.mat + b.first[s], wd.particles.material.data(), n * 4);
-        ++calls_;
-        up_ += n * 4;
-    }
+    if (n) send(g_.mat + b.first[s], wd.particles.material.data(), n * 4);
 }
 
 void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s) {
@@ -342,8 +334,7 @@ void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s) {
 
 void DeviceBatch::put_life(std::size_t s) {
     if (!sec_.p) return;  // layout_outbox() puts them all
-    dev_->put(static_cast<char*>(sec_.p) + o_life_ + s * sizeof(dev::Life), &life_[s], sizeof(dev::Life));
-    ++calls_;
+    send(static_cast<char*>(sec_.p) + o_life_ + s * sizeof(dev::Life), &life_[s], sizeof(dev::Life));
     up_ += sizeof(dev::Life);
     life_up_[s] = 0;
 }
@@ -375,7 +366,7 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
     o_maxd2_ = o_fsums_ + sums * sizeof(double);
     o_msums_ = o_maxd2_ + sys_.size() * 8;
     o_end_ = o_msums_ + msums * sizeof(double);
-    ensure(sec_, std::max<std::size_t>(o_end_, 8), false);
+    ensure(sec_, std::max<std::size_t>(o_end_, 8));
     h_sec_.resize(std::max<std::size_t>(o_end_, 8));
     layout_dirty_ = false;
     // The section moved: every system's lifecycle goes up again.
@@ -576,16 +567,9 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
                 sums(book.walls, y.sum_walls);
                 sums(book.bonds, y.sum_bonds);
             }
+            // The walls' forces, then their torques (no opened list: the device freed them).
             const Vec3* r = hv(o_reactions_) + y.off_reactions;
-            const std::size_t nw = wd.planes.size() + wd.facets.size();
-            std::vector<Vec3>& force = reaction_scratch_[s];
-            force.assign(2 * nw, Vec3{});
-            for (std::size_t w = 0; w < nw; ++w) {
-                force[w] = r[2 * w];
-                force[nw + w] = r[2 * w + 1];
-            }
-            wd.engine_end_forces(force.data(), force.data() + nw);  // (no opened list: the device freed them)
-            c.holes = std::size_t(life.holes);
+            wd.engine_end_forces(r, r + wd.planes.size() + wd.facets.size());
             const int64_t base = b.first[s];
             for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {
                 const uint32_t i = b.prescribed[std::size_t(q)];

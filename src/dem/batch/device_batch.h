@@ -68,8 +68,9 @@ public:
     };
 
 private:
-    void ensure(Buf& b, std::size_t bytes, bool keep);
-    void put(Buf& b, const void* src, std::size_t bytes);
+    void ensure(Buf& b, std::size_t bytes);                     // room for bytes (contents not kept)
+    void send(void* dst, const void* src, std::size_t bytes);  // host -> device, counted
+    void put(Buf& b, const void* src, std::size_t bytes);      // ensure, then send
     void get(void* dst, const void* src, std::size_t bytes);
     void free_all();
     // The system's contacts up whole (stores, candidates, lists, lifecycle counts, materials).
@@ -100,7 +101,7 @@ private:
     // What goes up every motion half: each prescribed particle's position and velocity at t + dt.
     Buf presc_in_;
     std::vector<Vec3> h_presc_;
-    std::vector<std::vector<Vec3>> vnext_scratch_, reaction_scratch_;  // per system
+    std::vector<std::vector<Vec3>> vnext_scratch_;  // per system
     int threads_ = 1;
     ThreadTeam team_;
     // The outbox (device) and its host copy: one section for what the forces and motion halves

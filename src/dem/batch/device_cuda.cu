@@ -70,12 +70,6 @@ public:
         check(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDeviceToHost, stream_), "copy from the device");
         check(cudaStreamSynchronize(stream_), "copy from the device");
     }
-    void copy(void* dst, const void* src, std::size_t bytes) override {
-        if (bytes) check(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDeviceToDevice, stream_), "copy on the device");
-    }
-    void zero(void* dst, std::size_t bytes) override {
-        if (bytes) check(cudaMemsetAsync(dst, 0, bytes, stream_), "cudaMemset");
-    }
     void forces(const Globals& g, const SysView* v, int B) override { launch(k_forces, g, v, B, "the force kernel"); }
     void motion(const Globals& g, const SysView* v, int B) override { launch(k_motion, g, v, B, "the motion kernel"); }
 

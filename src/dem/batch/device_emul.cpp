@@ -51,8 +51,6 @@ public:
     void release(void* p) override { std::free(p); }
     void put(void* dst, const void* src, std::size_t bytes) override { if (bytes) std::memcpy(dst, src, bytes); }
     void get(void* dst, const void* src, std::size_t bytes) override { if (bytes) std::memcpy(dst, src, bytes); }
-    void copy(void* dst, const void* src, std::size_t bytes) override { if (bytes) std::memmove(dst, src, bytes); }
-    void zero(void* dst, std::size_t bytes) override { if (bytes) std::memset(dst, 0, bytes); }
     void forces(const Globals& g, const SysView* v, int B) override {
         launch(B, [&](int s, int tid, int nt) { forces_body(g, v[s], tid, nt); });
     }

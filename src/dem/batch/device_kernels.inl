@@ -325,8 +325,8 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
         Vec3 force, torque;
         for (uint32_t q = 0; q < size[2]; ++q)
             if (wl.cand[q] != kNone && wl.j[q] == uint32_t(w)) add_wall_reaction(force, torque, wl.force[q], wl.point[q]);
-        s.out.reactions[2 * w] = force;
-        s.out.reactions[2 * w + 1] = torque;
+        s.out.reactions[w] = force;
+        s.out.reactions[s.walls_n + w] = torque;
     }
     // The gather of World (gather_in_order): each particle's interaction list in order.
     const GatherTables tb{{s.fric.force, s.smooth.force, s.walls.force, g.bforce + s.bond0},
