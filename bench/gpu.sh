@@ -13,7 +13,10 @@
 #      ONE_STEPS (2000), CPU_STEPS (1000), BATCHES ("1 16 64 128 256 512"), CPU_THREADS (16),
 #      RUNS (150), CYCLES (5: the paper studies' setting), AMPLITUDE (0.01), ENERGY (--energy; empty: the ledger off),
 #      HOST_THREADS (nproc: the host threads of the device backend's bookkeeping), BACKEND (cuda;
-#      emulated: the device backend's kernels on the host, to try this script without a GPU)
+#      emulated: the device backend's kernels on the host, to try this script without a GPU),
+#      SPLITS ("1 8": the batches of 1 and 16 again with each system in this many blocks,
+#      VPPDEM_CUDA_SPLIT), BLOCK_SIZES ("512": the batches of 1 and 256 again with blocks of this
+#      many threads, VPPDEM_CUDA_BLOCK); empty: none
 set -uo pipefail
 cd "$(dirname "$0")/.."
 VPPDEM=${VPPDEM:-build-device/vppdem}
@@ -29,6 +32,8 @@ AMPLITUDE=${AMPLITUDE:-0.01}
 ENERGY=${ENERGY-"--energy"}
 HOST_THREADS=${HOST_THREADS:-$(nproc)}
 BACKEND=${BACKEND:-cuda}
+BLOCK_SIZES=${BLOCK_SIZES-"512"}
+SPLITS=${SPLITS-"1 8"}
 cpu_only=0
 [ "${1:-}" = "--cpu-only" ] && cpu_only=1
 
@@ -50,8 +55,8 @@ bench() {  # name, args...: one `vppdem bench checkpoint` line; its rate into ra
     rate[$name]=$r
     dt=$(echo "$line" | field dt)
     if [[ $line == *host_us_per_step* ]]; then
-      extra[$name]=$(printf '%.0f | %.0f | %.0f | %.0f | %.0f' "$(echo "$line" | field host_us_per_step)" \
-        "$(echo "$line" | field device_us_per_step)" "$(echo "$line" | field exchanges_per_step)" \
+      extra[$name]=$(printf '%.0f | %.0f | %.0f | %.0f | %.0f | %.0f' "$(echo "$line" | field host_us_per_step)" \
+        "$(echo "$line" | field device_us_per_step)" "$(echo "$line" | field kernel_us_per_step)" "$(echo "$line" | field exchanges_per_step)" \
         "$(echo "$line" | field bytes_up_per_step)" "$(echo "$line" | field bytes_down_per_step)")
     fi
     echo "gpu.sh: $name: $line"
@@ -69,6 +74,18 @@ if [ $cpu_only = 0 ]; then
   done
   # What the ledger costs (its block sums come back every half step).
   ENERGY="" bench "device batch 256, ledger off" --batch 256 --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$DEVICE_STEPS"
+  # Other shapes: a system in one block (VPPDEM_CUDA_SPLIT=1; by default a small batch's systems
+  # span several), blocks of other sizes (VPPDEM_CUDA_BLOCK; the default is 256 threads).
+  if [ "$BACKEND" = cuda ]; then
+    for K in $SPLITS; do
+      VPPDEM_CUDA_SPLIT=$K bench "device batch 1, $K blocks per system" --batch 1 --backend cuda --threads "$HOST_THREADS" --steps "$ONE_STEPS"
+      VPPDEM_CUDA_SPLIT=$K bench "device batch 16, $K blocks per system" --batch 16 --backend cuda --threads "$HOST_THREADS" --steps "$DEVICE_STEPS"
+    done
+    for T in $BLOCK_SIZES; do
+      VPPDEM_CUDA_BLOCK=$T bench "device batch 1, $T threads per block" --batch 1 --backend cuda --threads "$HOST_THREADS" --steps "$ONE_STEPS"
+      VPPDEM_CUDA_BLOCK=$T bench "device batch 256, $T threads per block" --batch 256 --backend cuda --threads "$HOST_THREADS" --steps "$DEVICE_STEPS"
+    done
+  fi
 fi
 bench "CPU World, 1 thread" --threads 1 --steps "$CPU_STEPS"
 bench "CPU World, $CPU_THREADS threads" --threads "$CPU_THREADS" --steps "$CPU_STEPS"
@@ -92,12 +109,12 @@ rate[$name]=$sum
 rows+=("$name")
 
 echo
-echo "| run | rate | unit | host us/step | bus+device us/step | exchanges/step | bytes up/step | bytes down/step |"
-echo "|---|---|---|---|---|---|---|---|"
+echo "| run | rate | unit | host us/step | bus+device us/step | of which kernels | exchanges/step | bytes up/step | bytes down/step |"
+echo "|---|---|---|---|---|---|---|---|---|"
 for name in "${rows[@]}"; do
   unit="system-steps/s"
-  case $name in "device batch 1"|"CPU World"*) unit="steps/s";; esac
-  printf '| %s | %.0f | %s | %s |\n' "$name" "${rate[$name]}" "$unit" "${extra[$name]:-| | | |}"
+  case $name in "device batch 1"|"device batch 1, "*|"CPU World"*) unit="steps/s";; esac
+  printf '| %s | %.0f | %s | %s |\n' "$name" "${rate[$name]}" "$unit" "${extra[$name]:-| | | | |}"
 done
 echo
 if [ $cpu_only = 0 ] && [ -n "$dt" ]; then

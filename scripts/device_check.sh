@@ -46,6 +46,8 @@ for b in "${bins[@]}" libvppdem_cuda_ref.so; do
   ldd "$out/$b" | awk '/=>/ && $3 ~ /^\// {print $1, $3}'
 done | sort -u | while read -r name path; do
   if [[ $name =~ $skip ]]; then continue; fi
+  # A bundle made again in place: the binaries' rpath finds the copy already there.
+  if [ -e "$out/$name" ] && [ "$path" -ef "$out/$name" ]; then echo "  $name (in the bundle)"; continue; fi
   echo "  $name <- $path"
   cp -L "$path" "$out/$name"
   chmod 644 "$out/$name"

@@ -157,6 +157,10 @@ void batch_of_copies(dem::World& w, const BenchOptions& opt) {
     steps(1);  // untimed: the first rebuild
     const uint64_t up0 = dev ? dev->bytes_up() : 0, down0 = dev ? dev->bytes_down() : 0, calls0 = dev ? dev->exchanges() : 0;
     const double host0 = dev ? dev->host_seconds() : 0.0, device0 = dev ? dev->device_seconds() : 0.0;
+    const double kernel0 = dev ? dev->kernel_seconds() : 0.0;
+    double part0[4] = {0, 0, 0, 0};
+    if (dev) std::copy(dev->host_part_seconds(), dev->host_part_seconds() + 4, part0);
+    const uint64_t relayouts0 = dev ? dev->relayouts() : 0;
     const auto t0 = std::chrono::steady_clock::now();
     steps(uint64_t(opt.steps));
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -167,13 +171,19 @@ void batch_of_copies(dem::World& w, const BenchOptions& opt) {
     // Where a step's time goes: the host's per-system parts and the rest (copies, launches, kernels).
     const double host_us = dev ? 1e6 * (dev->host_seconds() - host0) / double(opt.steps) : 0.0;
     const double device_us = dev ? 1e6 * (dev->device_seconds() - device0) / double(opt.steps) : 0.0;
+    const double kernel_us = dev ? 1e6 * (dev->kernel_seconds() - kernel0) / double(opt.steps) : 0.0;
+    double part_us[4] = {0, 0, 0, 0};
+    for (int k = 0; k < 4 && dev; ++k) part_us[k] = 1e6 * (dev->host_part_seconds()[k] - part0[k]) / double(opt.steps);
+    const uint64_t relayouts = dev ? dev->relayouts() - relayouts0 : 0;
     std::printf("{\"scene\": \"checkpoint\", \"backend\": \"batch-%s\", \"device\": \"%s\", \"systems\": %d, "
                 "\"particles\": %zu, \"steps\": %ld, \"threads\": %d, \"wall_s\": %.6g, \"steps_per_s\": %.6g, "
                 "\"system_steps_per_s\": %.6g, \"bytes_up_per_step\": %.6g, \"bytes_down_per_step\": %.6g, "
-                "\"exchanges_per_step\": %.6g, \"host_us_per_step\": %.6g, \"device_us_per_step\": %.6g, \"energy\": %s, "
-                "\"dt\": %.6g}\n",
+                "\"exchanges_per_step\": %.6g, \"host_us_per_step\": %.6g, \"device_us_per_step\": %.6g, "
+                "\"kernel_us_per_step\": %.6g, \"host_parts_us_per_step\": [%.4g, %.4g, %.4g, %.4g], \"relayouts\": %llu, "
+                "\"energy\": %s, \"dt\": %.6g}\n",
                 opt.backend.c_str(), dev ? dev->device_name() : "host", opt.batch, w.particles.size(), opt.steps,
-                opt.threads, wall, sps, sps * opt.batch, up, down, calls, host_us, device_us, opt.energy ? "true" : "false",
+                opt.threads, wall, sps, sps * opt.batch, up, down, calls, host_us, device_us, kernel_us, part_us[0],
+                part_us[1], part_us[2], part_us[3], static_cast<unsigned long long>(relayouts), opt.energy ? "true" : "false",
                 w.params.dt);
     std::fflush(stdout);
 }

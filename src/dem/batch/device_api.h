@@ -35,6 +35,10 @@ struct Store {
     Vec3 *shear = nullptr, *prev = nullptr, *force = nullptr, *torque1 = nullptr, *torque2 = nullptr, *point = nullptr,
          *fv = nullptr;
     double* terms = nullptr;  // scratch: kPairSums per slot (the ledger)
+    double* dterms = nullptr;  // scratch: per slot its dashpot's forward half (the ledger) [J]
+    // Bit q of word q / 64: slot q is a hole (cand == kNone, q < size); placement finds the lowest
+    // hole 64 slots at a time. Kept with cand by the kernels, made from it at each layout.
+    uint64_t* hole_bits = nullptr;
     uint32_t cap = 0;
 };
 
@@ -141,6 +145,10 @@ public:
     virtual void get(void* dst, const void* src, std::size_t bytes) = 0;   // device -> host
     virtual void forces(const Globals& g, const SysView* views, int B) = 0;
     virtual void motion(const Globals& g, const SysView* views, int B) = 0;
+    // The kernels' own time since the device was made [s] (CUDA: events around each launch, read
+    // at the copy that follows it; emulated: the launches' wall time): the rest of a half's time
+    // is the bus, the launches' latency and the waits.
+    virtual double kernel_seconds() = 0;
 };
 
 // The host compiler's device (device_emul.cpp): every build has it (the tests run it). Each

@@ -17,7 +17,7 @@ static_assert(kernels::kElastic == 0 && kernels::kSlip == 1 && kernels::kRelease
 
 struct DeviceBatch::Sys {
     struct St {
-        Buf i, j, cand, phys, shear, prev, force, torque1, torque2, point, fv, terms, opened;
+        Buf i, j, cand, phys, shear, prev, force, torque1, torque2, point, fv, terms, opened, dterms, hole_bits;
         std::size_t cap = 0;  // slots of room
     };
     St st[3];  // frictional, frictionless, wall
@@ -38,7 +38,7 @@ struct DeviceBatch::Sys {
                             &ref_pos, &pterms, &bterms};
         for (St& t : st)
             for (Buf* b : {&t.i, &t.j, &t.cand, &t.phys, &t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point,
-                           &t.fv, &t.terms, &t.opened})
+                           &t.fv, &t.terms, &t.opened, &t.dterms, &t.hole_bits})
                 v.push_back(b);
         return v;
     }
@@ -66,8 +66,9 @@ DeviceBatch::DeviceBatch(std::unique_ptr<dev::Device> device, int threads)
     if (!dev_) throw std::invalid_argument("batch: no device");
 }
 
-template <class F> void DeviceBatch::each(std::size_t B, F&& f) {
+template <class F> void DeviceBatch::each(std::size_t B, int part, F&& f) {
     Lap lap{host_s_};
+    Lap split{part_s_[part]};
     const int nt = int(std::min<std::size_t>(std::size_t(threads_), std::max<std::size_t>(B, 1)));
     team_.run(nt, [&](int tid) {
         const auto [s0, s1] = thread_range(int64_t(B), tid, nt);
@@ -188,6 +189,8 @@ void DeviceBatch::load(BatchSystems& b) {
     layout_dirty_ = true;
     up_ = down_ = calls_ = 0;
     host_s_ = total_s_ = 0;
+    std::fill(std::begin(part_s_), std::end(part_s_), 0.0);
+    relayouts_ = 0;
 }
 
 void DeviceBatch::ensure_stores(BatchSystems& b, std::size_t s) {
@@ -205,6 +208,8 @@ void DeviceBatch::ensure_stores(BatchSystems& b, std::size_t s) {
         ensure(t.phys, cap * sizeof(ContactPhys));
         for (Buf* bf : {&t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point, &t.fv}) ensure(*bf, cap * sizeof(Vec3));
         ensure(t.terms, cap * dev::kPairSums * sizeof(double));
+        ensure(t.dterms, cap * sizeof(double));
+        ensure(t.hole_bits, (cap / 64 + 1) * 8);
         t.cap = cap;
         layout_dirty_ = true;
     }
@@ -234,6 +239,11 @@ void DeviceBatch::upload_contacts(BatchSystems& b, std::size_t s) {
         up(t.torque2, a.torque2);
         up(t.point, a.point);
         up(t.fv, a.fv);
+        // The holes' bits (none at or beyond the size: a placement at the end finds none there).
+        std::vector<uint64_t> bits(t.cap / 64 + 1, 0);
+        for (std::size_t q = 0; q < m; ++q)
+            if (a.cand[q] == kNoSlot) bits[q / 64] |= uint64_t(1) << (q % 64);
+        send(t.hole_bits.p, bits.data(), bits.size() * 8);
         life.size[k] = uint32_t(m);
         life.free[k] = uint32_t(m - a.live_count());
     }
@@ -422,6 +432,8 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
         d.point = at<Vec3>(t.point, 0);
         d.fv = at<Vec3>(t.fv, 0);
         d.terms = y.track ? at<double>(t.terms, 0) : nullptr;
+        d.dterms = at<double>(t.dterms, 0);
+        d.hole_bits = at<uint64_t>(t.hole_bits, 0);
         d.cap = uint32_t(t.cap);
         v.opened[k] = at<uint32_t>(t.opened, 0);
     }
@@ -485,7 +497,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
     std::vector<int> on(B, 0);
     // The walls' motion, the rebuild test and the broad phase, World's (its positions and
     // contacts from the device first when it rebuilds or compacts, all of them up again after).
-    each(B, [&](std::size_t s) {
+    each(B, 0, [&](std::size_t s) {
         if (!live(s)) return;
         try {
             World& wd = *b.world[s];
@@ -493,6 +505,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             const int64_t base = b.first[s], n = b.first[s + 1] - base;
             const bool rebuild = wd.engine_rebuild_due();
             const bool relayout = rebuild || wd.engine_compaction_due();
+            if (relayout) ++relayouts_;
             if (rebuild) get(wd.particles.pos.data(), g_.x + base, std::size_t(n) * sizeof(Vec3));
             if (relayout) download_contacts(b, s);
             wd.engine_begin_forces();
@@ -544,7 +557,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
     get(h_sec_.data() + o_life_, static_cast<const char*>(sec_.p) + o_life_, upto - o_life_);
 
     // World's part: the counts of its contacts (the device keeps them), the reactions, the ledger.
-    each(B, [&](std::size_t s) {
+    each(B, 1, [&](std::size_t s) {
         if (!on[s]) return;
         try {
             World& wd = *b.world[s];
@@ -593,7 +606,7 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
     // The prescribed particles where their motions put them at t + dt (World's, as
     // engine_follow_motions() will set them after the launch), up in one copy.
     if (!h_presc_.empty()) {
-        each(B, [&](std::size_t s) {
+        each(B, 2, [&](std::size_t s) {
             if (!views_[s].active) return;
             const World& wd = *b.world[s];
             for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q)
@@ -609,7 +622,7 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
     // Each system's largest move (with the ledger also the block sums) in one copy.
     const std::size_t upto = any_track ? o_end_ : o_msums_;
     get(h_sec_.data() + o_maxd2_, static_cast<const char*>(sec_.p) + o_maxd2_, upto - o_maxd2_);
-    each(B, [&](std::size_t s) {
+    each(B, 3, [&](std::size_t s) {
         if (!views_[s].active) return;
         try {
             World& wd = *b.world[s];

@@ -60,6 +60,13 @@ public:
     // way, the launches and the waits for the kernels).
     double host_seconds() const { return host_s_; }
     double device_seconds() const { return total_s_ - host_s_; }
+    // Finer, for the benchmarks: the kernels' own time [s] (the rest of device_seconds() is the
+    // bus, the launches' latency and the waits), the host's parts before and after each half's
+    // launch [s] (forces before, forces after, motion before, motion after; the relayouts are in
+    // the first), and the relayouts (a system's rebuild or compaction: its contacts down and up).
+    double kernel_seconds() const { return dev_->kernel_seconds(); }
+    const double* host_part_seconds() const { return part_s_; }
+    uint64_t relayouts() const { return relayouts_; }
 
     struct Sys;
     struct Buf {
@@ -83,7 +90,7 @@ private:
     void fill_view(BatchSystems& b, std::size_t s);
     void upload_views();
     // f(s) for every system s, the systems shared among the host threads.
-    template <class F> void each(std::size_t B, F&& f);
+    template <class F> void each(std::size_t B, int part, F&& f);
     void put_life(std::size_t s);  // life_[s] into the outbox's lifecycle section
 
     std::unique_ptr<dev::Device> dev_;
@@ -119,6 +126,8 @@ private:
     std::atomic<bool> layout_dirty_{true};
     std::atomic<uint64_t> up_{0}, down_{0}, calls_{0};
     double host_s_ = 0, total_s_ = 0;
+    double part_s_[4] = {0, 0, 0, 0};
+    std::atomic<uint64_t> relayouts_{0};
 };
 
 }  // namespace dem::batch

@@ -7,6 +7,7 @@
 // kernels' split of the work among a block's threads and their barriers are tested too.
 #include <atomic>
 #include <barrier>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <new>
@@ -57,10 +58,16 @@ public:
     void motion(const Globals& g, const SysView* v, int B) override {
         launch(B, [&](int s, int tid, int nt) { motion_body(g, v[s], tid, nt); });
     }
+    double kernel_seconds() override { return kernel_s_; }
 
 private:
     // The blocks one after the other; a block's threads together.
     template <class Body> void launch(int B, Body&& body) {
+        const auto t0 = std::chrono::steady_clock::now();
+        run(B, body);
+        kernel_s_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    }
+    template <class Body> void run(int B, Body& body) {
         for (int s = 0; s < B; ++s) {
             if (nt_ == 1) {
                 body(s, 0, 1);
@@ -78,6 +85,7 @@ private:
         }
     }
     int nt_;
+    double kernel_s_ = 0;  // [s]
 };
 
 }  // namespace

@@ -24,6 +24,23 @@ namespace dem::batch::dev {
 
 VPPDEM_HD inline PairEnd end_of(const Globals& g, int64_t k) { return PairEnd{g.x[k], g.v[k], g.w[k], g.r[k]}; }
 
+// nvcc unrolls the short fixed loops below so that their loads are issued together (a GPU thread
+// waits at the first use of a load, not at its issue): a chain of 64 loads becomes 8 waits.
+#if defined(__CUDA_ARCH__)
+#define VPPDEM_UNROLL _Pragma("unroll")
+#else
+#define VPPDEM_UNROLL
+#endif
+
+// The lowest set bit of a nonzero word.
+VPPDEM_HD inline int lowest_bit(uint64_t w) {
+#if defined(__CUDA_ARCH__)
+    return __ffsll(static_cast<long long>(w)) - 1;
+#else
+    return __builtin_ctzll(w);
+#endif
+}
+
 // ---- the contact lifecycle (ContactSet's find_new, activate_new, release_opened on the device)
 
 // The touch test of the candidates without a contact (as ContactSet::find_new): each found
@@ -105,7 +122,18 @@ VPPDEM_HD inline uint32_t place(const SysView& s, int k, uint32_t a, uint32_t b,
     const Store& st = store_at(s, k);
     const uint32_t size = L.size[k];
     if (L.free[k] == 0) cursor = cursor > size ? cursor : size;  // no hole: the scan would reach the end
-    while (cursor < size && st.cand[cursor] != kNone) ++cursor;
+    // The first hole at or after the cursor, 64 slots per word of the store's hole bits (the scan
+    // of cand one slot at a time was one thread's chain of dependent loads).
+    while (cursor < size) {
+        const uint64_t word = st.hole_bits[cursor >> 6] & (~uint64_t(0) << (cursor & 63u));
+        if (word) {
+            const uint32_t q = (cursor & ~63u) + uint32_t(lowest_bit(word));
+            cursor = q < size ? q : size;
+            break;
+        }
+        cursor = (cursor | 63u) + 1;
+    }
+    if (cursor > size) cursor = size;
     uint32_t q;
     if (cursor >= size) {
         if (size >= st.cap) {
@@ -118,6 +146,7 @@ VPPDEM_HD inline uint32_t place(const SysView& s, int k, uint32_t a, uint32_t b,
     } else {
         q = cursor++;
         --L.free[k];
+        st.hole_bits[q >> 6] &= ~(uint64_t(1) << (q & 63u));
     }
     st.i[q] = a;
     st.j[q] = b;
@@ -187,6 +216,7 @@ VPPDEM_HD inline void release_opened(const SysView& s) {
             const uint32_t q = s.opened[k][e];
             cl.slot[st.cand[q]] = kNone;
             st.cand[q] = kNone;
+            st.hole_bits[q >> 6] |= uint64_t(1) << (q & 63u);
             ++L.holes;
             ++L.free[k];
             if (k == 2) {
@@ -206,34 +236,92 @@ VPPDEM_HD inline void put_terms(double* t, const PairEnergy& e) {
     t[3] = e.viscous;
 }
 
-// The ledger's block sums of K terms per entry (lane_sums.h, LaneSums, the host backend's too).
-// Entries whose terms are zero add nothing to the bits (a sum that starts at +0 never becomes -0),
-// so holes may be added.
-template <int K> VPPDEM_HD inline void lane_sums(const double* terms, int64_t n, double* out, int tid, int nt) {
-    for (int64_t b = tid; b < blocks(n); b += nt) {
-        LaneSums<K> sums;
-        const int64_t e1 = (b + 1) * kBlock < n ? (b + 1) * kBlock : n;
-        for (int64_t e = b * kBlock; e < e1; ++e) sums.add(e, terms + e * K);
-        sums.flush(out + b * K);
+// The ledger's block sums (lane_sums.h: LaneSums, the host backend's too) with a thread per
+// (block, term) rather than per block: lane l of block b adds its entries b*64 + l + 8m in entry
+// order (LaneSums::add), then the 8 lanes are added in order (LaneSums::flush): the same additions
+// in the same order, so the same bits, with the 64 loads issued 8 at a time. Entries' terms lie at
+// terms[e * stride + k]; entries whose terms are zero add nothing to the bits (a sum that starts
+// at +0 never becomes -0), so holes may be added.
+VPPDEM_HD inline double lane_job(const double* terms, int64_t stride, int64_t n, int64_t b, int k) {
+    double lane[8];
+    const int64_t e0 = b * kBlock;
+    VPPDEM_UNROLL
+    for (int l = 0; l < 8; ++l) {
+        double acc = 0.0;
+        VPPDEM_UNROLL
+        for (int m = 0; m < 8; ++m) {
+            const int64_t e = e0 + l + 8 * m;
+            if (e < n) acc += terms[e * stride + k];
+        }
+        lane[l] = acc;
+    }
+    double sum = 0.0;
+    VPPDEM_UNROLL
+    for (int l = 0; l < 8; ++l) sum += lane[l];
+    return sum;
+}
+// The wall store's sums: one running sum per block in slot order (the scalar wall kernel).
+VPPDEM_HD inline double running_job(const double* terms, int64_t stride, int64_t n, int64_t b, int k) {
+    double sum = 0.0;
+    const int64_t e0 = b * kBlock, e1 = e0 + kBlock < n ? e0 + kBlock : n;
+    for (int64_t c = e0; c < e1; c += 8) {
+        double t[8];
+        VPPDEM_UNROLL
+        for (int m = 0; m < 8; ++m) t[m] = c + m < e1 ? terms[(c + m) * stride + k] : 0.0;
+        VPPDEM_UNROLL
+        for (int m = 0; m < 8; ++m)
+            if (c + m < e1) sum += t[m];
+    }
+    return sum;
+}
+
+// Several arrays' block sums as one list of jobs (a job: one block's one term), shared by the
+// block's threads, so that the arrays' sums run side by side.
+struct SumArray {
+    const double* terms = nullptr;
+    int64_t n = 0;      // entries
+    int k = 1;          // terms per entry (the stride)
+    bool running = false;  // the wall store's running sums
+    double* out = nullptr;  // out[b * k + term]
+};
+template <int A> VPPDEM_HD inline void block_sums(const SumArray (&arr)[A], int tid, int nt) {
+    int64_t jobs[A + 1];
+    jobs[0] = 0;
+    for (int a = 0; a < A; ++a) jobs[a + 1] = jobs[a] + (arr[a].terms ? blocks(arr[a].n) * arr[a].k : 0);
+    for (int64_t u = tid; u < jobs[A]; u += nt) {
+        int a = 0;
+        while (u >= jobs[a + 1]) ++a;
+        const SumArray& r = arr[a];
+        const int64_t v = u - jobs[a], b = v / r.k;
+        const int k = int(v % r.k);
+        r.out[b * r.k + k] = r.running ? running_job(r.terms, r.k, r.n, b, k) : lane_job(r.terms, r.k, r.n, b, k);
     }
 }
 
-// Forces at t of one system (World::step_forces' order): the touch test and the new contacts'
-// slots, the three stores' contacts, the pressure, the bonds, the ledger's block sums, the
-// gather, then the slots found apart freed; into the outbox: the lifecycle's counts, the walls'
-// reactions, the prescribed particles' forces (and with the ledger the block sums).
-VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, int nt) {
-    if (!s.active) return;
+// Forces at t of one system (World::step_forces' order) in five phases, each a kernel on the
+// device (a system's threads may span several blocks: a phase ends where every thread of the
+// system must have finished the one before) and forces_body() on the emulated device (the phases
+// with barriers between them):
+//   1. the touch test (its counters zeroed by the last forces' phase 5, or by the layout);
+//   2. the new contacts' slots in candidate order, and their entries in the lists (one thread);
+//   3. the three stores' contacts, the pressure, the bonds;
+//   4. the ledger's block sums, the walls' reactions, the gather;
+//   5. the prescribed particles' forces into the outbox, the slots found apart freed (after the
+//      gather, as World's engine_end_forces), the counters zeroed for the next step.
+// Into the outbox: the lifecycle's counts, the walls' reactions, the prescribed particles' forces
+// (and with the ledger the block sums). A system whose store or list ran out of room (overflow)
+// stops after phase 2: the host throws.
+VPPDEM_KFN inline void forces_touch(const Globals& g, const SysView& s, int tid, int nt) {
+    if (s.active) touch_body(g, s, tid, nt);
+}
+VPPDEM_KFN inline void forces_place(const Globals& g, const SysView& s, int tid, int) {
+    if (s.active && tid == 0) place_found(g, s);
+}
+VPPDEM_KFN inline void forces_pairs(const Globals& g, const SysView& s, int tid, int nt) {
+    if (!s.active || s.out.life->overflow) return;
     const double dt = s.dt;
     const bool track = s.track != 0;
     Life& L = *s.out.life;
-    if (tid == 0) L.found[0] = L.found[1] = L.opened[0] = L.opened[1] = L.opened[2] = 0;
-    VPPDEM_SYNC();
-    touch_body(g, s, tid, nt);
-    VPPDEM_SYNC();
-    if (tid == 0) place_found(g, s);
-    VPPDEM_SYNC();
-    if (L.overflow) return;  // the host throws; no thread goes on
     const uint32_t size[3] = {L.size[0], L.size[1], L.size[2]};
     const auto pair = [&](const Store& st, int kind) {
         const bool smooth = kind == 1;
@@ -305,26 +393,31 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
         g.btorque2[k] = o.torque2;
         if (track) s.bterms[k - s.bond0] = elastic;
     }
-    VPPDEM_SYNC();
+}
+VPPDEM_KFN inline void forces_gather(const Globals& g, const SysView& s, int tid, int nt) {
+    const Life& L = *s.out.life;
+    if (!s.active || L.overflow) return;
+    const bool track = s.track != 0;
+    const uint32_t size[3] = {L.size[0], L.size[1], L.size[2]};
+    const Store& wl = s.walls;
     if (track) {
-        lane_sums<kPairSums>(s.fric.terms, size[0], s.out.sum_fric, tid, nt);
-        lane_sums<kPairSums>(s.smooth.terms, size[1], s.out.sum_smooth, tid, nt);
-        lane_sums<1>(s.bterms, s.bond1 - s.bond0, s.out.sum_bonds, tid, nt);
-        // The wall store: one running sum per block, in slot order (the scalar wall kernel).
-        for (int64_t b = tid; b < blocks(size[2]); b += nt) {
-            double sum[kPairSums] = {0.0, 0.0, 0.0, 0.0};
-            const int64_t e1 = (b + 1) * kBlock < int64_t(size[2]) ? (b + 1) * kBlock : int64_t(size[2]);
-            for (int64_t e = b * kBlock; e < e1; ++e)
-                for (int k = 0; k < kPairSums; ++k) sum[k] += wl.terms[e * kPairSums + k];
-            for (int k = 0; k < kPairSums; ++k) s.out.sum_walls[b * kPairSums + k] = sum[k];
-        }
+        const SumArray arr[4] = {{s.fric.terms, int64_t(size[0]), kPairSums, false, s.out.sum_fric},
+                                 {s.smooth.terms, int64_t(size[1]), kPairSums, false, s.out.sum_smooth},
+                                 {s.bterms, s.bond1 - s.bond0, 1, false, s.out.sum_bonds},
+                                 {wl.terms, int64_t(size[2]), kPairSums, true, s.out.sum_walls}};
+        block_sums(arr, tid, nt);
     }
     // The walls' reactions (WallState::sum_reactions: each wall's live contacts in slot order),
-    // a wall per thread.
+    // a wall per thread, the slots' owners read 8 at a time.
     for (int64_t w = tid; w < int64_t(s.walls_n); w += nt) {
         Vec3 force, torque;
-        for (uint32_t q = 0; q < size[2]; ++q)
-            if (wl.cand[q] != kNone && wl.j[q] == uint32_t(w)) add_wall_reaction(force, torque, wl.force[q], wl.point[q]);
+        for (uint32_t q0 = 0; q0 < size[2]; q0 += 8) {
+            uint32_t owner[8];
+            VPPDEM_UNROLL
+            for (uint32_t m = 0; m < 8; ++m) owner[m] = q0 + m < size[2] && wl.cand[q0 + m] != kNone ? wl.j[q0 + m] : kNone;
+            for (uint32_t m = 0; m < 8; ++m)
+                if (owner[m] == uint32_t(w)) add_wall_reaction(force, torque, wl.force[q0 + m], wl.point[q0 + m]);
+        }
         s.out.reactions[w] = force;
         s.out.reactions[s.walls_n + w] = torque;
     }
@@ -341,24 +434,41 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
         g.f[s.base + i] = fi;
         g.t[s.base + i] = ti;
     }
-    VPPDEM_SYNC();
+}
+VPPDEM_KFN inline void forces_release(const Globals& g, const SysView& s, int tid, int nt) {
+    Life& L = *s.out.life;
+    if (!s.active || L.overflow) return;
     for (int64_t q = s.presc0 + tid; q < s.presc1; q += nt) {
         const int64_t k = s.base + g.prescribed[q];
         s.out.presc[2 * (q - s.presc0)] = g.f[k];
         s.out.presc[2 * (q - s.presc0) + 1] = g.pressure_slot[k];
     }
-    // After the gather (World: engine_end_forces): the opened slots freed.
-    if (tid == 0) release_opened(s);
+    if (tid != 0) return;
+    release_opened(s);
+    // The next step's counters, and the largest move that the motion half forms.
+    L.found[0] = L.found[1] = L.opened[0] = L.opened[1] = L.opened[2] = 0;
+    *s.out.max_d2 = 0;
+}
+VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, int nt) {
+    forces_touch(g, s, tid, nt);
+    VPPDEM_SYNC();
+    forces_place(g, s, tid, nt);
+    VPPDEM_SYNC();
+    forces_pairs(g, s, tid, nt);
+    VPPDEM_SYNC();
+    forces_gather(g, s, tid, nt);
+    VPPDEM_SYNC();
+    forces_release(g, s, tid, nt);
 }
 
-// Motion to t + dt of the free particles (advance_particle) and of the prescribed ones (from the
-// host), the largest squared move of the free ones since the rebuild, the ledger's block sums (the particles', and the dashpots' forward halves, which need
-// the new velocities).
-VPPDEM_KFN inline void motion_body(const Globals& g, const SysView& s, int tid, int nt) {
+// Motion to t + dt in three phases (as the forces'): 1. the free particles (advance_particle)
+// and the prescribed ones (from the host), the largest squared move of the free ones since the
+// rebuild (its word zeroed by the forces' phase 5); with the ledger 2. the dashpots' forward
+// halves, which need the new velocities, a slot per thread, and 3. the block sums (the
+// particles', the dashpots').
+VPPDEM_KFN inline void motion_advance(const Globals& g, const SysView& s, int tid, int nt) {
     if (!s.active) return;
     const bool track = s.track != 0;
-    if (tid == 0) *s.out.max_d2 = 0;  // this system's word: its block's threads only
-    VPPDEM_SYNC();
     double max_d2 = 0.0;
     for (int64_t i = tid; i < s.n; i += nt) {
         const int64_t k = s.base + i;
@@ -393,27 +503,45 @@ VPPDEM_KFN inline void motion_body(const Globals& g, const SysView& s, int tid, 
         g.x[k] = s.presc_in[2 * (q - s.presc0)];
         g.v[k] = s.presc_in[2 * (q - s.presc0) + 1];
     }
-    VPPDEM_SYNC();
-    if (track) {
-        lane_sums<kParticleSums>(s.pterms, s.n, s.out.sum_particles, tid, nt);
-        // The dashpots' forward halves with the velocities at t + dt/2 (EnergyBook::account).
-        const Life& L = *s.out.life;
-        const double h = 0.5 * s.dt;
-        double* out = s.out.sum_dashpots;
-        for (int k = 0; k < 3; ++k) {
-            const Store& st = store_at(s, k);
-            const int64_t n = L.size[k];
-            for (int64_t b = tid; b < blocks(n); b += nt)
-                out[b] = lane_block_sum(b * kBlock, (b + 1) * kBlock < n ? (b + 1) * kBlock : n, [&](int64_t q) {
-                    // Body 2 against body 1: a wall contact's particle is its body 2.
-                    const Vec3 vi = g.v[s.base + st.i[q]];
-                    const Vec3 v1 = k == 2 ? s.wall_vnext[st.j[q]] : vi;
-                    const Vec3 v2 = k == 2 ? vi : g.v[s.base + st.j[q]];
-                    return dashpot_forward_work(st.cand[q] != kNone, st.fv[q], v1, v2, h);
-                });
-            out += blocks(st.cap);
+}
+// The dashpots' forward halves with the velocities at t + dt/2 (EnergyBook::account) into the
+// stores' scratch.
+VPPDEM_KFN inline void motion_dashpots(const Globals& g, const SysView& s, int tid, int nt) {
+    if (!s.active || !s.track) return;
+    const Life& L = *s.out.life;
+    const double h = 0.5 * s.dt;
+    for (int k = 0; k < 3; ++k) {
+        const Store& st = store_at(s, k);
+        for (int64_t q = tid; q < int64_t(L.size[k]); q += nt) {
+            // Body 2 against body 1: a wall contact's particle is its body 2.
+            const bool live = st.cand[q] != kNone;
+            double work = 0.0;
+            if (live) {
+                const Vec3 vi = g.v[s.base + st.i[q]];
+                const Vec3 v1 = k == 2 ? s.wall_vnext[st.j[q]] : vi;
+                const Vec3 v2 = k == 2 ? vi : g.v[s.base + st.j[q]];
+                work = dashpot_forward_work(true, st.fv[q], v1, v2, h);
+            }
+            st.dterms[q] = work;
         }
     }
+}
+VPPDEM_KFN inline void motion_sums(const Globals&, const SysView& s, int tid, int nt) {
+    if (!s.active || !s.track) return;
+    const Life& L = *s.out.life;
+    double* const d = s.out.sum_dashpots;
+    const SumArray arr[4] = {{s.pterms, s.n, kParticleSums, false, s.out.sum_particles},
+                             {s.fric.dterms, int64_t(L.size[0]), 1, false, d},
+                             {s.smooth.dterms, int64_t(L.size[1]), 1, false, d + blocks(s.fric.cap)},
+                             {s.walls.dterms, int64_t(L.size[2]), 1, false, d + blocks(s.fric.cap) + blocks(s.smooth.cap)}};
+    block_sums(arr, tid, nt);
+}
+VPPDEM_KFN inline void motion_body(const Globals& g, const SysView& s, int tid, int nt) {
+    motion_advance(g, s, tid, nt);
+    VPPDEM_SYNC();
+    motion_dashpots(g, s, tid, nt);
+    VPPDEM_SYNC();
+    motion_sums(g, s, tid, nt);
 }
 
 }  // namespace dem::batch::dev
