@@ -55,8 +55,8 @@ bench() {  # name, args...: one `vppdem bench checkpoint` line; its rate into ra
     rate[$name]=$r
     dt=$(echo "$line" | field dt)
     if [[ $line == *host_us_per_step* ]]; then
-      extra[$name]=$(printf '%.0f | %.0f | %.0f | %.0f | %.0f | %.0f' "$(echo "$line" | field host_us_per_step)" \
-        "$(echo "$line" | field device_us_per_step)" "$(echo "$line" | field kernel_us_per_step)" "$(echo "$line" | field exchanges_per_step)" \
+      extra[$name]=$(printf '%.0f | %.0f | %.0f | %.1f | %.0f | %.0f' "$(echo "$line" | field host_us_per_step)" \
+        "$(echo "$line" | field device_us_per_step)" "$(echo "$line" | field kernel_us_per_step)" "$(echo "$line" | field waits_per_step)" \
         "$(echo "$line" | field bytes_up_per_step)" "$(echo "$line" | field bytes_down_per_step)")
     fi
     echo "gpu.sh: $name: $line"
@@ -109,7 +109,7 @@ rate[$name]=$sum
 rows+=("$name")
 
 echo
-echo "| run | rate | unit | host us/step | bus+device us/step | of which kernels | exchanges/step | bytes up/step | bytes down/step |"
+echo "| run | rate | unit | host us/step | bus+device us/step | of which kernels | waits/step | bytes up/step | bytes down/step |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for name in "${rows[@]}"; do
   unit="system-steps/s"

@@ -160,7 +160,7 @@ void batch_of_copies(dem::World& w, const BenchOptions& opt) {
     const double kernel0 = dev ? dev->kernel_seconds() : 0.0;
     double part0[4] = {0, 0, 0, 0};
     if (dev) std::copy(dev->host_part_seconds(), dev->host_part_seconds() + 4, part0);
-    const uint64_t relayouts0 = dev ? dev->relayouts() : 0;
+    const uint64_t relayouts0 = dev ? dev->relayouts() : 0, waits0 = dev ? dev->waits() : 0;
     const auto t0 = std::chrono::steady_clock::now();
     steps(uint64_t(opt.steps));
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -175,14 +175,15 @@ void batch_of_copies(dem::World& w, const BenchOptions& opt) {
     double part_us[4] = {0, 0, 0, 0};
     for (int k = 0; k < 4 && dev; ++k) part_us[k] = 1e6 * (dev->host_part_seconds()[k] - part0[k]) / double(opt.steps);
     const uint64_t relayouts = dev ? dev->relayouts() - relayouts0 : 0;
+    const double waits = dev ? double(dev->waits() - waits0) / double(opt.steps) : 0.0;
     std::printf("{\"scene\": \"checkpoint\", \"backend\": \"batch-%s\", \"device\": \"%s\", \"systems\": %d, "
                 "\"particles\": %zu, \"steps\": %ld, \"threads\": %d, \"wall_s\": %.6g, \"steps_per_s\": %.6g, "
                 "\"system_steps_per_s\": %.6g, \"bytes_up_per_step\": %.6g, \"bytes_down_per_step\": %.6g, "
                 "\"exchanges_per_step\": %.6g, \"host_us_per_step\": %.6g, \"device_us_per_step\": %.6g, "
-                "\"kernel_us_per_step\": %.6g, \"host_parts_us_per_step\": [%.4g, %.4g, %.4g, %.4g], \"relayouts\": %llu, "
+                "\"waits_per_step\": %.6g, \"kernel_us_per_step\": %.6g, \"host_parts_us_per_step\": [%.4g, %.4g, %.4g, %.4g], \"relayouts\": %llu, "
                 "\"energy\": %s, \"dt\": %.6g}\n",
                 opt.backend.c_str(), dev ? dev->device_name() : "host", opt.batch, w.particles.size(), opt.steps,
-                opt.threads, wall, sps, sps * opt.batch, up, down, calls, host_us, device_us, kernel_us, part_us[0],
+                opt.threads, wall, sps, sps * opt.batch, up, down, calls, host_us, device_us, waits, kernel_us, part_us[0],
                 part_us[1], part_us[2], part_us[3], static_cast<unsigned long long>(relayouts), opt.energy ? "true" : "false",
                 w.params.dt);
     std::fflush(stdout);

@@ -143,6 +143,14 @@ public:
     virtual void release(void* p) = 0;
     virtual void put(void* dst, const void* src, std::size_t bytes) = 0;   // host -> device
     virtual void get(void* dst, const void* src, std::size_t bytes) = 0;   // device -> host
+    // Copies from the device that are waited for together (a relayout's contacts: one wait for
+    // the bus rather than one per array): get_async into host memory from host_alloc (CUDA:
+    // page-locked, which a copy needs to run without the host; the emulated device: plain), then
+    // wait(), which returns when every copy and launch asked for so far is done.
+    virtual void* host_alloc(std::size_t bytes) = 0;
+    virtual void host_release(void* p) = 0;
+    virtual void get_async(void* dst, const void* src, std::size_t bytes) = 0;
+    virtual void wait() = 0;
     virtual void forces(const Globals& g, const SysView* views, int B) = 0;
     virtual void motion(const Globals& g, const SysView* views, int B) = 0;
     // The kernels' own time since the device was made [s] (CUDA: events around each launch, read

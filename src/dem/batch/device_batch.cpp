@@ -53,6 +53,8 @@ void resize_store(ActiveContacts& a, std::size_t size) {
     for (auto* v : {&a.shear, &a.prev_normal, &a.force, &a.torque1, &a.torque2, &a.point, &a.fv}) v->resize(size);
 }
 template <class T> T* at(DeviceBatch::Buf& b, std::size_t k) { return static_cast<T*>(b.p) + k; }
+// The host thread of each() that runs this system (its staging area for download_contacts).
+thread_local std::size_t host_thread = 0;
 // Adds the wall time of its scope to a counter (host or total seconds of the timing report).
 struct Lap {
     double& to;  // [s]
@@ -64,6 +66,7 @@ struct Lap {
 DeviceBatch::DeviceBatch(std::unique_ptr<dev::Device> device, int threads)
     : dev_(std::move(device)), threads_(threads > 1 ? threads : 1) {
     if (!dev_) throw std::invalid_argument("batch: no device");
+    stage_.resize(std::size_t(threads_) + 1);
 }
 
 template <class F> void DeviceBatch::each(std::size_t B, int part, F&& f) {
@@ -71,12 +74,18 @@ template <class F> void DeviceBatch::each(std::size_t B, int part, F&& f) {
     Lap split{part_s_[part]};
     const int nt = int(std::min<std::size_t>(std::size_t(threads_), std::max<std::size_t>(B, 1)));
     team_.run(nt, [&](int tid) {
+        host_thread = std::size_t(tid);
         const auto [s0, s1] = thread_range(int64_t(B), tid, nt);
         for (int64_t s = s0; s < s1; ++s) f(std::size_t(s));
     });
 }
 
-DeviceBatch::~DeviceBatch() { free_all(); }
+DeviceBatch::~DeviceBatch() {
+    free_all();
+    for (Buf& b : stage_)
+        if (b.p) dev_->host_release(b.p);
+    if (h_sec_.p) dev_->host_release(h_sec_.p);
+}
 
 void DeviceBatch::free_all() {
     for (Sys& y : sys_)
@@ -118,6 +127,7 @@ void DeviceBatch::put(Buf& b, const void* src, std::size_t bytes) {
 void DeviceBatch::get(void* dst, const void* src, std::size_t bytes) {
     dev_->get(dst, src, bytes);
     ++calls_;
+    ++waits_;
     down_ += bytes;
 }
 
@@ -187,7 +197,7 @@ void DeviceBatch::load(BatchSystems& b) {
         ensure(y.bterms, std::size_t(b.bond_first[s + 1] - b.bond_first[s]) * sizeof(double));
     }
     layout_dirty_ = true;
-    up_ = down_ = calls_ = 0;
+    up_ = down_ = calls_ = waits_ = 0;
     host_s_ = total_s_ = 0;
     std::fill(std::begin(part_s_), std::end(part_s_), 0.0);
     relayouts_ = 0;
@@ -320,25 +330,56 @@ void DeviceBatch::upload_contacts(BatchSystems& b, std::size_t s) {
     if (n) send(g_.mat + b.first[s], wd.particles.material.data(), n * 4);
 }
 
-void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s) {
+void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s, std::size_t slot, bool positions) {
     ContactSet& c = b.world[s]->engine_contacts();
     Sys& y = sys_[s];
     const dev::Life& life = life_[s];
+    // What comes down: (World's array, the device's, bytes), each at its offset in the staging.
+    struct Part {
+        void* host;
+        const void* device;
+        std::size_t bytes;
+    };
+    std::vector<Part> parts;
+    if (positions) {
+        const int64_t base = b.first[s], n = b.first[s + 1] - base;
+        parts.push_back({b.world[s]->particles.pos.data(), g_.x + base, std::size_t(n) * sizeof(Vec3)});
+    }
     for (int k = 0; k < 3; ++k) {
         ActiveContacts& a = store_of(c, k);
         Sys::St& t = y.st[k];
         const std::size_t m = life.size[k];
         resize_store(a, m);
-        get(a.i.data(), t.i.p, m * 4);
-        get(a.j.data(), t.j.p, m * 4);
-        get(a.cand.data(), t.cand.p, m * 4);
-        get(a.phys.data(), t.phys.p, m * sizeof(ContactPhys));
+        parts.push_back({a.i.data(), t.i.p, m * 4});
+        parts.push_back({a.j.data(), t.j.p, m * 4});
+        parts.push_back({a.cand.data(), t.cand.p, m * 4});
+        parts.push_back({a.phys.data(), t.phys.p, m * sizeof(ContactPhys)});
         for (auto [dst, bf] : {std::pair{&a.shear, &t.shear}, {&a.prev_normal, &t.prev}, {&a.force, &t.force},
                                {&a.torque1, &t.torque1}, {&a.torque2, &t.torque2}, {&a.point, &t.point}, {&a.fv, &t.fv}})
-            get(dst->data(), bf->p, m * sizeof(Vec3));
+            parts.push_back({dst->data(), bf->p, m * sizeof(Vec3)});
     }
-    if (y.pp_size) get(c.pp.slot.data(), y.pp_slot.p, y.pp_size * 4);
-    if (y.pw_size) get(c.pw.slot.data(), y.pw_slot.p, y.pw_size * 4);
+    if (y.pp_size) parts.push_back({c.pp.slot.data(), y.pp_slot.p, y.pp_size * 4});
+    if (y.pw_size) parts.push_back({c.pw.slot.data(), y.pw_slot.p, y.pw_size * 4});
+    std::vector<std::size_t> at_off(parts.size());
+    std::size_t total = 0;
+    for (std::size_t e = 0; e < parts.size(); ++e) {
+        at_off[e] = total;
+        total += (parts[e].bytes + 15) / 16 * 16;
+    }
+    Buf& st = stage_[slot];
+    if (st.bytes < total || !st.p) {
+        if (st.p) dev_->host_release(st.p);
+        st.bytes = std::max<std::size_t>(total, st.bytes + st.bytes / 2);
+        st.p = dev_->host_alloc(st.bytes);
+    }
+    char* const area = static_cast<char*>(st.p);
+    for (std::size_t e = 0; e < parts.size(); ++e) dev_->get_async(area + at_off[e], parts[e].device, parts[e].bytes);
+    dev_->wait();
+    ++calls_;
+    ++waits_;
+    down_ += total;
+    for (std::size_t e = 0; e < parts.size(); ++e)
+        if (parts[e].bytes) std::memcpy(parts[e].host, area + at_off[e], parts[e].bytes);
     c.holes = std::size_t(life.holes);
 }
 
@@ -377,7 +418,11 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
     o_msums_ = o_maxd2_ + sys_.size() * 8;
     o_end_ = o_msums_ + msums * sizeof(double);
     ensure(sec_, std::max<std::size_t>(o_end_, 8));
-    h_sec_.resize(std::max<std::size_t>(o_end_, 8));
+    if (h_sec_.bytes < std::max<std::size_t>(o_end_, 8)) {
+        if (h_sec_.p) dev_->host_release(h_sec_.p);
+        h_sec_.bytes = std::max<std::size_t>(o_end_, 8);
+        h_sec_.p = dev_->host_alloc(h_sec_.bytes);
+    }
     layout_dirty_ = false;
     // The section moved: every system's lifecycle goes up again.
     if (!life_.empty()) put(sec_, life_.data(), life_.size() * sizeof(dev::Life));
@@ -506,8 +551,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             const bool rebuild = wd.engine_rebuild_due();
             const bool relayout = rebuild || wd.engine_compaction_due();
             if (relayout) ++relayouts_;
-            if (rebuild) get(wd.particles.pos.data(), g_.x + base, std::size_t(n) * sizeof(Vec3));
-            if (relayout) download_contacts(b, s);
+            if (relayout) download_contacts(b, s, host_thread, rebuild);
             wd.engine_begin_forces();
             if (relayout) upload_contacts(b, s);
             if (rebuild) {
@@ -554,7 +598,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
     // The lifecycles, the prescribed particles' forces and the walls' reactions (with the ledger
     // also the block sums) in one copy.
     const std::size_t upto = any_track ? o_maxd2_ : o_fsums_;
-    get(h_sec_.data() + o_life_, static_cast<const char*>(sec_.p) + o_life_, upto - o_life_);
+    get(hs() + o_life_, static_cast<const char*>(sec_.p) + o_life_, upto - o_life_);
 
     // World's part: the counts of its contacts (the device keeps them), the reactions, the ledger.
     each(B, 1, [&](std::size_t s) {
@@ -564,7 +608,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             Sys& y = sys_[s];
             ContactSet& c = wd.engine_contacts();
             dev::Life& life = life_[s];
-            std::memcpy(&life, h_sec_.data() + o_life_ + s * sizeof(dev::Life), sizeof(dev::Life));
+            std::memcpy(&life, hs() + o_life_ + s * sizeof(dev::Life), sizeof(dev::Life));
             if (life.overflow)
                 throw std::logic_error("batch: a store or an interaction list on the device had no room (a bug: docs/gpu.md)");
             for (int k = 0; k < 3; ++k) resize_store(store_of(c, k), life.size[k]);
@@ -621,7 +665,7 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
     ++calls_;
     // Each system's largest move (with the ledger also the block sums) in one copy.
     const std::size_t upto = any_track ? o_end_ : o_msums_;
-    get(h_sec_.data() + o_maxd2_, static_cast<const char*>(sec_.p) + o_maxd2_, upto - o_maxd2_);
+    get(hs() + o_maxd2_, static_cast<const char*>(sec_.p) + o_maxd2_, upto - o_maxd2_);
     each(B, 3, [&](std::size_t s) {
         if (!views_[s].active) return;
         try {
@@ -629,7 +673,7 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
             Sys& y = sys_[s];
             const int64_t base = b.first[s], n = b.first[s + 1] - base;
             double max_d2;
-            std::memcpy(&max_d2, h_sec_.data() + o_maxd2_ + s * 8, 8);
+            std::memcpy(&max_d2, hs() + o_maxd2_ + s * 8, 8);
             if (y.track) {
                 EnergyBook& book = wd.engine_book();
                 const std::size_t m = std::size_t(dev::blocks(n) * dev::kParticleSums);
@@ -673,7 +717,7 @@ void DeviceBatch::pull(BatchSystems& b, std::size_t s) {
     for (auto [host, d] : {std::pair{&b.shear, g_.bshear}, {&b.prev_normal, g_.bprev}, {&b.bond_force, g_.bforce},
                            {&b.torque1, g_.btorque1}, {&b.torque2, g_.btorque2}})
         get(host->data() + b0, d + b0, nb * sizeof(Vec3));
-    download_contacts(b, s);
+    download_contacts(b, s, stage_.size() - 1, false);
     b.world[s]->engine_relink();
 }
 

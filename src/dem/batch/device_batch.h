@@ -55,6 +55,9 @@ public:
     uint64_t bytes_down() const { return down_; }  // device -> host since load, [bytes]
     // Copies each way and launches since load: each is a wait for the device (its latency).
     uint64_t exchanges() const { return calls_; }
+    // Of those, the ones the host waits for (the copies from the device: a copy to the device
+    // and a launch return at once).
+    uint64_t waits() const { return waits_; }
     // Where the time went since load [s]: the host's per-system parts (World's bookkeeping and
     // the staging; wall-clock of the shared loops) and the rest of the halves (the copies each
     // way, the launches and the waits for the kernels).
@@ -82,9 +85,10 @@ private:
     void free_all();
     // The system's contacts up whole (stores, candidates, lists, lifecycle counts, materials).
     void upload_contacts(BatchSystems& b, std::size_t s);
-    // The system's stores and candidates' slots into World's (then its lists are rebuilt by
-    // World: a compaction, or engine_relink).
-    void download_contacts(BatchSystems& b, std::size_t s);
+    // The system's stores and candidates' slots (and with `positions` its particles' positions)
+    // into World's (then its lists are rebuilt by World: a compaction, or engine_relink), in
+    // one wait for the device through the staging area `slot` (a host thread's, or pull()'s).
+    void download_contacts(BatchSystems& b, std::size_t s, std::size_t slot, bool positions);
     void ensure_stores(BatchSystems& b, std::size_t s);  // device stores with room for every candidate
     void layout_outbox(BatchSystems& b);
     void fill_view(BatchSystems& b, std::size_t s);
@@ -117,14 +121,17 @@ private:
     // offsets o_*). The lifecycles are the device's: the host's copy (life_) is
     // taken after each forces half and changed by a layout (then put back: life_up_).
     Buf sec_;
-    std::vector<char> h_sec_;
+    Buf h_sec_;  // page-locked (Device::host_alloc): the outbox's copies run at the bus's speed
+    char* hs() { return static_cast<char*>(h_sec_.p); }
     std::size_t o_life_ = 0, o_presc_ = 0, o_reactions_ = 0, o_fsums_ = 0, o_maxd2_ = 0, o_msums_ = 0, o_end_ = 0;
-    Vec3* hv(std::size_t o) { return reinterpret_cast<Vec3*>(h_sec_.data() + o); }
-    double* hd(std::size_t o) { return reinterpret_cast<double*>(h_sec_.data() + o); }
+    Vec3* hv(std::size_t o) { return reinterpret_cast<Vec3*>(hs() + o); }
+    double* hd(std::size_t o) { return reinterpret_cast<double*>(hs() + o); }
+    // Page-locked staging for download_contacts: one per host thread of each(), and pull()'s.
+    std::vector<Buf> stage_;
     std::vector<dev::Life> life_;
     std::vector<char> life_up_;
     std::atomic<bool> layout_dirty_{true};
-    std::atomic<uint64_t> up_{0}, down_{0}, calls_{0};
+    std::atomic<uint64_t> up_{0}, down_{0}, calls_{0}, waits_{0};
     double host_s_ = 0, total_s_ = 0;
     double part_s_[4] = {0, 0, 0, 0};
     std::atomic<uint64_t> relayouts_{0};

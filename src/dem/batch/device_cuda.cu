@@ -121,6 +121,23 @@ public:
         check(cudaStreamSynchronize(stream_), "copy from the device");
         take_kernel_time();
     }
+    void* host_alloc(std::size_t bytes) override {
+        void* p = nullptr;
+        check(cudaMallocHost(&p, bytes ? bytes : 1), "cudaMallocHost");
+        return p;
+    }
+    void host_release(void* p) override {
+        cudaStreamSynchronize(stream_);
+        cudaFreeHost(p);
+    }
+    void get_async(void* dst, const void* src, std::size_t bytes) override {
+        if (!bytes) return;
+        check(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDeviceToHost, stream_), "copy from the device");
+    }
+    void wait() override {
+        check(cudaStreamSynchronize(stream_), "the copies from the device");
+        take_kernel_time();
+    }
     double kernel_seconds() override {
         check(cudaStreamSynchronize(stream_), "the kernels' time");
         take_kernel_time();

@@ -52,6 +52,10 @@ public:
     void release(void* p) override { std::free(p); }
     void put(void* dst, const void* src, std::size_t bytes) override { if (bytes) std::memcpy(dst, src, bytes); }
     void get(void* dst, const void* src, std::size_t bytes) override { if (bytes) std::memcpy(dst, src, bytes); }
+    void* host_alloc(std::size_t bytes) override { return alloc(bytes); }
+    void host_release(void* p) override { std::free(p); }
+    void get_async(void* dst, const void* src, std::size_t bytes) override { get(dst, src, bytes); }
+    void wait() override {}
     void forces(const Globals& g, const SysView* v, int B) override {
         launch(B, [&](int s, int tid, int nt) { forces_body(g, v[s], tid, nt); });
     }
