@@ -83,7 +83,17 @@ struct Outbox {
     // The dashpots' forward halves (EnergyBook::dashpot_blocks) per block of the frictional,
     // frictionless and wall stores, at blocks(cap) apart.
     double* sum_dashpots = nullptr;
+    // With a batch of kTotalsFrom systems or more, EnergyBook::account's sums of those blocks, so
+    // that the blocks need not come down (null: they come down): the forces' [4 pair terms
+    // (frictional, frictionless, wall blocks in order) | the bonds'], the motion's [11 particle
+    // terms | the dashpots' forward halves negated]. Formed in account()'s order from +0, so the
+    // host puts them where account() adds them from +0 and gets its bits.
+    double* ftotals = nullptr;
+    double* mtotals = nullptr;
 };
+inline constexpr int kForceTotals = kPairSums + 1;
+inline constexpr int kMotionTotals = kParticleSums + 1;
+inline constexpr std::size_t kTotalsFrom = 8;  // systems in the batch
 
 struct SysView {
     int active = 0;          // 0: skipped (a member that left)

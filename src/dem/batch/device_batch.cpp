@@ -197,6 +197,7 @@ void DeviceBatch::load(BatchSystems& b) {
         ensure(y.bterms, std::size_t(b.bond_first[s + 1] - b.bond_first[s]) * sizeof(double));
     }
     layout_dirty_ = true;
+    totals_ = b.systems() >= dev::kTotalsFrom;
     up_ = down_ = calls_ = waits_ = 0;
     host_s_ = total_s_ = 0;
     std::fill(std::begin(part_s_), std::end(part_s_), 0.0);
@@ -413,9 +414,11 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
     o_life_ = 0;
     o_presc_ = o_life_ + sys_.size() * sizeof(dev::Life);
     o_reactions_ = o_presc_ + 2 * b.prescribed.size() * sizeof(Vec3);
-    o_fsums_ = o_reactions_ + reactions * sizeof(Vec3);
+    o_ftot_ = o_reactions_ + reactions * sizeof(Vec3);
+    o_fsums_ = o_ftot_ + sys_.size() * dev::kForceTotals * sizeof(double);
     o_maxd2_ = o_fsums_ + sums * sizeof(double);
-    o_msums_ = o_maxd2_ + sys_.size() * 8;
+    o_mtot_ = o_maxd2_ + sys_.size() * 8;
+    o_msums_ = o_mtot_ + sys_.size() * dev::kMotionTotals * sizeof(double);
     o_end_ = o_msums_ + msums * sizeof(double);
     ensure(sec_, std::max<std::size_t>(o_end_, 8));
     if (h_sec_.bytes < std::max<std::size_t>(o_end_, 8)) {
@@ -509,6 +512,8 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     double* const msums = reinterpret_cast<double*>(sec + o_msums_);
     o.sum_particles = msums + y.sum_particles;
     o.sum_dashpots = msums + y.sum_dashpots;
+    o.ftotals = totals_ ? reinterpret_cast<double*>(sec + o_ftot_) + s * dev::kForceTotals : nullptr;
+    o.mtotals = totals_ ? reinterpret_cast<double*>(sec + o_mtot_) + s * dev::kMotionTotals : nullptr;
 }
 
 void DeviceBatch::upload_views() {
@@ -597,7 +602,7 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
     ++calls_;
     // The lifecycles, the prescribed particles' forces and the walls' reactions (with the ledger
     // also the block sums) in one copy.
-    const std::size_t upto = any_track ? o_maxd2_ : o_fsums_;
+    const std::size_t upto = !any_track ? o_ftot_ : totals_ ? o_fsums_ : o_maxd2_;
     get(hs() + o_life_, static_cast<const char*>(sec_.p) + o_life_, upto - o_life_);
 
     // World's part: the counts of its contacts (the device keeps them), the reactions, the ledger.
@@ -614,7 +619,18 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             for (int k = 0; k < 3; ++k) resize_store(store_of(c, k), life.size[k]);
             c.holes = std::size_t(life.holes);
             wd.engine_activate();  // nothing found here (the device placed them): the ledger's blocks sized
-            if (y.track) {
+            if (y.track && totals_) {
+                // account() adds each block from +0: the totals in the first block, +0 elsewhere
+                // (x + 0 is x: a sum from +0 is never -0), the blocks' sizes World's.
+                EnergyBook& book = wd.engine_book();
+                const double* t = hd(o_ftot_) + s * dev::kForceTotals;
+                for (std::vector<double>* v : {&book.fric, &book.smooth, &book.walls, &book.bonds})
+                    std::fill(v->begin(), v->end(), 0.0);
+                if (book.fric.size() < std::size_t(dev::kPairSums)) book.fric.assign(dev::kPairSums, 0.0);
+                std::copy(t, t + dev::kPairSums, book.fric.begin());
+                if (book.bonds.empty()) book.bonds.assign(1, 0.0);
+                book.bonds[0] = t[dev::kPairSums];
+            } else if (y.track) {
                 EnergyBook& book = wd.engine_book();
                 const auto sums = [&](std::vector<double>& to, std::size_t off) {
                     std::copy(hd(o_fsums_) + off, hd(o_fsums_) + off + to.size(), to.begin());
@@ -664,7 +680,7 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
     dev_->motion(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
     ++calls_;
     // Each system's largest move (with the ledger also the block sums) in one copy.
-    const std::size_t upto = any_track ? o_end_ : o_msums_;
+    const std::size_t upto = !any_track ? o_mtot_ : totals_ ? o_msums_ : o_end_;
     get(hs() + o_maxd2_, static_cast<const char*>(sec_.p) + o_maxd2_, upto - o_maxd2_);
     each(B, 3, [&](std::size_t s) {
         if (!views_[s].active) return;
@@ -674,7 +690,15 @@ void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::ve
             const int64_t base = b.first[s], n = b.first[s + 1] - base;
             double max_d2;
             std::memcpy(&max_d2, hs() + o_maxd2_ + s * 8, 8);
-            if (y.track) {
+            if (y.track && totals_) {
+                EnergyBook& book = wd.engine_book();
+                const double* t = hd(o_mtot_) + s * dev::kMotionTotals;
+                book.particles.assign(std::max<std::size_t>(std::size_t(dev::blocks(n)), 1) * dev::kParticleSums, 0.0);
+                std::copy(t, t + dev::kParticleSums, book.particles.begin());
+                // account() takes each block away from +0: the one value is the sum negated.
+                book.dashpot_blocks.assign(1, t[dev::kParticleSums]);
+                book.dashpot_blocks_given = true;
+            } else if (y.track) {
                 EnergyBook& book = wd.engine_book();
                 const std::size_t m = std::size_t(dev::blocks(n) * dev::kParticleSums);
                 book.particles.assign(hd(o_msums_) + y.sum_particles, hd(o_msums_) + y.sum_particles + m);

@@ -116,14 +116,18 @@ private:
     int threads_ = 1;
     ThreadTeam team_;
     // The outbox (device) and its host copy: one section for what the forces and motion halves
-    // bring back, laid out [lifecycles | prescribed | reactions | the forces' block sums | largest
-    // moves | the motion's block sums] so that each half gets what it reads in one copy (byte
+    // bring back, laid out [lifecycles | prescribed | reactions | the forces' totals | the forces'
+    // block sums | largest moves | the motion's totals | the motion's block sums] so that each half gets what it reads in one copy (byte
     // offsets o_*). The lifecycles are the device's: the host's copy (life_) is
     // taken after each forces half and changed by a layout (then put back: life_up_).
     Buf sec_;
     Buf h_sec_;  // page-locked (Device::host_alloc): the outbox's copies run at the bus's speed
     char* hs() { return static_cast<char*>(h_sec_.p); }
-    std::size_t o_life_ = 0, o_presc_ = 0, o_reactions_ = 0, o_fsums_ = 0, o_maxd2_ = 0, o_msums_ = 0, o_end_ = 0;
+    std::size_t o_life_ = 0, o_presc_ = 0, o_reactions_ = 0, o_ftot_ = 0, o_fsums_ = 0, o_maxd2_ = 0, o_mtot_ = 0,
+                o_msums_ = 0, o_end_ = 0;
+    // The ledger's totals formed on the device (a batch of dev::kTotalsFrom or more: the block
+    // sums, 23 kB a system a half step on the paper's damper, stay there).
+    bool totals_ = false;
     Vec3* hv(std::size_t o) { return reinterpret_cast<Vec3*>(hs() + o); }
     double* hd(std::size_t o) { return reinterpret_cast<double*>(hs() + o); }
     // Page-locked staging for download_contacts: one per host thread of each(), and pull()'s.

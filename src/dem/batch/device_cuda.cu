@@ -32,7 +32,7 @@ namespace {
 // of 4,000 particles and contacts is too small for one block to keep an SM busy: split by
 // split()). A block has 256 threads unless VPPDEM_CUDA_BLOCK names 128 or 512; the bits do
 // not depend on either.
-enum Phase { kTouch, kPlace, kPairs, kGather, kRelease, kAdvance, kDashpots, kSums };
+enum Phase { kTouch, kPlace, kPairs, kGather, kRelease, kAdvance, kDashpots, kSums, kTotals };
 template <int T, int P> __global__ void __launch_bounds__(T) k_phase(Globals g, const SysView* v, int split) {
     const SysView& s = v[blockIdx.x / split];
     const int tid = int(blockIdx.x % unsigned(split)) * T + int(threadIdx.x), nt = split * T;
@@ -44,7 +44,8 @@ template <int T, int P> __global__ void __launch_bounds__(T) k_phase(Globals g, 
         case kRelease: forces_release(g, s, tid, nt); break;
         case kAdvance: motion_advance(g, s, tid, nt); break;
         case kDashpots: motion_dashpots(g, s, tid, nt); break;
-        default: motion_sums(g, s, tid, nt); break;
+        case kSums: motion_sums(g, s, tid, nt); break;
+        default: motion_totals(g, s, tid, nt); break;
     }
 }
 int block_threads() {
@@ -161,6 +162,7 @@ public:
         phase<kAdvance>(g, v, B, k);
         phase<kDashpots>(g, v, B, k);
         phase<kSums>(g, v, B, k);
+        if (size_t(B) >= kTotalsFrom) phase<kTotals>(g, v, B, 1);
         end("the motion kernels");
     }
 

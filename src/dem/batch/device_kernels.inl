@@ -275,6 +275,20 @@ VPPDEM_HD inline double running_job(const double* terms, int64_t stride, int64_t
     return sum;
 }
 
+// EnergyBook::account's running sum (from +0, in order) of count values a[e * stride], added or
+// (subtract) taken away, the loads issued 8 at a time.
+VPPDEM_HD inline double chain_sum(double acc, const double* a, int64_t count, int64_t stride, bool subtract) {
+    for (int64_t c = 0; c < count; c += 8) {
+        double t[8];
+        VPPDEM_UNROLL
+        for (int m = 0; m < 8; ++m) t[m] = c + m < count ? a[(c + m) * stride] : 0.0;
+        VPPDEM_UNROLL
+        for (int m = 0; m < 8; ++m)
+            if (c + m < count) acc = subtract ? acc - t[m] : acc + t[m];
+    }
+    return acc;
+}
+
 // Several arrays' block sums as one list of jobs (a job: one block's one term), shared by the
 // block's threads, so that the arrays' sums run side by side.
 struct SumArray {
@@ -443,6 +457,23 @@ VPPDEM_KFN inline void forces_release(const Globals& g, const SysView& s, int ti
         s.out.presc[2 * (q - s.presc0)] = g.f[k];
         s.out.presc[2 * (q - s.presc0) + 1] = g.pressure_slot[k];
     }
+    // The totals of the forces' block sums (threads 1.., or thread 0 alone), as account() forms
+    // them: each pair term over the frictional, frictionless and wall blocks in turn; the bonds'.
+    if (s.track && s.out.ftotals) {
+        const int first = nt > 1 ? 1 : 0;
+        for (int j = tid - first; j < kForceTotals; j += nt) {
+            if (j < 0) continue;
+            double t = 0.0;
+            if (j < kPairSums) {
+                t = chain_sum(t, s.out.sum_fric + j, blocks(L.size[0]), kPairSums, false);
+                t = chain_sum(t, s.out.sum_smooth + j, blocks(L.size[1]), kPairSums, false);
+                t = chain_sum(t, s.out.sum_walls + j, blocks(L.size[2]), kPairSums, false);
+            } else {
+                t = chain_sum(t, s.out.sum_bonds, blocks(s.bond1 - s.bond0), 1, false);
+            }
+            s.out.ftotals[j] = t;
+        }
+    }
     if (tid != 0) return;
     release_opened(s);
     // The next step's counters, and the largest move that the motion half forms.
@@ -461,7 +492,7 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
     forces_release(g, s, tid, nt);
 }
 
-// Motion to t + dt in three phases (as the forces'): 1. the free particles (advance_particle)
+// Motion to t + dt in three phases (four with the ledger's totals; as the forces'): 1. the free particles (advance_particle)
 // and the prescribed ones (from the host), the largest squared move of the free ones since the
 // rebuild (its word zeroed by the forces' phase 5); with the ledger 2. the dashpots' forward
 // halves, which need the new velocities, a slot per thread, and 3. the block sums (the
@@ -536,12 +567,34 @@ VPPDEM_KFN inline void motion_sums(const Globals&, const SysView& s, int tid, in
                              {s.walls.dterms, int64_t(L.size[2]), 1, false, d + blocks(s.fric.cap) + blocks(s.smooth.cap)}};
     block_sums(arr, tid, nt);
 }
+// 4. With the totals: account()'s sums of the motion's blocks (each particle term over the
+// blocks; the dashpots' forward halves taken away in turn over the three stores' blocks, negated
+// so that account(), taking the one value away from +0, gets them back).
+VPPDEM_KFN inline void motion_totals(const Globals&, const SysView& s, int tid, int nt) {
+    if (!s.active || !s.track || !s.out.mtotals) return;
+    const Life& L = *s.out.life;
+    for (int j = tid; j < kMotionTotals; j += nt) {
+        if (j < kParticleSums) {
+            s.out.mtotals[j] = chain_sum(0.0, s.out.sum_particles + j, blocks(s.n), kParticleSums, false);
+            continue;
+        }
+        const double* d = s.out.sum_dashpots;
+        double v = chain_sum(0.0, d, blocks(L.size[0]), 1, true);
+        d += blocks(s.fric.cap);
+        v = chain_sum(v, d, blocks(L.size[1]), 1, true);
+        d += blocks(s.smooth.cap);
+        v = chain_sum(v, d, blocks(L.size[2]), 1, true);
+        s.out.mtotals[j] = -v;
+    }
+}
 VPPDEM_KFN inline void motion_body(const Globals& g, const SysView& s, int tid, int nt) {
     motion_advance(g, s, tid, nt);
     VPPDEM_SYNC();
     motion_dashpots(g, s, tid, nt);
     VPPDEM_SYNC();
     motion_sums(g, s, tid, nt);
+    VPPDEM_SYNC();
+    motion_totals(g, s, tid, nt);
 }
 
 }  // namespace dem::batch::dev
