@@ -117,10 +117,8 @@ public:
         check(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyHostToDevice, stream_), "copy to the device");
     }
     void get(void* dst, const void* src, std::size_t bytes) override {
-        if (!bytes) return;
-        check(cudaMemcpyAsync(dst, src, bytes, cudaMemcpyDeviceToHost, stream_), "copy from the device");
-        check(cudaStreamSynchronize(stream_), "copy from the device");
-        take_kernel_time();
+        get_async(dst, src, bytes);
+        wait();
     }
     void* host_alloc(std::size_t bytes) override {
         void* p = nullptr;
