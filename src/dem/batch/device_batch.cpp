@@ -113,6 +113,14 @@ void DeviceBatch::ensure(Buf& b, std::size_t bytes) {
     b.bytes = cap;
 }
 
+void DeviceBatch::ensure_host(Buf& b, std::size_t bytes) {
+    if (bytes <= b.bytes && b.p) return;
+    const std::size_t cap = std::max<std::size_t>({bytes, b.bytes + b.bytes / 2, 64});
+    if (b.p) dev_->host_release(b.p);
+    b.p = dev_->host_alloc(cap);
+    b.bytes = cap;
+}
+
 void DeviceBatch::send(void* dst, const void* src, std::size_t bytes) {
     dev_->put(dst, src, bytes);
     ++calls_;
@@ -368,17 +376,13 @@ void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s, std::size_t 
         total += (parts[e].bytes + 15) / 16 * 16;
     }
     Buf& st = stage_[slot];
-    if (st.bytes < total || !st.p) {
-        if (st.p) dev_->host_release(st.p);
-        st.bytes = std::max<std::size_t>(total, st.bytes + st.bytes / 2);
-        st.p = dev_->host_alloc(st.bytes);
-    }
+    ensure_host(st, total);
     char* const area = static_cast<char*>(st.p);
     for (std::size_t e = 0; e < parts.size(); ++e) dev_->get_async(area + at_off[e], parts[e].device, parts[e].bytes);
     dev_->wait();
     ++calls_;
     ++waits_;
-    down_ += total;
+    for (std::size_t e = 0; e < parts.size(); ++e) down_ += parts[e].bytes;  // not the staging's padding
     for (std::size_t e = 0; e < parts.size(); ++e)
         if (parts[e].bytes) std::memcpy(parts[e].host, area + at_off[e], parts[e].bytes);
     c.holes = std::size_t(life.holes);
@@ -387,7 +391,6 @@ void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s, std::size_t 
 void DeviceBatch::put_life(std::size_t s) {
     if (!sec_.p) return;  // layout_outbox() puts them all
     send(static_cast<char*>(sec_.p) + o_life_ + s * sizeof(dev::Life), &life_[s], sizeof(dev::Life));
-    up_ += sizeof(dev::Life);
     life_up_[s] = 0;
 }
 
@@ -421,11 +424,7 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
     o_msums_ = o_mtot_ + sys_.size() * dev::kMotionTotals * sizeof(double);
     o_end_ = o_msums_ + msums * sizeof(double);
     ensure(sec_, std::max<std::size_t>(o_end_, 8));
-    if (h_sec_.bytes < std::max<std::size_t>(o_end_, 8)) {
-        if (h_sec_.p) dev_->host_release(h_sec_.p);
-        h_sec_.bytes = std::max<std::size_t>(o_end_, 8);
-        h_sec_.p = dev_->host_alloc(h_sec_.bytes);
-    }
+    ensure_host(h_sec_, std::max<std::size_t>(o_end_, 8));
     layout_dirty_ = false;
     // The section moved: every system's lifecycle goes up again.
     if (!life_.empty()) put(sec_, life_.data(), life_.size() * sizeof(dev::Life));
@@ -555,8 +554,10 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
             const int64_t base = b.first[s], n = b.first[s + 1] - base;
             const bool rebuild = wd.engine_rebuild_due();
             const bool relayout = rebuild || wd.engine_compaction_due();
-            if (relayout) ++relayouts_;
-            if (relayout) download_contacts(b, s, host_thread, rebuild);
+            if (relayout) {
+                ++relayouts_;
+                download_contacts(b, s, host_thread, rebuild);
+            }
             wd.engine_begin_forces();
             if (relayout) upload_contacts(b, s);
             if (rebuild) {

@@ -79,6 +79,7 @@ public:
 
 private:
     void ensure(Buf& b, std::size_t bytes);                     // room for bytes (contents not kept)
+    void ensure_host(Buf& b, std::size_t bytes);                // the same, page-locked host memory
     void send(void* dst, const void* src, std::size_t bytes);  // host -> device, counted
     void put(Buf& b, const void* src, std::size_t bytes);      // ensure, then send
     void get(void* dst, const void* src, std::size_t bytes);
@@ -117,16 +118,17 @@ private:
     ThreadTeam team_;
     // The outbox (device) and its host copy: one section for what the forces and motion halves
     // bring back, laid out [lifecycles | prescribed | reactions | the forces' totals | the forces'
-    // block sums | largest moves | the motion's totals | the motion's block sums] so that each half gets what it reads in one copy (byte
-    // offsets o_*). The lifecycles are the device's: the host's copy (life_) is
-    // taken after each forces half and changed by a layout (then put back: life_up_).
+    // block sums | largest moves | the motion's totals | the motion's block sums] so that each
+    // half gets what it reads in one copy (byte offsets o_*). The lifecycles are the device's: the
+    // host's copy (life_) is taken after each forces half and changed by a layout (then put back:
+    // life_up_).
     Buf sec_;
     Buf h_sec_;  // page-locked (Device::host_alloc): the outbox's copies run at the bus's speed
     char* hs() { return static_cast<char*>(h_sec_.p); }
     std::size_t o_life_ = 0, o_presc_ = 0, o_reactions_ = 0, o_ftot_ = 0, o_fsums_ = 0, o_maxd2_ = 0, o_mtot_ = 0,
                 o_msums_ = 0, o_end_ = 0;
     // The ledger's totals formed on the device (a batch of dev::kTotalsFrom or more: the block
-    // sums, 23 kB a system a half step on the paper's damper, stay there).
+    // sums, 23 kB a system a step on the paper's damper, stay there).
     bool totals_ = false;
     Vec3* hv(std::size_t o) { return reinterpret_cast<Vec3*>(hs() + o); }
     double* hd(std::size_t o) { return reinterpret_cast<double*>(hs() + o); }

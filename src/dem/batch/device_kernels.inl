@@ -7,12 +7,12 @@
 // lowest holes first; the frees; each particle's sorted list), so that a step needs no round trip
 // to the host between the touch test and the forces: one thread of the block decides the slots.
 //
-// Before including: VPPDEM_KFN (__device__ or nothing: the kernels' bodies), VPPDEM_SYNC() (a block barrier), vppdem_append(uint64_t* counter) (returns
-// the old value, atomically on a device), vppdem_max_bits(uint64_t* word, double d2) (the largest
-// non-negative double, by its bits).
+// Before including: VPPDEM_KFN (__device__ or nothing: the kernels' bodies), VPPDEM_SYNC() (a
+// block barrier), vppdem_append(uint64_t* counter) (returns the old value, atomically on a
+// device), vppdem_max_bits(uint64_t* word, double d2) (the largest non-negative double, by its
+// bits).
 #include "dem/batch/bond_step.h"
 #include "dem/batch/device_api.h"
-#include "dem/core/lane_sums.h"
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
 #include "dem/detect/candidates.h"
@@ -260,21 +260,6 @@ VPPDEM_HD inline double lane_job(const double* terms, int64_t stride, int64_t n,
     for (int l = 0; l < 8; ++l) sum += lane[l];
     return sum;
 }
-// The wall store's sums: one running sum per block in slot order (the scalar wall kernel).
-VPPDEM_HD inline double running_job(const double* terms, int64_t stride, int64_t n, int64_t b, int k) {
-    double sum = 0.0;
-    const int64_t e0 = b * kBlock, e1 = e0 + kBlock < n ? e0 + kBlock : n;
-    for (int64_t c = e0; c < e1; c += 8) {
-        double t[8];
-        VPPDEM_UNROLL
-        for (int m = 0; m < 8; ++m) t[m] = c + m < e1 ? terms[(c + m) * stride + k] : 0.0;
-        VPPDEM_UNROLL
-        for (int m = 0; m < 8; ++m)
-            if (c + m < e1) sum += t[m];
-    }
-    return sum;
-}
-
 // EnergyBook::account's running sum (from +0, in order) of count values a[e * stride], added or
 // (subtract) taken away, the loads issued 8 at a time.
 VPPDEM_HD inline double chain_sum(double acc, const double* a, int64_t count, int64_t stride, bool subtract) {
@@ -287,6 +272,11 @@ VPPDEM_HD inline double chain_sum(double acc, const double* a, int64_t count, in
             if (c + m < count) acc = subtract ? acc - t[m] : acc + t[m];
     }
     return acc;
+}
+// The wall store's sums: one running sum per block in slot order (the scalar wall kernel).
+VPPDEM_HD inline double running_job(const double* terms, int64_t stride, int64_t n, int64_t b, int k) {
+    const int64_t e0 = b * kBlock, e1 = e0 + kBlock < n ? e0 + kBlock : n;
+    return chain_sum(0.0, terms + e0 * stride + k, e1 - e0, stride, false);
 }
 
 // Several arrays' block sums as one list of jobs (a job: one block's one term), shared by the
@@ -492,11 +482,11 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
     forces_release(g, s, tid, nt);
 }
 
-// Motion to t + dt in three phases (four with the ledger's totals; as the forces'): 1. the free particles (advance_particle)
-// and the prescribed ones (from the host), the largest squared move of the free ones since the
-// rebuild (its word zeroed by the forces' phase 5); with the ledger 2. the dashpots' forward
-// halves, which need the new velocities, a slot per thread, and 3. the block sums (the
-// particles', the dashpots').
+// Motion to t + dt in three phases (four with the ledger's totals; as the forces'): 1. the free
+// particles (advance_particle) and the prescribed ones (from the host), the largest squared move
+// of the free ones since the rebuild (its word zeroed by the forces' phase 5); with the ledger
+// 2. the dashpots' forward halves, which need the new velocities, a slot per thread, and 3. the
+// block sums (the particles', the dashpots').
 VPPDEM_KFN inline void motion_advance(const Globals& g, const SysView& s, int tid, int nt) {
     if (!s.active) return;
     const bool track = s.track != 0;

@@ -1,8 +1,9 @@
 // The energy ledger's block sums as World's SIMD kernels form them (dem/kernels/kernels.h, for_blocks):
 // within a block of kernels::kBlock entries, entry e adds its K terms to virtual lane e % 8 in entry
 // order, then the 8 lanes are added in order. One source for the batch engine's host backend
-// (batch_systems.cpp), its device kernels (device_kernels.inl) and the ledger's own sums that the
-// device forms too (EnergyBook: the dashpots' forward halves).
+// (batch_systems.cpp) and the ledger's own sums that the device forms too (EnergyBook: the
+// dashpots' forward halves); the device kernels form the same sums a thread per (block, term)
+// (device_kernels.inl: lane_job), and the tests hold them to these bits.
 #pragma once
 
 #include <cstdint>
