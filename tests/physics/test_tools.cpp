@@ -721,6 +721,12 @@ TEST(Tools, PaperReportDecidesTheRadiusAtEqualPacking) {
                      "25.5 mm, resolved at 95% by Welch (0.02 MPa: unresolved, 0.06 MPa: peak). By the rules (direction "
                      "at every dp, Welch): C28 at equal packing not reproduced, C26 (the loop energy) reproduced."),
               std::string::npos) << s;
+    // Every run flat, so its stationary W is its W: the same answer on the stationary W.
+    EXPECT_NE(s.find("On each run's stationary W (W_settled, or W_inf at the pooled q "), std::string::npos) << s;
+    EXPECT_NE(s.find("W peaks at 25.5 mm, resolved, at 1 of 2 dp (0.02 MPa: unresolved, 0.06 MPa: peak; 0.02 MPa 20.5 mm "
+                     "+0 +- 23 (+0%) [unresolved]; "),
+              std::string::npos) << s;
+    EXPECT_NE(s.find("(-20%) [yes]); C28 at equal packing not reproduced."), std::string::npos) << s;
     EXPECT_NE(p.c28.find("| not reproduced at equal packing (damper.packing_target 0.62, 5 planned seeds; section 'Radius "
                          "at equal packing'): 0.02 MPa 20.5 mm +0 +- 23 (+0%) [unresolved]; 0.02 MPa 30.5 mm +0 +- 23 "
                          "(+0%) [unresolved]; 0.06 MPa 20.5 mm -160 +- 23 (-10%) [against]; 0.06 MPa 30.5 mm -320 +- 23 "

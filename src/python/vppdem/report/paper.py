@@ -1025,6 +1025,15 @@ def radius_packing_section(S):
                      + ", ".join(f"{dp / 1e6:g} MPa: {s}" for dp, s in shapes.items()) + "). By the rules (direction "
                      "at every dp, Welch): C28 at equal packing " + J_all["C28 at equal packing"][0] + ", C26 (the loop "
                      "energy) " + J_all["C26 at equal packing"][0] + ".")
+        if RATE.get("q") is not None:
+            # The same question on each run's stationary W (rule 'Which W'; section 'Stationary W'):
+            # the 20.5 mm difference is a few per cent, so the last cycle's drift can decide it.
+            stat = radius_claims(rp, "W_stat", False)["C28 at equal packing"]
+            k_peak = sum(1 for s in stat[2].values() if s == "peak")
+            lines.append(f"  On each run's stationary W (W_settled, or W_inf at the pooled q {RATE['q']:.2f}; section "
+                         f"'Stationary W'): W peaks at 25.5 mm, resolved, at {k_peak} of {len(stat[2])} dp ("
+                         + ", ".join(f"{dp / 1e6:g} MPa: {s}" for dp, s in stat[2].items()) + f"; {stat[1]}); C28 at "
+                         f"equal packing {stat[0]}.")
     notes = {}
     for c in RP_WANT:
         if not complete:
