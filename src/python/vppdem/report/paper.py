@@ -1745,7 +1745,7 @@ def write(data, out_md, figdir, command):
         "- **Which W**: a run's W of its last cycle (cycle 5; 8 for the friction leg; 2 for the numerical checks), or "
         "its study's W_settled where every run of the study is stationary by the settle criterion (docs/damper.md). "
         "Every W verdict is recomputed on each run's stationary W (W_settled, or extrapolated: section 'Stationary "
-        "W'), and the page lists the verdicts that change.",
+        "W'), and the page lists the verdicts that change there and in the claim's row.",
         "- **Seeds**: the seed count each study fixed before it ran decides (3 for the studies, 2 for the time step "
         "and the foil resolution). Where seeds were added after a look because 3 (or 2) left a difference "
         "unresolved (radius x underpressure, grain modulus, time step, foil resolution, C18), the verdict stays "
@@ -1785,7 +1785,15 @@ def write(data, out_md, figdir, command):
         "| id | claim (paper section) | paper | vppdem | rule (test; W; seeds) | verdict |",
         "|---|---|---|---|---|---|",
     ]
-    lines += [f"| {a} | {b} | {c} | {d} | {RULE.get(a, '-')} | {e} |" for a, b, c, d, e in rows]
+    st_lines, st_changes = stationary_section(S)
+
+    def on_stationary(cid):
+        """The row's note where its planned-seed verdict changes on the stationary W (at the pooled q)."""
+        ch = [(c, x) for (c, planned), xs in sorted(st_changes.items()) if planned and (c == cid or c.startswith(cid + " "))
+              for x in xs if x[0] == "q"]
+        return "".join(f" [on each run's stationary W ({c}, pooled q {x[1]:.2f}): {x[2]}; section 'Stationary W']"
+                       for c, x in ch)
+    lines += [f"| {a} | {b} | {c} | {d} | {RULE.get(a, '-')} | {e}{on_stationary(a)} |" for a, b, c, d, e in rows]
     lines += ["", "## Friction share: local damping and loading speed (C33, C30, C23)", "",
               "The paper: 'the dominating dissipative mechanism is through the rearrangement of particles, having its "
               "roots in the damping of the kinetic energy of particles released from the jammed state'. vppdem's "
@@ -1799,7 +1807,6 @@ def write(data, out_md, figdir, command):
                                 "limit, where friction takes about 0.9 of the dissipation or more. At the paper's "
                                 "settings friction dominates; the paper's statement (C33) is contradicted by vppdem's "
                                 "ledger." if sh_resolved else "no dependence resolved."), ""]
-    st_lines, st_changes = stationary_section(S)
     lines += ["## Stationary W (every verdict's W, and whether it matters)", "",
               "Each claim's rule column says which W decides it: the last cycle's W of every run of its study "
               "(cycle 5; cycle 8 for the friction leg; cycle 2 for the numerical checks) unless every run of the "
