@@ -50,7 +50,8 @@ VERDICTS = [
                        "reversed or a peak where the paper has a monotone trend), or an effect the claim says "
                        "is absent lies beyond the margin"),
     ("contradicted", "a statement about the mechanism that vppdem's energy ledger reverses, resolved at 95%"),
-    ("not decidable", "the repository lacks what would decide it (the experiment's measured loops)"),
+    ("not decidable", "the repository lacks what would decide it: the experiment's measured loops, or a run "
+                      "or a measure vppdem has not made (the claim's row names it)"),
     ("open", "runs pending"),
 ]
 
