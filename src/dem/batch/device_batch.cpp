@@ -370,10 +370,11 @@ void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s, std::size_t 
     if (y.pp_size) parts.push_back({c.pp.slot.data(), y.pp_slot.p, y.pp_size * 4});
     if (y.pw_size) parts.push_back({c.pw.slot.data(), y.pw_slot.p, y.pw_size * 4});
     std::vector<std::size_t> at_off(parts.size());
-    std::size_t total = 0;
+    std::size_t total = 0, data = 0;  // the staging's bytes (each part 16-aligned), the parts' own
     for (std::size_t e = 0; e < parts.size(); ++e) {
         at_off[e] = total;
         total += (parts[e].bytes + 15) / 16 * 16;
+        data += parts[e].bytes;
     }
     Buf& st = stage_[slot];
     ensure_host(st, total);
@@ -382,7 +383,7 @@ void DeviceBatch::download_contacts(BatchSystems& b, std::size_t s, std::size_t 
     dev_->wait();
     ++calls_;
     ++waits_;
-    for (std::size_t e = 0; e < parts.size(); ++e) down_ += parts[e].bytes;  // not the staging's padding
+    down_ += data;
     for (std::size_t e = 0; e < parts.size(); ++e)
         if (parts[e].bytes) std::memcpy(parts[e].host, area + at_off[e], parts[e].bytes);
     c.holes = std::size_t(life.holes);
