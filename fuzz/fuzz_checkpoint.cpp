@@ -15,7 +15,7 @@
 
 #include "dem/io/checkpoint.h"
 #include "fuzz_input.h"
-#include "vpp/damper_run.h"
+#include "vpp/damper/run.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     std::string bytes(fuzz::as_text(data, size));

@@ -4,8 +4,8 @@
 #include <cstdint>
 
 #include "fuzz_input.h"
-#include "vpp/config.h"
-#include "vpp/settings.h"
+#include "vpp/settings/config.h"
+#include "vpp/settings/settings.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     const std::string path = fuzz::write_file("config.toml", fuzz::as_text(data, size));

@@ -7,7 +7,7 @@
 #include <cstdint>
 
 #include "fuzz_input.h"
-#include "vpp/calibrate.h"
+#include "vpp/calibration/calibrate.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     const std::string path = fuzz::write_file("experiment.csv", fuzz::as_text(data, size));

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "fuzz_input.h"
-#include "vpp/config.h"
-#include "vpp/settings.h"
+#include "vpp/settings/config.h"
+#include "vpp/settings/settings.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, std::size_t size) {
     std::vector<std::string> sets;

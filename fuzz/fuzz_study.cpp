@@ -5,11 +5,11 @@
 #include <cstdint>
 
 #include "fuzz_input.h"
-#include "vpp/study.h"
+#include "vpp/study/study.h"
 
 namespace {
 
-// A valid grid may hold 100000 cases (vpp/study.cpp); expanding that many is seconds of work the
+// A valid grid may hold 100000 cases (vpp/study/study.cpp); expanding that many is seconds of work the
 // user asked for, not a fault of the reader, and would read as a hang. A larger grid is still
 // read (load_study); only its expansion is left out.
 constexpr std::size_t kMaxExpandedCases = 2000;

@@ -31,15 +31,15 @@
 #include "dem/world/world.h"
 #include "dem/io/checkpoint.h"
 #include "dem/walls/facet_sets.h"
-#include "vpp/calibrate.h"
-#include "vpp/config.h"
-#include "vpp/damper.h"
-#include "vpp/device_def.h"
-#include "vpp/device_run.h"
-#include "vpp/device_study.h"
-#include "vpp/settings.h"
-#include "vpp/records.h"
-#include "vpp/study.h"
+#include "vpp/calibration/calibrate.h"
+#include "vpp/settings/config.h"
+#include "vpp/damper/damper.h"
+#include "vpp/device/definition.h"
+#include "vpp/device/run.h"
+#include "vpp/study/device_study.h"
+#include "vpp/settings/settings.h"
+#include "vpp/analysis/records.h"
+#include "vpp/study/study.h"
 
 namespace py = pybind11;
 
@@ -264,7 +264,7 @@ PYBIND11_MODULE(_core, m) {
     });
 
     // --- configuration ------------------------------------------------------------------------
-    py::class_<vpp::Config>(m, "Config", "The damper's settings (vpp/config.h); made by load_config")
+    py::class_<vpp::Config>(m, "Config", "The damper's settings (vpp/settings/config.h); made by load_config")
         .def("given", [](const vpp::Config& c) { return std::vector<std::string>(c.given.begin(), c.given.end()); });
     m.def(
         "load_config",
@@ -287,7 +287,7 @@ PYBIND11_MODULE(_core, m) {
         }
         return rows;
     });
-    // The records' columns (vpp/records.h): what cycles() and forces() hold, with units.
+    // The records' columns (vpp/analysis/records.h): what cycles() and forces() hold, with units.
     m.def("record_columns", [] {
         py::list rows;
         auto row = [&](const char* record, const char* name, const char* unit, const char* meaning, const char* only_with) {
@@ -414,7 +414,7 @@ PYBIND11_MODULE(_core, m) {
         .def_static("energy_columns", &vpp::Damper::energy_columns)
         .def("cycles",
              [](const PyDamper& p) {
-                 // Per cycle, every column of the record's table (vpp/records.h): cycles.csv's and
+                 // Per cycle, every column of the record's table (vpp/analysis/records.h): cycles.csv's and
                  // summary.json's, NaN where a cycle lacks the column's group (no energy ledger).
                  const vpp::DamperResult r = p.read("cycles").result();
                  const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -428,7 +428,7 @@ PYBIND11_MODULE(_core, m) {
              })
         .def("forces",
              [](const PyDamper& p) {
-                 // forces.csv's columns as arrays (vpp/records.h, sample_columns()), from the same
+                 // forces.csv's columns as arrays (vpp/analysis/records.h, sample_columns()), from the same
                  // rows the file is written from.
                  const vpp::ForcesTable t = p.read("forces").forces();
                  py::dict out;

@@ -1,6 +1,6 @@
 // A clump template: the members of a grain (x, y, z, r [m] in the grain's frame, one per row of a
 // CSV file of four numeric columns), read once for the scenes' [[clumps]] (scene_runner.cpp) and
-// the damper's grains.clump_template (vpp/config.cpp).
+// the damper's grains.clump_template (vpp/settings/config.cpp).
 #pragma once
 
 #include <string>

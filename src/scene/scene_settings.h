@@ -2,7 +2,7 @@
 // type, default, unit, allowed range and one line of doc. build_scene() (scene/scene_runner.cpp)
 // reads each key through it, so the defaults and checks are the table's, a key outside the table
 // cannot be read, and the reference page docs/config.md (`vppdem config-reference`) prints it.
-// The damper's keys have their own table (vpp/settings.h) over the same types and checks
+// The damper's keys have their own table (vpp/settings/settings.h) over the same types and checks
 // (scene/setting.h).
 #pragma once
 

@@ -1,6 +1,6 @@
 // What every settings table shares: a key's type, how its value is checked, and how the
 // reference page (docs/config.md) prints them. Two tables use it: the scene runner's
-// (scene/scene_settings.cpp: `vppdem scene`) and the damper's (vpp/settings.cpp: damper, sweep,
+// (scene/scene_settings.cpp: `vppdem scene`) and the damper's (vpp/settings/settings.cpp: damper, sweep,
 // calibrate, tension, envelope). One check and one wording for both, so a range reads the same in
 // an error message, in either table and on the page.
 #pragma once

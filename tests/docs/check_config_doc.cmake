@@ -1,4 +1,4 @@
-# Fails when docs/config.md is not what the settings table (src/vpp/settings.cpp) generates, so the
+# Fails when docs/config.md is not what the settings table (src/vpp/settings/settings.cpp) generates, so the
 # reference cannot drift from the keys the reader accepts.
 # Usage: cmake -DVPPDEM=<vppdem binary> -DDOC=<docs/config.md> -P check_config_doc.cmake
 foreach(v VPPDEM DOC)
@@ -15,7 +15,7 @@ if(NOT EXISTS "${DOC}")
 endif()
 file(READ "${DOC}" written)
 if(NOT written STREQUAL generated)
-  message(FATAL_ERROR "check_config_doc: ${DOC} differs from the settings table (src/vpp/settings.cpp); "
+  message(FATAL_ERROR "check_config_doc: ${DOC} differs from the settings table (src/vpp/settings/settings.cpp); "
                       "regenerate it: build/vppdem config-reference > docs/config.md")
 endif()
 message(STATUS "check_config_doc: ${DOC} is the settings table's reference")

@@ -13,6 +13,14 @@
 #   5  world                            the World, its step, its contacts' lifecycle, the walls' state
 #   6  io, batch                        file formats; the batch engine (systems packed from Worlds)
 # A folder of src/dem that is not in this table is refused until it is given a rank here.
+# Inside vpp the same, over its rooms (each room's README.md says what lives there):
+#   0  analysis                         the records' columns, the loops' energies, statistics, plots
+#   1  membrane                         the foil, the mesh membranes, the gas and the air in them
+#   2  settings                         the config and the one table of its keys
+#   3  foil_checks, damper, device      the applications: the foil's checks, the damper, devices
+#   4  study                            sweeps of dampers and devices, their records, the key reference
+#   5  calibration                      studies fitted to an experiment's loops
+# Every file of src/vpp lives in a room: one directly in src/vpp is refused.
 # Usage: cmake -DROOT=<folder that holds src/> -P check_layers.cmake
 # Fails naming each offending file:line; quoted includes must name their layer folder.
 if(NOT DEFINED ROOT)
@@ -48,6 +56,25 @@ function(dem_rank folder out)
   set(${out} "${r}" PARENT_SCOPE)
 endfunction()
 
+# The rank of a room of src/vpp ("" when it has none).
+function(vpp_rank folder out)
+  set(r "")
+  if(folder STREQUAL "analysis")
+    set(r 0)
+  elseif(folder STREQUAL "membrane")
+    set(r 1)
+  elseif(folder STREQUAL "settings")
+    set(r 2)
+  elseif(folder MATCHES "^(foil_checks|damper|device)$")
+    set(r 3)
+  elseif(folder STREQUAL "study")
+    set(r 4)
+  elseif(folder STREQUAL "calibration")
+    set(r 5)
+  endif()
+  set(${out} "${r}" PARENT_SCOPE)
+endfunction()
+
 set(bad "")
 set(checked 0)
 foreach(layer dem scene vpp)
@@ -66,6 +93,9 @@ foreach(layer dem scene vpp)
     string(REPLACE "\\" "<backslash>" text "${text}")
     string(REPLACE "\n" ";" lines "${text}")
     file(RELATIVE_PATH rel "${ROOT}" "${f}")
+    if(layer STREQUAL "vpp" AND NOT rel MATCHES "^src/vpp/[^/]+/")
+      list(APPEND bad "${rel}:1: a file directly in src/vpp: every file lives in a room (analysis, membrane, settings, foil_checks, damper, device, study, calibration)")
+    endif()
     set(n 0)
     foreach(line IN LISTS lines)
       math(EXPR n "${n} + 1")
@@ -96,6 +126,19 @@ foreach(layer dem scene vpp)
           list(APPEND bad "${rel}:${n}: dem/${from} (rank ${rank_from}) includes ${path} (dem/${to}, rank ${rank_to}): a folder includes only itself and lower ranks (core <- bonds, walls, mesh, clumps <- detect, integrate <- contact <- kernels <- world <- io, batch)")
         endif()
       endif()
+      if(layer STREQUAL "vpp" AND path MATCHES "^vpp/([^/]+)/" AND rel MATCHES "^src/vpp/([^/]+)/")
+        string(REGEX REPLACE "^src/vpp/([^/]+)/.*" "\\1" from "${rel}")
+        string(REGEX REPLACE "^vpp/([^/]+)/.*" "\\1" to "${path}")
+        vpp_rank("${from}" rank_from)
+        vpp_rank("${to}" rank_to)
+        if(rank_from STREQUAL "" OR rank_to STREQUAL "")
+          list(APPEND bad "${rel}:${n}: vpp/${from} includes ${path}: a room of src/vpp without a rank (give it one in tests/layers/check_layers.cmake)")
+        elseif(NOT from STREQUAL to AND NOT rank_to LESS rank_from)
+          list(APPEND bad "${rel}:${n}: vpp/${from} (rank ${rank_from}) includes ${path} (vpp/${to}, rank ${rank_to}): a room includes only itself and lower ranks (analysis <- membrane <- settings <- foil_checks, damper, device <- study <- calibration)")
+        endif()
+      elseif(layer STREQUAL "vpp" AND path MATCHES "^vpp/[^/]+$")
+        list(APPEND bad "${rel}:${n}: #include \"${path}\": src/vpp's files live in rooms (vpp/ROOM/file.h)")
+      endif()
       list(FIND allowed_${layer} "${top}" a)
       if(a EQUAL -1)
         list(APPEND bad "${rel}:${n}: layer ${layer} includes ${path} of the higher layer ${top} (allowed here: ${allowed_${layer}})")
@@ -109,4 +152,4 @@ if(bad)
   string(REPLACE ";" "\n  " report "${bad}")
   message(FATAL_ERROR "check_layers: ${nbad} include(s) against the layers (dem <- scene <- vpp <- cli, python):\n  ${report}")
 endif()
-message(STATUS "check_layers: ${checked} files of src/dem, src/scene, src/vpp include only their own and lower layers")
+message(STATUS "check_layers: ${checked} files of src/dem, src/scene, src/vpp include only their own and lower layers and rooms")

@@ -16,8 +16,8 @@
 
 #include "cli_helpers.h"
 #include "dem/world/world.h"
-#include "vpp/config.h"
-#include "vpp/foil.h"
+#include "vpp/settings/config.h"
+#include "vpp/membrane/foil.h"
 
 namespace fs = std::filesystem;
 using dem::Vec3;

@@ -531,7 +531,7 @@ TEST(DamperPreparation, PackingTargetGivesThatPackingToTheNearestGrain) {
 }
 
 // What a study lets differ between the cases of one preparation (shares_preparation in the
-// settings table, src/vpp/settings.cpp) must not act before prepared.ckpt is written: the sample is then the
+// settings table, src/vpp/settings/settings.cpp) must not act before prepared.ckpt is written: the sample is then the
 // same, byte for byte. A key that acts in the fill (grain stiffness) gives another sample.
 TEST(DamperPreparation, SharedKeysLeaveThePreparedSampleBitwiseUnchanged) {
     const fs::path d = scratch_path("damper_share", "");
@@ -676,7 +676,7 @@ TEST_F(Damper, AcceptedButMisleadingValuesAreWarnedAndEveryKeySetIsRecorded) {
 // Issue 48: a run that records fewer cycles than asked (the samples fall behind a time step
 // longer than their spacing) exited 0. A new sample refused it; a branch from a prepared sample
 // only warned, ran and recorded 0 of 1 cycles. Both are refused now, before the folder is
-// written (a run that still ends short exits 1 and says so: damper_record.cpp).
+// written (a run that still ends short exits 1 and says so: damper/record.cpp).
 TEST_F(Damper, SamplingFasterThanTheStepIsRefusedOnABranchAsOnANewSample) {
     ASSERT_EQ(base_.status, 0) << base_.output;
     const double dt = json_number(slurp(scratch("dp060") / "summary.json"), "dt");

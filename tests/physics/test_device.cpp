@@ -1,4 +1,4 @@
-// Devices from meshes (issue 47; vpp/device_def.h, vpp/device_run.h, dem/world/tool.h), each
+// Devices from meshes (issue 47; vpp/device/definition.h, vpp/device/run.h, dem/world/tool.h), each
 // against a known answer:
 //   a tool's reaction is the sum of the contact forces on it (to round-off), and a force-controlled
 //   press stops where its reaction reaches the target;
@@ -31,9 +31,9 @@
 #include "dem/mesh/mesh_shapes.h"
 #include "dem/world/tool.h"
 #include "dem/world/world.h"
-#include "vpp/device_def.h"
-#include "vpp/device_run.h"
-#include "vpp/membrane.h"
+#include "vpp/device/definition.h"
+#include "vpp/device/run.h"
+#include "vpp/membrane/membrane.h"
 #include "cli_helpers.h"
 
 #ifndef VPPDEM_BINARY

@@ -1,4 +1,4 @@
-// Device studies (vpp/device_study.h; docs/devices.md, "Studies"): `vppdem sweep` on a study file
+// Device studies (vpp/study/device_study.h; docs/devices.md, "Studies"): `vppdem sweep` on a study file
 // with the key `device` runs its named cases (seed by seed), each the run `vppdem device --set`
 // would make, skips finished runs, refuses a changed study, publishes the small records
 // (tools.csv.gz from the press on) and takes them back into a fresh folder.

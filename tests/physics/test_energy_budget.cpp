@@ -355,7 +355,7 @@ TEST_F(EnergyDamper, BalanceClosesPerCycle) {
     std::string cheader;
     const auto c = read_columns(scratch("base") / "cycles.csv", &cheader);
     // The columns of before keep their places; the ledger's boundary work and residual follow
-    // (vpp/records.h: the same columns as summary.json's cycles and Python's cycles()).
+    // (vpp/analysis/records.h: the same columns as summary.json's cycles and Python's cycles()).
     EXPECT_EQ(cheader, "cycle,dissipated_energy,W,peak_force,min_force,friction_dissipation,damping_dissipation,"
                        "viscous_dissipation,settled,boundary_work,energy_residual");
     ASSERT_EQ(c.at("cycle").size(), 2u);

@@ -15,7 +15,7 @@
 #include <toml++/toml.h>
 
 #include "cli_helpers.h"
-#include "vpp/study.h"
+#include "vpp/study/study.h"
 
 namespace {
 

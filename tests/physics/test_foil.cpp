@@ -6,10 +6,10 @@
 #include <numbers>
 #include <random>
 
-#include "vpp/config.h"
-#include "vpp/envelope.h"
-#include "vpp/foil.h"
-#include "vpp/tension.h"
+#include "vpp/settings/config.h"
+#include "vpp/foil_checks/envelope.h"
+#include "vpp/membrane/foil.h"
+#include "vpp/foil_checks/tension.h"
 
 using dem::Vec3;
 

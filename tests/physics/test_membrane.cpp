@@ -14,10 +14,10 @@
 #include "dem/mesh/mesh_checks.h"
 #include "dem/mesh/mesh_shapes.h"
 #include "dem/world/world.h"
-#include "vpp/config.h"
-#include "vpp/foil.h"
-#include "vpp/membrane.h"
-#include "vpp/membrane_air.h"
+#include "vpp/settings/config.h"
+#include "vpp/membrane/foil.h"
+#include "vpp/membrane/membrane.h"
+#include "vpp/membrane/air.h"
 
 namespace {
 

@@ -12,10 +12,10 @@
 
 #include "cli_helpers.h"
 #include "dem/world/world.h"
-#include "vpp/config.h"
-#include "vpp/damper.h"
-#include "vpp/foil.h"
-#include "vpp/membrane.h"
+#include "vpp/settings/config.h"
+#include "vpp/damper/damper.h"
+#include "vpp/membrane/foil.h"
+#include "vpp/membrane/membrane.h"
 
 namespace fs = std::filesystem;
 

@@ -1,4 +1,4 @@
-// A property test of the settings table (issue 48, item 2): every key of src/vpp/settings.cpp,
+// A property test of the settings table (issue 48, item 2): every key of src/vpp/settings/settings.cpp,
 // given a value drawn within its stated range, at its edges or just outside, on the tests' small
 // damper (cli_helpers.h), must either be refused (exit 2, the message naming the key) or run to the
 // end: exit 0, cycles.csv holding every asked cycle, every number in cycles.csv and summary.json
@@ -54,8 +54,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_helpers.h"
-#include "vpp/config.h"
-#include "vpp/settings.h"
+#include "vpp/settings/config.h"
+#include "vpp/settings/settings.h"
 
 namespace {
 

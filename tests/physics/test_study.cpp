@@ -26,9 +26,9 @@
 #include "scene/config.h"
 #include "cli_helpers.h"
 #include "dem/io/csv.h"
-#include "vpp/calibrate.h"
-#include "vpp/stats.h"
-#include "vpp/study.h"
+#include "vpp/calibration/calibrate.h"
+#include "vpp/analysis/stats.h"
+#include "vpp/study/study.h"
 
 namespace fs = std::filesystem;
 
@@ -125,7 +125,7 @@ TEST(StudyUnits, RangesIncludeTheStopAndRoundCleanly) {
         EXPECT_THROW(vpp::parse_range("grains.friction", bad), cfg::ConfigError) << bad;
 }
 
-// A case folder's case.toml against the study's record for it (vpp/study_records.h): the same
+// A case folder's case.toml against the study's record for it (vpp/study/records.h): the same
 // record (or the same overrides in another order) is the same case, a larger process.cycles alone
 // continues it, anything else (fewer
 // cycles, another value, another key, another base, a record that is not TOML) is refused. Values

@@ -100,7 +100,7 @@ def test_write_gives_the_command_files(finished, tmp_path):
     rows = (tmp_path / "forces.csv").read_text().splitlines()
     assert rows[0] == "time,displacement,force_total,force_grains,force_foil,force_zeroed,cycle"
     assert len(rows) == 1 + 160
-    # The arrays are the files' columns, from one description of the records (vpp/records.h):
+    # The arrays are the files' columns, from one description of the records (vpp/analysis/records.h):
     # forces() holds forces.csv, cycles() cycles.csv (and summary.json's cycles), same names,
     # same numbers.
     header = rows[0].split(",")

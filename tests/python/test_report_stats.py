@@ -1,5 +1,5 @@
 # vppdem.report.stats, the one statistics module of the reports (issue 46), against table values,
-# closed forms, hand-computed samples and the C++ (src/vpp/stats.cpp) through the tables
+# closed forms, hand-computed samples and the C++ (src/vpp/analysis/stats.cpp) through the tables
 # `vppdem sweep --report-only` published into docs/data/paper/report/; and every report's command
 # line (`python3 -m vppdem.report NAME`), from the source tree as the scripts run it.
 import csv

@@ -1,4 +1,4 @@
-# vppdem.sweep and vppdem.calibrate run the command's C++ (vpp/study.h, vpp/calibrate.h).
+# vppdem.sweep and vppdem.calibrate run the command's C++ (vpp/study/study.h, vpp/calibration/calibrate.h).
 import csv
 import os
 import signal

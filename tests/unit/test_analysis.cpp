@@ -1,8 +1,8 @@
-// Unit tests of the hysteresis-loop analysis (src/vpp/analysis.h): loop area and its sign against
+// Unit tests of the hysteresis-loop analysis (src/vpp/analysis/analysis.h): loop area and its sign against
 // the closed form of an elliptic loop, W, zero-area loops, peak/min force, reading loops from CSV
 // by column names (any order, missing column, automatic cycle split) and the cycles.csv header.
-#include "vpp/analysis.h"
-#include "vpp/records.h"
+#include "vpp/analysis/analysis.h"
+#include "vpp/analysis/records.h"
 
 #include <gtest/gtest.h>
 

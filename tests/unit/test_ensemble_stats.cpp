@@ -1,4 +1,4 @@
-// Ensemble statistics (src/vpp/stats.h) and stationary loops (src/vpp/settle.h) against values
+// Ensemble statistics (src/vpp/analysis/stats.h) and stationary loops (src/vpp/analysis/settle.h) against values
 // computed by hand or by an independent implementation (SciPy's stats.t.ppf, quoted below), and
 // the analysis.settle_tolerance key's range check.
 #include <gtest/gtest.h>
@@ -10,11 +10,11 @@
 #include <vector>
 
 #include "scene/config.h"
-#include "vpp/analysis.h"
-#include "vpp/records.h"
-#include "vpp/config.h"
-#include "vpp/settle.h"
-#include "vpp/stats.h"
+#include "vpp/analysis/analysis.h"
+#include "vpp/analysis/records.h"
+#include "vpp/settings/config.h"
+#include "vpp/analysis/settle.h"
+#include "vpp/analysis/stats.h"
 
 using namespace vpp;
 

@@ -1,4 +1,4 @@
-// The air inside the damper, its law alone (vpp/gas.h): pump-down, leak and bleed against their
+// The air inside the damper, its law alone (vpp/membrane/gas.h): pump-down, leak and bleed against their
 // closed forms, the regulator's set point, the operator split against the ODE's fixed point,
 // the isothermal work.
 #include <gtest/gtest.h>
@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "vpp/gas.h"
+#include "vpp/membrane/gas.h"
 
 using vpp::advance_gas;
 using vpp::PumpLine;

@@ -4,8 +4,8 @@
 #include <cmath>
 #include <gtest/gtest.h>
 
-#include "vpp/config.h"
-#include "vpp/damper.h"
+#include "vpp/settings/config.h"
+#include "vpp/damper/damper.h"
 
 namespace {
 

@@ -1,4 +1,4 @@
-// The records' schema (vpp/records.h): cycles.csv written and read back from one table gives the
+// The records' schema (vpp/analysis/records.h): cycles.csv written and read back from one table gives the
 // same cycles bit for bit; summary.json's cycles and the CSV carry the same columns; a file
 // missing a column the reader needs is refused naming it.
 #include <gtest/gtest.h>
@@ -16,7 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "vpp/records.h"
+#include "vpp/analysis/records.h"
 
 namespace fs = std::filesystem;
 using namespace vpp;

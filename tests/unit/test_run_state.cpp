@@ -8,7 +8,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "vpp/damper_run.h"
+#include "vpp/damper/run.h"
 
 using vpp::damper_detail::RunState;
 using vpp::damper_detail::Stage;

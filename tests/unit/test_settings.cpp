@@ -1,4 +1,4 @@
-// The settings table (vpp/settings.h): its defaults are the ones the reader applies, its ranges
+// The settings table (vpp/settings/settings.h): its defaults are the ones the reader applies, its ranges
 // are the ones the reader enforces with messages naming key, value and what is allowed, and its
 // sharing rule is the study's rule of before the table.
 #include <cmath>
@@ -11,8 +11,9 @@
 
 #include "scene/config.h"
 #include "toml_literal.h"
-#include "vpp/config.h"
-#include "vpp/settings.h"
+#include "vpp/settings/config.h"
+#include "vpp/settings/settings.h"
+#include "vpp/study/key_reference.h"
 
 using namespace vpp;
 
@@ -71,7 +72,7 @@ TEST(Settings, DefaultsAreTheReadersDefaults) {
 }
 
 // One default per key (issue 21): a Config built in code is the command line's model, not a
-// second set of defaults written beside the table (the structs of vpp/config.h hold none).
+// second set of defaults written beside the table (the structs of vpp/settings/config.h hold none).
 TEST(Settings, AConfigBuiltInCodeIsTheCommandLinesConfig) {
     for (const CommandSet k : {CommandSet::Damper, CommandSet::Foil}) {
         const Config built(k);

@@ -1,4 +1,4 @@
-// Studies without running them (src/vpp/study.h): ensembles of seeds in the grid, which cases
+// Studies without running them (src/vpp/study/study.h): ensembles of seeds in the grid, which cases
 // share a preparation, and the per-case table summary_cases.csv against hand-computed values.
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "scene/config.h"
-#include "vpp/study.h"
+#include "vpp/study/study.h"
 
 using namespace vpp;
 

@@ -1,7 +1,7 @@
 // The one JSON writer of vppdem's records (summary.json, calibration.json, tension.json, ...):
 // an object with keys in the order written, flat values or nested raw JSON. Strings and numbers
 // are serialised by nlohmann-json (dem/io/json.cpp), the library that reads the records back
-// (vpp/study_records.cpp, `vppdem analyze`, the tests), so every written double reads back bitwise: the
+// (vpp/study/records.cpp, `vppdem analyze`, the tests), so every written double reads back bitwise: the
 // shortest text that round-trips, integers (|v| < 2^53) without a decimal point.
 #pragma once
 

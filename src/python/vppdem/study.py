@@ -11,7 +11,9 @@ import csv
 import errno
 import os
 
-from . import _core, _count, _study_sets, calibrate as _calibrate, sweep as _sweep
+from ._arguments import _count, _study_sets
+from ._native import _core
+from ._runs import calibrate as _calibrate, sweep as _sweep
 
 # Columns that are text whatever they hold (names, messages), never numbers.
 _TEXT_COLUMNS = frozenset({"case", "cases", "status", "warnings", "key", "group", "quantity"})

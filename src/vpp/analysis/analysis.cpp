@@ -1,4 +1,4 @@
-#include "vpp/analysis.h"
+#include "vpp/analysis/analysis.h"
 
 #include <algorithm>
 #include <charconv>

@@ -38,7 +38,7 @@ struct CycleResult {
     double viscous_dissipation = 0;   // [J] normal dashpots
     double boundary_work = 0;         // [J] work of the cap and the top ring on the sample
     double energy_residual = 0;       // [J] input - stored change - dissipated over the cycle
-    // Stationarity of the loop (vpp/settle.h); only a damper run fills these (has_settled).
+    // Stationarity of the loop (vpp/analysis/settle.h); only a damper run fills these (has_settled).
     bool has_settled = false;
     bool settled = false;             // W has settled by this cycle (the criterion in settle.h)
 };
@@ -94,6 +94,6 @@ LoopSeries read_loop_csv(const std::string& path, const std::string& time_col,
 // Returns one index per sample; all 0 when the range is zero.
 std::vector<int> split_cycles(const std::vector<double>& displacement);
 
-// cycles.csv is written and read by vpp/records.h, from the one description of its columns.
+// cycles.csv is written and read by vpp/analysis/records.h, from the one description of its columns.
 
 }  // namespace vpp

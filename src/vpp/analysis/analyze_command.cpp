@@ -1,4 +1,4 @@
-#include "vpp/analyze_command.h"
+#include "vpp/analysis/analyze_command.h"
 
 #include <cstdio>
 #include <cstdlib>
@@ -10,8 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "vpp/analysis.h"
-#include "vpp/records.h"
+#include "vpp/analysis/analysis.h"
+#include "vpp/analysis/records.h"
 
 namespace vpp {
 

@@ -1,4 +1,4 @@
-#include "vpp/plot.h"
+#include "vpp/analysis/plot.h"
 
 #include <cstdio>
 #include <cstdlib>

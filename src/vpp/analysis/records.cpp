@@ -1,4 +1,4 @@
-#include "vpp/records.h"
+#include "vpp/analysis/records.h"
 
 #include <algorithm>
 #include <cmath>
@@ -26,7 +26,7 @@ const std::vector<CycleColumn>& cycle_columns() {
          .get = [](const CycleResult& c) { return double(c.cycle); },
          .set = [](CycleResult& c, double v) { c.cycle = int(std::lround(v)); }},
         {.name = "dissipated_energy", .unit = "J",
-         .meaning = "the loop's area: the closed integral of force_zeroed over the displacement (vpp/analysis.h)",
+         .meaning = "the loop's area: the closed integral of force_zeroed over the displacement (vpp/analysis/analysis.h)",
          .group = G::Always, .flag = false, .added_later = false, CYCLE_FIELD(dissipated_energy)},
         {.name = "W", .unit = "J/m^2", .meaning = "dissipated_energy / (pi damper.radius^2), the paper's efficiency",
          .group = G::Always, .flag = false, .added_later = false, CYCLE_FIELD(W)},
@@ -42,7 +42,7 @@ const std::vector<CycleColumn>& cycle_columns() {
         {.name = "viscous_dissipation", .unit = "J", .meaning = "energy ledger: the normal dashpots (grains.restitution)",
          .group = G::Energy, .flag = false, .added_later = false, CYCLE_FIELD(viscous_dissipation)},
         {.name = "settled", .unit = "",
-         .meaning = "1 when W has settled by this cycle (stationary loops, vpp/settle.h)", .group = G::Settle,
+         .meaning = "1 when W has settled by this cycle (stationary loops, vpp/analysis/settle.h)", .group = G::Settle,
          .flag = true, .added_later = false, .get = [](const CycleResult& c) { return c.settled ? 1.0 : 0.0; },
          .set = [](CycleResult& c, double v) { c.settled = v != 0.0; }},
         {.name = "boundary_work", .unit = "J",

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "vpp/analysis.h"
+#include "vpp/analysis/analysis.h"
 
 namespace vpp {
 

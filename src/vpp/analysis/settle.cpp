@@ -1,4 +1,4 @@
-#include "vpp/settle.h"
+#include "vpp/analysis/settle.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -25,7 +25,7 @@
 #include <limits>
 #include <vector>
 
-#include "vpp/analysis.h"
+#include "vpp/analysis/analysis.h"
 
 namespace vpp {
 

@@ -1,4 +1,4 @@
-#include "vpp/stats.h"
+#include "vpp/analysis/stats.h"
 
 #include <cmath>
 #include <stdexcept>

@@ -1,4 +1,4 @@
-#include "vpp/calibrate.h"
+#include "vpp/calibration/calibrate.h"
 
 #include <algorithm>
 #include <cmath>
@@ -13,9 +13,9 @@
 #include "scene/config.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
-#include "vpp/plot.h"
-#include "vpp/settings.h"
-#include "vpp/stats.h"
+#include "vpp/analysis/plot.h"
+#include "vpp/settings/settings.h"
+#include "vpp/analysis/stats.h"
 
 namespace vpp {
 
@@ -331,7 +331,7 @@ struct GridFit {
     std::vector<std::size_t> near;    // indices in points whose misfit interval overlaps the best's
 };
 
-// Per grid point: the mean misfit over its seeds and its 95% interval (vpp/stats.h); a point
+// Per grid point: the mean misfit over its seeds and its 95% interval (vpp/analysis/stats.h); a point
 // counts only when every seed was compared. The best point has the smallest mean.
 GridFit score_grid_points(const Study& s, const std::vector<StudyCase>& cases, const RunFits& runs) {
     GridFit g;

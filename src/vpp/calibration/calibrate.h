@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include "vpp/analysis.h"
-#include "vpp/study.h"
+#include "vpp/analysis/analysis.h"
+#include "vpp/study/study.h"
 
 namespace vpp {
 

@@ -1,6 +1,6 @@
-// The checks of the damper's input against its scene (damper_checks.h): the process against the
+// The checks of the damper's input against its scene (damper/checks.h): the process against the
 // built foil, the time step and the sampling against the world, the grains against the foil.
-#include "vpp/damper_checks.h"
+#include "vpp/damper/checks.h"
 
 #include <cmath>
 #include <cstdio>
@@ -8,8 +8,8 @@
 #include <numbers>
 #include <stdexcept>
 
-#include "vpp/damper_stored_settings.h"
-#include "vpp/settings.h"
+#include "vpp/damper/stored_settings.h"
+#include "vpp/settings/settings.h"
 
 namespace vpp::damper_detail {
 

@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "vpp/config.h"
-#include "vpp/damper_scene.h"
+#include "vpp/settings/config.h"
+#include "vpp/damper/scene.h"
 
 namespace vpp::damper_detail {
 

@@ -5,10 +5,10 @@
 //   cycle:   upper cap and top foil ring moved together, triangular displacement
 //   record:  forces.csv (grains on the cap, foil on the top ring), cycles.csv, summary.json
 // vpp::Damper runs these stages one call at a time (the Python module drives it); run_damper()
-// runs them all and writes the outputs. The code lives in damper_scene.cpp (the damper's world
-// and its parts), damper_stages.cpp (the stages), damper_run.cpp (the run that composes them),
-// damper_recorder.cpp (every file of the output folder) and damper_record.cpp (result, summary,
-// report); damper_run.h lists them all.
+// runs them all and writes the outputs. The code lives in damper/scene.cpp (the damper's world
+// and its parts), damper/stages.cpp (the stages), damper/run.cpp (the run that composes them),
+// damper/recorder.cpp (every file of the output folder) and damper/record.cpp (result, summary,
+// report); damper/run.h lists them all.
 #pragma once
 
 #include <cstdint>
@@ -23,9 +23,9 @@
 namespace dem::batch {
 class BatchStepper;
 }
-#include "vpp/analysis.h"
-#include "vpp/config.h"
-#include "vpp/settle.h"
+#include "vpp/analysis/analysis.h"
+#include "vpp/settings/config.h"
+#include "vpp/analysis/settle.h"
 
 namespace vpp {
 
@@ -68,7 +68,7 @@ struct AirCycle {
     double gas_volume_max = 0;      // [m^3]
 };
 
-// forces.csv as a table: its column names (vpp/records.h, sample_columns(); the air's with the
+// forces.csv as a table: its column names (vpp/analysis/records.h, sample_columns(); the air's with the
 // air record) and one row per sample, the same numbers the file holds.
 struct ForcesTable {
     std::vector<std::string> columns;
@@ -119,7 +119,7 @@ std::string sample_misfit(const Config& c, const SampleRecord& sample, bool prep
 // With opt.from: the checkpoint's geometry replaces the config's (a geometry key the config
 // gives with another value is an error), and a checkpoint of a run that started (run.ckpt past
 // the preparation) also gives its contact, process and simulation settings (kRunKeys in
-// damper_stored_settings.cpp; a key given with another value is an error naming both values).
+// damper/stored_settings.cpp; a key given with another value is an error naming both values).
 DamperResult run_damper(const Config& c, const DamperOptions& opt);
 
 // One recorded sample of the cycling: the forces averaged over process.sample_window before it.

@@ -1,6 +1,6 @@
 // The damper run's record: the result (the cycles analysed, the warnings over the whole record),
 // summary.json's text, the report on the terminal; run_damper(). The files of a run's folder are
-// written by its recorder (damper_recorder.cpp): here what goes into them.
+// written by its recorder (damper/recorder.cpp): here what goes into them.
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -13,11 +13,11 @@
 #include "dem/detect/cell_grid.h"
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
-#include "vpp/damper_run.h"
-#include "vpp/records.h"
-#include "vpp/plot.h"
+#include "vpp/damper/run.h"
+#include "vpp/analysis/records.h"
+#include "vpp/analysis/plot.h"
 
-#include "vpp/settings.h"
+#include "vpp/settings/settings.h"
 
 namespace vpp {
 

@@ -1,8 +1,8 @@
-// The damper run's recorder (damper_recorder.h): the output folder, its lock and clearing, the
+// The damper run's recorder (damper/recorder.h): the output folder, its lock and clearing, the
 // checkpoints, forces.csv, energy.csv, cycles.csv, summary.json and the VTK frames. Each file's name, content and atomic
 // write (PATH.part renamed to PATH) are contracts: tests compare them byte for byte and resumed
 // runs load the checkpoints bit for bit.
-#include "vpp/damper_recorder.h"
+#include "vpp/damper/recorder.h"
 
 #include <cstdio>
 #include <system_error>
@@ -13,8 +13,8 @@
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
 #include "dem/io/vtk.h"
-#include "vpp/membrane.h"
-#include "vpp/records.h"
+#include "vpp/membrane/membrane.h"
+#include "vpp/analysis/records.h"
 
 namespace vpp::damper_detail {
 

@@ -2,7 +2,7 @@
 // checkpoints run.ckpt and prepared.ckpt, forces.csv, energy.csv, cycles.csv, summary.json, the
 // VTK frames; the plots' names, which the plot module writes, in its list of the folder's files),
 // the folder's lock and the clearing of a previous run's files (--overwrite). Apart from
-// DamperRun (damper_run.h), which keeps the physics and the stages and hands the recorder what
+// DamperRun (damper/run.h), which keeps the physics and the stages and hands the recorder what
 // to write, so that what a run writes, where and when, is read in one place (docs/damper.md,
 // "Outputs").
 // Internal to vpp/damper_*.cpp.
@@ -15,7 +15,7 @@
 
 #include "dem/io/folder_lock.h"
 #include "dem/world/world.h"
-#include "vpp/damper.h"
+#include "vpp/damper/damper.h"
 
 namespace vpp::damper_detail {
 
@@ -57,7 +57,7 @@ public:
     static void write_energy(const std::filesystem::path& dir, const ForcesTable& energy);
     // Both into the folder (the checkpoints while cycling write them as well).
     void write_records(const ForcesTable& forces, const ForcesTable& energy) const;
-    // cycles.csv (vpp/records.h's columns) and summary.json (its text, damper_summary_json) into
+    // cycles.csv (vpp/analysis/records.h's columns) and summary.json (its text, damper_summary_json) into
     // `dir`, each atomically: the records of a finished run (write_damper_outputs).
     static void write_cycles(const std::filesystem::path& dir, const std::vector<CycleResult>& cycles);
     static void write_summary(const std::filesystem::path& dir, const std::string& summary_json);

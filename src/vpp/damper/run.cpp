@@ -1,6 +1,6 @@
-// The damper run (damper_run.h): its start, fresh or from a checkpoint, and its stages in order;
+// The damper run (damper/run.h): its start, fresh or from a checkpoint, and its stages in order;
 // vpp::Damper, which runs them one call at a time.
-#include "vpp/damper_run.h"
+#include "vpp/damper/run.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -9,8 +9,8 @@
 
 #include "scene/scene_runner.h"
 #include "dem/io/checkpoint.h"
-#include "vpp/damper_checks.h"
-#include "vpp/damper_stages.h"
+#include "vpp/damper/checks.h"
+#include "vpp/damper/stages.h"
 
 namespace vpp {
 

@@ -1,17 +1,17 @@
 // The damper run: its scene, its state, its recorder and the stages between them. Internal to
 // vpp/damper_*.cpp; the code's layout:
-//   damper_scene.h/.cpp           the scene: the World and its parts (foil, rings, grains, caps,
+//   damper/scene.h/.cpp           the scene: the World and its parts (foil, rings, grains, caps,
 //                                 funnel), built from the config; the grains' and foil's measures
-//   damper_state.h/.cpp           the run state besides the World (RunState), the checkpoint's app
+//   damper/state.h/.cpp           the run state besides the World (RunState), the checkpoint's app
 //                                 blob, and the forces.csv/energy.csv tables read from it
-//   damper_stages.h/.cpp          the protocol: fill, compress, vacuum, cycle, functions of the
+//   damper/stages.h/.cpp          the protocol: fill, compress, vacuum, cycle, functions of the
 //                                 scene and the run state
-//   damper_stage_services.h/.cpp  what a stage asks of the run: options, checkpoints, warnings, log
-//   damper_checks.h/.cpp          the input's checks against the built scene
-//   damper_stored_settings.h/.cpp what a checkpoint stores of the config; adopting and comparing it
-//   damper_recorder.h/.cpp        the output folder and every file written into it (DamperRecorder)
-//   damper_run.cpp                DamperRun (this file's class) and vpp::Damper
-//   damper_record.cpp             the result, summary.json's text, run_damper()
+//   damper/stage_services.h/.cpp  what a stage asks of the run: options, checkpoints, warnings, log
+//   damper/checks.h/.cpp          the input's checks against the built scene
+//   damper/stored_settings.h/.cpp what a checkpoint stores of the config; adopting and comparing it
+//   damper/recorder.h/.cpp        the output folder and every file written into it (DamperRecorder)
+//   damper/run.cpp                DamperRun (this file's class) and vpp::Damper
+//   damper/record.cpp             the result, summary.json's text, run_damper()
 #pragma once
 
 #include <chrono>
@@ -21,17 +21,17 @@
 #include <vector>
 
 #include "dem/world/world.h"
-#include "vpp/damper.h"
-#include "vpp/damper_recorder.h"
-#include "vpp/damper_scene.h"
-#include "vpp/damper_stage_services.h"
-#include "vpp/damper_stages.h"
-#include "vpp/damper_state.h"
-#include "vpp/damper_stored_settings.h"
+#include "vpp/damper/damper.h"
+#include "vpp/damper/recorder.h"
+#include "vpp/damper/scene.h"
+#include "vpp/damper/stage_services.h"
+#include "vpp/damper/stages.h"
+#include "vpp/damper/state.h"
+#include "vpp/damper/stored_settings.h"
 
 namespace vpp::damper_detail {
 
-struct RunStart;  // the options and config a run starts with, a checkpoint's settings adopted (damper_run.cpp)
+struct RunStart;  // the options and config a run starts with, a checkpoint's settings adopted (damper/run.cpp)
 
 class DamperRun {
 public:
@@ -46,7 +46,7 @@ public:
     void vacuum();
     int cycle(int n);
     int cycles_done() const { return stages::cycles_done(scene_, state_); }
-    // The record (damper_record.cpp: result()).
+    // The record (damper/record.cpp: result()).
     void save(const std::string& path) const;
     DamperResult result() const;
     void write_records(const std::string& dir) const;

@@ -1,6 +1,6 @@
-// The damper's scene (damper_scene.h): the foil built from the config, the pour of the grains
+// The damper's scene (damper/scene.h): the foil built from the config, the pour of the grains
 // into it and a funnel above it, the caps; the grains' and the foil's measures.
-#include "vpp/damper_scene.h"
+#include "vpp/damper/scene.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,7 +1,7 @@
 // The damper's scene: its World and the parts in it (foil, end rings, grains, caps, funnel), built
 // from its definition (the Config), and what can be asked of or done to them with nothing but the
 // scene: the grains' sizes, tops, volume and level, the foil's enclosed volume, the pressure on
-// it. The stages (damper_stages.h) act on it; the run (damper_run.h) owns it. A plain aggregate:
+// it. The stages (damper/stages.h) act on it; the run (damper/run.h) owns it. A plain aggregate:
 // the stages read and move its parts directly. Internal to vpp/damper_*.cpp.
 #pragma once
 
@@ -11,9 +11,9 @@
 
 #include "scene/size_distribution.h"
 #include "dem/world/world.h"
-#include "vpp/config.h"
-#include "vpp/foil.h"
-#include "vpp/membrane.h"
+#include "vpp/settings/config.h"
+#include "vpp/membrane/foil.h"
+#include "vpp/membrane/membrane.h"
 
 namespace vpp::damper_detail {
 

@@ -1,13 +1,13 @@
-// What a stage asks of the run around it (damper_stage_services.h): checkpoints, frames,
+// What a stage asks of the run around it (damper/stage_services.h): checkpoints, frames,
 // warnings, the log.
-#include "vpp/damper_stage_services.h"
+#include "vpp/damper/stage_services.h"
 
 #include <algorithm>
 #include <cstdarg>
 #include <cstdio>
 
 #include "dem/batch/batch_stepper.h"
-#include "vpp/damper_stored_settings.h"
+#include "vpp/damper/stored_settings.h"
 
 namespace vpp::damper_detail {
 

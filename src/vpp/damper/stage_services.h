@@ -1,7 +1,7 @@
-// What a stage of the damper run asks of the run around it (damper_stages.h): the options (the
+// What a stage of the damper run asks of the run around it (damper/stages.h): the options (the
 // progress hook, the batch stepper, quiet), the checkpoints and VTK frames through the run's
 // recorder, the warnings kept in the run state, the log on the terminal. The stages see the run
-// through this alone; the run (damper_run.h) owns the options and the recorder it refers to.
+// through this alone; the run (damper/run.h) owns the options and the recorder it refers to.
 // Internal to vpp/damper_*.cpp.
 #pragma once
 
@@ -11,10 +11,10 @@
 #include <vector>
 
 #include "scene/progress.h"
-#include "vpp/damper.h"
-#include "vpp/damper_recorder.h"
-#include "vpp/damper_scene.h"
-#include "vpp/damper_state.h"
+#include "vpp/damper/damper.h"
+#include "vpp/damper/recorder.h"
+#include "vpp/damper/scene.h"
+#include "vpp/damper/state.h"
 
 namespace vpp::damper_detail {
 

@@ -1,7 +1,7 @@
-// The protocol stages of the damper run (damper_stages.h): fill, compress (the preparation),
+// The protocol stages of the damper run (damper/stages.h): fill, compress (the preparation),
 // vacuum, cycle, each a function of the scene and the run state, and their helpers: the re-fill,
 // the air, the cycling's motion.
-#include "vpp/damper_stages.h"
+#include "vpp/damper/stages.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,7 +11,7 @@
 #include <string>
 
 #include "dem/batch/batch_stepper.h"
-#include "vpp/gas.h"
+#include "vpp/membrane/gas.h"
 
 namespace vpp::damper_detail::stages {
 

@@ -1,14 +1,14 @@
 // The protocol of the damper run, a stage at a time: fill and compress (the preparation),
-// vacuum, cycle. Each stage is a function of the scene (damper_scene.h), the run state
-// (damper_state.h) and what it asks of the run around it (damper_stage_services.h: the options,
-// the checkpoints, the warnings); DamperRun (damper_run.h) calls them in order. A stage resumed
+// vacuum, cycle. Each stage is a function of the scene (damper/scene.h), the run state
+// (damper/state.h) and what it asks of the run around it (damper/stage_services.h: the options,
+// the checkpoints, the warnings); DamperRun (damper/run.h) calls them in order. A stage resumed
 // from a checkpoint takes its decisions at the same steps as an uninterrupted one: the run is
 // bitwise the same however it is split. Internal to vpp/damper_*.cpp.
 #pragma once
 
-#include "vpp/damper_scene.h"
-#include "vpp/damper_stage_services.h"
-#include "vpp/damper_state.h"
+#include "vpp/damper/scene.h"
+#include "vpp/damper/stage_services.h"
+#include "vpp/damper/state.h"
 
 namespace vpp::damper_detail::stages {
 

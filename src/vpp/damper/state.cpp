@@ -1,6 +1,6 @@
-// The damper run's state (damper_state.h): its archive in the checkpoint's app blob, the older
+// The damper run's state (damper/state.h): its archive in the checkpoint's app blob, the older
 // key/value text it reads too, and the tables forces.csv and energy.csv it holds.
-#include "vpp/damper_state.h"
+#include "vpp/damper/state.h"
 
 #include <charconv>
 #include <istream>
@@ -9,7 +9,7 @@
 
 #include "dem/io/archive.h"
 #include "dem/io/checkpoint.h"
-#include "vpp/records.h"
+#include "vpp/analysis/records.h"
 
 namespace vpp::damper_detail {
 

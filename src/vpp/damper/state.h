@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "dem/io/energy_columns.h"
-#include "vpp/damper.h"
+#include "vpp/damper/damper.h"
 
 namespace vpp::damper_detail {
 
@@ -44,7 +44,7 @@ struct RunState {
     long window_n = 0;
     std::vector<Sample> samples;
     std::vector<EnergyRow> energy;  // the ledger at each sample (rows of energy.csv)
-    // The air inside (recorded with the pump model or output.air; vpp/gas.h): the gas amount
+    // The air inside (recorded with the pump model or output.air; vpp/membrane/gas.h): the gas amount
     // p V [Pa m^3] (pump model; 0 until the vacuum stage seals the foil at atmospheric
     // pressure), the gas volume of the step before [m^3] (0: none yet), the gas's work since
     // the first sample [J], and the air at each sample.

@@ -1,7 +1,7 @@
-// What a damper's checkpoint stores of the config that made it (damper_stored_settings.h): the
+// What a damper's checkpoint stores of the config that made it (damper/stored_settings.h): the
 // tables of keys, the comparison of a checkpoint's values with a config's, and the adopting of
 // them by a run from the checkpoint.
-#include "vpp/damper_stored_settings.h"
+#include "vpp/damper/stored_settings.h"
 
 #include <algorithm>
 #include <cmath>
@@ -12,8 +12,8 @@
 
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
-#include "vpp/damper_state.h"
-#include "vpp/settings.h"
+#include "vpp/damper/state.h"
+#include "vpp/settings/settings.h"
 
 namespace vpp {
 
@@ -22,7 +22,7 @@ namespace damper_detail {
 namespace {
 
 // A config value stored in the checkpoint's app state: a row of the settings table, with how to
-// read it from and write it into a Config (vpp/settings.h).
+// read it from and write it into a Config (vpp/settings/settings.h).
 using StoredKey = Setting;
 
 // Geometry of the prepared sample. A run from a checkpoint must match the keys it gives and

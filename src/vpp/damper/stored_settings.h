@@ -2,7 +2,7 @@
 // checkpoint compares and adopts it: the sample's geometry (a run from it must match the keys it
 // gives, and takes the others), the keys that acted during its preparation (a study's branch
 // must match them), and the run settings of a run that started (a resumed run keeps them).
-// The tables of keys are vpp/settings.h's. Internal to vpp/damper_*.cpp.
+// The tables of keys are vpp/settings/settings.h's. Internal to vpp/damper_*.cpp.
 #pragma once
 
 #include <cstddef>
@@ -10,8 +10,8 @@
 #include <string>
 #include <vector>
 
-#include "vpp/config.h"
-#include "vpp/damper.h"
+#include "vpp/settings/config.h"
+#include "vpp/damper/damper.h"
 
 namespace vpp::damper_detail {
 

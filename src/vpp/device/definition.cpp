@@ -1,4 +1,4 @@
-#include "vpp/device_def.h"
+#include "vpp/device/definition.h"
 
 #include <cmath>
 #include <filesystem>
@@ -11,7 +11,7 @@
 #include "dem/mesh/mesh_shapes.h"
 #include "scene/config.h"
 #include "scene/setting.h"
-#include "vpp/config.h"
+#include "vpp/settings/config.h"
 
 namespace vpp {
 

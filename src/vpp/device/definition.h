@@ -1,6 +1,6 @@
 // The device file (issue 47, docs/devices.md): a vacuum-packed device built from meshes. A TOML
 // file names
-//   [membrane]   the closed surface the foil membrane is built on (vpp/membrane.h) and the foil;
+//   [membrane]   the closed surface the foil membrane is built on (vpp/membrane/membrane.h) and the foil;
 //                the part of it clamped to a tool (the bag's neck held by the gripper's holder)
 //   [grains]     the fill: sphere size and material, how full the membrane is filled
 //   [[tools]]    rigid tools as closed meshes, each with a motion program ([[tools.program]]:
@@ -23,8 +23,8 @@
 #include "dem/core/vec3.h"
 #include "dem/mesh/surface_mesh.h"
 #include "dem/world/tool.h"
-#include "vpp/membrane.h"
-#include "vpp/membrane_air.h"
+#include "vpp/membrane/membrane.h"
+#include "vpp/membrane/air.h"
 
 namespace vpp {
 

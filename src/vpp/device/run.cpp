@@ -1,8 +1,8 @@
-// The device run (vpp/device_run.h): the device's world from its file, the stages, the records
+// The device run (vpp/device/run.h): the device's world from its file, the stages, the records
 // and the checkpoints. Built the way the damper's run is (vpp/damper_*.cpp): a run object that
 // owns the World and a run state that the checkpoint carries (DeviceState), stages that step
 // until their end, records written under a temporary name and renamed.
-#include "vpp/device_run.h"
+#include "vpp/device/run.h"
 
 #include <algorithm>
 #include <chrono>
@@ -29,7 +29,7 @@
 #include "scene/progress.h"
 #include "scene/setting.h"
 #include "scene/scene_runner.h"
-#include "vpp/foil.h"
+#include "vpp/membrane/foil.h"
 
 namespace vpp {
 
@@ -42,7 +42,7 @@ constexpr const char* kCheckpointName = "run.ckpt";
 // The pour's opening (grains.fill_mode = "pour"): until the seal its membrane particles carry this
 // bit alone, the rest of the membrane this bit and kFoilMask, the grains kGrainMask. So the grains
 // pass through the opening (no bit shared) while the opening stays in contact with the rest of the
-// membrane and the tools do not see it. Bit 2: the foil's masks use bits 0 and 1 (vpp/foil.h).
+// membrane and the tools do not see it. Bit 2: the foil's masks use bits 0 and 1 (vpp/membrane/foil.h).
 constexpr uint32_t kMaskOpening = 1u << 2;
 constexpr int kToolColumns = 4;  // z, fx, fy, fz
 constexpr int kAirColumns = 5;   // time, stage, enclosed, gas, dp

@@ -1,4 +1,4 @@
-// `vppdem device FILE --out DIR`: a vacuum-packed device from its device file (vpp/device_def.h,
+// `vppdem device FILE --out DIR`: a vacuum-packed device from its device file (vpp/device/definition.h,
 // docs/devices.md), run stage by stage:
 //   fill    grains on a jittered lattice inside the closed membrane (lowest sites first, no
 //           overlaps), settled under gravity with local damping; the membrane's top hangs from
@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "vpp/device_def.h"
+#include "vpp/device/definition.h"
 
 namespace vpp {
 

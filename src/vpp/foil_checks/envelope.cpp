@@ -1,4 +1,4 @@
-#include "vpp/envelope.h"
+#include "vpp/foil_checks/envelope.h"
 
 #include <algorithm>
 #include <cmath>

@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "vpp/config.h"
+#include "vpp/settings/config.h"
 
 namespace vpp {
 

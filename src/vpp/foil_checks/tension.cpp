@@ -1,4 +1,4 @@
-#include "vpp/tension.h"
+#include "vpp/foil_checks/tension.h"
 
 #include <chrono>
 #include <cmath>

@@ -3,7 +3,7 @@
 
 #include <string>
 
-#include "vpp/config.h"
+#include "vpp/settings/config.h"
 
 namespace vpp {
 

@@ -1,4 +1,4 @@
-#include "vpp/membrane_air.h"
+#include "vpp/membrane/air.h"
 
 #include <stdexcept>
 #include <string>

@@ -1,5 +1,5 @@
-// The air inside a membrane built from a mesh (vpp/membrane.h): the damper's air model
-// (vpp/gas.h, docs/damper.md "The air inside") on the membrane's enclosed volume, for devices.
+// The air inside a membrane built from a mesh (vpp/membrane/membrane.h): the damper's air model
+// (vpp/membrane/gas.h, docs/damper.md "The air inside") on the membrane's enclosed volume, for devices.
 //
 // The gas fills the membrane's enclosure less the solids inside it (grains, tools):
 //   V_gas = enclosed_volume(membrane) - solids.
@@ -8,13 +8,13 @@
 // is pumped down or bled through the regulator (vpp::advance_gas), and dp = p_atm - amount / V_gas.
 // The gas's work on its boundary is summed in both (isothermal in the pump model).
 //
-// A copy of the damper stage's air_step rules (vpp/damper_stages.cpp) rather than a call into
+// A copy of the damper stage's air_step rules (vpp/damper/stages.cpp) rather than a call into
 // it: the damper's code path stays bit for bit as it is, and a device has no damper run.
 #pragma once
 
 #include "dem/world/world.h"
-#include "vpp/gas.h"
-#include "vpp/membrane.h"
+#include "vpp/membrane/gas.h"
+#include "vpp/membrane/membrane.h"
 
 namespace vpp {
 

@@ -1,4 +1,4 @@
-#include "vpp/foil.h"
+#include "vpp/membrane/foil.h"
 
 #include <algorithm>
 #include <functional>

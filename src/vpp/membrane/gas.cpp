@@ -1,4 +1,4 @@
-#include "vpp/gas.h"
+#include "vpp/membrane/gas.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "vpp/membrane.h"
+#include "vpp/membrane/membrane.h"
 
 #include <algorithm>
 #include <cmath>

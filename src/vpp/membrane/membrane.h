@@ -14,7 +14,7 @@
 //              triangle's area vector (dem::PressureFans): zero net force under uniform dp;
 //   volume     the divergence theorem over the same triangulation (the air model's V).
 //
-// The built-in cylinder (vpp/foil.h) is untouched: this is a second builder, not a
+// The built-in cylinder (vpp/membrane/foil.h) is untouched: this is a second builder, not a
 // replacement, so the paper's damper keeps its lattice bit for bit.
 #pragma once
 
@@ -26,7 +26,7 @@
 #include "dem/core/pressure.h"
 #include "dem/mesh/surface_mesh.h"
 #include "dem/world/world.h"
-#include "vpp/foil.h"
+#include "vpp/membrane/foil.h"
 
 namespace vpp {
 

@@ -1,4 +1,4 @@
-#include "vpp/config.h"
+#include "vpp/settings/config.h"
 
 #include <numbers>
 
@@ -9,7 +9,7 @@
 #include "dem/io/csv.h"
 #include "scene/clump_template.h"
 #include "scene/config.h"
-#include "vpp/settings.h"
+#include "vpp/settings/settings.h"
 
 namespace vpp {
 

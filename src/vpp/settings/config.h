@@ -2,7 +2,7 @@
 // damper config can be handed to any of them. Every key is checked.
 //
 // The structs below hold values, not defaults: every default (the paper's calibrated values,
-// docs/model.md) lives in one place, the settings table (vpp/settings.cpp), and Config's
+// docs/model.md) lives in one place, the settings table (vpp/settings/settings.cpp), and Config's
 // constructor fills every field from it, so code that builds a Config directly runs the same
 // model as the command line.
 #pragma once
@@ -16,7 +16,7 @@
 
 #include "dem/clumps/clump_shape.h"
 #include "scene/size_distribution.h"
-#include "vpp/foil.h"
+#include "vpp/membrane/foil.h"
 
 namespace vpp {
 
@@ -54,8 +54,8 @@ struct DamperDef {
     // foil's interior up to H_p (pi r_in^2 H_p), instead of until their level reaches H_p, so that
     // dampers of other radii are prepared at the same packing (docs/damper.md, "Preparation").
     double packing_target{};      // [-] 0, or in (0, 0.74)
-    // The foil's builder (key foil.builder): 0 "lattice", the paper's square grid (vpp/foil.h);
-    // 1 "mesh", the membrane on the cylinder's lateral surface (vpp/membrane.h,
+    // The foil's builder (key foil.builder): 0 "lattice", the paper's square grid (vpp/membrane/foil.h);
+    // 1 "mesh", the membrane on the cylinder's lateral surface (vpp/membrane/membrane.h,
     // membrane_tube_sites; docs/membrane.md, "A cylinder given as a mesh").
     int foil_builder{};
 };
@@ -74,7 +74,7 @@ struct ProcessDef {
     int64_t cycles{};
     int64_t samples_per_cycle{};
     double sample_window{};       // [s]
-    // The air inside (vpp/gas.h; docs/damper.md, "The air inside").
+    // The air inside (vpp/membrane/gas.h; docs/damper.md, "The air inside").
     int pressure_model{};         // 0 "constant": dp held (the paper); 1 "pump": gas, pump, leak
     double pump_speed{};          // [m^3/s] S (2 m^3/h, a small rotary-vane pump)
     double bleed_rate{};          // [m^3/s] B: the regulator's bleed lets air in below the set point
@@ -122,7 +122,7 @@ struct OutputDef {
 
 // Post-processing of the recorded loops; acts on no simulation, so it never needs a new run.
 struct AnalysisDef {
-    double settle_tolerance{};    // [-] relative scatter of one cycle's W when stationary (vpp/settle.h)
+    double settle_tolerance{};    // [-] relative scatter of one cycle's W when stationary (vpp/analysis/settle.h)
 };
 
 // The defaults differ between the commands for a few keys (Setting::def_foil): the damper

@@ -1,4 +1,4 @@
-#include "vpp/settings.h"
+#include "vpp/settings/settings.h"
 
 #include <cstring>
 
@@ -10,7 +10,6 @@
 #include "scene/config.h"
 #include "scene/scene_settings.h"
 #include "scene/threads.h"
-#include "vpp/study_file.h"
 
 namespace vpp {
 
@@ -51,7 +50,7 @@ std::string short_key(const Setting& s) {
 // would give a case a sample it did not ask for.
 // - grains.friction, damper.cap_friction: the fill and the cap's compression are frictionless
 //   (the grain, cap and funnel materials have friction 0 until DamperScene::apply_run_settings()
-//   in vpp/damper_scene.cpp gives them the config's);
+//   in vpp/damper/scene.cpp gives them the config's);
 // - process.*: the vacuum and the cycles come after prepared.ckpt;
 // - simulation.threads (results do not depend on it), output.* (files only), analysis.*
 //   (post-processing).
@@ -259,7 +258,7 @@ const std::vector<Setting>& table() {
              c.damper.foil_builder = b == "mesh" ? 1 : 0;
          },
          FIELD(damper.foil_builder), .legacy = 0.0},  // an older vppdem's foil was the lattice
-        // [damper]; radius and height are also checked against the foil (vpp/config.cpp).
+        // [damper]; radius and height are also checked against the foil (vpp/settings/config.cpp).
         {.key = "damper.radius", .type = T::Real, .unit = "m", .def = 0.0255, .check = C::Positive,
          .allowed = "must be at least 4 foil particle radii", .acts = A::Geometry, .geometry = 6, .summary = 12,
          .doc = "r_p (the foil takes the even column count closest to it); at least 4 foil particle radii",
@@ -482,7 +481,7 @@ const std::vector<Setting>& table() {
          FIELD(simulation.dt_safety)},
         // At most 0.9: the damping removes the fraction lambda of each force's power; near 1 it
         // holds the grains back instead of damping them (process.local_damping = 0.999999 gave
-        // W 125,099 J/m^2 against 388). Above 0.5 is warned (vpp/damper_checks.cpp).
+        // W 125,099 J/m^2 against 388). Above 0.5 is warned (vpp/damper/checks.cpp).
         {.key = "simulation.local_damping", .type = T::Real, .unit = "-", .def = 0.2, .check = C::Range, .lo = 0.0,
          .hi = 0.9, .allowed = "must be in [0, 0.9] (above, the damping, not the grains, dissipates; 0 only from a "
                                "prepared sample: the preparation needs it)", .acts = A::Simulation, .run = 18, .summary = 20,
@@ -606,8 +605,8 @@ const char* acts_name(Acts a) {
     return "?";
 }
 
-// The checks that weigh keys against each other and against the built damper (vpp/damper_checks.cpp,
-// check_process, check_steps and check_sampling; vpp/damper_record.cpp), which a single key's range cannot say.
+// The checks that weigh keys against each other and against the built damper (vpp/damper/checks.cpp,
+// check_process, check_steps and check_sampling; vpp/damper/record.cpp), which a single key's range cannot say.
 std::string limits_markdown() {
     return "### Limits from the physics\n\n"
            "A value inside its key's range may still ask for something the damper cannot do. These are\n"
@@ -661,15 +660,8 @@ std::string limits_markdown() {
            "  whose dp falls below half `process.underpressure` is warned.\n";
 }
 
-std::string config_reference_markdown() {
+std::string settings_reference_markdown() {
     std::string md =
-        "# Config reference\n\n"
-        "<!-- Generated from the settings tables (src/vpp/settings.cpp, src/vpp/study_file.cpp,\n"
-        "     src/scene/scene_settings.cpp) by\n"
-        "     `vppdem config-reference`; do not edit: build/vppdem config-reference > docs/config.md -->\n\n"
-        "- [VPP commands](#vpp-commands): damper, sweep, calibrate, tension, envelope\n"
-        "- [Study files](#study-files): the top-level keys of `vppdem sweep`'s study file\n"
-        "- [`vppdem scene`](#vppdem-scene): generic DEM scenes (docs/scene.md)\n\n"
         "## VPP commands\n\n"
         "Every key of the config of the VPP commands (damper, sweep, calibrate, tension, envelope), in a file\n"
         "or as `--set section.key=value`. Unknown keys and values outside the allowed range are refused with a\n"
@@ -700,10 +692,6 @@ std::string config_reference_markdown() {
               cfg::markdown_cell(s.doc) + " |\n";
     }
     md += "\n" + limits_markdown();
-    // The study file's keys (vpp/study_file.cpp), then the generic scene runner's, each from its
-    // own table (scene/scene_settings.cpp).
-    md += "\n" + study_reference_markdown();
-    md += "\n" + scene::scene_reference_markdown();
     return md;
 }
 

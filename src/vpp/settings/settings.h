@@ -1,9 +1,9 @@
 // The damper's settings table: every config key of the VPP commands (damper, sweep, calibrate,
 // tension, envelope) described once, with its type, default, unit, allowed range, what it acts
 // on and whether cases of a study may share a preparation across it. The config reader
-// (vpp/config.cpp), the range messages, the study's sharing rule (vpp/study_file.cpp), what a
-// damper run records in its checkpoints (vpp/damper_stored_settings.cpp) and summary.json
-// (vpp/damper_record.cpp) and docs/config.md (`vppdem config-reference`) all come from it, so a
+// (vpp/settings/config.cpp), the range messages, the study's sharing rule (vpp/study/file.cpp), what a
+// damper run records in its checkpoints (vpp/damper/stored_settings.cpp) and summary.json
+// (vpp/damper/record.cpp) and docs/config.md (`vppdem config-reference`) all come from it, so a
 // key cannot be documented one way and read another.
 #pragma once
 
@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "scene/setting.h"
-#include "vpp/config.h"
+#include "vpp/settings/config.h"
 
 namespace cfg {
 class Section;
@@ -45,14 +45,14 @@ struct Setting {
     const char* allowed = "";  // what is allowed, as the error message says it ("must be ...")
     Acts acts;
     // Cases of a study that differ only in keys with this flag share one preparation: the key
-    // does not act before prepared.ckpt (vpp/study_file.cpp).
+    // does not act before prepared.ckpt (vpp/study/file.cpp).
     bool shares_preparation = false;
     int geometry = 0;  // position among the sample's geometry in the checkpoints (0: not there)
     int run = 0;       // position among the settings a started run keeps when resumed (0: not there)
     int summary = 0;   // position among summary.json "inputs" (0: not there)
     const char* doc;
     // Reads the key from its section into the config; nullptr: the generic reader of the type
-    // and check (vpp/config.cpp).
+    // and check (vpp/settings/config.cpp).
     void (*read)(cfg::Section&, const Setting&, Config&, CommandSet) = nullptr;
     double (*get)(const Config&);   // the value as a number (flags 0/1, "auto" dt 0, ...)
     void (*set)(Config&, double);
@@ -85,7 +85,8 @@ bool may_share_preparation(const std::string& key);
 
 const char* acts_name(Acts a);
 
-// docs/config.md: the table as Markdown (`vppdem config-reference`).
-std::string config_reference_markdown();
+// The section "VPP commands" of docs/config.md: the table and the limits as Markdown (the whole
+// page, with the study files' and the scenes' keys: vpp/study/key_reference.h).
+std::string settings_reference_markdown();
 
 }  // namespace vpp

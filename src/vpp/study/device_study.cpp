@@ -1,4 +1,4 @@
-#include "vpp/device_study.h"
+#include "vpp/study/device_study.h"
 
 #include <zlib.h>
 
@@ -15,7 +15,7 @@
 #include "scene/build_info.h"
 #include "scene/config.h"
 #include "scene/scene_runner.h"
-#include "vpp/device_run.h"
+#include "vpp/device/run.h"
 
 namespace vpp {
 

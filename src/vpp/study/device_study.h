@@ -1,4 +1,4 @@
-// `vppdem sweep` on a device study (vpp/study_file.h DeviceStudy; docs/devices.md, "Studies"):
+// `vppdem sweep` on a device study (vpp/study/file.h DeviceStudy; docs/devices.md, "Studies"):
 // every case of the study with every seed, seed by seed (each case gets seed 1 before any gets
 // seed 2, so a study cut short is balanced), each a `vppdem device` run into DIR/<case>_s<seed>/
 // (DIR/<case>/ without seeds) under the one resume rule (scene::resume_checkpoint): a finished
@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "vpp/study_file.h"
+#include "vpp/study/file.h"
 
 namespace vpp {
 

@@ -1,4 +1,4 @@
-#include "vpp/study_file.h"
+#include "vpp/study/file.h"
 
 #include <algorithm>
 #include <cmath>
@@ -10,8 +10,8 @@
 
 #include "dem/io/csv.h"
 #include "scene/config.h"
-#include "vpp/device_def.h"
-#include "vpp/settings.h"
+#include "vpp/device/definition.h"
+#include "vpp/settings/settings.h"
 
 namespace vpp {
 
@@ -163,7 +163,7 @@ std::string study_reference_markdown() {
 }
 
 // Which keys may differ between the cases of one preparation: the settings table's rule and
-// why (vpp/settings.cpp, shares_preparation).
+// why (vpp/settings/settings.cpp, shares_preparation).
 bool is_shareable_key(const std::string& key) { return may_share_preparation(key); }
 
 std::vector<double> parse_range(const std::string& key, const std::string& text, bool* integers) {

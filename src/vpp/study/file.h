@@ -12,7 +12,7 @@
 //     "process.underpressure" = [0.02e6, 0.08e6]
 // Its keys are described once, in study_keys() (docs/config.md, "Study files").
 // Cases whose grid values differ only in keys that do not act before the end of the preparation
-// (vpp/settings.h, shares_preparation: grain and cap friction, process.*, output.*, analysis.*,
+// (vpp/settings/settings.h, shares_preparation: grain and cap friction, process.*, output.*, analysis.*,
 // threads) share one preparation: the first case of each group prepares, the others branch from
 // its prepared.ckpt.
 #pragma once
@@ -21,7 +21,7 @@
 #include <string>
 #include <vector>
 
-#include "vpp/config.h"
+#include "vpp/settings/config.h"
 
 namespace vpp {
 
@@ -68,7 +68,7 @@ struct Study {
 };
 
 // Keys whose values may differ between cases sharing one preparation (the damper's --from
-// accepts them): the settings table's shares_preparation (vpp/settings.h).
+// accepts them): the settings table's shares_preparation (vpp/settings/settings.h).
 bool is_shareable_key(const std::string& key);
 
 // Reads and checks a study file (ConfigError naming the key on bad input); extra_sets are

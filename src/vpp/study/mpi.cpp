@@ -1,4 +1,4 @@
-#include "vpp/study_mpi.h"
+#include "vpp/study/mpi.h"
 
 #include <cstdlib>
 #include <string>

@@ -1,4 +1,4 @@
-#include "vpp/study_records.h"
+#include "vpp/study/records.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,11 +11,11 @@
 #include <toml++/toml.h>
 
 #include "dem/io/csv.h"
-#include "vpp/damper.h"
-#include "vpp/records.h"
-#include "vpp/settings.h"
-#include "vpp/settle.h"
-#include "vpp/stats.h"
+#include "vpp/damper/damper.h"
+#include "vpp/analysis/records.h"
+#include "vpp/settings/settings.h"
+#include "vpp/analysis/settle.h"
+#include "vpp/analysis/stats.h"
 
 namespace vpp {
 
@@ -247,7 +247,7 @@ const std::vector<OutcomeNumber>& outcome_numbers() {
         {"dissipated_energy", "J", "the last cycle's loop area", &O::dissipated_energy, nullptr, true},
         {"peak_force", "N", "the last cycle's largest force", &O::peak_force, nullptr, true},
         {"run_seconds", "s", "the run's wall time (summary.json)", &O::run_seconds, nullptr, true, false, true},
-        {"W_settled", "J/m^2", "mean W of the stationary cycles (vpp/settle.h; empty: none)", &O::W_settled},
+        {"W_settled", "J/m^2", "mean W of the stationary cycles (vpp/analysis/settle.h; empty: none)", &O::W_settled},
         {"settled_cycles", "", "how many cycles are stationary", nullptr, &O::settled_cycles},
         {"first_settled_cycle", "", "the first stationary cycle (empty: none)", nullptr, &O::first_settled, false,
          true},

@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "vpp/study_file.h"
+#include "vpp/study/file.h"
 
 namespace vpp {
 
@@ -22,7 +22,7 @@ struct CaseOutcome {
     std::string message;         // failure message
     double W = 0, dissipated_energy = 0, peak_force = 0;  // last cycle
     double run_seconds = 0;
-    // Stationary loops (vpp/settle.h): mean W of the settled cycles (NaN: none settled), how
+    // Stationary loops (vpp/analysis/settle.h): mean W of the settled cycles (NaN: none settled), how
     // many settled, the first (0: none).
     double W_settled = kNaN;
     int settled_cycles = 0, first_settled = 0;
@@ -104,7 +104,7 @@ inline const std::vector<std::string> kEnsembleQuantities = {"W", "W_settled", "
 // The summary_cases.csv text, one row per case of the grid without its seed axis (all rows of
 // summary.csv that differ only in simulation.seed): the other swept keys, `seeds` (runs in the
 // case), `ok` (finished runs), then per quantity Q of kEnsembleQuantities `Q_n,Q_mean,Q_sd,Q_ci95`
-// over the finished runs that have Q (vpp/stats.h: Student t, n - 1 degrees of freedom; ci95 the
+// over the finished runs that have Q (vpp/analysis/stats.h: Student t, n - 1 degrees of freedom; ci95 the
 // half width, the interval is mean +- ci95), then `cases` (the runs' folders, ';'-separated).
 // A study without seeds has one run per row (n = 1: sd and ci95 empty).
 std::string cases_csv(const Study& s, const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes);
@@ -120,7 +120,7 @@ inline const std::vector<std::string> kPairedQuantities = {"W_settled", "W", "pe
 // seeds s whose two runs finished with a finite Q. Columns
 // `key,value,reference,group,quantity,n,diff_mean,diff_sd,diff_ci95,ref_mean,rel_diff`: group is
 // the other axes as `k1=v1;k2=v2` (empty without any), n the seeds paired, then the mean, sample
-// sd and 95% half width of d (vpp/stats.h; sd and ci95 empty for n < 2, every number for n = 0),
+// sd and 95% half width of d (vpp/analysis/stats.h; sd and ci95 empty for n < 2, every number for n = 0),
 // the mean of Q at the reference over the same seeds, and diff_mean / ref_mean. The seeds of
 // one case branch from that seed's sample where A shares the preparation, so the sample's own
 // scatter cancels in d (docs/studies.md, "Ensembles").

@@ -1,4 +1,4 @@
-#include "vpp/study.h"
+#include "vpp/study/study.h"
 
 #include <cstdlib>
 #include <algorithm>
@@ -19,7 +19,7 @@
 #include "scene/config.h"
 #include "scene/scene_runner.h"
 #include "scene/threads.h"
-#include "vpp/damper.h"
+#include "vpp/damper/damper.h"
 
 namespace vpp {
 

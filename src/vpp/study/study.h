@@ -1,5 +1,5 @@
 // `vppdem sweep`: parameter studies of the damper (docs/studies.md). The study file and its
-// cases are vpp/study_file.h, the outcomes and tables vpp/study_records.h, MPI vpp/study_mpi.h;
+// cases are vpp/study/file.h, the outcomes and tables vpp/study/records.h, MPI vpp/study/mpi.h;
 // here the scheduler: cases run on a pool of threads (one damper per thread, simulation.threads
 // = 1 unless the study sets it), preparers first, branches when their preparation is written,
 // and under MPI round-robin over the ranks.
@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "dem/io/folder_lock.h"
-#include "vpp/study_file.h"
-#include "vpp/study_mpi.h"
-#include "vpp/study_records.h"
+#include "vpp/study/file.h"
+#include "vpp/study/mpi.h"
+#include "vpp/study/records.h"
 
 namespace vpp {
 

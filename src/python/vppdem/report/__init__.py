@@ -20,7 +20,7 @@ records (docs/data/) or from run folders. From the shell:
     membrane_cylinder  the damper's W with the lattice foil against the mesh foil (docs/data/membrane_cylinder/report.md)
 
 Their statistics are one module, vppdem.report.stats (Student's t by the method of
-src/vpp/stats.cpp, the 95% interval, paired and Welch differences); the paper's decision rules
+src/vpp/analysis/stats.cpp, the 95% interval, paired and Welch differences); the paper's decision rules
 are vppdem.report.paper_rules. Needs numpy and matplotlib, not the compiled module.
 """
 import os

@@ -1041,8 +1041,8 @@ def radius_packing_section(S):
     return lines, notes, complete
 
 
-def current_default(key, path="src/vpp/settings.cpp"):
-    """The default of a setting as src/vpp/settings.cpp declares it ({.key = "KEY", ... .def = X});
+def current_default(key, path="src/vpp/settings/settings.cpp"):
+    """The default of a setting as src/vpp/settings/settings.cpp declares it ({.key = "KEY", ... .def = X});
     None where the file or the key is not there."""
     try:
         with open(path) as f:
@@ -1205,12 +1205,12 @@ def timestep_section(S, figdir, caption):
         if finer:
             rule += "; a finer level's mean lies outside it: " + ", ".join(f"{s:g}" for s in finer)
         if default is not None and not same(default, chosen):
-            rule += f". The current default is {default:g} (src/vpp/settings.cpp): **default to change to {chosen:g}**"
+            rule += f". The current default is {default:g} (src/vpp/settings/settings.cpp): **default to change to {chosen:g}**"
         elif default is not None and not same(default, TS_STUDIES):
-            rule += (f". The default ({default:g}, src/vpp/settings.cpp) is that level, since this study; the studies "
+            rule += (f". The default ({default:g}, src/vpp/settings/settings.cpp) is that level, since this study; the studies "
                      f"ran at {TS_STUDIES:g}, the default of their build")
         elif default is not None:
-            rule += f". The current default ({default:g}, src/vpp/settings.cpp) is that level: it stays"
+            rule += f". The current default ({default:g}, src/vpp/settings/settings.cpp) is that level: it stays"
     lines.append(f"- Default rule (issue 44): {rule}{prov}.")
     c5 = (f"converged W (Richardson over {n} seeds, section 'Time step converged'): {m:.0f} +- {h:.0f} J/m2; "
           f"dt_safety {TS_STUDIES:g} biased {btxt(TS_STUDIES)}" if TS_STUDIES in bias else

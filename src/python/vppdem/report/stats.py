@@ -2,7 +2,7 @@
 Welch difference, which every report calls.
 
     t_quantile(p, dof)     the t with P(T <= t) = p, Student's t with dof (any real >= 1) degrees
-                           of freedom; the method of src/vpp/stats.cpp (student_t_quantile), step
+                           of freedom; the method of src/vpp/analysis/stats.cpp (student_t_quantile), step
                            for step, so the pages and the C++ tables print the same numbers
     incomplete_beta(x, a, b)   the regularised incomplete beta function I_x(a, b) (its tail)
     mean(xs), sd(xs)       the mean and the sample standard deviation (n - 1) of the finite values
@@ -35,7 +35,7 @@ __all__ = ["LEVEL", "incomplete_beta", "t_quantile", "finite", "mean", "sd", "in
            "ols", "profile_range"]
 
 
-# ---- Student t (src/vpp/stats.cpp: beta_continued_fraction, incomplete_beta, student_t_quantile)
+# ---- Student t (src/vpp/analysis/stats.cpp: beta_continued_fraction, incomplete_beta, student_t_quantile)
 
 def _betacf(x, a, b):
     """The continued fraction of the incomplete beta function (modified Lentz), valid for
