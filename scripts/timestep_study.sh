@@ -27,6 +27,7 @@ sweep() {  # LEG SEED JOBS [--publish]
   mkdir -p "$OUT/$leg"
   "$VPPDEM" sweep "studies/paper/$leg.toml" --out "$OUT/$leg" --seeds "$k" --jobs "$jobs" "$@" --no-plot --quiet
 }
+mkdir -p "$OUT/timestep_045" "$OUT/timestep_samples"  # leg 2 names both as its samples_from
 for k in $SEEDS; do
   done_runs=0
   for f in "$DATA/timestep_045/simulation.seed=$k" "$DATA/timestep_stationary/simulation.dt-safety=0.3_simulation.seed=$k" \
