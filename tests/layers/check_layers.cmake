@@ -20,7 +20,7 @@
 #   3  foil_checks, damper, device      the applications: the foil's checks, the damper, devices
 #   4  study                            sweeps of dampers and devices, their records, the key reference
 #   5  calibration                      studies fitted to an experiment's loops
-# Every file of src/vpp lives in a room: one directly in src/vpp is refused.
+# Every file of src/dem and src/vpp lives in a folder (room): one directly in src/dem or src/vpp is refused.
 # Usage: cmake -DROOT=<folder that holds src/> -P check_layers.cmake
 # Fails naming each offending file:line; quoted includes must name their layer folder.
 if(NOT DEFINED ROOT)
@@ -98,8 +98,9 @@ foreach(layer dem scene vpp)
     string(REPLACE "\\" "<backslash>" text "${text}")
     string(REPLACE "\n" ";" lines "${text}")
     file(RELATIVE_PATH rel "${ROOT}" "${f}")
-    if(layer STREQUAL "vpp" AND NOT rel MATCHES "^src/vpp/[^/]+/")
-      list(APPEND bad "${rel}:1: a file directly in src/vpp: every file lives in a room (analysis, membrane, settings, foil_checks, damper, device, study, calibration)")
+    # A file outside the ranked folders would escape the rank check below.
+    if(layer MATCHES "^(dem|vpp)$" AND NOT rel MATCHES "^src/${layer}/[^/]+/")
+      list(APPEND bad "${rel}:1: a file directly in src/${layer}: every file lives in ${what_${layer}} (${order_${layer}})")
     endif()
     set(n 0)
     foreach(line IN LISTS lines)

@@ -43,6 +43,7 @@ file(WRITE "${WORK}/src/vpp/membrane/bad8.h" "#pragma once\n#include \"vpp/membr
 file(WRITE "${WORK}/src/vpp/device/bad9.cpp" "#include \"vpp/damper/damper.h\"\n")
 file(WRITE "${WORK}/src/vpp/extra/bad10.h" "#pragma once\n#include \"vpp/analysis/stats.h\"\n")
 file(WRITE "${WORK}/src/vpp/loose.cpp" "#include <vector>\n")
+file(WRITE "${WORK}/src/dem/loose.h" "#pragma once\n#include \"dem/core/vec3.h\"\n")
 file(WRITE "${WORK}/src/vpp/analysis/bad11.cpp" "#include <vector>\n#include \"vpp/config.h\"\n")
 file(WRITE "${WORK}/src/dem/contact/bad3.h" "#pragma once\n#include \"dem/world/world.h\"\n")
 file(WRITE "${WORK}/src/dem/world/bad4.cpp" "#include \"dem/world/good.h\"\n#include \"dem/io/checkpoint.h\"\n")
@@ -57,7 +58,7 @@ foreach(expected
     "src/vpp/study/bad_relative.cpp:1:" "src/dem/contact/bad3.h:2:" "src/dem/world/bad4.cpp:2:"
     "src/dem/contact/bad5.h:3:" "src/dem/bonds/bad6.h:2:" "src/dem/extra/bad7.h:2:"
     "src/vpp/membrane/bad8.h:3:" "src/vpp/device/bad9.cpp:1:" "src/vpp/extra/bad10.h:2:"
-    "src/vpp/loose.cpp:1:" "src/vpp/analysis/bad11.cpp:2:")
+    "src/vpp/loose.cpp:1:" "src/vpp/analysis/bad11.cpp:2:" "src/dem/loose.h:1:")
   string(FIND "${checker_output}" "${expected}" at)
   if(at EQUAL -1)
     message(FATAL_ERROR "check_layers_selftest: the refusal does not name ${expected}:\n${checker_output}")

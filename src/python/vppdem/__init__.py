@@ -29,6 +29,7 @@ one call at a time: while a stage, save() or write() runs, a call on it from ano
 raises RuntimeError (the progress callback, on the running thread, may read it). ``progress``: None (quiet), True (a tqdm bar when tqdm is installed, else a line on
 stderr now and then), or a callable ``f(stage, done, total, time)``.
 """
+
 import importlib
 import json
 import os

@@ -3,6 +3,7 @@ itself, run with the progress callback the engine calls."""
 
 import sys
 
+
 class _Bar:
     """What both progress callbacks share: the user's callable, or a tqdm bar when tqdm is
     installed and progress is True (else lines on stderr)."""

@@ -9,6 +9,7 @@ from ._arguments import _count, _study_sets
 from ._native import _core
 from ._progress import _CaseProgress, _run
 
+
 def build():
     """The build of the compiled core, as every run's build.json records it and `vppdem
     --version` prints it: {"commit": git describe of its sources, "id": 16 hex digits, the same

@@ -8,7 +8,6 @@
 #include <stdexcept>
 
 #include "scene/config.h"
-#include "scene/scene_settings.h"
 #include "scene/threads.h"
 
 namespace vpp {
