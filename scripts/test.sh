@@ -1,9 +1,12 @@
 #!/usr/bin/env bash
-# The README's second command: install, build from scratch, run the tests.
+# The README's second command: install, build from scratch, run the quick tier of the tests
+# (within 10 minutes on a fresh 2-core machine).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
 rm -rf build
 bash scripts/build.sh
 cd build
-ctest --output-on-failure -j "$(nproc)"
+# The quick tier: every test but those labelled long (CMakeLists.txt, VPPDEM_LONG_TESTS), which
+# .ci/run runs after this command (`ctest -L long`).
+ctest --output-on-failure -j "$(nproc)" -LE long

@@ -80,13 +80,13 @@ protected:
     static void SetUpTestSuite() {
         fs::remove_all(scratch(""));
         fs::create_directories(scratch(""));
-        prep_ = run("damper --out " + scratch("constant").string() + " " + kSmallDamper);
+        prep_ = run("damper --out " + scratch("constant").string() + " " + kSmallDamperPaperMasses);
     }
     static void TearDownTestSuite() { fs::remove_all(scratch("")); }
     static std::string branch(const std::string& name, const std::string& sets) {
         const fs::path d = scratch(name);
         const Outcome r = run("damper --out " + d.string() + " --from " + (scratch("constant") / "prepared.ckpt").string() +
-                              " " + kSmallDamper + " " + sets);
+                              " " + kSmallDamperPaperMasses + " " + sets);
         EXPECT_EQ(r.status, 0) << r.output;
         return d.string();
     }
@@ -303,7 +303,7 @@ TEST_F(Air, LocalDampingFromTheVacuumOnKeepsThePreparation) {
     EXPECT_GT(c.at("viscous_dissipation")[0], 0.0);
     // The whole run: preparation with simulation.local_damping (0.2), then 0 from the vacuum on.
     const fs::path whole = scratch("ld_whole");
-    const Outcome r = run("damper --out " + whole.string() + " " + kSmallDamper + " " + dyn +
+    const Outcome r = run("damper --out " + whole.string() + " " + kSmallDamperPaperMasses + " " + dyn +
                           "--set process.local_damping=0 --no-plot --quiet");
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_EQ(slurp(whole / "forces.csv"), slurp(by_proc / "forces.csv"));
@@ -330,7 +330,7 @@ TEST_F(Air, BadValuesAreRefusedNamingTheKey) {
         {"process.local_damping=none", "process.local_damping"},
     };
     for (const Case& k : cases) {
-        const Outcome r = run("damper --out " + scratch("bad").string() + " " + kSmallDamper + " --set " + k.set);
+        const Outcome r = run("damper --out " + scratch("bad").string() + " " + kSmallDamperPaperMasses + " --set " + k.set);
         EXPECT_NE(r.status, 0) << k.set;
         EXPECT_NE(r.output.find(k.says), std::string::npos) << k.set << ": " << r.output;
         EXPECT_FALSE(fs::exists(scratch("bad") / "forces.csv"));
@@ -345,7 +345,7 @@ TEST_F(Air, AResumedPumpRunEqualsTheUninterruptedOne) {
     const fs::path whole = branch("pump_whole", sets);
     const fs::path d = scratch("pump_killed");
     const std::string args = "damper --out " + d.string() + " --from " + (scratch("constant") / "prepared.ckpt").string() +
-                             " --checkpoint-every 0.2 " + kSmallDamper + " " + sets;
+                             " --checkpoint-every 0.2 " + kSmallDamperPaperMasses + " " + sets;
     ASSERT_TRUE(kill_when(args, [&] { return data_rows(d / "forces.csv") > 0; })) << "the run ended before the kill";
     const Outcome r = run("damper --out " + d.string() + " --from " + (d / "run.ckpt").string() + " --no-plot --quiet");
     ASSERT_EQ(r.status, 0) << r.output;

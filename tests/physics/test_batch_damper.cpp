@@ -27,12 +27,15 @@ namespace {
 fs::path scratch(const std::string& name) { return scratch_path("batch_damper_test", name); }
 
 // The small damper of the other tests, one cycle, for a seed: its run.ckpt is the sample after
-// the cycle (the motions have ended there; load() drives them on).
+// the cycle (the motions have ended there; load() drives them on). At the feature tests' step
+// but the paper's masses (cli_helpers.h, kSmallDamperPaperMasses): the energy ledger must close
+// over 10,000 steps, which the mass-scaled grains' inertia spoils. The suite runs as one ctest
+// entry (CMakeLists.txt), so both samples are prepared once.
 std::string damper_args(int seed) {
     return "--set damper.radius=0.012 --set damper.height=0.03 --set grains.volume_fraction=0.45 "
            "--set process.velocity=0.1 --set process.amplitude=0.002 --set process.cycles=1 "
            "--set process.samples_per_cycle=20 --set simulation.threads=1 --set simulation.seed=" +
-           std::to_string(seed) + " --no-plot --quiet";
+           std::to_string(seed) + " --set simulation.dt_safety=0.45 --no-plot --quiet";
 }
 
 class BatchDamper : public ::testing::Test {
@@ -210,11 +213,12 @@ TEST_F(BatchDamper, TheStepperOnTheEmulatedDeviceGivesEachRunsBits) {
 
 // The kernels' work split among a block's threads, as on a GPU: the emulated device with 4 threads
 // per system meeting at the kernels' barriers and appending with atomics (the found and opened
-// contacts then come in any order: the host sorts them). Each case's bits, 8 mixed cases.
+// contacts then come in any order: the host sorts them). Each case's bits, 8 mixed cases, over
+// 250 steps: 4 threads meeting at every barrier on the 2-core machine took a minute for 1000.
 TEST_F(BatchDamper, TheKernelsSplitAmongABlocksThreadsGiveEachCasesBits) {
     ASSERT_TRUE(ok_) << log_;
     std::vector<Case> cases = eight_cases();
-    const int steps = 1000;
+    const int steps = 250;
     std::vector<World> ref, mine;
     for (const Case& c : cases) {
         ref.push_back(load(c.seed, c.dp, c.mu, c.energy, c.restitution));

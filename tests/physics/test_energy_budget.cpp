@@ -396,7 +396,7 @@ TEST_F(EnergyDamper, ResumedRunWritesTheSameEnergy) {
     ASSERT_EQ(base_.status, 0) << base_.output;
     const fs::path d = scratch("restart");
     const std::string args = " damper --out " + d.string() + " --from " + (scratch("base") / "prepared.ckpt").string() +
-                             " --checkpoint-every 0.3 " + kSmallDamper;
+                             " --checkpoint-every 0.03 " + kSmallDamper;
     // Killed once cycling has written part of its record (forces.csv comes with the checkpoints).
     ASSERT_TRUE(kill_when(args, [&] { return data_rows(d / "forces.csv") > 0; })) << "the run ended before the kill";
     ASSERT_TRUE(fs::exists(d / "run.ckpt"));

@@ -31,12 +31,13 @@ std::vector<std::string> example_files() {
     return names;
 }
 
-// The small quick damper (tests/physics/cli_helpers.h) for one short cycle; a study's [set]
-// and [grid] values of these keys are replaced.
+// The small quick damper (tests/physics/cli_helpers.h, kSmallDamper: mass-scaled at the feature
+// tests' step) for one short cycle; a study's [set] and [grid] values of these keys are replaced.
 const std::vector<std::pair<std::string, std::string>> kSmallStudy = {
     {"damper.radius", "0.012"},           {"damper.height", "0.03"},      {"grains.volume_fraction", "0.45"},
     {"process.velocity", "0.1"},          {"process.amplitude", "0.002"}, {"process.cycles", "1"},
-    {"process.samples_per_cycle", "40"},  {"simulation.threads", "1"}};
+    {"process.samples_per_cycle", "40"},  {"simulation.threads", "1"},    {"simulation.dt_safety", "0.45"},
+    {"grains.density", "268963.9"},       {"foil.density", "15177.0"}};
 
 std::string quoted(const std::string& s) { return "\"" + s + "\""; }
 

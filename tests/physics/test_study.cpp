@@ -49,7 +49,10 @@ const std::string kSmallSetAnyStep =
     "\"process.amplitude\" = 0.002\n"
     "\"process.cycles\" = 2\n"
     "\"process.samples_per_cycle\" = 80\n"
-    "\"simulation.threads\" = 1\n";
+    "\"simulation.threads\" = 1\n"
+    // mass-scaled as the feature tests' damper (cli_helpers.h, kSmallDamper)
+    "\"grains.density\" = 268963.9\n"
+    "\"foil.density\" = 15177\n";
 const std::string kSmallSet = kSmallSetAnyStep + "\"simulation.dt_safety\" = 0.45\n";
 
 fs::path scratch(const std::string& name) { return scratch_path("study_test", name); }
@@ -559,7 +562,7 @@ TEST_F(Study, SweepResumesAfterBeingKilled) {
     const fs::path c1 = out / "grains.friction=0.3", c2 = out / "grains.friction=0.6";
     // One job: the preparing case first, then the branch. Kill the sweep while the branch runs.
     const std::string cmd = "exec " + kBinary + " sweep " + study.string() + " --out " + out.string() +
-                            " --jobs 1 --no-plot --quiet --checkpoint-every 0.3 > /dev/null 2>&1";
+                            " --jobs 1 --no-plot --quiet --checkpoint-every 0.03 > /dev/null 2>&1";
     const pid_t pid = fork();
     ASSERT_GE(pid, 0);
     if (pid == 0) {
@@ -576,7 +579,7 @@ TEST_F(Study, SweepResumesAfterBeingKilled) {
         if (waitpid(pid, nullptr, WNOHANG) == pid) break;  // finished (too fast to kill) or died
         std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    std::this_thread::sleep_for(std::chrono::milliseconds(700));
+    std::this_thread::sleep_for(std::chrono::milliseconds(100));
     kill(pid, SIGKILL);
     waitpid(pid, nullptr, 0);
     ASSERT_TRUE(branch_started) << "the sweep did not reach its second case";
@@ -638,7 +641,8 @@ TEST_F(Study, CalibrationRecoversTheFrictionOfAnExperimentFromAnotherPacking) {
                           " --set damper.radius=0.012 --set damper.height=0.03 --set grains.volume_fraction=0.45 "
                           "--set process.velocity=0.1 --set process.amplitude=0.002 --set process.cycles=2 "
                           "--set process.samples_per_cycle=80 --set simulation.threads=1 "
-                          "--set grains.friction=0.45 --set simulation.seed=11 --no-plot --quiet");
+                          "--set grains.friction=0.45 --set simulation.seed=11 --set simulation.dt_safety=0.45" +
+                          kMassScaled + " --no-plot --quiet");
     ASSERT_EQ(t.status, 0) << t.output;
     std::vector<std::string> header;
     const auto rows = dem::read_numeric_csv((sim / "forces.csv").string(), 7, &header);
