@@ -48,6 +48,17 @@ CLI::Validator finite_at_least(double lo, bool open, const char* name) {
 }
 const CLI::Validator kPositive = finite_at_least(0.0, true, "POSITIVE");
 const CLI::Validator kNonNegative = finite_at_least(0.0, false, "NONNEGATIVE");
+// --out: an empty or blank value would be the current folder (scene::require_output_path).
+const CLI::Validator kOutputPath(
+    [](std::string& in) -> std::string {
+        try {
+            scene::require_output_path(in, "value");
+        } catch (const std::exception& e) {
+            return e.what();
+        }
+        return "";
+    },
+    "PATH");
 
 }  // namespace
 
@@ -63,7 +74,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> sets;
     bool overwrite = false, quiet = false;
     scene->add_option("file", scene_file, "Scene file (TOML)")->required()->check(CLI::ExistingFile);
-    scene->add_option("--out", out_dir, "Output directory")->required();
+    scene->add_option("--out", out_dir, "Output directory")->required()->check(kOutputPath);
     // allow_extra_args(false): one value per --set, so positionals may follow it.
     scene->add_option("--set", sets, "Override a config key: section.key=value (repeatable)")
         ->allow_extra_args(false);
@@ -106,7 +117,7 @@ int main(int argc, char** argv) {
         c.app = app.add_subcommand(name, help);
         c.app->add_option("config", c.config, "Config file (TOML); defaults are the paper's values")
             ->check(CLI::ExistingFile);
-        c.app->add_option("--out", c.out, "Output directory")->required();
+        c.app->add_option("--out", c.out, "Output directory")->required()->check(kOutputPath);
         c.app->add_option("--set", c.sets, "Override a config key: section.key=value (repeatable)")
             ->allow_extra_args(false);
         c.app->add_flag("--overwrite", c.overwrite, "Replace files in a non-empty output directory");
@@ -136,7 +147,7 @@ int main(int argc, char** argv) {
     std::vector<std::string> device_sets;
     bool device_overwrite = false, device_quiet = false;
     device->add_option("file", device_file, "Device file (TOML)")->required()->check(CLI::ExistingFile);
-    device->add_option("--out", device_out, "Output directory (running into it again resumes from its run.ckpt)")->required();
+    device->add_option("--out", device_out, "Output directory (running into it again resumes from its run.ckpt)")->required()->check(kOutputPath);
     device->add_option("--from", device_from, "Resume from this checkpoint (a run.ckpt)")->check(CLI::ExistingFile);
     device->add_option("--set", device_sets, "Override a device key: section.key=value (repeatable)")->allow_extra_args(false);
     device->add_flag("--overwrite", device_overwrite, "Start afresh in a non-empty output directory, replacing its files (its run.ckpt too)");
@@ -151,7 +162,8 @@ int main(int argc, char** argv) {
     std::string dunit = "m", funit = "N";
     analyze->add_option("forces", ao.forces, "CSV with a header")->required()->check(CLI::ExistingFile);
     analyze->add_option("--out", ao.out, std::string("Output file (default: ") + vpp::kAnalyzeOutput +
-                                             " beside the input; an existing file needs --overwrite)");
+                                             " beside the input; an existing file needs --overwrite)")
+        ->check(kOutputPath);
     analyze->add_option("--radius", ao.radius,
                         "[m] damper radius for W = energy / (pi r^2) (default: damper.radius of the summary.json "
                         "beside the input, else 0.0255, the paper's)")
@@ -184,7 +196,7 @@ int main(int argc, char** argv) {
     auto add_study = [&](const char* name, const char* help, StudyCommand& c) {
         c.app = app.add_subcommand(name, help);
         c.app->add_option("study", c.study, "Study file (TOML; docs/studies.md)")->required()->check(CLI::ExistingFile);
-        c.app->add_option("--out", c.out, "Output directory (re-running into it resumes the study)")->required();
+        c.app->add_option("--out", c.out, "Output directory (re-running into it resumes the study)")->required()->check(kOutputPath);
         c.app->add_option("--jobs", c.jobs, "Cases run at once on this machine (default: the free cores / threads per case; "
                                             "free cores: the cores this process may use minus those busy with other work)")
             ->check(kNonNegative);

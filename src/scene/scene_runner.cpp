@@ -380,7 +380,14 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     return sc;
 }
 
+void require_output_path(const std::string& dir, const std::string& what) {
+    if (dir.find_first_not_of(" \t\r\n") != std::string::npos) return;
+    throw ConfigError(what + " '" + dir + "': an empty or blank output folder is refused (it would be the current "
+                      "folder, whose files the run would replace); give a folder's path, e.g. out/run1");
+}
+
 dem::FolderLock lock_output_dir(const std::string& dir) {
+    require_output_path(dir, "--out");
     if (fs::exists(dir) && !fs::is_directory(dir)) throw ConfigError("--out '" + dir + "' exists and is not a directory");
     fs::create_directories(dir);
     dem::FolderLock lock(dir);

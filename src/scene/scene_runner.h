@@ -62,6 +62,12 @@ dem::FolderLock lock_output_dir(const std::string& dir);
 // lock_output_dir() and record_build(dir, false) instead.
 dem::FolderLock prepare_output_dir(const std::string& dir, bool overwrite);
 
+// Refuses an output folder given as empty or blank (ConfigError naming `what`, the option or
+// argument, and the value): "" resolves to the current folder, whose files a run would then
+// replace without --overwrite (issue 62). Every command's folder passes through it
+// (lock_output_dir); the command line's and Python's front doors call it too.
+void require_output_path(const std::string& dir, const std::string& what);
+
 // One resume rule for every command that writes a run folder (damper, device, a sweep's cases):
 // the checkpoint a run starts from: `from` when given; else the folder's run.ckpt when it is
 // there and the run is not told to start afresh (overwrite), so that the same command into the

@@ -695,3 +695,56 @@ TEST_F(Damper, SamplingFasterThanTheStepIsRefusedOnABranchAsOnANewSample) {
     EXPECT_NE(r.output.find("less than the time step"), std::string::npos) << r.output;
     EXPECT_FALSE(fs::exists(d)) << "a refused branch wrote " << d;
 }
+
+// The closing line names the files the folder holds, each of which exists: a branch from
+// --from writes no prepared.ckpt of its own, and the line once listed it all the same.
+TEST_F(Damper, TheClosingLineNamesOnlyFilesThatWereWritten) {
+    ASSERT_EQ(base_.status, 0) << base_.output;
+    const fs::path d = scratch("closing_line");
+    std::string loud = kSmall;
+    loud.erase(loud.find(" --quiet"), std::string(" --quiet").size());
+    const Outcome r = run("damper --out " + d.string() + " --from " + (scratch("dp060") / "prepared.ckpt").string() + " " + loud);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const std::string key = "outputs in " + d.string() + ":";
+    const std::size_t at = r.output.find(key);
+    ASSERT_NE(at, std::string::npos) << r.output;
+    std::istringstream names(r.output.substr(at + key.size(), r.output.find('\n', at) - at - key.size()));
+    int listed = 0;
+    for (std::string n; names >> n; ++listed) {
+        if (n.back() == '/') n.pop_back();
+        EXPECT_TRUE(fs::exists(d / n)) << n << " listed but not written\n" << r.output;
+    }
+    EXPECT_GE(listed, 4) << r.output;  // forces.csv, energy.csv, cycles.csv, summary.json at least
+    EXPECT_FALSE(fs::exists(d / "prepared.ckpt"));
+    EXPECT_EQ(r.output.find("prepared.ckpt", at), std::string::npos) << r.output;
+}
+
+// `--out ''` or blank: refused by every command (exit 2, naming --out and why), and nothing is
+// written into the current folder (it once ran the damper there, over its forces.csv).
+TEST(OutputFolder, AnEmptyOrBlankOutIsRefusedByEveryCommand) {
+    const fs::path cwd = scratch_path("output_folder", "cwd");
+    fs::remove_all(cwd);
+    fs::create_directories(cwd);
+    const fs::path src(VPPDEM_SOURCE_DIR);
+    const fs::path forces = scratch_path("output_folder", "forces.csv");
+    write_file(forces, "time,displacement,force\n0,0,0\n1,0.001,1\n2,0,0\n");
+    const std::string study = (src / "examples/study_tiny.toml").string();
+    const std::vector<std::string> commands = {
+        "scene " + (src / "examples/01_pour_into_cylinder.toml").string(),
+        "tension",
+        "envelope",
+        "damper",
+        "device " + (src / "tests/data/devices/tiny_gripper.toml").string(),
+        "analyze " + forces.string(),
+        "sweep " + study,
+        "calibrate " + study + " --experiment " + forces.string()};
+    for (const std::string& c : commands)
+        for (const char* out : {"''", "'  '"}) {
+            const Outcome r = shell("cd " + quote(cwd) + " && " + kBinary + " " + c + " --out " + out);
+            EXPECT_TRUE(WIFEXITED(r.status) && WEXITSTATUS(r.status) == 2) << c << " --out " << out << "\n" << r.output;
+            EXPECT_NE(r.output.find("--out"), std::string::npos) << c << "\n" << r.output;
+            EXPECT_NE(r.output.find("empty or blank output folder is refused"), std::string::npos) << c << "\n" << r.output;
+        }
+    EXPECT_TRUE(fs::is_empty(cwd)) << "a refused command wrote into the current folder";
+    fs::remove_all(cwd.parent_path());
+}

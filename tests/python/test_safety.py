@@ -165,3 +165,34 @@ def test_sweep_jobs_below_zero_are_refused(tmp_path):
         with pytest.raises(error, match=f"jobs = {jobs!r}: a whole number >= 0"):
             vppdem.calibrate(study, tmp_path / "exp.csv", tmp_path / "cal", jobs=jobs)
     assert not (tmp_path / "out").exists() and not (tmp_path / "cal").exists()
+
+
+# Issue 62: an empty or blank output folder is refused before anything runs (it would be the
+# current folder), and write() does not replace another run's records without overwrite=True.
+@pytest.mark.parametrize("out", ["", "   "])
+def test_an_empty_or_blank_out_is_refused(out, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    study = tmp_path / "s.toml"
+    study.write_text(TINY)
+    calls = [lambda: vppdem.Damper(settings=SMALL, out=out),
+             lambda: vppdem.sweep(study, out),
+             lambda: vppdem.calibrate(study, study, out),
+             lambda: vppdem.device(os.path.join(os.environ.get("VPPDEM_SOURCE_DIR", "."),
+                                                "tests/data/devices/tiny_gripper.toml"), out)]
+    for call in calls:
+        with pytest.raises(ValueError, match="empty or blank output folder is refused"):
+            call()
+    assert sorted(os.listdir(tmp_path)) == ["s.toml"]
+
+
+def test_write_does_not_replace_another_runs_records(finished, tmp_path):
+    with pytest.raises(ValueError, match="empty or blank"):
+        finished.write("")
+    finished.write(tmp_path / "a")  # a new folder: written
+    first = (tmp_path / "a" / "forces.csv").read_bytes()
+    (tmp_path / "a" / "forces.csv").write_text("someone's record\n")
+    with pytest.raises(FileExistsError, match="overwrite=True"):
+        finished.write(tmp_path / "a")
+    assert (tmp_path / "a" / "forces.csv").read_text() == "someone's record\n"  # untouched
+    finished.write(tmp_path / "a", overwrite=True)
+    assert (tmp_path / "a" / "forces.csv").read_bytes() == first

@@ -36,7 +36,7 @@ import os
 
 import numpy as np
 
-from ._arguments import _count, _sets
+from ._arguments import _count, _out_folder, _sets
 from ._native import ConfigError, World, _core  # noqa: F401  (part of the package's interface)
 from ._progress import _run
 from ._runs import build, calibrate, device, sweep  # noqa: F401
@@ -79,6 +79,10 @@ def load_config(config=None, settings=None, **kwargs):
     return _core.load_config(path, sets)
 
 
+# The records write() puts into a folder (and refuses to replace without overwrite=True).
+_RECORDS = ("forces.csv", "energy.csv", "cycles.csv", "summary.json")
+
+
 class Damper:
     """The VPP damper run one stage at a time (the `vppdem damper` command's stages).
 
@@ -92,7 +96,7 @@ class Damper:
     def __init__(self, config=None, settings=None, *, out=None, overwrite=False, quiet=True, _from="", **kwargs):
         self._config = load_config(config, settings, **kwargs)
         self._from = os.fspath(_from) if _from else ""
-        self._out = os.fspath(out) if out is not None else ""
+        self._out = _out_folder("out", out) if out is not None else ""
         self._d = _core.Damper(self._config, self._out, self._from, overwrite, quiet)
 
     @classmethod
@@ -130,11 +134,18 @@ class Damper:
         """A checkpoint Damper.load(path) continues from (bit for bit)."""
         self._d.save(os.fspath(path))
 
-    def write(self, out=None):
-        """forces.csv, energy.csv, cycles.csv and summary.json into `out` (default: the run's folder)."""
-        out = os.fspath(out) if out is not None else self._out
+    def write(self, out=None, overwrite=False):
+        """forces.csv, energy.csv, cycles.csv and summary.json into `out` (default: the run's folder).
+        A folder other than the run's own that holds records already is refused (FileExistsError)
+        unless overwrite=True: they would be replaced."""
+        out = _out_folder("write(): out", out) if out is not None else self._out
         if not out:
             raise ValueError("write(): no folder: give out here or to Damper(out=...)")
+        own = bool(self._out) and os.path.realpath(out) == os.path.realpath(self._out)
+        held = [f for f in _RECORDS if os.path.exists(os.path.join(out, f))]
+        if held and not own and not overwrite:
+            raise FileExistsError(f"write(): {out!r} holds {', '.join(held)} of another run; pass overwrite=True to "
+                                  "replace them, or write into another folder")
         # Before the sample is prepared there is nothing to record: the files would be empty
         # records that look like a run's (forces.csv with a header only, summary.json without a
         # preparation).

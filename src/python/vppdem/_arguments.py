@@ -9,6 +9,17 @@ import numpy as np
 
 from ._native import ConfigError
 
+
+def _out_folder(name, out):
+    """An output folder as given: an empty or blank one is refused (it would be the current
+    folder, whose files a run would replace), as the commands refuse --out ''."""
+    path = os.fspath(out)
+    if not str(path).strip():
+        raise ValueError(f"{name} = {path!r}: an empty or blank output folder is refused (it would be the current "
+                         "folder, whose files the run would replace); give a folder's path, e.g. 'out/run1'")
+    return path
+
+
 def _literal(key, v):
     """A Python value as the TOML literal `--set key=value` takes."""
     if isinstance(v, bool):

@@ -5,7 +5,7 @@ import json
 import math
 import os
 
-from ._arguments import _count, _study_sets
+from ._arguments import _count, _out_folder, _study_sets
 from ._native import _core
 from ._progress import _CaseProgress, _run
 
@@ -34,7 +34,7 @@ def sweep(study_path, out, sets=None, seeds=0, jobs=0, quiet=True, settings=None
     exception of the callable, stops the sweep and is raised; finished cases stay, and the
     same call resumes it."""
     extra = _study_sets(sets, settings)
-    return _run(_core.sweep, progress, os.fspath(study_path), os.fspath(out), extra, int(seeds),
+    return _run(_core.sweep, progress, os.fspath(study_path), _out_folder("out", out), extra, int(seeds),
                 _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), callback=_CaseProgress, backend=str(backend),
                 mix_builds=bool(mix_builds), publish=os.fspath(publish) if publish is not None else "",
                 report_only=bool(report_only))
@@ -52,7 +52,7 @@ def device(device_file, out, sets=None, settings=None, from_checkpoint=None, ove
     extra = _study_sets(sets, settings)
     if not float(checkpoint_every) > 0.0 or not math.isfinite(float(checkpoint_every)):
         raise ValueError(f"checkpoint_every = {checkpoint_every!r}: must be a finite number of seconds > 0")
-    return _core.device(os.fspath(device_file), os.fspath(out), extra,
+    return _core.device(os.fspath(device_file), _out_folder("out", out), extra,
                         os.fspath(from_checkpoint) if from_checkpoint is not None else "", bool(overwrite),
                         bool(quiet), float(checkpoint_every))
 
@@ -68,7 +68,7 @@ def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=Tru
     if displacement_unit not in ("m", "mm") or force_unit not in ("N", "kN"):
         raise ValueError("displacement_unit: 'm' or 'mm'; force_unit: 'N' or 'kN'")
     extra = _study_sets(sets, settings)
-    rc = _run(_core.calibrate, progress, os.fspath(study_path), os.fspath(experiment), os.fspath(out), extra,
+    rc = _run(_core.calibrate, progress, os.fspath(study_path), os.fspath(experiment), _out_folder("out", out), extra,
               int(seeds), _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), 1e-3 if displacement_unit == "mm" else 1.0,
               1e3 if force_unit == "kN" else 1.0, bool(compression_negative), simulated_force,
               int(points), bool(plot), time_column, displacement_column, force_column, callback=_CaseProgress,

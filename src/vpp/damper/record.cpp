@@ -329,8 +329,14 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
                          r.settling.first, r.settling.first + int(r.settling.count) - 1, r.settling.slope,
                          r.settling.slope_limit, 100.0 * r.settling.tolerance, r.settling.W_mean);
         for (const std::string& w : r.warnings) std::fprintf(stderr, "WARNING: %s\n", w.c_str());
-        std::fprintf(stderr, "run time %.1f s; outputs: forces.csv energy.csv cycles.csv summary.json prepared.ckpt run.ckpt vtk/%s\n",
-                     r.run_seconds, opt.plot ? " loops*.png" : "");
+        // The files the folder holds now, not a fixed list: a run never claims a file it did not write.
+        std::string listed;
+        for (const char* f : {"forces.csv", "energy.csv", "air.csv", "cycles.csv", "summary.json", "prepared.ckpt",
+                              "run.ckpt", "vtk"})
+            if (std::filesystem::exists(std::filesystem::path(opt.out_dir) / f))
+                listed += std::string(" ") + f + (std::string(f) == "vtk" ? "/" : "");
+        std::fprintf(stderr, "run time %.1f s; outputs in %s:%s%s\n", r.run_seconds, opt.out_dir.c_str(),
+                     listed.c_str(), opt.plot ? " (plots next: loops*.png)" : "");
     }
     if (opt.plot) plot_damper_dir(opt.out_dir, opt.quiet);
     return r;
