@@ -278,6 +278,21 @@ TEST_F(Study, CalibrationRefusesAnExperimentOfTheOtherSignAndRunsNothing) {
     EXPECT_FALSE(fs::exists(out));
 }
 
+// Issue 62: one seed has no interval: a one-seed calibration says so instead of listing the
+// grid points "within its interval" (the points of equal misfit); with two seeds it lists them.
+TEST_F(Study, AOneSeedCalibrationSaysItHasNoInterval) {
+    const fs::path study = scratch("one_seed.toml"), out = scratch("one_seed"), truth = scratch("one_seed_truth");
+    write_file(study, kTwoFrictions);
+    const Outcome t = run("damper --out " + truth.string() + " " + kSmallDamper + " --set grains.friction=0.45");
+    ASSERT_EQ(t.status, 0) << t.output;
+    const Outcome r = run("calibrate " + study.string() + " --experiment " + (truth / "forces.csv").string() +
+                          " --force-column force_zeroed --out " + out.string() + " --no-plot");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_NE(r.output.find("over 1 seed(s)); one seed: no interval (run --seeds 2 or more for one)"), std::string::npos)
+        << r.output;
+    EXPECT_EQ(r.output.find("within its interval"), std::string::npos) << r.output;
+}
+
 // Issue 46: a study refuses a folder whose cases another build ran (their build.json), naming the
 // cases and both builds, before it runs or writes anything; --mix-builds is the way on. Every run
 // records its build: `vppdem --version` names the same one.
@@ -666,6 +681,7 @@ TEST_F(Study, CalibrationRecoversTheFrictionOfAnExperimentFromAnotherPacking) {
                           out.string() + columns + " --jobs 2");
     ASSERT_EQ(r.status, 0) << r.output;
     std::printf("%s", r.output.substr(r.output.find("=== vppdem calibrate")).c_str());
+    EXPECT_NE(r.output.find("over 2 seed(s)); within its interval: grains.friction in {"), std::string::npos) << r.output;
     // misfit.csv: one row per friction, the mean over the 2 seeds and its interval.
     const auto m = lines_of(out / "misfit.csv");
     ASSERT_EQ(m.size(), 5u);

@@ -755,9 +755,14 @@ void print_summary(const Report& rep) {
             for (std::size_t m = 0; m < v.size(); ++m) range += (m ? ", " : "") + v[m];
             range += "}";
         }
-        std::fprintf(stderr, "best: %s (misfit %.4g over %zu seed(s)); within its interval:%s; wrote %s, %s\n",
+        // One seed gives no interval (no scatter to measure): say so rather than list the points of
+        // equal misfit as if they were one.
+        const std::string interval = points[best].misfit.n < 2
+                                         ? std::string("one seed: no interval (run --seeds 2 or more for one)")
+                                         : "within its interval:" + range;
+        std::fprintf(stderr, "best: %s (misfit %.4g over %zu seed(s)); %s; wrote %s, %s\n",
                      cases[rep.grid.best_run].name.c_str(), points[best].misfit.mean, points[best].misfit.n,
-                     range.c_str(), misfit_name.c_str(), json_name.c_str());
+                     interval.c_str(), misfit_name.c_str(), json_name.c_str());
     } else {
         std::fprintf(stderr, "no case could be compared with the experiment; wrote %s, %s\n", misfit_name.c_str(),
                      json_name.c_str());
