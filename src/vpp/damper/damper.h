@@ -64,6 +64,7 @@ struct AirCycle {
     double min_force_machine = 0;   // [N] smallest force_machine_zeroed in the cycle
     double underpressure_min = 0;   // [Pa] smallest dp at a sample of the cycle
     double underpressure_max = 0;   // [Pa] largest dp at a sample of the cycle
+    double underpressure_mean = 0;  // [Pa] mean dp over the cycle's samples: the dp the cycle had
     double gas_volume_min = 0;      // [m^3]
     double gas_volume_max = 0;      // [m^3]
 };
@@ -85,6 +86,7 @@ struct DamperResult {
     double inertial_number = 0;
     std::vector<CycleResult> cycles;  // with the stationarity flag (settled) of each
     std::vector<AirCycle> air;        // per cycle, when the run recorded the air (else empty)
+    double underpressure_held = 0;    // [Pa] mean dp over every cycle's samples (air recorded; else 0)
     Settling settling;                // analysis.settle_tolerance applied to the cycles' W
     // The preparation and the start of cycling as measured ("prepare.cap_force",
     // "cycle.packing_fraction", ...; summary.json "preparation", "start_of_cycling").
@@ -219,5 +221,10 @@ double inertial_number(const Config& c, double height);
 // from 0.02 to 0.01 m/s in both seeds (and nothing from 0.01 to 0.005 m/s). The former mark,
 // 1e-3, let runs with W 12-16% too high in the first cycle pass as quasi-static.
 inline constexpr double kQuasiStaticInertialNumber = 5e-4;
+
+// [-] The pump model warns when a cycle's mean dp falls more than this fraction below
+// process.underpressure: W grows with dp (docs/paper_comparison.md, C1), so a run 5% short is
+// not a run at the set value.
+inline constexpr double kUnderpressureShortfall = 0.05;
 
 }  // namespace vpp
