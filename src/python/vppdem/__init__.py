@@ -118,8 +118,7 @@ class Damper:
 
     def cycle(self, n=None, progress=None):
         """Run n more cycles (None: all of process.cycles that remain); returns the cycles done.
-        n is a whole number >= 1: cycle(-5) used to run all the cycles that remain, and
-        int() turned 1.5 into 1."""
+        n: a whole number >= 1 (anything else raises ValueError)."""
         return _run(self._d.cycle, progress, -1 if n is None else _count("cycle(): n", n, 1, 2**31 - 1,
                                                                        ", or None for all that remain"))
 

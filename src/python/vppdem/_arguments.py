@@ -78,8 +78,8 @@ def _flatten(d, prefix="", where="settings", out=None, first=None):
 
 
 def _dict_argument(name, d):
-    """The settings dict `name`, or a TypeError naming what it is instead (a list of pairs or of
-    "key=value" strings used to fail with AttributeError: 'list' object has no attribute 'items')."""
+    """The settings dict `name`, or a TypeError naming what it is instead (a list of pairs, of
+    "key=value" strings, ...)."""
     if d is None:
         return {}
     if not isinstance(d, dict):
@@ -91,7 +91,7 @@ def _dict_argument(name, d):
 def _sets(config, settings, kwargs):
     """(path of the TOML file or "", the key=value overrides in order). `config` (a file or a
     dict) is the base; `settings` and the keywords override it, and may not disagree with each
-    other (a keyword used to beat the same key in `settings` without a word)."""
+    other (a key given in both with two values raises ConfigError)."""
     path, base = "", {}
     if config is None:
         pass
