@@ -155,6 +155,26 @@ inline bool wait_while_running(pid_t pid, const std::function<bool()>& ready, do
     return false;
 }
 
+// Holds a start()ed command stopped (SIGSTOP) for the object's lifetime, so that a test can act
+// while it is certainly still running (a small run may otherwise end within the test's next
+// step); it continues on destruction. `held()` is false when the command had already ended.
+class Held {
+public:
+    explicit Held(pid_t pid) : pid_(pid) {
+        siginfo_t info{};
+        held_ = kill(pid_, SIGSTOP) == 0 && waitid(P_PID, id_t(pid_), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+                info.si_pid == 0;
+    }
+    ~Held() { kill(pid_, SIGCONT); }
+    Held(const Held&) = delete;
+    Held& operator=(const Held&) = delete;
+    bool held() const { return held_; }
+
+private:
+    pid_t pid_;
+    bool held_ = false;
+};
+
 // Rows of a CSV file after its header (0 when it is missing).
 inline std::size_t data_rows(const fs::path& p) {
     std::ifstream in(p);

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -321,6 +322,8 @@ TEST_F(Damper, ASecondRunIntoAFolderInUseIsRefusedAndTheFirstFinishes) {
     // Once the first has a checkpoint in the folder: a file --overwrite would remove.
     ASSERT_TRUE(wait_while_running(first, [&] { return fs::exists(d / "run.ckpt"); })) << slurp(log);
     const std::string holder = "folder '" + d.string() + "' is in use by another run (pid " + std::to_string(first);
+    std::optional<Held> stopped(first);  // the small run may end within the next step otherwise
+    ASSERT_TRUE(stopped->held()) << slurp(log);
     for (const std::string& second : {"damper --out " + d.string() + branch + " --overwrite",
                                       "damper --out " + d.string() + " --from " + (d / "run.ckpt").string() + " " + kSmall}) {
         const Outcome r = run(second);
@@ -328,6 +331,7 @@ TEST_F(Damper, ASecondRunIntoAFolderInUseIsRefusedAndTheFirstFinishes) {
         EXPECT_EQ(WEXITSTATUS(r.status), 2) << r.output;
         EXPECT_NE(r.output.find(holder), std::string::npos) << r.output;
     }
+    stopped.reset();
     EXPECT_EQ(finish(first), 0) << slurp(log);
     EXPECT_EQ(slurp(d / "forces.csv"), slurp(scratch("dp060") / "forces.csv"));
     EXPECT_EQ(slurp(d / "cycles.csv"), slurp(scratch("dp060") / "cycles.csv"));

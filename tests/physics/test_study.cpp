@@ -16,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -630,7 +631,10 @@ TEST_F(Study, ASecondSweepIntoAFolderInUseIsRefused) {
     const pid_t first = start(args + " --quiet", log);
     ASSERT_GT(first, 0);
     ASSERT_TRUE(wait_while_running(first, [&] { return fs::exists(out / "grains.friction=0.3" / "run.ckpt"); })) << slurp(log);
+    std::optional<Held> stopped(first);  // the small sweep may end within the next step otherwise
+    ASSERT_TRUE(stopped->held()) << slurp(log);
     const Outcome second = run(args);
+    stopped.reset();
     std::printf("second sweep: exit status %d: %s", WEXITSTATUS(second.status), second.output.c_str());
     EXPECT_EQ(WEXITSTATUS(second.status), 2) << second.output;
     EXPECT_NE(second.output.find("folder '" + out.string() + "' is in use by another run (pid " + std::to_string(first)),
