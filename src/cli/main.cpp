@@ -60,6 +60,22 @@ const CLI::Validator kOutputPath(
     },
     "PATH");
 
+// How a force-displacement record is laid out: `analyze` and `calibrate` read a rig's file with
+// the same flags and the same meaning.
+void add_record_format(CLI::App* cmd, vpp::RecordFormat& f) {
+    cmd->add_option("--time-column", f.time_col, "time column (default " + f.time_col + ")");
+    cmd->add_option("--displacement-column", f.disp_col, "displacement column (default " + f.disp_col + ")");
+    cmd->add_option("--force-column", f.force_col, "force column (default " + f.force_col + ")");
+    cmd->add_option_function<std::string>(
+           "--displacement-unit", [&f](const std::string& u) { f.disp_scale = u == "mm" ? 1e-3 : 1.0; }, "m (default) or mm")
+        ->check(CLI::IsMember({"m", "mm"}));
+    cmd->add_option_function<std::string>(
+           "--force-unit", [&f](const std::string& u) { f.force_scale = u == "kN" ? 1e3 : 1.0; }, "N (default) or kN")
+        ->check(CLI::IsMember({"N", "kN"}));
+    cmd->add_flag("--compression-negative", f.compression_negative,
+                  "The record counts compression negative (displacement and force): flip both");
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -159,7 +175,6 @@ int main(int argc, char** argv) {
     // vppdem analyze FORCES.csv: cycles.csv from any force-displacement record.
     auto* analyze = app.add_subcommand("analyze", "Energy per cycle and W of a forces CSV, written to a new file");
     vpp::AnalyzeOptions ao;
-    std::string dunit = "m", funit = "N";
     analyze->add_option("forces", ao.forces, "CSV with a header")->required()->check(CLI::ExistingFile);
     analyze->add_option("--out", ao.out, std::string("Output file (default: ") + vpp::kAnalyzeOutput +
                                              " beside the input; an existing file needs --overwrite)")
@@ -169,12 +184,9 @@ int main(int argc, char** argv) {
                         "beside the input, else 0.0255, the paper's)")
         ->check(kPositive);
     analyze->add_flag("--overwrite", ao.overwrite, "Replace an existing output file");
-    analyze->add_option("--time-column", ao.time_col, "time column");
-    analyze->add_option("--displacement-column", ao.disp_col, "displacement column (compression positive)");
-    analyze->add_option("--force-column", ao.force_col, "force column (compression positive)");
-    analyze->add_option("--cycle-column", ao.cycle_col, "cycle column; empty or absent: cycles found from the displacement");
-    analyze->add_option("--displacement-unit", dunit, "m or mm")->check(CLI::IsMember({"m", "mm"}));
-    analyze->add_option("--force-unit", funit, "N or kN")->check(CLI::IsMember({"N", "kN"}));
+    add_record_format(analyze, ao.format);
+    analyze->add_option("--cycle-column", ao.format.cycle_col,
+                        "cycle column (default cycle); empty or absent: cycles found from the displacement");
 
     // vppdem plot DIR
     auto* plot = app.add_subcommand("plot", "Draw the plots of a damper, sweep or calibration output folder (PNG)");
@@ -235,15 +247,8 @@ int main(int argc, char** argv) {
         ->excludes(list_flag);
     add_study("calibrate", "Grid search of a study against a measured force-displacement loop (docs/studies.md)", calib);
     vpp::CalibrateOptions co;
-    std::string c_dunit = "m", c_funit = "N";
     calib.app->add_option("--experiment", co.experiment, "Measured loop: CSV with a header")->required()->check(CLI::ExistingFile);
-    calib.app->add_option("--time-column", co.format.time_col, "time column (default time)");
-    calib.app->add_option("--displacement-column", co.format.disp_col, "displacement column (default displacement)");
-    calib.app->add_option("--force-column", co.format.force_col, "force column (default force)");
-    calib.app->add_option("--displacement-unit", c_dunit, "m or mm")->check(CLI::IsMember({"m", "mm"}));
-    calib.app->add_option("--force-unit", c_funit, "N or kN")->check(CLI::IsMember({"N", "kN"}));
-    calib.app->add_flag("--compression-negative", co.format.compression_negative,
-                        "The experiment counts compression negative: flip displacement and force");
+    add_record_format(calib.app, co.format);
     calib.app->add_option("--simulated-force", co.force_column,
                           "simulated column compared: force_zeroed, force_total, or force_machine_zeroed (the pump "
                           "model's testing-machine force, docs/damper.md \"The air inside\")")
@@ -329,8 +334,6 @@ int main(int argc, char** argv) {
             o.checkpoint_every = device_ckpt_every;
             vpp::run_device(d, o);
         } else if (*analyze) {
-            ao.disp_scale = dunit == "mm" ? 1e-3 : 1.0;
-            ao.force_scale = funit == "kN" ? 1e3 : 1.0;
             vpp::run_analyze(ao);
         } else if (*sweep.app || *calib.app) {
             StudyCommand& sc = *sweep.app ? sweep : calib;
@@ -386,8 +389,6 @@ int main(int argc, char** argv) {
                 rc = r.failed && !report_only ? 1 : 0;
             } else {
                 co.sweep = so;
-                co.format.disp_scale = c_dunit == "mm" ? 1e-3 : 1.0;
-                co.format.force_scale = c_funit == "kN" ? 1e3 : 1.0;
                 co.plot = !sc.no_plot && rank == 0;
                 rc = vpp::run_calibration(st, co);
             }

@@ -268,6 +268,63 @@ TEST(StudyUnits, AnExperimentWithTheOtherSignConventionIsRefused) {
     fs::remove_all(p.parent_path());
 }
 
+// `vppdem analyze` reads a rig's record with calibrate's flags (columns, units, sign) and warns
+// when the sign looks reversed. Closed form: rig_record's loop, 2 mm of stroke between the lines
+// F = 10 d + 2 and F = 10 d - 2 [N, mm] sampled every 0.1 mm, encloses the parallelogram 4 N x
+// 2 mm less its two corners cut by the sampling (0.5 x 4 N x 0.1 mm each): 7.6 N mm per cycle.
+TEST(AnalyzeCommand, ReadsARigsRecordWithCalibratesFlagsAndWarnsOfAReversedSign) {
+    const fs::path dir = scratch_path("analyze_rig", ""), rig = dir / "rig.csv", kn = dir / "rig_kN.csv";
+    fs::remove_all(dir);
+    write_file(rig, rig_record(-1.0));  // compression negative, mm and N
+    std::string text = "t,stroke,load\n";  // the same in kN
+    std::istringstream in(rig_record(-1.0));
+    std::string line;
+    std::getline(in, line);
+    while (std::getline(in, line)) {
+        const auto c = cells(line);
+        text += c[0] + "," + c[1] + "," + dem::csv_number(std::stod(c[2]) * 1e-3) + "\n";
+    }
+    write_file(kn, text);
+    const std::string cols = " --time-column t --displacement-column stroke --force-column load --displacement-unit mm "
+                             "--radius 0.012 --out ";
+    const double energy = 7.6e-3, W = energy / (M_PI * 0.012 * 0.012);  // [J], [J/m^2]
+    auto check_cycles = [&](const fs::path& csv) {
+        const auto c = read_columns(csv);
+        ASSERT_EQ(c.at("cycle").size(), 3u) << slurp(csv);
+        for (std::size_t k = 0; k < 3; ++k) {
+            EXPECT_NEAR(c.at("dissipated_energy")[k], energy, 1e-6 * energy) << k;
+            EXPECT_NEAR(c.at("W")[k], W, 1e-6 * W) << k;
+        }
+    };
+    // Read as it is: the loop looks reversed, and the warning names the flag.
+    const Outcome as_is = run("analyze " + rig.string() + cols + (dir / "as_is.csv").string());
+    ASSERT_EQ(as_is.status, 0) << as_is.output;
+    EXPECT_NE(as_is.output.find("warning: '" + rig.string() + "' looks the other way round"), std::string::npos)
+        << as_is.output;
+    EXPECT_NE(as_is.output.find("pass --compression-negative"), std::string::npos) << as_is.output;
+    // With the flag: no warning, the three cycles of the closed form.
+    const Outcome flipped =
+        run("analyze " + rig.string() + cols + (dir / "flipped.csv").string() + " --compression-negative");
+    ASSERT_EQ(flipped.status, 0) << flipped.output;
+    EXPECT_EQ(flipped.output.find("warning"), std::string::npos) << flipped.output;
+    check_cycles(dir / "flipped.csv");
+    // The same record in kN, read with --force-unit kN: the same cycles.
+    const Outcome in_kn = run("analyze " + kn.string() + cols + (dir / "kn.csv").string() +
+                              " --compression-negative --force-unit kN");
+    ASSERT_EQ(in_kn.status, 0) << in_kn.output;
+    check_cycles(dir / "kn.csv");
+    // The flag on a compression-positive record: warned, saying to drop it.
+    write_file(rig, rig_record(1.0));
+    const Outcome wrong_flag =
+        run("analyze " + rig.string() + cols + (dir / "wrong_flag.csv").string() + " --compression-negative");
+    ASSERT_EQ(wrong_flag.status, 0) << wrong_flag.output;
+    EXPECT_NE(wrong_flag.output.find("drop --compression-negative"), std::string::npos) << wrong_flag.output;
+    const Outcome right = run("analyze " + rig.string() + cols + (dir / "right.csv").string());
+    EXPECT_EQ(right.output.find("warning"), std::string::npos) << right.output;
+    check_cycles(dir / "right.csv");
+    fs::remove_all(dir);
+}
+
 TEST_F(Study, CalibrationRefusesAnExperimentOfTheOtherSignAndRunsNothing) {
     const fs::path study = scratch("sign.toml"), out = scratch("sign_out"), exp = scratch("rig.csv");
     write_file(study, kTwoFrictions);

@@ -195,6 +195,7 @@ LoopSeries read_loop_csv(const std::string& path, const std::string& time_col,
     if (cc >= 0) {
         s.cycle.reserve(cyc.size());
         for (double c : cyc) s.cycle.push_back(int(std::lround(c)));
+        s.cycles_from_column = true;
     } else {
         s.cycle = split_cycles(s.displacement);
     }

@@ -17,6 +17,7 @@ namespace vpp {
 struct LoopSeries {
     std::vector<double> time, displacement, force;
     std::vector<int> cycle;
+    bool cycles_from_column = false;  // cycle was read from the file, not split from the displacement
 };
 
 struct CycleResult {

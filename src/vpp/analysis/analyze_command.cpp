@@ -52,9 +52,7 @@ void run_analyze(const AnalyzeOptions& o) {
         which = "the paper's damper: no summary.json with damper.radius beside the input; give --radius";
     }
 
-    LoopSeries s = read_loop_csv(o.forces, o.time_col, o.disp_col, o.force_col, o.cycle_col);
-    for (double& d : s.displacement) d *= o.disp_scale;
-    for (double& f : s.force) f *= o.force_scale;
+    const LoopSeries s = read_record(o.forces, o.format);
     std::vector<CycleResult> cycles, partial;
     for (const CycleResult& c : analyze_cycles(s, radius)) (c.complete ? cycles : partial).push_back(c);
     std::string left_out;
@@ -67,6 +65,10 @@ void run_analyze(const AnalyzeOptions& o) {
     write_cycles_csv(out.string(), cycles);
 
     std::fprintf(stderr, "radius %.6g m (%s)\n", radius, which.c_str());
+    // Warned, not refused: a record of a stroke that starts with extension has a negative force.
+    if (const std::string doubt = orientation_doubt(s, o.format.compression_negative, true); !doubt.empty())
+        std::fprintf(stderr, "warning: '%s' looks the other way round: %s (a stroke that starts by pulling "
+                     "gives this too)\n", o.forces.c_str(), doubt.c_str());
     for (const CycleResult& c : partial)
         std::fprintf(stderr,
                      "warning: cycle %d is partial (it does not come back to where it started: %d samples); left "

@@ -6,6 +6,8 @@
 
 #include <string>
 
+#include "vpp/analysis/record_format.h"
+
 namespace vpp {
 
 struct AnalyzeOptions {
@@ -13,9 +15,8 @@ struct AnalyzeOptions {
     std::string out;                 // output file; empty: cycles_analyzed.csv beside the input
     double radius = 0.0;             // [m] damper radius for W; 0: see run_analyze
     bool overwrite = false;          // replace an existing output file
-    std::string time_col = "time", disp_col = "displacement", force_col = "force_total", cycle_col = "cycle";
-    double disp_scale = 1.0;         // to metres (1e-3 for mm)
-    double force_scale = 1.0;        // to newtons (1e3 for kN)
+    // Columns, units and sign; the defaults read a damper run's forces.csv.
+    RecordFormat format{.force_col = "force_total", .cycle_col = "cycle"};
 };
 
 // Default output name, beside the input: not cycles.csv, which a damper run writes itself.
@@ -27,8 +28,9 @@ inline constexpr double kPaperRadius = 0.0255;
 // inputs); 0 when the file or the key is missing.
 double radius_from_summary(const std::string& summary_json);
 
-// Reads the record, finds its cycles (vpp::analyze_cycles), leaves out partial cycles with a
-// warning, writes the output atomically, prints the rows on stdout and on stderr which radius
+// Reads the record (vpp::read_record), finds its cycles (vpp::analyze_cycles), warns when its
+// signs look the other way round (vpp::orientation_doubt, for a stroke that starts with
+// compression, as the damper's default), leaves out partial cycles with a warning, writes the output atomically, prints the rows on stdout and on stderr which radius
 // was used: --radius when given; else the one in summary.json beside the input (a damper run
 // folder); else kPaperRadius, said so. Throws (naming the file) on an existing output without
 // overwrite, a record without data rows, or no complete cycle; nothing is written then.

@@ -81,11 +81,9 @@ std::string json_value(const std::string& label, const std::string& literal) {
 }  // namespace
 
 LoopSeries read_experiment(const std::string& path, const ExperimentFormat& f) {
-    LoopSeries s = read_loop_csv(path, f.time_col, f.disp_col, f.force_col, "");
-    const double sign = f.compression_negative ? -1.0 : 1.0;
-    for (double& d : s.displacement) d *= sign * f.disp_scale;
-    for (double& x : s.force) x *= sign * f.force_scale;
-    s.cycle = split_cycles(s.displacement);  // after the sign flip: a cycle starts at the start position
+    RecordFormat own = f;
+    own.cycle_col.clear();  // a rig's record: cycles from the stroke
+    LoopSeries s = read_record(path, own);
     shift_to_zero(s);
     if (std::none_of(s.cycle.begin(), s.cycle.end(), [](int c) { return c > 0; }))
         throw std::runtime_error("experiment '" + path + "': no complete cycle found in column '" + f.disp_col +
@@ -96,37 +94,8 @@ LoopSeries read_experiment(const std::string& path, const ExperimentFormat& f) {
 
 void check_experiment_orientation(const LoopSeries& s, const std::string& path, bool compression_negative,
                                   bool compression_first) {
-    double sum = 0, extreme = 0;
-    std::size_t n = 0;
-    for (std::size_t i = 0; i < s.force.size(); ++i)
-        if (s.cycle[i] > 0) {
-            sum += s.force[i];
-            if (std::abs(s.force[i]) > std::abs(extreme)) extreme = s.force[i];
-            ++n;
-        }
-    double area = 0;
-    for (const CycleResult& c : analyze_cycles(s, 1.0)) area += c.dissipated_energy;
-    const std::string flag = compression_negative ? "drop --compression-negative (the rig counts compression positive)"
-                                                  : "pass --compression-negative (the rig counts compression negative)";
-    char buf[160];
-    if (area < 0) {
-        std::snprintf(buf, sizeof buf, "%.4g J", area);
-        throw std::runtime_error("experiment '" + path + "': its loops enclose a negative area (" + buf +
-                                 " over its cycles): a damper dissipates, so with displacement and force both "
-                                 "compression positive its loop has a positive area; here one of the two counts "
-                                 "compression negative: check the columns' sign conventions");
-    }
-    // A compressed damper pushes back: compression positive, its force is positive on average
-    // and largest at full compression. Both negative: the signs are the other way. (Either alone
-    // can happen: a raw force with the foil's pull at rest as offset can be negative on average,
-    // a loop that drops below its start on unloading can have its largest |F| there.) Extension
-    // first (the cap moves up first) is the one protocol where both are negative.
-    if (compression_first && n > 0 && sum / double(n) < 0 && extreme < 0) {
-        std::snprintf(buf, sizeof buf, "mean %.4g N, largest in magnitude %.4g N", sum / double(n), extreme);
-        throw std::runtime_error("experiment '" + path + "': its force over the cycles is negative (" + buf +
-                                 (compression_negative ? std::string(", signs flipped") : std::string()) +
-                                 "): a compressed damper pushes back, so compression must count positive; " + flag);
-    }
+    const std::string doubt = orientation_doubt(s, compression_negative, compression_first);
+    if (!doubt.empty()) throw std::runtime_error("experiment '" + path + "': " + doubt);
 }
 
 LoopSeries read_simulated(const std::string& forces_csv, const std::string& force_column) {

@@ -19,27 +19,22 @@
 #include <vector>
 
 #include "vpp/analysis/analysis.h"
+#include "vpp/analysis/record_format.h"
 #include "vpp/study/study.h"
 
 namespace vpp {
 
-struct ExperimentFormat {
-    std::string time_col = "time", disp_col = "displacement", force_col = "force";
-    double disp_scale = 1.0;    // to metres (1e-3 for mm)
-    double force_scale = 1.0;   // to newtons (1e3 for kN)
-    bool compression_negative = false;  // flip the signs of displacement and force
-};
+// A measured loop's columns, units and sign convention (its cycle_col is not used: cycles are
+// found from the displacement).
+using ExperimentFormat = RecordFormat;
 
 // A measured loop in SI units, compression positive, displacement shifted to start at 0 (its
 // minimum), cycles found by split_cycles. Throws naming the file and column on bad input.
 LoopSeries read_experiment(const std::string& path, const ExperimentFormat& f);
 
 // Refuses (std::runtime_error naming the file and the flag to use) a measured loop whose signs
-// cannot be compression positive: loops of negative total area (a damper dissipates, so one of
-// displacement and force counts the other way), or, when the study loads in compression first,
-// a force negative on average over the cycles (a compressed damper pushes back): the record of
-// a rig that counts compression negative, read without --compression-negative (or with it, by
-// a rig that does not). Such a record used to calibrate silently to the wrong sign.
+// cannot be compression positive (vpp::orientation_doubt): a calibration against a loop of the
+// wrong sign would fit the wrong sign.
 void check_experiment_orientation(const LoopSeries& s, const std::string& path, bool compression_negative,
                                   bool compression_first);
 
