@@ -988,6 +988,37 @@ TEST_F(Study, MoreCyclesContinueTheFinishedCases) {
     EXPECT_EQ(slurp(c / "forces.csv"), forces);
 }
 
+// A study run again with more seeds reuses the run it made without them: the seed-less folder is
+// the run of seed 1 (the config's seed), renamed to that case's name and skipped; only seed 2 runs.
+TEST_F(Study, RunAgainWithSeedsReusesTheRunMadeWithout) {
+    std::string set = kSmallSet;
+    const std::string two = "\"process.cycles\" = 2\n";
+    set.replace(set.find(two), two.size(), "\"process.cycles\" = 1\n");
+    const fs::path study = scratch("reseed.toml"), out = scratch("reseed");
+    write_file(study, set + "[grid]\n\"grains.friction\" = [0.3]\n");
+    const std::string args = "sweep " + study.string() + " --out " + out.string() + " --jobs 1 --no-plot";
+    ASSERT_EQ(run(args + " --quiet").status, 0);
+    const fs::path bare = out / "grains.friction=0.3";
+    ASSERT_TRUE(fs::exists(bare / "forces.csv"));
+    const std::string forces = slurp(bare / "forces.csv");
+    // Of other settings, the seed-less folder is not taken (the sweep would run the case anew).
+    const vpp::Study changed = vpp::load_study(study.string(), {"process.amplitude=0.0015"}, 2);
+    EXPECT_TRUE(vpp::adopt_seedless_runs(out, changed, vpp::expand_study(changed)).empty());
+    EXPECT_TRUE(fs::exists(bare / "forces.csv"));
+    // Of the same settings, it is seed 1's run: renamed, skipped, only seed 2 runs.
+    const Outcome again = run(args + " --seeds 2");
+    ASSERT_EQ(again.status, 0) << again.output;
+    EXPECT_NE(again.output.find("1 run(s) of this study without seeds reused as their seed's: "
+                                "grains.friction=0.3_simulation.seed=1"),
+              std::string::npos)
+        << again.output;
+    EXPECT_NE(again.output.find("grains.friction=0.3_simulation.seed=1: done earlier"), std::string::npos)
+        << again.output;
+    EXPECT_FALSE(fs::exists(bare));  // not left beside the new names
+    EXPECT_EQ(slurp(out / "grains.friction=0.3_simulation.seed=1" / "forces.csv"), forces);
+    EXPECT_TRUE(fs::exists(out / "grains.friction=0.3_simulation.seed=2" / "summary.json"));
+}
+
 TEST_F(Study, TheBatchBackendWritesTheCpuBackendsFiles) {
     std::string set = kSmallSet;
     const std::string two = "\"process.cycles\" = 2\n";

@@ -490,14 +490,18 @@ std::vector<StudyCase> expand_study(const Study& s) {
             rest /= s.grid[k].literals.size();
         }
         std::string group_key;
+        const int seed = seed_axis(s);
         for (std::size_t k = 0; k < s.grid.size(); ++k) {
             const GridAxis& a = s.grid[k];
             c.overrides.push_back(a.key + "=" + a.literals[idx[k]]);
             c.labels.push_back(a.labels[idx[k]]);
             if (k) c.name += '_';
             c.name += sanitize(a.key + "=" + a.labels[idx[k]]);
+            if (seed >= 0 && int(k) != seed)
+                c.name_without_seed += (c.name_without_seed.empty() ? "" : "_") + sanitize(a.key + "=" + a.labels[idx[k]]);
             if (!is_shareable_key(a.key)) group_key += a.key + "=" + a.literals[idx[k]] + "\n";
         }
+        if (seed >= 0 && c.name_without_seed.empty()) c.name_without_seed = "base";
         if (c.name.empty()) c.name = "base";
         if (names.count(c.name)) c.name += "_" + std::to_string(i);
         names.insert(c.name);

@@ -122,6 +122,7 @@ GridAxis axis_from_text(const std::string& key, const std::string& values);
 struct StudyCase {
     std::size_t index = 0;
     std::string name;                    // folder name: swept keys and values, filesystem-safe
+    std::string name_without_seed;       // the name without the seed axis ("" when there is none)
     std::vector<std::string> labels;     // one per grid axis
     std::vector<std::string> overrides;  // all --set assignments of the case, in order
     Config config;

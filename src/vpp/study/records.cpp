@@ -222,6 +222,33 @@ CaseFolder check_case_folder(const fs::path& dir, const std::string& record) {
                              "continues the cases)");
 }
 
+std::vector<std::string> adopt_seedless_runs(const fs::path& out, const Study& s, const std::vector<StudyCase>& cases) {
+    std::vector<std::string> adopted;
+    const int seed = seed_axis(s);
+    if (seed < 0 || !fs::is_directory(out)) return adopted;
+    for (const StudyCase& c : cases) {
+        const fs::path from = out / c.name_without_seed, to = out / c.name;
+        if (c.name_without_seed.empty() || fs::exists(to) || !fs::exists(from / "case.toml")) continue;
+        // The case as the study without seeds had it: its overrides less the seed's.
+        StudyCase bare = c;
+        const auto it = std::find_if(bare.overrides.rbegin(), bare.overrides.rend(),
+                                     [](const std::string& o) { return o.starts_with("simulation.seed="); });
+        if (it == bare.overrides.rend()) continue;
+        bare.overrides.erase(std::next(it).base());
+        try {
+            // Its seed was the config's: the one seed of the study that ran then.
+            if (load_config(s.base, bare.overrides).simulation.seed != c.config.simulation.seed) continue;
+            if (check_case_folder(from, case_record(s, bare)) != CaseFolder::Same) continue;
+        } catch (const std::exception&) {
+            continue;  // other settings: the folder stays as it is, and the sweep refuses it if it runs that case
+        }
+        fs::rename(from, to);
+        dem::write_text_atomic((to / "case.toml").string(), case_record(s, c));
+        adopted.push_back(c.name);
+    }
+    return adopted;
+}
+
 std::size_t recorded_cycles(const fs::path& dir) {
     if (!fs::exists(dir / "cycles.csv")) return 0;
     return read_cycles_csv((dir / "cycles.csv").string()).size();

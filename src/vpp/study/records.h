@@ -66,6 +66,16 @@ std::string case_record(const Study& s, const StudyCase& c);
 enum class CaseFolder { Same, MoreCycles };
 CaseFolder check_case_folder(const std::filesystem::path& dir, const std::string& record);
 
+// A study run again with seeds (key 'seeds', --seeds or a [grid] list of simulation.seed) into
+// the folder of its run without them: each case folder of that run is renamed to the name of
+// the seed it ran with (the config's simulation.seed, 1 by default), and its case.toml made that
+// case's, so that it is reused (skipped when finished, resumed when not) rather than run again
+// beside the old folder. Only a folder whose case.toml is the seed-less case's (check_case_folder:
+// the same settings) is taken; one of other settings is left for the sweep to refuse. Returns
+// the renamed folders' new names.
+std::vector<std::string> adopt_seedless_runs(const std::filesystem::path& out, const Study& s,
+                                             const std::vector<StudyCase>& cases);
+
 // The cycles a case folder's cycles.csv holds (0 without one).
 std::size_t recorded_cycles(const std::filesystem::path& dir);
 

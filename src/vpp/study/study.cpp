@@ -159,6 +159,13 @@ void open_study_folder(const Study& s, const SweepOptions& opt, SweepResult& res
             }
         }
     }
+    // The same study run before without seeds: its runs are the seed they ran with.
+    if (opt.rank == 0) {
+        const std::vector<std::string> adopted = adopt_seedless_runs(out, s, res.cases);
+        if (!adopted.empty() && !opt.quiet)
+            std::fprintf(stderr, "sweep: %zu run(s) of this study without seeds reused as their seed's: %s%s\n",
+                         adopted.size(), adopted.front().c_str(), adopted.size() > 1 ? ", ..." : "");
+    }
     if (opt.rank == 0 && !opt.mix_builds) refuse_other_builds(out, res.cases);
     mpi_barrier();
     fs::create_directories(out);
