@@ -148,7 +148,10 @@ int main(int argc, char** argv) {
     add_vpp("damper", "Simulate a VPP damper: prepare, evacuate, cycle, record, analyse", damper);
     std::string from;
     bool no_plot = false;
-    double ckpt_every = 60.0;
+    double ckpt_every = 60.0, progress_every = 0;
+    damper.app->add_option("--progress-every", progress_every,
+                           "[s] wall-clock time between progress lines (default 2 on a terminal, 30 into a file)")
+        ->check(kPositive);
     damper.app->add_option("--from", from, "Start from a checkpoint (prepared.ckpt, or run.ckpt to resume)")
         ->check(CLI::ExistingFile);
     damper.app->add_flag("--no-plot", no_plot, "Do not draw the PNG loops at the end");
@@ -202,7 +205,7 @@ int main(int argc, char** argv) {
         CLI::Option* seeds_opt = nullptr;
         bool quiet = false, no_plot = false, mix_builds = false;
         std::string publish;
-        double ckpt_every = 60.0;
+        double ckpt_every = 60.0, progress_every = 0;
         std::string backend = "cpu";
     };
     auto add_study = [&](const char* name, const char* help, StudyCommand& c) {
@@ -215,6 +218,10 @@ int main(int argc, char** argv) {
         c.app->add_option("--set", c.sets, "Fixed override for every case: section.key=value (repeatable)")
             ->allow_extra_args(false);
         c.app->add_option("--checkpoint-every", c.ckpt_every, "[s] wall-clock time between checkpoints of a case")
+            ->check(kPositive);
+        c.app->add_option("--progress-every", c.progress_every,
+                          "[s] wall-clock time between the study's progress lines (cases done, the running cases' "
+                          "stages, time left; default 2 on a terminal, 30 into a file)")
             ->check(kPositive);
         c.seeds_opt = c.app->add_option("--seeds", c.seeds, "Ensemble: run every case with simulation.seed = 1..N (replaces the "
                                               "study's seeds; docs/studies.md)")
@@ -320,6 +327,7 @@ int main(int argc, char** argv) {
             o.plot = !no_plot;
             o.overwrite = damper.overwrite;
             o.checkpoint_every = ckpt_every;
+            o.progress_every = progress_every;
             o.profile = damper_profile;
             // Fewer cycles recorded than asked is a failed run (exit 1), not a refusal (2): the
             // records are written, summary.json says so under "warnings".
@@ -358,6 +366,9 @@ int main(int argc, char** argv) {
                 dso.report_only = report_only;
                 dso.mix_builds = sc.mix_builds;
                 dso.checkpoint_every = sc.ckpt_every;
+                if (sc.progress_every > 0 && !sc.quiet)
+                    std::fprintf(stderr, "warning: --progress-every is not used by a device study: its runs print "
+                                         "their own progress lines\n");
                 const vpp::DeviceSweepResult r = vpp::run_device_study(ds, dso);
                 vpp::mpi_finalize();
                 return r.failed && !report_only ? 1 : 0;
@@ -368,6 +379,7 @@ int main(int argc, char** argv) {
             so.jobs = sc.jobs;
             so.quiet = sc.quiet;  // every rank reports its cases; rank 0 the totals
             so.checkpoint_every = sc.ckpt_every;
+            so.progress_every = sc.progress_every;
             so.rank = rank;
             so.ranks = ranks;
             so.backend = sc.backend;

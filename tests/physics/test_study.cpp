@@ -30,6 +30,7 @@
 #include "vpp/calibration/calibrate.h"
 #include "vpp/analysis/stats.h"
 #include "vpp/study/study.h"
+#include "vpp/study/study_progress.h"
 
 namespace fs = std::filesystem;
 
@@ -223,6 +224,36 @@ std::string rig_record(double sign, double force_sign = 1.0) {
             os << c * 40 + k << "," << sign * (d + 12.5) << "," << sign * force_sign * f << "\n";
         }
     return os.str();
+}
+
+// The study's progress line (vpp/study/study_progress.h) against its rules worked by hand: 4
+// cases on 2 jobs, times in seconds.
+TEST(StudyUnits, TheStudysTimeLeftFollowsTheRunningCasesAndTheFinishedOnes) {
+    vpp::StudyProgress p("sweep", 4, 2, 1.0);
+    p.started(0, "a", 0);
+    p.started(1, "b", 0);
+    p.stage(0, "prepare: fill", 256, 1000, 1);
+    EXPECT_LT(p.time_left(1), 0);  // nothing cycles, nothing finished: unknown, and said so
+    EXPECT_NE(p.line(1).find("time left: known once a case cycles or ends"), std::string::npos) << p.line(1);
+    // a cycles at 50 steps/s (500 of 1000 at t = 20): 10 s left; b at 20 steps/s (100 -> 300 of
+    // 1100 from t = 10 to 20): 40 s left. The 2 pending cases take a's total, 20 + 10 s, each:
+    // (10 + 40 + 2 x 30) / 2 jobs = 55 s, longer than b's 40.
+    p.stage(0, "cycle", 0, 1000, 10);
+    p.stage(0, "cycle", 500, 1000, 20);
+    p.stage(1, "cycle", 100, 1100, 10);
+    p.stage(1, "cycle", 300, 1100, 20);
+    EXPECT_DOUBLE_EQ(p.time_left(20), 55.0);
+    // a ends at 25 s (the mean case now), c starts and prepares. At 30: b 40 - 10 = 30 s, c 25 - 5
+    // = 20 s, the last pending case 25 s: (30 + 20 + 25) / 2 = 37.5 s.
+    p.finished(0, true, 25);
+    p.started(2, "c", 25);
+    p.stage(2, "prepare: fill", 256, 1000, 26);
+    EXPECT_DOUBLE_EQ(p.time_left(30), 37.5);
+    EXPECT_EQ(p.line(30), "sweep: 1 of 4 cases done, running: b (cycle 27%), c (prepare: fill 26%); about 38s left");
+    // A line when due: at once, then not before `every` (1 s) has passed.
+    EXPECT_FALSE(p.due(30).empty());
+    EXPECT_TRUE(p.due(30.5).empty());
+    EXPECT_FALSE(p.due(31.1).empty());
 }
 
 TEST(StudyUnits, AnExperimentWithTheOtherSignConventionIsRefused) {
@@ -1006,8 +1037,12 @@ TEST_F(Study, RunAgainWithSeedsReusesTheRunMadeWithout) {
     EXPECT_TRUE(vpp::adopt_seedless_runs(out, changed, vpp::expand_study(changed)).empty());
     EXPECT_TRUE(fs::exists(bare / "forces.csv"));
     // Of the same settings, it is seed 1's run: renamed, skipped, only seed 2 runs.
-    const Outcome again = run(args + " --seeds 2");
+    const Outcome again = run(args + " --seeds 2 --progress-every 0.01");
     ASSERT_EQ(again.status, 0) << again.output;
+    // The study's progress line while seed 2 runs (seed 1 done earlier).
+    EXPECT_NE(again.output.find("sweep: 1 of 2 cases done, running: grains.friction=0.3_simulation.seed=2 (prepare: fill"),
+              std::string::npos)
+        << again.output;
     EXPECT_NE(again.output.find("1 run(s) of this study without seeds reused as their seed's: "
                                 "grains.friction=0.3_simulation.seed=1"),
               std::string::npos)

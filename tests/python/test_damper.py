@@ -200,6 +200,26 @@ def test_progress_callback_and_interrupt():
     assert calls[1][1] > calls[0][1] and calls[1][3] > calls[0][3]
 
 
+def test_progress_counts_up_within_each_stage_and_tells_the_time_left(capsys):
+    # Each stage's steps never go back (a re-fill is a stage of its own name, counted from its
+    # start); the line printed with progress=True gives the rate and the time left ("at most"
+    # for the stages that end when the sample is at rest).
+    calls = []
+    d = vppdem.Damper(settings=SMALL)
+    d.prepare(progress=lambda stage, done, total, time: calls.append((stage, done, total)))
+    stages = list(dict.fromkeys(c[0] for c in calls))
+    assert stages[0] == "prepare: fill" and stages[-1] == "prepare: compress", stages
+    assert "prepare: re-fill 1" in stages, stages  # the small damper is re-filled once at least
+    for stage in stages:
+        done = [c[1] for c in calls if c[0] == stage]
+        assert done == sorted(done), stage
+        assert all(c[1] <= c[2] for c in calls if c[0] == stage), stage
+    d.vacuum(progress=True)
+    err = capsys.readouterr().err
+    lines = [line for line in err.splitlines() if line.startswith("[vacuum]")]
+    assert lines and all(" left" in line and "at most" in line for line in lines), err
+
+
 def test_ctrl_c_stops_a_run_without_a_callback():
     # SIGINT from outside while the C++ steps without the interpreter lock (as Ctrl-C in a
     # terminal): the run stops within 256 steps with KeyboardInterrupt.

@@ -26,13 +26,30 @@ class _Bar:
             self.bar = None
 
 
+def _duration(s):
+    """A time in seconds as the command's progress line writes it (12s, 3m05s, 2h10m)."""
+    if s < 60:
+        return f"{s:.0f}s"
+    if s < 3600:
+        return f"{int(s // 60)}m{int(s) % 60:02d}s"
+    return f"{int(s // 3600)}h{(int(s) % 3600) // 60:02d}m"
+
+
+# The stages that end when the sample is at rest: their total is the most they can take.
+def _at_most(stage):
+    return stage.startswith(("prepare: fill", "prepare: re-fill")) or stage == "vacuum"
+
+
 class _Progress(_Bar):
-    """The callback handed to the C++ stages (called every 256 steps, with the lock held)."""
+    """The callback handed to the C++ stages (called every 256 steps, with the lock held). Each
+    stage (each re-fill is one) counts its steps from its start, so its percent never goes back;
+    the time left is the stage's steps left over their rate since the stage began here."""
 
     def __init__(self, progress):
         super().__init__(progress)
         self.stage = None
         self.last = 0.0
+        self.since = (0.0, 0)  # the stage's first call here: (clock [s], steps)
 
     def __call__(self, stage, done, total, time):
         if self.user is not None:
@@ -49,9 +66,16 @@ class _Progress(_Bar):
         import time as _t
 
         now = _t.monotonic()
+        if stage != self.stage:
+            self.since = (now, done)
         if now - self.last > 2.0 or stage != self.stage:
             self.last, self.stage = now, stage
-            print(f"[{stage}] {100.0 * done / max(total, 1):5.1f}%  t = {time:.6g} s", file=sys.stderr)
+            t0, d0 = self.since
+            rate = (done - d0) / (now - t0) if now > t0 and done > d0 else 0.0
+            left = "?" if rate <= 0 else _duration((max(total, done) - done) / rate)
+            bound = "at most " if _at_most(stage) else ""
+            print(f"[{stage}] {100.0 * min(done, total) / max(total, 1):5.1f}%  t = {time:.6g} s  "
+                  f"{rate:.0f} steps/s  {bound}{left} left", file=sys.stderr)
 
 
 class _CaseProgress(_Bar):

@@ -37,9 +37,11 @@ struct DamperOptions {
     bool overwrite = false;  // replace files in a non-empty out_dir (resuming from it needs none)
     double checkpoint_every = 60.0;  // [s] wall clock between run.ckpt writes
     bool profile = false;    // print the time per phase of the cycling (dem/core/profile.h)
-    // Called every 256 steps of each stage with the stage's name, its steps done and expected
-    // (an estimate for the stages that end when the sample is at rest) and the simulated time
-    // [s]. It may throw to stop the run (the Python module does on Ctrl-C); the exception
+    double progress_every = 0;  // [s] between progress lines; 0: 2 s on a terminal, 30 s in a log
+    // Called every 256 steps of each stage with the stage's name, its steps done (never less
+    // than at the call before within one stage name) and expected (the most it can take for the
+    // stages that end when the sample is at rest: "prepare: fill", each "prepare: re-fill N",
+    // "vacuum") and the simulated time [s]. It may throw to stop the run (the Python module does on Ctrl-C); the exception
     // leaves the stage where it stood. Empty: none (the results do not depend on it).
     std::function<void(const char* stage, uint64_t done, uint64_t total, double time)> progress;
     // The cycling stage's steps go to this batch, in lockstep with the other runs it holds (sweep

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,20 +20,22 @@
 namespace vpp::damper_detail {
 
 // The terminal's progress line and the caller's hook (DamperOptions::progress).
+// `at_most`: the total is the most the stage can take (it ends when the sample is at rest).
 class StageProgress {
 public:
-    StageProgress(const char* stage, uint64_t total, const DamperOptions& o)
-        : prog_(stage, total, o.quiet), stage_(stage), total_(total), hook_(o.progress) {}
+    StageProgress(std::string stage, uint64_t total, const DamperOptions& o, bool at_most = false)
+        : prog_(stage, total, o.quiet, at_most, o.progress_every), stage_(std::move(stage)), total_(total),
+          hook_(o.progress) {}
     void update(uint64_t done, double sim_time) {
         prog_.update(done, sim_time);
         // Every 256 steps, as often as the progress line looks at the clock: the hook may take
         // a lock (the Python interpreter's) and must not slow the steps down.
-        if (hook_ && !(done & 255u)) hook_(stage_, done, total_, sim_time);
+        if (hook_ && !(done & 255u)) hook_(stage_.c_str(), done, total_, sim_time);
     }
 
 private:
     scene::Progress prog_;
-    const char* stage_;
+    std::string stage_;
     uint64_t total_;
     const std::function<void(const char*, uint64_t, uint64_t, double)>& hook_;
 };

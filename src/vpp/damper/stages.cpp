@@ -297,11 +297,18 @@ void fill(DamperScene& scene, RunState& state, StageServices& services) {
     dem::World& world = scene.world;
     const double max_time = 1.5;  // [s] of falling; a column of 20 cm settles in well under 1 s
     const double check = 2e-3;    // [s] between settling checks
-    StageProgress prog("prepare: fill", uint64_t(max_time / world.params.dt), services.options());
+    // Each re-fill is a stage of its own name on the progress line and hook: its steps count
+    // from its start, the most it can take is max_time again.
+    const auto round_name = [&] {
+        const int k = state.report.count("prepare.refills") ? int(state.report.at("prepare.refills")) : 0;
+        return k ? "prepare: re-fill " + std::to_string(k) : std::string("prepare: fill");
+    };
+    std::optional<StageProgress> prog;
+    prog.emplace(round_name(), uint64_t(max_time / world.params.dt), services.options(), true);
     double next_check = next_check_after(state, world.time, check);
     for (;;) {
         world.step();
-        prog.update(uint64_t((world.time - state.stage_t0) / world.params.dt), world.time);
+        prog->update(uint64_t((world.time - state.stage_t0) / world.params.dt), world.time);
         services.checkpoint(scene, state, false);
         if (world.time < next_check) continue;
         next_check = next_check_after(state, world.time, check);
@@ -322,6 +329,7 @@ void fill(DamperScene& scene, RunState& state, StageServices& services) {
         if (!refill(scene, state, services)) break;
         // A re-fill starts the stage again: a checkpoint with the new grains, the settling clock.
         next_stage(scene, state, services, Stage::Fill);
+        prog.emplace(round_name(), uint64_t(max_time / world.params.dt), services.options(), true);
         next_check = next_check_after(state, world.time, check);
     }
 }
@@ -398,7 +406,7 @@ void vacuum(DamperScene& scene, RunState& state, StageServices& services) {
     const bool pump_down = pump && config.process.pump_down;
     double max_hold = 0.5;
     if (pump_down && config.process.pump_speed > 0.0) max_hold += 5.0 * (scene.foil_volume() - scene.grain_volume()) / config.process.pump_speed;
-    StageProgress prog("vacuum", uint64_t((ramp + max_hold) / world.params.dt), services.options());
+    StageProgress prog("vacuum", uint64_t((ramp + max_hold) / world.params.dt), services.options(), true);
     double next_check = next_check_after(state, world.time, check);
     const double ke_ref = scene.settle_energy_scale();
     for (;;) {

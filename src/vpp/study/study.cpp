@@ -16,10 +16,12 @@
 
 #include "dem/io/csv.h"
 #include "scene/build_info.h"
+#include "scene/progress.h"
 #include "scene/config.h"
 #include "scene/scene_runner.h"
 #include "scene/threads.h"
 #include "vpp/damper/damper.h"
+#include "vpp/study/study_progress.h"
 
 namespace vpp {
 
@@ -211,6 +213,10 @@ public:
                 jobs, backend.emulated ? dem::batch::BatchStepper::Backend::kEmulated
                                        : dem::batch::BatchStepper::Backend::kCuda);
         for (std::size_t i : mine_) state_[i] = 0;
+        if (!opt_.quiet)
+            progress_.emplace(opt_.ranks > 1 ? "sweep rank " + std::to_string(opt_.rank) : std::string("sweep"),
+                              mine_.size(), jobs_,
+                              opt_.progress_every > 0 ? opt_.progress_every : scene::default_progress_every());
     }
 
     // Runs every case of this rank; rethrows what the progress hook threw, SweepStopped when it
@@ -295,6 +301,7 @@ private:
                                          " cycles of this case and no run.ckpt to continue from to " +
                                          std::to_string(c.config.process.cycles) + ": give the sweep another --out");
             dem::write_text_atomic((dir / "case.toml").string(), rec);
+            if (progress_) progress_->started(i, c.name, seconds());
             DamperOptions d;
             d.out_dir = dir.string();
             d.quiet = true;
@@ -305,8 +312,13 @@ private:
             // Clumps and the mesh foil's pressure fans are not in the batch yet: those cases step
             // on the CPU, as --backend cpu (the same bits).
             d.batch = c.config.grains.shape == 0 && c.config.damper.foil_builder == 0 ? batch_.get() : nullptr;
-            if (opt_.progress)
-                d.progress = [this](const char*, uint64_t, uint64_t, double) {
+            if (opt_.progress || progress_)
+                d.progress = [this, i](const char* stage, uint64_t done, uint64_t total, double) {
+                    if (progress_) {
+                        const double now = seconds();
+                        progress_->stage(i, stage, done, total, now);
+                        if (const std::string l = progress_->due(now); !l.empty()) std::fprintf(stderr, "%s\n", l.c_str());
+                    }
                     ask_hook(0, "");
                     if (stop_.load()) throw SweepStopped();
                 };
@@ -389,6 +401,7 @@ private:
                 continue;
             }
             const CaseOutcome o = run_case(pick, self_prepare);
+            if (progress_) progress_->finished(pick, o.ok && !o.skipped, seconds());
             std::size_t done = 0;
             {
                 std::lock_guard<std::mutex> lk(mu_);
@@ -413,6 +426,11 @@ private:
     std::mutex mu_;
     const std::map<int, fs::path> shared_;  // preparation group -> another study's prepared.ckpt
     std::map<std::size_t, int> state_;  // 0 pending, 1 running, 2 finished
+    std::optional<StudyProgress> progress_;  // the study's progress line (none when quiet)
+    // [s] of the steady clock, for the progress line.
+    static double seconds() {
+        return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+    }
     std::size_t finished_ = 0;
     std::atomic<bool> stop_{false};
     std::exception_ptr hook_error_;

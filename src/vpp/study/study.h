@@ -24,6 +24,7 @@ struct SweepOptions {
     int jobs = 0;                    // concurrent cases on this process; 0: cores / threads per case
     bool quiet = false;
     double checkpoint_every = 60.0;  // [s] passed to each damper run
+    double progress_every = 0;       // [s] between the study's progress lines; 0: 2 s on a terminal, 30 s in a log
     int rank = 0, ranks = 1;         // MPI: this process takes the cases i with i % ranks == rank
     // Progress and cancelling for callers that embed the sweep (the Python module); the command
     // line passes none, and its outputs do not depend on it. Called from the sweep's worker
