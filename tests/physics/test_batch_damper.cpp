@@ -19,6 +19,9 @@
 #include "dem/io/checkpoint.h"
 #include "dem/world/world.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_batch_damper {
+
 using namespace cli_test;
 using dem::World;
 
@@ -236,3 +239,5 @@ TEST_F(BatchDamper, TheKernelsSplitAmongABlocksThreadsGiveEachCasesBits) {
         expect_same(ref[q], mine[q], "case " + std::to_string(q) + " (emulated device, 4 threads per block)");
     }
 }
+
+}  // namespace test_batch_damper

@@ -16,6 +16,9 @@
 #include "cli_helpers.h"
 #include "dem/io/csv.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_damper {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -752,3 +755,5 @@ TEST(OutputFolder, AnEmptyOrBlankOutIsRefusedByEveryCommand) {
     EXPECT_TRUE(fs::is_empty(cwd)) << "a refused command wrote into the current folder";
     fs::remove_all(cwd.parent_path());
 }
+
+}  // namespace test_damper

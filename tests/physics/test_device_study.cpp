@@ -14,6 +14,9 @@
 
 #include "cli_helpers.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_device_study {
+
 namespace {
 
 namespace fs = std::filesystem;
@@ -148,3 +151,5 @@ TEST(DeviceStudy, BadStudiesAreRefusedNamingTheKey) {
         EXPECT_FALSE(fs::exists(dir / "out")) << c.text;
     }
 }
+
+}  // namespace test_device_study

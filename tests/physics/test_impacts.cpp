@@ -9,6 +9,9 @@
 
 #include "helpers.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_impacts {
+
 using namespace dem;
 using namespace dem::testing;
 
@@ -163,3 +166,5 @@ TEST(PhysicsImpact, DashpotPullsAtTheEndOfAnImpactAsDocumented) {
     EXPECT_LT(report_rel("dashpot_end_pull", -fmin, cn * 0.5 * kV, 0.01), 0.01);
     EXPECT_LT(-fmin, 0.3 * fmax);  // a short pull, here 26% of the peak force
 }
+
+}  // namespace test_impacts

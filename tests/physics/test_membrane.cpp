@@ -19,6 +19,9 @@
 #include "vpp/membrane/membrane.h"
 #include "vpp/membrane/air.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_membrane {
+
 namespace {
 
 using dem::Vec3;
@@ -403,3 +406,5 @@ TEST(Membrane, SealedAirFollowsBoylesLawAndAFastPumpHoldsTheSetPoint) {
     // A membrane collapsed onto its solids is refused.
     EXPECT_THROW(vpp::membrane_air_step(w, m, 1.0, 6e4, air, g), std::runtime_error);
 }
+
+}  // namespace test_membrane

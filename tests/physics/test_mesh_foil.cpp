@@ -17,6 +17,9 @@
 #include "vpp/membrane/foil.h"
 #include "vpp/membrane/membrane.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_mesh_foil {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -264,3 +267,5 @@ TEST(MeshFoil, BadBuilderValuesAreRefusedNamingTheKey) {
     }
     fs::remove_all(dir);
 }
+
+}  // namespace test_mesh_foil

@@ -11,6 +11,9 @@
 #include "dem/contact/linear_law.h"
 #include "helpers.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_oblique {
+
 using namespace dem;
 using namespace dem::testing;
 
@@ -104,3 +107,5 @@ TEST(PhysicsOblique, SlidingImpactWithRestitution) {
                          2.5 * mu * (1.0 + peak) * kVn / kR, 0.02),
               0.02);
 }
+
+}  // namespace test_oblique

@@ -32,6 +32,9 @@
 #include "vpp/study/study.h"
 #include "vpp/study/study_progress.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_study {
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -1353,3 +1356,5 @@ TEST_F(Study, PublishKeepsTheSmallRecordsAndAnotherFolderResumesFromThem) {
     EXPECT_FALSE(fs::exists(again / "grains.friction=0.3" / "prepared.ckpt"));  // nothing ran
     EXPECT_EQ(slurp(again / "summary.csv"), slurp(out / "summary.csv"));
 }
+
+}  // namespace test_study

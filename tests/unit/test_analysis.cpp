@@ -20,6 +20,9 @@
 
 #include "dem/io/csv.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_analysis {
+
 using namespace vpp;
 
 namespace {
@@ -404,3 +407,5 @@ TEST(Analysis, ATimeColumnRunningBackwardsIsRefused) {
         EXPECT_NE(m.find("line 4: column 'time' = 1 is earlier than the row before (2)"), std::string::npos) << m;
     }
 }
+
+}  // namespace test_analysis

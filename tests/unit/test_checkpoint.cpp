@@ -18,6 +18,9 @@
 #include "dem/world/world.h"
 #include "dem/io/checkpoint.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_checkpoint {
+
 using namespace dem;
 namespace fs = std::filesystem;
 
@@ -486,3 +489,5 @@ TEST(Checkpoint, WorldInvariantsHoldAndTheReaderAppliesThem) {
     EXPECT_STREQ(c.broken_invariant(), "particle arrays of different lengths");
     fs::remove_all(dir);
 }
+
+}  // namespace test_checkpoint

@@ -15,6 +15,9 @@
 #include "dem/integrate/leapfrog.h"
 #include "dem/walls/motion.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_contact_law {
+
 using namespace dem;
 
 namespace {
@@ -362,3 +365,5 @@ TEST(UnitMotion, DisplacementInterpolation) {
     // Across a kink: (d(2.5) - d(1.5)) / 1 = ((0.005,0,-0.005) - (0,0,-0.005)).
     near(m.mean_velocity(1.5, 2.5), {0.005, 0, 0.0});
 }
+
+}  // namespace test_contact_law

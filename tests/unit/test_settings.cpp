@@ -15,6 +15,9 @@
 #include "vpp/settings/settings.h"
 #include "vpp/study/key_reference.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_settings {
+
 using namespace vpp;
 
 namespace {
@@ -263,3 +266,5 @@ TEST(Settings, EveryKeyActingDuringThePreparationIsRecordedWithTheSample) {
         EXPECT_TRUE(s.shares_preparation || s.geometry > 0 || prep.count(s.key)) << s.key;
     }
 }
+
+}  // namespace test_settings

@@ -17,6 +17,9 @@
 
 #include "scene/size_distribution.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_size_distribution {
+
 using scene::SizeDistribution;
 using K = SizeDistribution::Kind;
 namespace fs = std::filesystem;
@@ -197,3 +200,4 @@ TEST(SizeDistribution, ASieveCurveNotFromZeroToAHundredPercentSaysWhatItLeavesOu
     EXPECT_EQ(SizeDistribution::sieve_curve(full.string()).sieve_note, "");
 }
 
+}  // namespace test_size_distribution

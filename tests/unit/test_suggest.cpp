@@ -9,6 +9,9 @@
 
 #include "scene/suggest.h"
 
+// The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
+namespace test_suggest {
+
 namespace {
 const std::vector<std::string> kCommands = {"scene", "bench", "tension", "envelope", "damper",
                                             "analyze", "plot", "sweep", "calibrate"};
@@ -56,3 +59,5 @@ TEST(Suggest, UnknownCommandIsNamedWithTheNearestOne) {
     EXPECT_EQ(far.output.find("did you mean"), std::string::npos) << far.output;
     EXPECT_NE(far.output.find("damper"), std::string::npos) << far.output;  // lists the commands
 }
+
+}  // namespace test_suggest

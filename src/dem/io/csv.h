@@ -4,6 +4,7 @@
 
 #include <array>
 #include <cstdio>
+#include <filesystem>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -62,5 +63,8 @@ std::string read_text(const std::string& path);
 // a results folder republished with the same records keeps its files as they were. Returns
 // whether it wrote.
 bool copy_text_if_changed(const std::string& from, const std::string& to);
+inline bool copy_text_if_changed(const std::filesystem::path& from, const std::filesystem::path& to) {
+    return copy_text_if_changed(from.string(), to.string());
+}
 
 }  // namespace dem

@@ -61,7 +61,10 @@ constexpr std::size_t energy_column(std::string_view name) {
 // energy.csv's header: the names, comma-separated.
 inline std::string energy_csv_header() {
     std::string h;
-    for (const EnergyColumn& c : kEnergyColumns) h += (h.empty() ? "" : ",") + std::string(c.name);
+    for (const EnergyColumn& c : kEnergyColumns) {
+        if (!h.empty()) h += ',';
+        h += c.name;
+    }
     return h;
 }
 

@@ -29,8 +29,6 @@ void collect_keys(const toml::table& t, const std::string& prefix, std::set<std:
 // 2^53: the largest integer up to which every integer is a double.
 constexpr int64_t kMaxExactInteger = int64_t(1) << 53;
 
-std::string section_of(const std::string& key) { return key.substr(0, key.find('.')); }
-
 // Reads a key whose row needs no reader of its own: the type, the table's default and check.
 void read_generic(Section& s, const Setting& row, Config& c, CommandSet commands) {
     const std::string key = std::string(row.key).substr(std::string(row.key).find('.') + 1);

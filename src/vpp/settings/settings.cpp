@@ -552,9 +552,9 @@ std::vector<Setting> ordered_by(int Setting::*position) {
     return out;
 }
 
-std::string section_of(const std::string& key) { return key.substr(0, key.find('.')); }
-
 }  // namespace
+
+std::string section_of(const std::string& key) { return key.substr(0, key.find('.')); }
 
 const std::vector<Setting>& settings() { return table(); }
 

@@ -65,6 +65,9 @@ struct Setting {
     double default_for(CommandSet k) const { return k == CommandSet::Foil && !std::isnan(def_foil) ? def_foil : def; }
 };
 
+// The section of a dotted key: "grains" of "grains.friction".
+std::string section_of(const std::string& key);
+
 // The table, in the order the config reader reads the keys (section by section).
 const std::vector<Setting>& settings();
 const Setting* find_setting(std::string_view key);

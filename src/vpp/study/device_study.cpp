@@ -67,10 +67,6 @@ DeviceRunOutcome outcome_of(const nlohmann::json& summary) {
     return o;
 }
 
-bool copy_if_changed(const fs::path& from, const fs::path& to) {
-    return dem::copy_text_if_changed(from.string(), to.string());
-}
-
 // tools.csv from the press on (stage >= 2), each value with six digits, gzipped into `to`
 // through a temporary name: the published record the device report reads (docs/devices.md).
 void publish_tools(const fs::path& from, const fs::path& to) {
@@ -197,7 +193,7 @@ DeviceSweepResult run_device_study(const DeviceStudy& s, const DeviceSweepOption
                 const fs::path from = pub / run.folder, to = out / run.folder;
                 if (finished_summary(from).is_null() || !finished_summary(to).is_null() || fs::exists(to / "run.ckpt")) continue;
                 for (const char* f : {"summary.json", "case.toml", "build.json"})
-                    if (fs::exists(from / f)) copy_if_changed(from / f, to / f);
+                    if (fs::exists(from / f)) dem::copy_text_if_changed(from / f, to / f);
             }
     }
     std::size_t done = 0;
@@ -251,14 +247,14 @@ DeviceSweepResult run_device_study(const DeviceStudy& s, const DeviceSweepOption
             const fs::path from = out / r.runs[i].folder, to = pub / r.runs[i].folder;
             // tools.csv.gz again only when the run's summary changed (a gzip of the same rows is
             // the same record: a republished study leaves its files as they were).
-            const bool changed = copy_if_changed(from / "summary.json", to / "summary.json");  // ok: the run has one
+            const bool changed = dem::copy_text_if_changed(from / "summary.json", to / "summary.json");  // ok: the run has one
             for (const char* f : {"case.toml", "build.json"})
-                if (fs::exists(from / f)) copy_if_changed(from / f, to / f);
+                if (fs::exists(from / f)) dem::copy_text_if_changed(from / f, to / f);
             if ((changed || !fs::exists(to / "tools.csv.gz")) && fs::exists(from / "tools.csv"))
                 publish_tools(from / "tools.csv", to / "tools.csv.gz");
             ++published;
         }
-        copy_if_changed(out / "summary.csv", pub / "summary.csv");
+        dem::copy_text_if_changed(out / "summary.csv", pub / "summary.csv");
         if (!opt.quiet) std::fprintf(stderr, "sweep: %zu finished run(s) published in %s\n", published, opt.publish.c_str());
     }
     if (!opt.quiet)

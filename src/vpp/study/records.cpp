@@ -469,7 +469,6 @@ std::string write_study_tables(const fs::path& out, const Study& s, const std::v
 
 namespace {
 
-void copy_if_changed(const fs::path& from, const fs::path& to) { dem::copy_text_if_changed(from.string(), to.string()); }
 
 // The finished runs ("ok" rows) of a published summary.csv; 0 when there is none.
 std::size_t ok_rows(const fs::path& summary) {
@@ -507,7 +506,7 @@ std::size_t restore_published(const fs::path& results, const fs::path& out, cons
         const fs::path pub = results / c.name, run = out / c.name;
         if (!fs::exists(pub / "summary.json") || fs::exists(run / "summary.json") || fs::exists(run / "run.ckpt")) continue;
         for (const std::string& f : kRunRecords)
-            if (fs::exists(pub / f)) copy_if_changed(pub / f, run / f);
+            if (fs::exists(pub / f)) dem::copy_text_if_changed(pub / f, run / f);
         ++n;
     }
     return n;
@@ -522,13 +521,13 @@ std::size_t publish_records(const fs::path& results, const fs::path& out, const 
         if (outcomes[i].ok) {
             ++finished;
             for (const std::string& f : kRunRecords)
-                if (fs::exists(run / f)) copy_if_changed(run / f, results / cases[i].name / f);
+                if (fs::exists(run / f)) dem::copy_text_if_changed(run / f, results / cases[i].name / f);
         }
         held += fs::exists(results / cases[i].name / "summary.json");
     }
     if (finished >= ok_rows(results / "summary.csv"))
         for (const std::string& f : kStudyTables)
-            if (fs::exists(out / f)) copy_if_changed(out / f, results / f);
+            if (fs::exists(out / f)) dem::copy_text_if_changed(out / f, results / f);
     return held;
 }
 
