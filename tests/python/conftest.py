@@ -22,6 +22,10 @@ SMALL = {
     "foil.density": 15177,            # [kg/m^3]
 }
 
+# The mass scaling alone, as --set arguments: for the tests that run a study file's own [set]
+# (their question is the records and the branching, not the grains' inertia).
+MASS_SCALED = [f"{k}={SMALL[k]}" for k in ("grains.density", "foil.density")]
+
 # The same as the command's --set arguments.
 # A tiny study: the small damper (mass-scaled), two frictions sharing one preparation, one cycle
 # each (seconds of CPU; test_studies.py, test_study_class.py).

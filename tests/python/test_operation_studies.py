@@ -13,7 +13,7 @@ import shutil
 import subprocess
 
 import vppdem
-from conftest import SOURCE_DIR, read_study
+from conftest import MASS_SCALED, SOURCE_DIR, read_study
 
 FOLDER = os.path.join(SOURCE_DIR, "examples", "operation")
 DATA = os.path.join(SOURCE_DIR, "docs", "data", "operation")
@@ -24,7 +24,7 @@ AWK = r'''NR == 1 { for (i = 1; i <= NF; i++) if ($i == "cycle") k = i; print; n
 END { for (i = 2; i <= NR; i++) if (cyc[i] == m) print last[i] }'''
 # The tests' small damper, one cycle (the studies keep their 10 mm amplitude otherwise).
 SMALL = ["damper.radius=0.012", "damper.height=0.03", "grains.volume_fraction=0.45", "process.amplitude=0.002",
-         "process.cycles=1"]
+         "process.cycles=1"] + MASS_SCALED
 CASE = "process.waveform=triangle_process.frequency=20_simulation.seed=1"
 
 
@@ -97,7 +97,7 @@ def test_last_cycle_is_the_awks_bytes(tmp_path):
 
 def test_the_twin_branches_from_the_pump_sample_and_the_report_keeps_its_last_cycle(tmp_path):
     # Both study files cut to the triangle at 20 Hz (their [set] and samples_from as they are), one
-    # seed, on the small damper, into tmp/out/pump and the sibling tmp/out/constant, each published
+    # seed, on the small damper (mass-scaled), into tmp/out/pump and the sibling tmp/out/constant, each published
     # into tmp/data as run.sh does: the twin's case branches from the pump study's sample and prepares
     # nothing; the report's --runs keeps both runs' last cycle as the awk did, and again changes nothing.
     for name in ("pump", "constant"):

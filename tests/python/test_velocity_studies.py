@@ -11,7 +11,7 @@ import re
 import subprocess
 
 import vppdem
-from conftest import SOURCE_DIR, read_study
+from conftest import MASS_SCALED, SOURCE_DIR, read_study
 
 FOLDER = os.path.join(SOURCE_DIR, "studies", "velocity")
 BRANCHES = {"small_paper": "small", "quick_slow": "quick", "quick_paper": "quick"}
@@ -48,7 +48,8 @@ def test_each_branch_study_sets_what_makes_its_base_studys_samples():
 
 
 def test_the_small_damper_at_the_papers_velocity_branches_from_the_small_studys_samples(tmp_path):
-    # The small study cut to one velocity, one dp and one cycle, one seed (its [set] as it is), into
+    # The small study cut to one velocity, one dp and one cycle, one seed (its [set] as it is, and
+    # mass-scaled: conftest.MASS_SCALED), into
     # tmp/small; then small_paper.toml into the sibling tmp/small_paper, at 0.02 m/s instead of the
     # paper's velocity (seconds, not minutes): both its cases branch from the one sample and prepare
     # nothing, and the report pairs them with the small study's run by seed.
@@ -57,11 +58,13 @@ def test_the_small_damper_at_the_papers_velocity_branches_from_the_small_studys_
     text, n_dp = re.subn(r'^"process\.underpressure" = \[.*\]$', '"process.underpressure" = [0.02e6]', text, flags=re.M)
     assert n_v == 1 and n_dp == 1, "small.toml's grid is no longer a velocity list and an underpressure list"
     (tmp_path / "small.toml").write_text(text)
-    assert vppdem.sweep(tmp_path / "small.toml", tmp_path / "small", seeds=1, sets=["process.cycles=1"], jobs=1) == 0
+    assert vppdem.sweep(tmp_path / "small.toml", tmp_path / "small", seeds=1, sets=["process.cycles=1"] + MASS_SCALED,
+                        jobs=1) == 0
     sample = tmp_path / "small" / "process.underpressure=20000_process.velocity=0.1_simulation.seed=1" / "prepared.ckpt"
     assert sample.exists()
 
-    branch = vppdem.Study(path("small_paper"), out=tmp_path / "small_paper", seeds=1, sets=["process.velocity=0.02"])
+    branch = vppdem.Study(path("small_paper"), out=tmp_path / "small_paper", seeds=1,
+                          sets=["process.velocity=0.02"] + MASS_SCALED)
     assert branch.run(jobs=1) == 0
     cases = sorted(p for p in (tmp_path / "small_paper").iterdir() if p.is_dir())
     assert [c.name for c in cases] == ["process.underpressure=20000_simulation.seed=1",
