@@ -12,9 +12,15 @@ from conftest import SOURCE_DIR
 TINY = os.path.join(SOURCE_DIR, "tests", "data", "devices", "tiny_gripper.toml")
 
 
-def test_a_device_runs_from_python_and_its_result_is_its_summary(tmp_path):
-    out = tmp_path / "gripper"
-    r = vppdem.device(TINY, out)
+@pytest.fixture(scope="module")
+def gripper(tmp_path_factory):
+    """The tiny gripper run once for the module (without VTK frames): its folder and result."""
+    out = tmp_path_factory.mktemp("device") / "gripper"
+    return out, vppdem.device(TINY, out, sets=["output.vtk=false"])
+
+
+def test_a_device_runs_from_python_and_its_result_is_its_summary(gripper):
+    out, r = gripper
     assert r["stage"] == "done"
     # The vacuum holds the object (the C++ test: 0.032 N with 50 kPa, 0 without).
     assert r["holding_force"] > 0.0
@@ -30,7 +36,7 @@ def test_a_device_runs_from_python_and_its_result_is_its_summary(tmp_path):
         summary = json.load(f)
     assert _find(summary, "holding_force") == pytest.approx(r["holding_force"], rel=1e-9)
     # Called again, the finished run is not run again: its result comes back the same.
-    again = vppdem.device(TINY, out)
+    again = vppdem.device(TINY, out, sets=["output.vtk=false"])
     assert again["holding_force"] == r["holding_force"]
 
 
@@ -54,7 +60,7 @@ def test_bad_device_keys_raise_config_error_and_write_nothing(tmp_path):
         vppdem.device(TINY, out, checkpoint_every=float("nan"))
 
 
-def test_a_device_study_runs_through_vppdem_study(tmp_path):
+def test_a_device_study_runs_through_vppdem_study(tmp_path, gripper):
     # A device study file (docs/devices.md, "Studies") through vppdem.Study: its runs listed with
     # their overrides, run by vppdem sweep, its summary.csv read back; the run is the one
     # vppdem.device() makes with the same keys.
@@ -68,7 +74,8 @@ def test_a_device_study_runs_through_vppdem_study(tmp_path):
     assert s.run() == 0
     rows = s.summary()
     assert len(rows) == 1 and rows[0]["status"] == "ok" and rows[0]["case"] == "dp50"
-    by_hand = vppdem.device(TINY, tmp_path / "hand", sets=["output.vtk=false", "stages.underpressure=50000"])
+    # The module's run by hand has the same keys: the file's underpressure is 5e4 Pa.
+    by_hand = gripper[1]
     assert rows[0]["holding_force"] == pytest.approx(by_hand["holding_force"], rel=1e-12)
     with pytest.raises(vppdem.ConfigError, match="device study"):
         vppdem.Study(study, tmp_path / "out").run(jobs=2)

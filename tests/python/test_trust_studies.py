@@ -13,7 +13,7 @@ import re
 import subprocess
 
 import vppdem
-from conftest import SOURCE_DIR, read_study
+from conftest import MASS_SCALED, SOURCE_DIR, read_study
 
 FOLDER = os.path.join(SOURCE_DIR, "studies", "trust")
 SCRIPT = os.path.join(SOURCE_DIR, "scripts", "trust_studies.sh")
@@ -158,11 +158,11 @@ def test_the_cycle1_table_holds_the_seeds_first_cycles_at_every_velocity_sorted(
 
 def test_the_paper_velocity_case_branches_from_the_velocity_studys_seed1_sample(tmp_path):
     # The velocity study cut to one velocity and one dp (its [set] as it is), seed 1, on the small
-    # damper, into tmp/velocity; then paper_velocity.toml into the sibling tmp/paper_velocity with the
+    # damper (mass-scaled: conftest.MASS_SCALED), into tmp/velocity; then paper_velocity.toml into the sibling tmp/paper_velocity with the
     # same geometry, at 0.05 m/s instead of the paper's velocity (seconds, not minutes): its case
     # branches from the one sample and prepares nothing, and the report pairs it with the study's run.
     small = ["damper.radius=0.012", "damper.height=0.03", "grains.volume_fraction=0.45",
-             "process.amplitude=0.0005", "process.samples_per_cycle=40", "simulation.threads=1"]
+             "process.amplitude=0.0005", "process.samples_per_cycle=40", "simulation.threads=1"] + MASS_SCALED
     text = open(path("velocity")).read()
     text, n_v = re.subn(r'^"process\.velocity" = \[.*\]$', '"process.velocity" = [0.1]', text, flags=re.M)
     text, n_dp = re.subn(r'^"process\.underpressure" = \[.*\]$', '"process.underpressure" = [0.06e6]', text, flags=re.M)
