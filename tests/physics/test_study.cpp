@@ -5,6 +5,7 @@
 // their paired differences (summary_paired.csv) without simulating.
 // Also the pure parts: range strings, the loop misfit.
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include <signal.h>
 #include <sys/wait.h>
@@ -378,11 +379,26 @@ TEST_F(Study, AOneSeedCalibrationSaysItHasNoInterval) {
     const Outcome t = run("damper --out " + truth.string() + " " + kSmallDamper + " --set grains.friction=0.45");
     ASSERT_EQ(t.status, 0) << t.output;
     const Outcome r = run("calibrate " + study.string() + " --experiment " + (truth / "forces.csv").string() +
-                          " --force-column force_zeroed --out " + out.string() + " --no-plot");
+                          " --force-column force_zeroed --out " + out.string());
     ASSERT_EQ(r.status, 0) << r.output;
     EXPECT_NE(r.output.find("over 1 seed(s)); one seed: no interval (run --seeds 2 or more for one)"), std::string::npos)
         << r.output;
     EXPECT_EQ(r.output.find("within its interval"), std::string::npos) << r.output;
+    // The runs' warnings are passed on, once per kind (the small damper at 0.1 m/s is not
+    // quasi-static); the plot adds none of its own (an empty legend made matplotlib warn).
+    EXPECT_NE(r.output.find("WARNING: runs: not quasi-static: 2 of 2 runs (grains.friction=0.3, grains.friction=0.6)"),
+              std::string::npos)
+        << r.output;
+    EXPECT_TRUE(fs::exists(out / "calibration.png")) << r.output;
+    for (const char* leak : {"UserWarning", "No artists", "matplotlib"}) EXPECT_EQ(r.output.find(leak), std::string::npos) << leak << r.output;
+    // An interval of the best value alone (nothing to shade) drew an empty legend box, and
+    // matplotlib warned: the legend now holds the misfit curve and the best value.
+    auto cal = nlohmann::json::parse(slurp(out / "calibration.json"));
+    cal["uncertainty"] = {{"grains.friction", {0.3}}};
+    write_file(out / "calibration.json", cal.dump());
+    const Outcome p = run("plot " + out.string());
+    ASSERT_EQ(p.status, 0) << p.output;
+    for (const char* leak : {"UserWarning", "No artists", "matplotlib"}) EXPECT_EQ(p.output.find(leak), std::string::npos) << leak << p.output;
 }
 
 // Issue 46: a study refuses a folder whose cases another build ran (their build.json), naming the

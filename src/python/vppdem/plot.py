@@ -84,6 +84,13 @@ def _figure(nrows=1, ncols=1, figsize=None, squeeze=True):
     return fig, fig.subplots(nrows, ncols, squeeze=squeeze)
 
 
+def _legend(ax, **kw):
+    """A legend of what the axes draw with a label; none when nothing is labelled (matplotlib
+    would draw an empty box and warn)."""
+    if ax.get_legend_handles_labels()[1]:
+        ax.legend(**kw)
+
+
 def _save(fig, path, dpi):
     try:
         fig.savefig(path, dpi=dpi)
@@ -197,7 +204,7 @@ def _energy_split(d, dp):
     ax.set_xticks(cyc)
     ax.set_title("where the loop energy goes", fontsize=10)
     ax.grid(True, axis="y", alpha=0.3)
-    ax.legend(fontsize=8, loc="lower right")
+    _legend(ax, fontsize=8, loc="lower right")
     if e is not None:
         ax = axes[0][1]
         t = e["time"]
@@ -210,7 +217,7 @@ def _energy_split(d, dp):
         ax.set_ylabel("cumulative energy [mJ]")
         ax.set_title("energy ledger (energy.csv)", fontsize=10)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=8, loc="upper left")
+        _legend(ax, fontsize=8, loc="upper left")
     fig.suptitle(f"VPP damper energy budget{', ' + dp if dp else ''}", fontsize=11)
     fig.tight_layout()
     return _save(fig, os.path.join(d, "energy_split.png"), 100)
@@ -235,7 +242,7 @@ def _draw_loops(ax, data, column, title, colours, w_by_cycle):
     ax.set_ylabel(f"{column} (compression +) [N]")
     ax.set_title(title, fontsize=10)
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8, loc="best")
+    _legend(ax, fontsize=8, loc="best")
 
 
 def damper(run_dir):
@@ -418,7 +425,7 @@ def sweep(study_dir, caption=None, prefix=None):
             ax.set_title("mean over seeds, 95% interval (Student t); dots: runs", fontsize=9)
         ax.grid(True, alpha=0.3)
         if others:
-            ax.legend(fontsize=8)
+            _legend(ax, fontsize=8)
     fig.suptitle(os.path.basename(os.path.abspath(d)))
     fig.tight_layout(rect=(0, 0.03 if caption else 0, 1, 1))
     _caption(fig, caption)
@@ -451,7 +458,7 @@ def sweep(study_dir, caption=None, prefix=None):
         ax.set_ylabel("force [N] (compression +)")
         ax.set_title(group_label(g), fontsize=9)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7, title=xkey, title_fontsize=7)
+        _legend(ax, fontsize=7, title=xkey, title_fontsize=7)
     for gi in range(n, rows * cols):
         axes[gi // cols][gi % cols].axis("off")
     fig.suptitle("last cycle of each run" + (" (every seed)" if SEED in keys else ""))
@@ -500,7 +507,7 @@ def calibration(dir, caption=None):
     a1.set_xlabel("displacement [mm] (compression +)")
     a1.set_ylabel(f"force [N] ({col}, compression +)")
     a1.grid(True, alpha=0.3)
-    a1.legend()
+    _legend(a1)
 
     grid = [g for g in cal.get("grid", []) if g.get("misfit") is not None]
     keys = list(cal["best"].keys())
@@ -514,7 +521,9 @@ def calibration(dir, caption=None):
         # With seeds: the mean misfit and its 95% interval (misfit_ci95; None with one seed).
         pts = sorted((g[xkey], g["misfit"], g.get("misfit_ci95") or 0.0)
                      for g in grid if tuple(g[k] for k in others) == t)
-        label = ", ".join(f"{k} = {v}" for k, v in zip(others, t)) or None
+        seeds = any(g.get("misfit_ci95") is not None for g in grid)
+        what = "mean misfit over the seeds, 95% interval" if seeds else "misfit"
+        label = ", ".join(f"{k} = {v}" for k, v in zip(others, t)) or what
         xs = [p[0] for p in pts]
         xv = xs if all(isinstance(x, (int, float)) for x in xs) else list(range(len(xs)))
         a2.errorbar(xv, [p[1] for p in pts], yerr=[p[2] for p in pts], fmt="o-", capsize=3, label=label)
@@ -524,12 +533,11 @@ def calibration(dir, caption=None):
     if unc and all(isinstance(v, (int, float)) for v in unc) and len(unc) > 1:
         a2.axvspan(min(unc), max(unc), color="C3", alpha=0.08, label="interval overlaps the best's")
     if isinstance(cal["best"][xkey], (int, float)):
-        a2.axvline(cal["best"][xkey], color="C3", ls="--", lw=0.8)
+        a2.axvline(cal["best"][xkey], color="C3", ls="--", lw=0.8, label=f"best: {xkey} = {cal['best'][xkey]}")
     a2.set_xlabel(xkey)
     a2.set_ylabel("misfit")
     a2.grid(True, alpha=0.3)
-    if others or unc:
-        a2.legend(fontsize=8)
+    _legend(a2, fontsize=8)
     fig.tight_layout(rect=(0, 0.04 if caption else 0, 1, 1))
     if caption:
         fig.text(0.01, 0.005, caption, fontsize=5, color="0.35", wrap=True)

@@ -249,6 +249,40 @@ std::vector<std::string> adopt_seedless_runs(const fs::path& out, const Study& s
     return adopted;
 }
 
+std::vector<std::string> run_warning_lines(const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes) {
+    struct Kind {
+        std::vector<std::string> cases;
+        std::string first;
+    };
+    std::vector<std::pair<std::string, Kind>> kinds;  // in the order first met
+    std::size_t finished = 0;
+    for (std::size_t i = 0; i < outcomes.size() && i < cases.size(); ++i) {
+        if (!outcomes[i].ok) continue;
+        ++finished;
+        std::vector<std::string> seen;  // a kind once per run
+        for (const std::string& w : outcomes[i].warnings) {
+            const std::string kind = w.substr(0, w.find(':'));
+            if (std::find(seen.begin(), seen.end(), kind) != seen.end()) continue;
+            seen.push_back(kind);
+            auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
+            if (it == kinds.end()) {
+                kinds.push_back({kind, Kind{{}, w}});
+                it = kinds.end() - 1;
+            }
+            it->second.cases.push_back(cases[i].name);
+        }
+    }
+    std::vector<std::string> lines;
+    for (const auto& [kind, k] : kinds) {
+        std::string which;
+        for (std::size_t j = 0; j < k.cases.size() && j < 3; ++j) which += (j ? ", " : "") + k.cases[j];
+        if (k.cases.size() > 3) which += ", ...";
+        lines.push_back(kind + ": " + std::to_string(k.cases.size()) + " of " + std::to_string(finished) + " runs (" +
+                        which + "); " + k.first);
+    }
+    return lines;
+}
+
 std::size_t recorded_cycles(const fs::path& dir) {
     if (!fs::exists(dir / "cycles.csv")) return 0;
     return read_cycles_csv((dir / "cycles.csv").string()).size();

@@ -76,6 +76,12 @@ CaseFolder check_case_folder(const std::filesystem::path& dir, const std::string
 std::vector<std::string> adopt_seedless_runs(const std::filesystem::path& out, const Study& s,
                                              const std::vector<StudyCase>& cases);
 
+// The finished runs' warnings (their summary.json "warnings"), one line per kind (the text
+// before its first ':': "not quasi-static", "W not stationary", ...): how many runs of how many
+// finished gave it, up to 3 of their cases, and the first one's whole message. What a study or a
+// calibration passes on from its runs, which run quietly.
+std::vector<std::string> run_warning_lines(const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes);
+
 // The cycles a case folder's cycles.csv holds (0 without one).
 std::size_t recorded_cycles(const std::filesystem::path& dir);
 

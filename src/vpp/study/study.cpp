@@ -457,8 +457,12 @@ void gather_and_write_tables(const Study& s, const SweepOptions& opt, SweepResul
         read_outcome_lines(all, res.outcomes);
         for (const CaseOutcome& o : res.outcomes) res.failed += o.ok ? 0 : 1;
         const std::string names = write_study_tables(fs::path(opt.out_dir), s, res.cases, res.outcomes);
-        if (!opt.quiet)
+        if (!opt.quiet) {
             std::fprintf(stderr, "sweep: %zu cases, %d failed; wrote %s\n", res.cases.size(), res.failed, names.c_str());
+            // The runs ran quietly: their warnings, once per kind (summary.csv has each run's).
+            for (const std::string& w : run_warning_lines(res.cases, res.outcomes))
+                std::fprintf(stderr, "WARNING: runs: %s\n", w.c_str());
+        }
         publish(opt, res);
     }
     res.failed = mpi_broadcast_int(res.failed);
