@@ -257,3 +257,40 @@ def test_settings_tables_are_what_the_readers_apply():
     assert scene["simulation.gravity"]["default"] == (0.0, 0.0, -9.81)
     with pytest.raises(ValueError):
         vppdem.settings("tension")
+
+
+def test_counting_columns_are_integers(finished, tmp_path):
+    # The cycle index and the settled flag are counts, not measurements: integer arrays, as the
+    # CSV records hold them (read back by vppdem.records the same way).
+    d = finished
+    c, f = d.cycles(), d.forces()
+    for name, a in (("cycles cycle", c["cycle"]), ("cycles settled", c["settled"]), ("forces cycle", f["cycle"]),
+                    ("cycle_index", d.cycle_index)):
+        assert a.dtype.kind == "i", (name, a.dtype)
+    assert list(c["cycle"]) == [1, 2]
+    d.write(tmp_path / "w")
+    from vppdem import records
+    back = records.read_csv(tmp_path / "w" / "cycles.csv")
+    assert back["cycle"].dtype.kind == "i" and back["W"].dtype.kind == "f"
+    assert np.array_equal(back["cycle"], c["cycle"])
+
+
+def test_help_is_a_users_page():
+    # help(vppdem): what is there and where to look, not every class in full (547 lines before);
+    # no docstring tells the module's history ("used to", "before", "issue N").
+    import inspect
+    import pydoc
+    import re
+
+    page = pydoc.render_doc(vppdem, renderer=pydoc.plaintext)
+    assert len(page.splitlines()) < 120, len(page.splitlines())
+    for name in ("Damper(", "sweep(", "calibrate(", "Study(", "device(", "World()", "ConfigError"):
+        assert name in page, name
+    history = re.compile(r"\bused to\b|\bissue \d+|\bbefore (this|the fix|issue)|\bno longer\b", re.I)
+    seen = []
+    for owner in (vppdem, vppdem.Damper, vppdem.Study, vppdem.World):
+        for name, obj in [("", owner)] + inspect.getmembers(owner):
+            doc = inspect.getdoc(obj) if not name.startswith("_") or not name else None
+            if doc and history.search(doc):
+                seen.append(f"{getattr(owner, '__name__', owner)}.{name}: {history.search(doc).group(0)}")
+    assert not seen, seen

@@ -57,9 +57,15 @@ def read_table(path):
     return header, [dict(zip(header, r)) for r in rows[1:]]
 
 
+# The records' columns that count or index (cycles.csv, forces.csv, summary.csv): read as
+# integers when every value is a whole number (an empty or fractional cell keeps the column float).
+INTEGER_COLUMNS = frozenset({"cycle", "settled", "settled_cycles", "first_settled_cycle", "grains", "simulation.seed",
+                             "samples", "n"})
+
+
 def read_csv(path, columns=None):
-    """{column: float array} for the named columns (None: every column) of a CSV file with a
-    header and at least one data row."""
+    """{column: array} for the named columns (None: every column) of a CSV file with a header and
+    at least one data row: floats, and integers for the counting columns (INTEGER_COLUMNS)."""
     rows = _rows(path)
     if not rows:
         raise RecordError(f"{path} is empty")
@@ -77,4 +83,6 @@ def read_csv(path, columns=None):
             out[name] = np.array([float(r[k]) for r in rows[1:]])
         except (ValueError, IndexError) as e:
             raise RecordError(f"{path}: bad value in column {name}: {e}") from None
+        if name in INTEGER_COLUMNS and np.all(np.isfinite(out[name])) and np.all(out[name] == np.round(out[name])):
+            out[name] = out[name].astype(np.int64)
     return out
