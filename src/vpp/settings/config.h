@@ -145,7 +145,14 @@ struct Config {
     // A run from a checkpoint takes the checkpoint's value of a key not given here.
     std::set<std::string> given;
 
+    // Zeros, read from nothing: a placeholder that a reader assigns (a study's cases before
+    // their configs are loaded). Reading the defaults is not free: simulation.threads = 0 has
+    // the reader sample the machine's free cores for 150 ms (scene/threads.h).
+    static Config unread() { return Config(Unread{}); }
+
 private:
+    struct Unread {};
+    explicit Config(Unread) {}
     // A file's keys, the others the table's defaults for these commands (load_config).
     Config(const toml::table& file, CommandSet commands);
     friend Config load_config(const std::string&, const std::vector<std::string>&, CommandSet);

@@ -125,7 +125,7 @@ struct StudyCase {
     std::string name_without_seed;       // the name without the seed axis ("" when there is none)
     std::vector<std::string> labels;     // one per grid axis
     std::vector<std::string> overrides;  // all --set assignments of the case, in order
-    Config config;
+    Config config = Config::unread();    // loaded by expand_study
     int group = 0;                       // preparation group
     std::size_t preparer = 0;            // index of the case that prepares for this group
 };
