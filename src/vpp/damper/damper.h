@@ -100,7 +100,9 @@ struct DamperResult {
     // `vppdem damper` exits 1, a study's case fails (summary.json "cycles" holds what ran).
     bool incomplete = false;
     double run_seconds = 0;
-    Config config;  // the settings the run used: a run from a checkpoint takes some of its values
+    // The settings the run used: a run from a checkpoint takes some of its values. (Set by the
+    // run; unread until then, as reading the defaults samples the machine's cores: Config::unread.)
+    Config config = Config::unread();
 };
 
 // What a checkpoint records of the sample in it, read once (a study matches one file against
