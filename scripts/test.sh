@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # The README's second command: install, build from scratch, run the quick tier of the tests
-# (about 12 minutes on a fresh 2-core machine: docs/benchmarks.md, "The test command").
+# (under 10 minutes on a fresh 2-core machine: docs/benchmarks.md, "The test command").
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/install-deps.sh
