@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
@@ -71,6 +72,12 @@ double next_check_after(const RunState& state, double t, double check) {
 // The air (docs/damper.md, "The air inside") is recorded with the pump model, or output.air.
 bool air_recorded(const Config& config) { return config.process.pressure_model != 0 || config.output.air; }
 
+// The re-fills made so far (the run state's report, kept in the checkpoints).
+int refills_done(const RunState& state) {
+    const auto it = state.report.find("prepare.refills");
+    return it == state.report.end() ? 0 : int(it->second);
+}
+
 // Re-fill (damper.refill): adds grains above the settled ones when their level is below the
 // damper height (or their volume below damper.packing_target); returns false when the level is
 // reached (or re-filling is off or exhausted).
@@ -87,7 +94,7 @@ bool refill(DamperScene& scene, RunState& state, StageServices& services) {
     const double target = scene.z_top + kRefillMargin * rk, level = scene.fill_level();
     const double v_k = scene.sizes.mean_volume();
     const double area = std::numbers::pi * r_in * r_in;
-    const int done = state.report.count("prepare.refills") ? int(state.report.at("prepare.refills")) : 0;
+    const int done = refills_done(state);
     char msg[256];
     // With damper.packing_target the grains' volume decides, not their level: the grains missing
     // to the target (to the nearest grain), however high they then stand; the cap compresses them.
@@ -300,7 +307,7 @@ void fill(DamperScene& scene, RunState& state, StageServices& services) {
     // Each re-fill is a stage of its own name on the progress line and hook: its steps count
     // from its start, the most it can take is max_time again.
     const auto round_name = [&] {
-        const int k = state.report.count("prepare.refills") ? int(state.report.at("prepare.refills")) : 0;
+        const int k = refills_done(state);
         return k ? "prepare: re-fill " + std::to_string(k) : std::string("prepare: fill");
     };
     std::optional<StageProgress> prog;
@@ -316,7 +323,7 @@ void fill(DamperScene& scene, RunState& state, StageServices& services) {
         const double ke = grains_kinetic_energy(world, scene.first_grain, scene.end_grain);
         // The grains start at rest: a minimum time lets them fall first (a re-fill's grains
         // start just above the others and fall less far).
-        const bool refilled = state.report.count("prepare.refills") > 0;
+        const bool refilled = refills_done(state) > 0;
         bool settled = false;
         if (t > (refilled ? 0.1 : 0.15) && ke < 1e-4 * scene.settle_energy_scale()) {
             services.log("[prepare] grains settled after %.3f s (kinetic energy %.3g J)\n", t, ke);

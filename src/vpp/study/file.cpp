@@ -478,6 +478,7 @@ std::vector<StudyCase> expand_study(const Study& s) {
     std::vector<StudyCase> cases(total);
     std::map<std::string, int> groups;
     std::set<std::string> names;
+    const int seed = seed_axis(s);  // the axis left out of name_without_seed
     for (std::size_t i = 0; i < total; ++i) {
         StudyCase& c = cases[i];
         c.index = i;
@@ -490,7 +491,6 @@ std::vector<StudyCase> expand_study(const Study& s) {
             rest /= s.grid[k].literals.size();
         }
         std::string group_key;
-        const int seed = seed_axis(s);
         for (std::size_t k = 0; k < s.grid.size(); ++k) {
             const GridAxis& a = s.grid[k];
             c.overrides.push_back(a.key + "=" + a.literals[idx[k]]);

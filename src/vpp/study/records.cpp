@@ -259,17 +259,15 @@ std::vector<std::string> run_warning_lines(const std::vector<StudyCase>& cases, 
     for (std::size_t i = 0; i < outcomes.size() && i < cases.size(); ++i) {
         if (!outcomes[i].ok) continue;
         ++finished;
-        std::vector<std::string> seen;  // a kind once per run
         for (const std::string& w : outcomes[i].warnings) {
             const std::string kind = w.substr(0, w.find(':'));
-            if (std::find(seen.begin(), seen.end(), kind) != seen.end()) continue;
-            seen.push_back(kind);
             auto it = std::find_if(kinds.begin(), kinds.end(), [&](const auto& k) { return k.first == kind; });
             if (it == kinds.end()) {
                 kinds.push_back({kind, Kind{{}, w}});
                 it = kinds.end() - 1;
             }
-            it->second.cases.push_back(cases[i].name);
+            if (it->second.cases.empty() || it->second.cases.back() != cases[i].name)  // a kind once per run
+                it->second.cases.push_back(cases[i].name);
         }
     }
     std::vector<std::string> lines;
