@@ -209,7 +209,7 @@ TEST(Tools, PaperReportBandsADifferenceAgainstATolerance) {
 // Paired: differences {1, 2, 3}: 2 +- 4.303 / sqrt(3) = 2 +- 2.484.
 TEST(Tools, PaperRulesWelchAndPairedByHand) {
     const std::string code =
-        "import sys; sys.path.insert(0, 'src/python'); from vppdem.report import paper_rules as r, stats as st\n"
+        "import sys; sys.path.insert(0, 'src/python'); from vppdem.report import rules as r, stats as st\n"
         "print('dof %.10f %.10f' % (st.welch_dof(1, 3, 10 ** 0.5, 5), st.welch_dof(2, 3, 4, 5)))\n"
         "d = st.welch([1, 2, 3], [2, 4, 6, 8, 10])\n"
         "print('welch %.10f %.10f %.10f %.6f' % (d.d, d.dof, d.h / (7 / 3) ** 0.5, st.t_quantile(0.975, 98 / 19)))\n"
@@ -249,7 +249,7 @@ TEST(Tools, PaperRulesWelchAndPairedByHand) {
 // three such runs (different W_inf and a) is 0.6; a factor regression y = g + 2 x recovers 2.
 TEST(Tools, PaperRulesDecideSyntheticData) {
     const std::string code =
-        "import sys; sys.path.insert(0, 'src/python'); from vppdem.report import paper_rules as r, paper as p, stats as st\n"
+        "import sys; sys.path.insert(0, 'src/python'); from vppdem.report import rules as r, paper as p, stats as st\n"
         "D = lambda d, h: st.Diff('paired', 3, d, h, 2, 1000.0)\n"
         "print('band', [r.band(D(20, 30)), r.band(D(300, 50)), r.band(D(80, 50)), r.band(D(50, 80)), r.band(None)])\n"
         "o = [r.direction(D(-100, 50), -1), r.direction(D(100, 50), -1), r.direction(D(-10, 50), -1)]\n"
@@ -491,7 +491,7 @@ TEST(Tools, PaperReportExtrapolatesTheTimeStep) {
     // The rules alone, to more digits: the model above, and a first-order one (W0 1500, a 250: biases
     // 0.45 +7.5%, 0.1 +1.7%: the default 0.1).
     const std::string code =
-        "import sys; sys.path.insert(0, 'src/python'); from vppdem.report import paper_rules as r, stats as st\n"
+        "import sys; sys.path.insert(0, 'src/python'); from vppdem.report import rules as r, stats as st\n"
         "L = [0.45, 0.3, 0.25, 0.2, 0.1]\n"
         "e = lambda i, k: 0.25 * ((3 * i + 7 * k) % 5 - 2)\n"
         "for p, a in ((2, 300), (1, 250)):\n"

@@ -21,7 +21,7 @@ records (docs/data/) or from run folders. From the shell:
 
 Their statistics are one module, vppdem.report.stats (Student's t by the method of
 src/vpp/analysis/stats.cpp, the 95% interval, paired and Welch differences); the paper's decision rules
-are vppdem.report.paper_rules. Needs numpy and matplotlib, not the compiled module.
+are vppdem.report.rules, the one set of every page. Needs numpy and matplotlib, not the compiled module.
 """
 import os
 

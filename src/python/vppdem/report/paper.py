@@ -30,7 +30,7 @@ import tomllib
 from ..records import fail, read_table
 from ..records import finite_number as fnum
 
-from . import paper_rules as rules  # the page's decision rules (issue 44)
+from . import rules  # the decision rules of every page (issue 44, issue 60)
 from . import stats  # the one Student t of the reports
 from .stats import interval
 
@@ -1724,7 +1724,7 @@ def write(data, out_md, figdir, command):
         "",
         "## Decision rules",
         "",
-        "Written once and applied by `vppdem.report.paper` (`vppdem.report.paper_rules`, one function per rule) to every "
+        "Written once and applied by `vppdem.report.paper` (`vppdem.report.rules`, one function per rule) to every "
         "claim alike; each claim's row names the rules it uses.",
         "",
         "- **Test for a difference** (95%, two-sided): **paired t** on the per-seed differences where the cases of a "

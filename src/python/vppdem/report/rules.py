@@ -1,37 +1,36 @@
-"""The decision rules of docs/paper_comparison.md (issue 44), written once and applied to every claim
-alike by vppdem.report.paper: one function per rule, on per-run values (one number per run, from
-the runs' cycles.csv), with no claim-specific arithmetic.
-
-Rules (the page's head states them in words, from RULES below):
-The statistics they use (Student t, intervals, the paired and Welch differences, least squares)
-are vppdem.report.stats'.
+"""The decision rules of every study page (docs/paper_comparison.md, grains.md, operation.md,
+devices.md, studies.md's velocity results, membrane.md's cylinder), written once: one function per
+rule on per-run values, with no page- or claim-specific arithmetic, and one function (section())
+that states a page's rules on the page itself.
 
   difference   paired(): Student t on the per-seed differences where the cases of a seed branch from
-               one prepared sample (underpressure, friction, time step, loading velocity);
-               welch(): Welch's t with the Welch-Satterthwaite degrees of freedom where each case
-               prepares its own sample (radius, grain modulus, local damping, preparation, foil
-               resolution). 95% two-sided.
+               one prepared sample; welch(): Welch's t with the Welch-Satterthwaite degrees of
+               freedom where each case prepares its own sample. 95% two-sided.
   equivalence  band(): a difference whose whole 95% interval lies within +-MARGIN of the reference's
                mean is "no effect" ("within"); one whose interval lies wholly beyond it, "beyond";
                0 outside the interval, reaching inside the margin: "resolved"; 0 inside, reaching
                past the margin: "unresolved".
-  saturation   saturation(): per seed, the later step's change as a fraction of the earlier step's
-               (per unit of the varied key where the steps differ in length); saturating where the
-               95% interval of the ratio lies below SATURATION, not saturating where above it.
-  W            which W a run gives: the last cycle's (a study's W_settled where all its runs are
-               stationary by the settle criterion); stationary(): a run's stationary W, its
-               W_settled where it settled, else extrapolated from its cycles (geometric decay with
-               a rate pooled over the 8-cycle runs), with an uncertainty.
-  seeds        the seeds fixed before a study ran decide (PLANNED in vppdem.report.paper); seeds added
-               after a look are reported beside the verdict, never in it.
-  convergence  richardson(): W(s) = W0_i + a_i s^p per seed i in a numerical parameter s (the time
-               step's safety factor), the order p shared by the seeds, by profile least squares over
-               P_GRID, its 95% range by the profile F test (as pooled_rate's q); the converged W the
-               mean of the W0_i with its Student-t interval over the seeds; level_bias(): each
-               level's relative bias (W_i(s) - W0_i) / W0_i paired over the seeds; converged_level():
-               the largest level whose mean bias lies within CONVERGED.
+  direction    direction(): a difference resolved the claim's way ("yes"), resolved against it
+               ("against"), or not resolved.
+  saturation   saturation(): per seed, the later step's change as a fraction of the earlier step's;
+               saturating where the 95% interval of the ratio lies below SATURATION.
+  W            stationary(): a run's stationary W, its W_settled where it settled, else extrapolated
+               from its cycles (geometric decay with a rate pooled over the runs), with an uncertainty.
+  seeds        the seeds fixed before a study ran decide; seeds added after a look are reported beside
+               the verdict, never in it (adding seeds until an interval excludes 0 is optional stopping).
+  numerical    within_margin_level(): the largest level of a numerical parameter (the time step's
+               safety factor) whose paired bias against the finest level has its whole 95% interval
+               within a stated margin; richardson(), level_bias(), converged_level(): the extrapolation
+               to a zero step that the first time-step study used (kept to show why it did not decide).
+  verdicts     verdict_direction(), verdict_equivalence(), verdict_saturation(), combine(): a claim's
+               verdict from its tests' outcomes (VERDICTS); label(): the rows no test decides (LABELS:
+               inputs, protocol, definitions, one run, nothing measured).
+
+The statistics they use (Student t, intervals, the paired and Welch differences, least squares)
+are vppdem.report.stats'.
 """
 import math
+from dataclasses import dataclass, field
 
 from .stats import LEVEL, interval, ols, paired, profile_range, t_quantile, welch
 
@@ -41,9 +40,9 @@ CONVERGED = 0.02    # a numerical level whose mean bias lies within 2% of the co
 P_GRID = [0.5 + i / 100 for i in range(251)]  # the orders p a convergence fit tries: 0.5 ... 3.0
 
 VERDICTS = [
-    ("reproduced", "the claim's test passes at 95%: a difference in the paper's direction resolved from 0, "
+    ("reproduced", "the claim's test passes at 95%: a difference in the claim's direction resolved from 0, "
                    "or, for a claim of no effect, the whole 95% interval within the margin"),
-    ("consistent, not established", "vppdem's runs point the paper's way or are compatible with it, but "
+    ("consistent, not established", "vppdem's runs point the claim's way or are compatible with it, but "
                                     "the 95% interval does not decide (0 inside it, or reaching past the margin), "
                                     "or the evidence is a single run"),
     ("not reproduced", "the claim's test fails at 95%: a difference the claim excludes is resolved (a trend "
@@ -54,6 +53,64 @@ VERDICTS = [
                       "or a measure vppdem has not made (the claim's row names it)"),
     ("open", "runs pending"),
 ]
+
+
+# Rows that no test decides: what they are, in place of a verdict (label()).
+LABELS = [
+    ("input", "a value the model takes from the paper, a datasheet or a measurement; nothing to test"),
+    ("protocol", "the procedure vppdem follows, as the paper's; nothing to test"),
+    ("definition", "how a quantity or the model is defined or built; nothing to test"),
+    ("a choice, measured", "vppdem's own choice where the paper is silent, its effect measured"),
+    ("consistent, not established (one run)", "a single run: no scatter to decide against, whatever it shows"),
+    ("not decidable (nothing measured)", "no run or measure of vppdem's addresses it"),
+]
+
+
+def label(kind, detail=""):
+    """The label of a row no test decides: kind 'input', 'protocol', 'definition', 'choice',
+    'one run' or 'nothing measured'; detail, when given, follows after a colon."""
+    names = {"input": LABELS[0][0], "protocol": LABELS[1][0], "definition": LABELS[2][0], "choice": LABELS[3][0],
+             "one run": LABELS[4][0], "nothing measured": LABELS[5][0]}
+    if kind not in names:
+        raise ValueError(f"rules.label: unknown kind '{kind}' (one of {', '.join(names)})")
+    return names[kind] + (f": {detail}" if detail else "")
+
+
+def combine(outcomes, passes, fails):
+    """A claim's verdict from its tests' outcomes: reproduced where every one passes, not reproduced
+    where one fails, else consistent, not established; open while one is missing (None)."""
+    if not outcomes or None in outcomes:
+        return "open (runs pending)"
+    if all(o == passes for o in outcomes):
+        return "reproduced"
+    return "not reproduced" if fails in outcomes else "consistent, not established"
+
+
+def verdict_direction(outcomes):
+    """A trend claim from direction() outcomes: every one the claim's way ("yes") reproduces it, one
+    resolved against it ("against") does not."""
+    return combine(outcomes, "yes", "against")
+
+
+def verdict_equivalence(bands):
+    """A claim of no (or a few per cent) effect from band() outcomes: every interval within the
+    margin reproduces it, one wholly beyond it does not."""
+    return combine(bands, "within", "beyond")
+
+
+def verdict_saturation(status):
+    """A claim of saturation from saturation()'s status."""
+    return {None: "open (runs pending)", "saturating": "reproduced", "not saturating": "not reproduced",
+            "undecided": "consistent, not established"}[status]
+
+
+def verdict_mechanism(reversed_resolved, measured=True):
+    """A claim about the mechanism: 'contradicted' only where a measure that addresses it (the energy
+    ledger split the way the claim splits the dissipation) reverses it, resolved at 95%; without such
+    a measure 'not decidable'."""
+    if not measured:
+        return label("nothing measured")
+    return "contradicted" if reversed_resolved else "consistent, not established"
 
 
 def difference(test, a, b):
@@ -238,6 +295,17 @@ def level_bias(runs, w0):
             for s in levels}
 
 
+def within_margin_level(bias, margin):
+    """The time step's rule (issue 60, fixed before its runs): the largest level whose bias (bias:
+    {level: (n, mean, sd, half width)} of the paired relative differences against the reference)
+    has its whole 95% interval within +-margin. (level or None, {level: the margin its interval
+    resolves, |mean| + half width, or None with fewer than 2 seeds}). None: no level qualifies, the
+    default is the reference."""
+    resolves = {s: (abs(b[1]) + b[3] if b[0] >= 2 and math.isfinite(b[3]) else None) for s, b in bias.items()}
+    ok = [s for s, r in resolves.items() if r is not None and r <= margin]
+    return (max(ok) if ok else None), resolves
+
+
 def converged_level(bias, tol=CONVERGED):
     """The default rule: the largest level whose mean bias lies within +-tol (bias: level_bias()).
     (level or None, its 95% interval within +-tol, the finer levels whose mean bias lies outside)."""
@@ -248,3 +316,71 @@ def converged_level(bias, tol=CONVERGED):
     n, m, _, h = bias[s]
     finer = [x for x, b in bias.items() if x < s and not (b[0] and abs(b[1]) <= tol)]
     return s, bool(n >= 2 and math.isfinite(h) and abs(m) + h <= tol), sorted(finer)
+
+
+# ---------------------------------------------------------------------------------------------
+# A page's rules, stated on the page
+
+
+@dataclass
+class PageRules:
+    """What a study page states of its rules (section()): which tests it applies and where, which W,
+    the seeds, the labels it uses, and which rules were fixed before its data and which after."""
+    module: str                     # the report that writes the page, e.g. "vppdem.report.operation"
+    tests: list                     # (rule, where it applies): rule a key of RULE_TEXT
+    which_w: str                    # which W (or quantity) its verdicts read
+    planned: str                    # the seeds fixed before the runs
+    added: str = ""                 # seeds added after a look, and where they are reported
+    margin: float = MARGIN          # [-] the equivalence margin, a fraction of the reference's mean
+    labels: list = field(default_factory=list)        # kinds of label() its rows use
+    fixed_before: list = field(default_factory=list)  # rules (or plans) fixed before its data
+    fixed_after: list = field(default_factory=list)   # rules written after its data were seen
+
+
+RULE_TEXT = {
+    "paired": lambda m: "**Paired t** (95%, two-sided) on the per-seed differences, where the cases of a seed "
+                        "branch from one prepared sample",
+    "welch": lambda m: "**Welch t** (95%, two-sided; Welch-Satterthwaite degrees of freedom), where each case "
+                       "prepares its own sample",
+    "direction": lambda m: "**Direction**: a trend claim passes where the difference is resolved (0 outside its "
+                           "95% interval) the claim's way, fails where it is resolved the other way",
+    "equivalence": lambda m: f"**Equivalence margin** (claims of no effect, or of 'a few per cent'): +-{100 * m:.0f}% "
+                             "of the reference's mean; no effect where the whole 95% interval lies within it, an "
+                             "effect where it lies wholly beyond it, otherwise undecided",
+    "saturation": lambda m: f"**Saturation**: per seed, the later step's change as a fraction of the earlier "
+                            f"step's; saturating where the 95% interval of that ratio lies below {SATURATION:g}, "
+                            "not saturating where it lies above",
+    "ratio": lambda m: "**Ratio of means** (effects of independent cases): the ratio of the two means with its "
+                       "95% interval by the delta method on its logarithm (Welch's degrees of freedom); resolved "
+                       "where the interval excludes 1",
+    "numerical": lambda m: "**A numerical parameter's level** (the time step): the largest level whose paired "
+                           "bias against the finest level has its whole 95% interval within the stated margin",
+}
+
+
+def section(page):
+    """The '## Decision rules' section of a page (a list of markdown lines)."""
+    out = ["## Decision rules", "",
+           f"Applied by `{page.module}` through `vppdem.report.rules`, the one set of rules of every study page "
+           "(docs/paper_comparison.md, grains.md, operation.md, devices.md, studies.md's velocity results, "
+           "membrane.md's cylinder).", ""]
+    for rule, where in page.tests:
+        if rule not in RULE_TEXT:
+            raise ValueError(f"rules.section: unknown rule '{rule}' (one of {', '.join(RULE_TEXT)})")
+        out.append("- " + RULE_TEXT[rule](page.margin) + (f" ({where})" if where else "") + ".")
+    out.append(f"- **Which W**: {page.which_w}")
+    out.append(f"- **Seeds**: {page.planned}" + (f" {page.added}" if page.added else
+                                                   " No seeds were added after a look."))
+    out.append("- **Verdicts**: " + "; ".join(f"**{v}**: {d}" for v, d in VERDICTS) + ".")
+    if page.labels:
+        text = {label(k).split(":")[0]: d for k in page.labels for n, d in LABELS if n == label(k)}
+        out.append("- **Labels** of rows that no test decides: " + "; ".join(f"**{n}**: {d}" for n, d in text.items())
+                   + ".")
+    when = []
+    if page.fixed_before:
+        when.append("fixed before the data: " + "; ".join(page.fixed_before))
+    if page.fixed_after:
+        when.append("written after the data were seen (a reader should weigh them so): " + "; ".join(page.fixed_after))
+    if when:
+        out.append("- **When**: " + ". ".join(w[0].upper() + w[1:] for w in when) + ".")
+    return out + [""]
