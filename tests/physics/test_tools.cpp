@@ -1,5 +1,5 @@
 // The Python reports and tools and the regeneration script of the studies (vppdem.report's paired_velocity,
-// paper, paper_rules, grain_shapes; tools/synthetic_experiment.py, tools/kill_resume.py, scripts/trust_studies.sh,
+// paper, rules, grain_shapes; tools/synthetic_experiment.py, tools/kill_resume.py, scripts/trust_studies.sh,
 // scripts/paper_report.sh), run as the lead runs them, against hand-computed answers or on the tests' small damper.
 #include <gtest/gtest.h>
 
@@ -200,7 +200,7 @@ TEST(Tools, PaperReportBandsADifferenceAgainstATolerance) {
     fs::remove(scratch_path("tools", "band.py"));
 }
 
-// vppdem.report's statistics (stats: Welch, paired) and the page's decision rules (paper_rules, issue 44),
+// vppdem.report's statistics (stats: Welch, paired) and the page's decision rules (vppdem.report.rules, issue 44),
 // against hand-computed values.
 // Welch-Satterthwaite: sds 1 and sqrt(10) over 3 and 5 runs ({1, 2, 3} against {2, 4, 6, 8, 10}):
 // v = 1/3 and 2, dof = (7/3)^2 / ((1/3)^2 / 2 + 2^2 / 4) = 98/19 = 5.1579; sds 2 and 4 over 3 and 5:
@@ -479,7 +479,7 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
     fs::remove_all(d);
 }
 
-// The time step's convergence (issue 44, item 2; vppdem.report.paper timestep_section, vppdem.report.paper_rules
+// The time step's convergence (issue 44, item 2; vppdem.report.paper timestep_section, vppdem.report.rules
 // richardson / level_bias / converged_level) on synthetic runs with a known answer: W_i(s) = 1500 + 300 s^2 +
 // off_i + e_i(s), seed offsets off_i = 40 (i - 3) (mean 0), a deterministic noise e within +-0.5 J/m2. The
 // converged W0_i = 1500 + off_i, mean 1500; the order 2; the biases 300 s^2 / W0_i: 0.45 +4.1%, 0.3 +1.8%,

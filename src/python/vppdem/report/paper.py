@@ -560,37 +560,10 @@ def friction_claims(fr, f06, cycles, mus):
 
 # ---------------------------------------------------------------------------------------------
 # The decision rules applied (issue 44): every verdict of a W claim from per-run values, one rule
-# each (paper_rules), over the seeds each study planned; the same function on the stationary W.
+# each (vppdem.report.rules), over the seeds each study planned; the same function on the stationary W.
 
 DPS = [20000, 40000, 60000, 80000]
 RADII = [0.0205, 0.0255, 0.0305]
-
-
-def v_outcomes(outcomes, passes, fails):
-    """A claim's verdict from its tests' outcomes: reproduced where every one passes, not reproduced
-    where one fails, else consistent, not established; open while one is missing."""
-    if not outcomes or None in outcomes:
-        return "open (runs pending)"
-    if all(o == passes for o in outcomes):
-        return "reproduced"
-    return "not reproduced" if fails in outcomes else "consistent, not established"
-
-
-def v_direction(outcomes):
-    """A trend claim from rules.direction() outcomes: each the paper's way ("yes") or resolved
-    against it ("against")."""
-    return v_outcomes(outcomes, "yes", "against")
-
-
-def v_equivalence(bands):
-    """A claim of no (or a few per cent) effect from rules.band() outcomes: each interval within the
-    margin ("within") or beyond it ("beyond")."""
-    return v_outcomes(bands, "within", "beyond")
-
-
-def v_saturation(status):
-    return {None: "open (runs pending)", "saturating": "reproduced", "not saturating": "not reproduced",
-            "undecided": "consistent, not established"}[status]
 
 
 def seeds_of(st, planned):
@@ -629,23 +602,23 @@ def judge(S, q, planned=True):
     out = {}
     d = [compare(ru, q, "paired", "process.underpressure", 20000, dp, planned, **{"damper.radius": 0.0255})
          for dp in DPS[1:]]
-    out["C1"] = (v_direction([rules.direction(x, +1) for x in d]),
+    out["C1"] = (rules.verdict_direction([rules.direction(x, +1) for x in d]),
                  "; ".join(f"{dp / 1e6:g} MPa {x.text()}" for dp, x in zip(DPS[1:], d)))
     d = compare(ts, q, "paired", "simulation.dt_safety", 0.45, 0.25, planned)
-    out["C5"] = (v_equivalence([rules.band(d)]), f"dt_safety 0.25 against 0.45 {d.text()}")
+    out["C5"] = (rules.verdict_equivalence([rules.band(d)]), f"dt_safety 0.25 against 0.45 {d.text()}")
     d9 = {y: compare(yg, q, "Welch", "grains.young", 2.3e9, y, planned) for y in (23e6, 230e6, 23e9)}
-    out["C9"] = (v_equivalence([rules.band(d9[230e6]), rules.band(d9[23e9])]),
+    out["C9"] = (rules.verdict_equivalence([rules.band(d9[230e6]), rules.band(d9[23e9])]),
                  "; ".join(f"{y / 1e6:g} MPa {x.text()}" for y, x in d9.items()))
     d = compare(fr, q, "paired", "grains.friction", 0.0, 0.6, planned)
-    out["C16"] = (v_direction([rules.direction(d, +1)]), f"mu 0.6 against 0 {d.text()}")
+    out["C16"] = (rules.verdict_direction([rules.direction(d, +1)]), f"mu 0.6 against 0 {d.text()}")
     n, m, h, stat = saturation_of(f8, q, "grains.friction", (0.1, 0.6, 1.0), planned, per_unit=True)
-    out["C17"] = (v_saturation(stat), f"slope ratio {m:.2f} +- {h:.2f} ({n} seeds)")
+    out["C17"] = (rules.verdict_saturation(stat), f"slope ratio {m:.2f} +- {h:.2f} ({n} seeds)")
     d = compare(f8c, q, "paired", "grains.friction", 0.6, 1.0, planned)
-    out["C18"] = (v_equivalence([rules.band(d)]), f"mu 1.0 against 0.6 {d.text()} ({d.rel_interval() if d.ok else ''})")
+    out["C18"] = (rules.verdict_equivalence([rules.band(d)]), f"mu 1.0 against 0.6 {d.text()} ({d.rel_interval() if d.ok else ''})")
     s1 = saturation_of(yg, q, "grains.young", (23e6, 230e6, 2.3e9), planned)
     s2 = saturation_of(yg, q, "grains.young", (23e6, 230e6, 23e9), planned)
     low = rules.direction(d9[23e6], -1)
-    parts = [v_direction([low]), v_saturation(s1[3]), v_saturation(s2[3])]
+    parts = [rules.verdict_direction([low]), rules.verdict_saturation(s1[3]), rules.verdict_saturation(s2[3])]
     out["C20"] = ("open (runs pending)" if any(p.startswith("open") for p in parts) else
                   "reproduced" if all(p == "reproduced" for p in parts) else
                   "not reproduced" if "not reproduced" in parts else "consistent, not established",
@@ -659,7 +632,7 @@ def judge(S, q, planned=True):
                 o = rules.direction(x, wnt)
                 outs.append(o)
                 txt.append(f"{dp / 1e6:g} MPa {r * 1e3:g} mm {x.text(2 if qq == 'dissipated_energy' else 0)} [{o}]")
-        out[cid] = (v_direction(outs), "; ".join(txt))
+        out[cid] = (rules.verdict_direction(outs), "; ".join(txt))
     for cid, v in radius_claims(S[RP], q, planned).items():
         out[cid] = v[:2]
     d = {dp: compare(pr, q, "Welch", "damper.refill", "true", "false", planned, **{"process.underpressure": dp})
@@ -908,7 +881,7 @@ def radius_claims(rp, q, planned=True):
                 outs.append(o)
                 txt.append(f"{dp / 1e6:g} MPa {r * 1e3:g} mm {x[r].text(2 if qq else 0)} [{o}]")
             shapes[dp] = peak_of(x.get(0.0205), x.get(0.0305))
-        out[f"{cid} at equal packing"] = (v_direction(outs), "; ".join(txt), shapes)
+        out[f"{cid} at equal packing"] = (rules.verdict_direction(outs), "; ".join(txt), shapes)
     return out
 
 
