@@ -484,7 +484,7 @@ TEST(Tools, PaperReportDecidesAClaimFromPairedIntervals) {
 // off_i + e_i(s), seed offsets off_i = 40 (i - 3) (mean 0), a deterministic noise e within +-0.5 J/m2. The
 // converged W0_i = 1500 + off_i, mean 1500; the order 2; the biases 300 s^2 / W0_i: 0.45 +4.1%, 0.3 +1.8%,
 // 0.25 +1.3%, 0.2 +0.8%, 0.1 +0.2%: the default rule (the largest level within 2%) picks 0.3, whose whole 95%
-// interval lies within 2%: the default (src/vpp/settings/settings.cpp, 0.3 since the study) is that level. The reference 0.45 is the
+// interval lies within 2%: the default (docs/config.md, 0.3 since the study) is that level. The reference 0.45 is the
 // radius study's 25.5 mm, 0.06 MPa runs (their cycle 2), the other levels the time step's own runs. While levels
 // are missing the section names them pending and extrapolates over the seeds with every level only.
 TEST(Tools, PaperReportExtrapolatesTheTimeStep) {
@@ -582,7 +582,7 @@ TEST(Tools, PaperReportExtrapolatesTheTimeStep) {
     EXPECT_NE(v.find("- Pending: 0.1 (3 of 5 seeds)."), std::string::npos) << v;
     EXPECT_NE(v.find("over the 3 seeds with every level (1, 2, 3; 15 points) (provisional: 3 of 5 planned seeds)"),
               std::string::npos) << v;
-    EXPECT_NE(v.find("**0.3** (its 95% interval lies within +-2%). The default (0.3, src/vpp/settings/settings.cpp) is that level"),
+    EXPECT_NE(v.find("**0.3** (its 95% interval lies within +-2%). The default (0.3, docs/config.md) is that level"),
               std::string::npos) << v;
     // Every level: W0 per seed 1420, 1460, 1500, 1540, 1580 (sd 63.2, t_{0.975,4} 2.776: +- 79), mean 1500; p 2.
     level(4, 4, 5);
@@ -597,7 +597,7 @@ TEST(Tools, PaperReportExtrapolatesTheTimeStep) {
     EXPECT_NE(v.find("0.45: +4.1% +- "), std::string::npos) << v;
     EXPECT_NE(v.find("The studies' time step (0.45) lies +4.1% +- "), std::string::npos) << v;
     EXPECT_NE(v.find("of the converged W: **0.3** (its 95% interval lies within +-2%). The default (0.3, "
-                     "src/vpp/settings/settings.cpp) is that level, since this study; the studies ran at 0.45, the default of "
+                     "docs/config.md) is that level, since this study; the studies ran at 0.45, the default of "
                      "their build"),
               std::string::npos) << v;
     EXPECT_NE(v.find("converged W (Richardson over 5 seeds, section 'Time step converged'): 1500 +- 79 J/m2; dt_safety "

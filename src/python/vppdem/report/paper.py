@@ -1014,15 +1014,16 @@ def radius_packing_section(S):
     return lines, notes, complete
 
 
-def current_default(key, path="src/vpp/settings/settings.cpp"):
-    """The default of a setting as src/vpp/settings/settings.cpp declares it ({.key = "KEY", ... .def = X});
-    None where the file or the key is not there."""
+def current_default(key, path="docs/config.md"):
+    """The default of a setting as the key reference (docs/config.md, generated from the settings table
+    and checked against it by the tests) states it: its row | `KEY` | type | default | ...; None where
+    the file or the key is not there."""
     try:
         with open(path) as f:
             text = f.read()
     except OSError:
         return None
-    m = re.search(r'\.key\s*=\s*"' + re.escape(key) + r'"[^}]*?\.def\s*=\s*([-+0-9.eE]+)', text)
+    m = re.search(r"^\| `" + re.escape(key) + r"` \| [^|]*\| ([-+0-9.eE]+) \|", text, re.M)
     return float(m.group(1)) if m else None
 
 
@@ -1178,12 +1179,12 @@ def timestep_section(S, figdir, caption):
         if finer:
             rule += "; a finer level's mean lies outside it: " + ", ".join(f"{s:g}" for s in finer)
         if default is not None and not same(default, chosen):
-            rule += f". The current default is {default:g} (src/vpp/settings/settings.cpp): **default to change to {chosen:g}**"
+            rule += f". The current default is {default:g} (docs/config.md): **default to change to {chosen:g}**"
         elif default is not None and not same(default, TS_STUDIES):
-            rule += (f". The default ({default:g}, src/vpp/settings/settings.cpp) is that level, since this study; the studies "
+            rule += (f". The default ({default:g}, docs/config.md) is that level, since this study; the studies "
                      f"ran at {TS_STUDIES:g}, the default of their build")
         elif default is not None:
-            rule += f". The current default ({default:g}, src/vpp/settings/settings.cpp) is that level: it stays"
+            rule += f". The current default ({default:g}, docs/config.md) is that level: it stays"
     lines.append(f"- Its default rule (issue 44; replaced by the plan of section 'Time step decided by intervals', "
                  f"since it reads the mean, not its interval): {rule}{prov}.")
     c5 = (f"converged W (Richardson over {n} seeds, section 'Time step converged'): {m:.0f} +- {h:.0f} J/m2; "
