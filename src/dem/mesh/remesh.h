@@ -47,7 +47,4 @@ struct RemeshResult {
 // std::invalid_argument when edge_length is not > 0.
 RemeshResult remesh_isotropic(const SurfaceMesh& input, const RemeshOptions& opt);
 
-// Closest point on triangle abc to p (Ericson, Real-Time Collision Detection, 5.1.5).
-Vec3 closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
-
 }  // namespace dem
