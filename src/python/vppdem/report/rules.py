@@ -448,7 +448,7 @@ def statement_equivalence(diff, margin=MARGIN):
         return f"a change beyond the {m} margin, resolved ({iv})"
     if b == "resolved":
         return f"a change resolved from 0, not beyond the {m} margin ({iv})"
-    return f"no change resolved; changes up to {100 * reach(diff):.0f}% not excluded ({iv})"
+    return f"no change resolved; changes up to {100 * reach(diff):.1f}% not excluded ({iv})"
 
 
 def verdict_text(verdict, detail=""):
