@@ -175,9 +175,9 @@ def first_statement(compared):
         if o is None:
             parts.append(f"{sh}: pending (fewer than 2 runs)")
             continue
-        what = {"yes": "resolved: the pressure's larger", "against": "resolved: the shape's larger",
+        what = {"yes": "the pressure's larger, resolved", "against": "the shape's larger, resolved",
                 "unresolved": "not resolved"}[o]
-        parts.append(f"{sh} {d.d:+.2f} +- {d.h:.2f}, {what} ({rules.verdict_direction([o])} for {sh})")
+        parts.append(f"{sh}: {rules.verdict_direction([o])}, {what} ({d.d:+.2f} +- {d.h:.2f})")
     return rules.verdict_direction(outs), parts
 
 
@@ -403,13 +403,13 @@ def main(argv=None):
         L.append(text + ". Reproduced needs the pressure's effect resolved larger for every shape; one shape's "
                  "resolved larger than the pressure's would not reproduce it.")
         outs = {sh: rules.resolved(d) for sh, d in peaks}
-        moved = [f"{sh} ({d.d + 1:.2f} +- {d.h:.2f} times the spheres')" for sh, d in peaks if outs[sh] == "resolved"]
-        # (resolved from 1: the ratio's 95% interval excludes 1, rules.resolved on rules.ratio_diff)
-        still = [f"{sh} ({d.d + 1:.2f} +- {d.h:.2f})" for sh, d in peaks if outs[sh] == "unresolved"]
+        # resolved: the ratio's 95% interval excludes 1 (rules.resolved on rules.ratio_diff)
+        moved = [sh for sh, d in peaks if outs[sh] == "resolved"]
+        still = [sh for sh, d in peaks if outs[sh] == "unresolved"]
         L.append("- Their second (shape tunes stiffness and yielding), in the damper's terms: **"
                  + rules.label("nothing measured") + "**: its separate modulus and yield stress are not measured "
                  "here; the peak force over the 10 mm stroke, which mixes the two, "
-                 + (f"changes with the shape, resolved from 1, for {', '.join(moved)}" if moved
+                 + (f"changes with the shape for {', '.join(moved)} (resolved)" if moved
                     else "changes with no shape (resolved)")
                  + (f", not resolved for {', '.join(still)}" if still else "") + ".")
     L.append("")
