@@ -5,10 +5,8 @@
 # an interval within the margin "reproduced", one beyond it "not reproduced"; a single run its
 # label. And rules.label() and rules.section(), the rules section every page states. Seconds each.
 import json
-import math
 import os
 import subprocess
-import sys
 
 import pytest
 
