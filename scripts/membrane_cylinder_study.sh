@@ -5,7 +5,8 @@
 # by the sweep itself (--publish: put back into OUT first, so a new machine runs only what is
 # missing; killed runs continue from their run.ckpt), then the comparison (python3 -m vppdem.report
 # membrane_cylinder: Welch's t on the two foils' W, its 95% interval, |difference| against the
-# seeds' SD) into docs/data/membrane_cylinder/report.md (quoted in docs/membrane.md). About 47
+# seeds' SD, the equivalence rule of vppdem.report.rules) into docs/data/membrane_cylinder/report.md,
+# its comparison and verdict into docs/membrane.md (--page). About 47
 # minutes on the shared 2-core machine.
 # usage: scripts/membrane_cylinder_study.sh [--publish-only]
 # Knobs: VPPDEM (default build/vppdem), OUT (out/membrane_cylinder), JOBS (2), DATA
@@ -27,6 +28,6 @@ fi
 mkdir -p "$OUT"
 failed=0
 nice -n 5 "$VPPDEM" sweep studies/membrane/cylinder.toml --out "$OUT" --publish "$DATA" --jobs "$JOBS" --no-plot "${mode[@]}" || failed=1
-PYTHONPATH=src/python /usr/bin/python3 -m vppdem.report membrane_cylinder "$DATA" > "$DATA/report.md.part" && mv -f "$DATA/report.md.part" "$DATA/report.md"
+PYTHONPATH=src/python /usr/bin/python3 -m vppdem.report membrane_cylinder "$DATA" --page docs/membrane.md > "$DATA/report.md.part" && mv -f "$DATA/report.md.part" "$DATA/report.md"
 cat "$DATA/report.md"
 exit $failed

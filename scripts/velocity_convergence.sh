@@ -22,7 +22,8 @@
 # After each part its base study is analysed with the branch parts run so far and published:
 # $DOCS/velocity_NAME.png, $DOCS/data/velocity_NAME.csv and the base sweep's summary.csv as
 # $DOCS/data/velocity_NAME_summary.csv (NAME quick or small), each command in
-# $DOCS/data/SOURCES.md; no `--publish` (docs/data holds these tables only). docs/studies.md,
+# $DOCS/data/SOURCES.md; no `--publish` (docs/data holds these tables only); then the tables and verdicts
+# of docs/studies.md's "Velocity convergence: results" (velocity_cycles --page). docs/studies.md,
 # "Rerunning the measurement".
 # usage: scripts/velocity_convergence.sh [PART ...]   (default: all five, in this order)
 # Knobs: VPPDEM (default build/vppdem), OUT (default out/velocity), SEEDS_QUICK (2: quick,
@@ -100,3 +101,8 @@ for part in "${parts[@]}"; do
     quick) analyse quick quick --reference 0.005 -- quick_slow quick_paper ;;
   esac
 done
+# docs/studies.md's "Velocity convergence: results" (its tables and the rules' verdicts) from the
+# two published tables, once both are there.
+if [ -f "$DOCS/data/velocity_quick.csv" ] && [ -f "$DOCS/data/velocity_small.csv" ] && [ -f "$DOCS/studies.md" ]; then
+  $REPORT velocity_cycles --page "$DOCS/studies.md" "$DOCS/data/velocity_quick.csv" "$DOCS/data/velocity_small.csv"
+fi

@@ -36,7 +36,7 @@ REPORTS = {
     "paper_velocity_cycle1": ("paper_velocity_cycle1", "cycle 1 at the paper's velocity beside the velocity study's (VELOCITY_DIR PAPER_DIR [--seed S] [--out FILE])"),
     "friction_split": ("friction_split", "the dissipation split against grain friction (OUT.png DIR [DIR ...] [--cycle N])"),
     "foil": ("foil", "a foil VTK frame rendered to PNG (FRAME.vtk OUT.png [--title TEXT])"),
-    "device": ("device", "docs/devices.md's tables and figures of a device study (gripper | gripper_pour | beam)"),
+    "device": ("device", "docs/devices.md's tables and figures of a device study, its trends table and rules (gripper | gripper_pour | beam | trends)"),
     "device_slices": ("device_slices", "side views of a device run (OUT.png FRAME.vtk ... [--titles T] [--sphere R])"),
     "membrane_cylinder": ("membrane_cylinder", "the lattice foil's W against the mesh foil's (DATA: docs/data/membrane_cylinder)"),
 }

@@ -18,7 +18,9 @@ of the cycling. Per shape: mean and 95% interval over the seeds (Student's t); a
 spheres the ratio of the means with its 95% interval (the shapes prepare their own samples:
 unpaired; the delta method on ln R, Welch's degrees of freedom). Beside the experiment of
 Athanassiadis et al.: the pressure's and each shape's effect on W as |ln| of the ratio, their
-difference with its interval decides. Runs under /usr/bin/python3.
+difference with its interval decides, by the direction rule of vppdem.report.rules (every
+verdict and label on the page is the rules module's; the page states them in "Decision rules").
+Runs under /usr/bin/python3.
 """
 import json
 import math
@@ -27,13 +29,18 @@ import sys
 import tomllib
 
 from ..records import fail
-from . import source_dir
+from . import rules, source_dir
 from .stats import LEVEL, interval, log_ratio, ratio, satterthwaite, t_quantile
 
 COMMAND = ("bash scripts/grain_shapes.sh, then PYTHONPATH=src/python /usr/bin/python3 -m vppdem.report grain_shapes "
            "docs/data/grains/shapes docs "
            "--pressure docs/data/paper/radius_underpressure --bench docs/data/grains/cost_per_step.md")
 ORDER = ["sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"]
+# The seeds the paper's underpressure study (studies/paper/radius_underpressure.toml, whose 25.5 mm
+# rows give the pressure's effect) fixed before it ran: 3; its seeds 4 and 5 came after a look at
+# other claims (the study file; docs/paper_comparison.md, "Decision rules"), so they stand beside
+# the verdict, not in it (vppdem.report.rules: seeds).
+PRESSURE_PLANNED = 3
 
 
 def parse_name(name):
@@ -142,6 +149,67 @@ def ci(vals, digits=0, scale=1.0):
     if n < 2 or not math.isfinite(h):
         return f"{m:.{digits}f} (n = {n})"
     return f"{m:.{digits}f} +- {h:.{digits}f}"
+
+
+def effect_difference(peff, e):
+    """|ln| of the pressure's effect less |ln| of a shape's (a halving as large as a doubling): the
+    pressure's (mean of the paired ln ratios, its standard error, dof, n) and the shape's log_ratio
+    (ln R, its standard error, Welch dof); their 95% interval by the Welch-Satterthwaite degrees of
+    freedom of the two standard errors. A rules difference (test Welch, no reference)."""
+    d = abs(peff[0]) - abs(e[0])
+    v1, v2 = peff[1] ** 2, e[1] ** 2
+    dof = satterthwaite([(v1, peff[2]), (v2, e[2])])
+    return rules.from_interval("Welch", peff[3], d, t_quantile(LEVEL, dof) * math.sqrt(v1 + v2), dof, None)
+
+
+def first_statement(compared):
+    """Athanassiadis et al.'s "confining pressure has the largest overall effect", on W: each shape's
+    difference (effect_difference) by the direction rule (the pressure's effect larger: +1), the
+    claim's verdict over the shapes (rules.verdict_direction: reproduced only where every shape's
+    is resolved the claim's way, not reproduced where one is resolved against it). (verdict, the
+    shapes' texts)."""
+    parts, outs = [], []
+    for sh, d in compared:
+        o = rules.direction(d, +1) if d is not None else None
+        outs.append(o)
+        if o is None:
+            parts.append(f"{sh}: pending (fewer than 2 runs)")
+            continue
+        what = {"yes": "the pressure's larger, resolved", "against": "the shape's larger, resolved",
+                "unresolved": "not resolved"}[o]
+        parts.append(f"{sh}: {rules.verdict_direction([o])}, {what} ({d.d:+.2f} +- {d.h:.2f})")
+    return rules.verdict_direction(outs), parts
+
+
+def page_rules(study, plan, added):
+    """The page's "## Decision rules" section (rules.section)."""
+    seeds = plan[1] if plan else None
+    return rules.section(rules.PageRules(
+        module="vppdem.report.grain_shapes",
+        tests=[("welch", "each shape against the spheres, and the pressure's effect against each shape's: each "
+                         "shape prepares its own samples"),
+               ("ratio", "W and the peak force of each shape against the spheres'; the pressure's effect is the "
+                         "paired ratio W(0.08 MPa) / W(0.02 MPa) per seed of the paper's underpressure study"),
+               ("direction", "the first statement: |ln| of the pressure's effect on W less each shape's, resolved "
+                             "above 0 for every shape"),
+               ("equivalence", "not applied: no row here claims the absence of an effect")],
+        which_w="a run's W_settled (summary.json) where its loops settled, else the mean of its last two cycles "
+                "(flagged 'not all stationary'); the pressure study's runs: W_settled by the current build's "
+                "criterion, else the mean of their last two cycles.",
+        planned=(f"{seeds} per shape (`seeds` of {os.path.relpath(study, os.getcwd()) if study else 'the study file'}), "
+                 if seeds else "the study file's, ") + f"fixed before the runs; the pressure's effect: the "
+                f"{PRESSURE_PLANNED} seeds the paper's underpressure study planned "
+                "(studies/paper/radius_underpressure.toml).",
+        added=(f"That study's seeds {', '.join(str(k) for k in added)} were added after a look at other claims "
+               "(docs/paper_comparison.md): the verdict is the planned seeds', all seeds stand beside it in "
+               "brackets." if added else ""),
+        labels=["nothing measured"],
+        fixed_before=["the shapes, the seeds and the cycles (studies/grains/shapes.toml), before the runs; a plan, "
+                      "not a decision rule"],
+        fixed_after=["every test, the direction rule of the first statement and the label of the second: this "
+                     "study ran before issue 60's rules module (vppdem.report.rules), and they were applied to its "
+                     "data after they had been seen (the first statement read 'undecided: equal within their "
+                     "intervals' before, though the dimer's difference excluded 0)"]))
 
 
 def figure(runs, shapes, docs, note=""):
@@ -272,24 +340,34 @@ def main(argv=None):
              "means with 95% intervals:")
     L.append("")
     pe, pinfo = pressure_effect(pressure) if pressure else ({}, {})
-    peff = None
+    peffs = {}  # "planned" / "all": the pressure's effect, paired ln W(hi) / W(lo): (mean, se, dof, n, seeds)
+    added = []  # the pressure study's seeds beyond its planned ones
     if len(pe) >= 2:
         lo, hi = min(pe), max(pe)
         seeds = sorted(set(pe[lo]) & set(pe[hi]))
-        logs = [math.log(pe[hi][k] / pe[lo][k]) for k in seeds]
-        n, m, sd, h = interval(logs)
-        ratios = [pe[hi][k] / pe[lo][k] for k in seeds]
-        _, mr, _, hr = interval(ratios)
+        planned_p = [k for k in seeds if k <= PRESSURE_PLANNED]
+        added = [k for k in seeds if k > PRESSURE_PLANNED]
+        texts = {}
+        for key, ss in (("planned", planned_p), ("all", seeds)):
+            n, m, sd, h = interval([math.log(pe[hi][k] / pe[lo][k]) for k in ss])
+            _, mr, _, hr = interval([pe[hi][k] / pe[lo][k] for k in ss])
+            texts[key] = (ratio_text(mr, hr, n), n)
+            if n >= 2:
+                peffs[key] = (m, sd / math.sqrt(n), n - 1, n)
         uns = [c for c in pinfo["unsettled"] if any(f"process.underpressure={int(d)}_" in c for d in (lo, hi))]
-        L.append(f"- Confining pressure: W at {hi / 1e6:g} MPa is {ratio_text(mr, hr, n)} times W at {lo / 1e6:g} MPa "
-                 f"(the ratio per seed, paired, {n} seeds; 25.5 mm, {pinfo['velocity']:g} m/s, "
+        n_all = texts["all"][1]
+        over = (f"{texts['planned'][0]} times W at {lo / 1e6:g} MPa over its {texts['planned'][1]} planned seeds "
+                f"({texts['all'][0]} over all {n_all} seeds; seeds {', '.join(str(k) for k in added)} were added to "
+                "that study after a look at other claims, docs/paper_comparison.md) (the ratio per seed, paired; "
+                if added and planned_p else
+                f"{texts['all'][0]} times W at {lo / 1e6:g} MPa (the ratio per seed, paired, {n_all} seeds; ")
+        L.append(f"- Confining pressure: W at {hi / 1e6:g} MPa is {over}25.5 mm, {pinfo['velocity']:g} m/s, "
                  f"{'/'.join(str(c) for c in sorted(pinfo['cycles']))} cycles: the paper's underpressure study, "
                  f"{pressure}; stationary by {pinfo['criterion']}"
-                 + (f"; {len(uns)} of these {2 * n} runs not stationary: their last two cycles" if uns else "")
+                 + (f"; {len(uns)} of these {2 * n_all} runs not stationary: their last two cycles" if uns else "")
                  + "). Its velocity is half the shape runs', within 1% in W (docs/paper_comparison.md, C22).")
-        if n >= 2:
-            peff = (m, sd / math.sqrt(n), n - 1)
-    verdicts, peaks = [], []
+    compared = {"planned": [], "all": []}  # (shape, the rules' difference of |ln| or None)
+    peaks = []  # (shape, the peak force's ratio to the spheres' as a rules difference)
     if ref:
         for sh in [x for x in shapes if x != "sphere"]:
             rs = [r for (s_, _), r in runs.items() if s_ == sh]
@@ -304,47 +382,38 @@ def main(argv=None):
                 flag = (f"; {len(uns)} of its {len(rs)} runs not stationary (W of their last two cycles"
                         + (f", {len(falling)} still falling: an upper bound of their stationary W" if falling else "")
                         + ")")
-            pk_res = "" if not math.isfinite(ph) else (" (resolved)" if abs(P - 1) > ph else " (not resolved from 1)")
-            peaks.append((sh, P, ph))
+            pk = rules.ratio_diff(pk_ref, [r["peak"] for r in rs])
+            pk_res = {None: "", "resolved": " (resolved)", "unresolved": " (not resolved from 1)"}[rules.resolved(pk)]
+            peaks.append((sh, pk))
             L.append(f"- {sh}: W {ratio_text(R, h, nb)} times the spheres'{flag}; peak force over the stroke "
                      f"{ratio_text(P, ph, nb)} times{pk_res}.")
             e = log_ratio(ref, vals)
-            if peff is None or e is None:
-                verdicts.append((sh, None, None, None))
-                continue
-            # |ln| of both effects (a halving is as large as a doubling); their difference with
-            # the Welch-Satterthwaite interval of the two standard errors.
-            d = abs(peff[0]) - abs(e[0])
-            v1, v2 = peff[1] ** 2, e[1] ** 2
-            dof = satterthwaite([(v1, peff[2]), (v2, e[2])])
-            verdicts.append((sh, d, t_quantile(LEVEL, dof) * math.sqrt(v1 + v2), math.exp(abs(e[0]))))
-    if verdicts and peff is not None:
-        parts, decided = [], []
-        for sh, d, h, _ in verdicts:
-            if d is None:
-                parts.append(f"{sh}: pending (fewer than 2 runs)")
-                decided.append(None)
-            else:
-                parts.append(f"{sh}: |ln| of the pressure's effect less the shape's {d:+.2f} +- {h:.2f}")
-                decided.append(True if d > h else False if d < -h else "undecided")
-        if any(x is None for x in decided):
-            v = "pending: a shape has fewer than 2 runs"
-        elif any(x is False for x in decided):
-            v = "not reproduced: in the model a shape changes W more than the pressure does, beyond the intervals"
-        elif all(x is True for x in decided):
-            v = "reproduced: the pressure changes W more than any shape does, beyond the intervals"
-        else:
-            v = "undecided: the pressure's and a shape's effects on W are equal within their intervals"
-        L.append(f"- Their first statement (pressure has the largest effect), on W: "
-                 f"{'provisionally ' if pending and not v.startswith('pending') else ''}"
-                 f"{v} ({'; '.join(parts)}).")
-        moved = [sh for sh, P, ph in peaks if math.isfinite(ph) and abs(P - 1) > ph]
-        still = [sh for sh, P, ph in peaks if math.isfinite(ph) and abs(P - 1) <= ph]
-        L.append("- Their second (shape tunes stiffness and yielding), in the damper's terms: its separate modulus "
-                 "and yield stress are not measured here; the peak force over the 10 mm stroke, which mixes the two, "
-                 + (f"changes with the shape for {', '.join(moved)} (resolved)" if moved else "changes with no shape")
+            for key in compared:
+                compared[key].append((sh, effect_difference(peffs[key], e) if key in peffs and e else None))
+    if compared["planned"] and "planned" in peffs:
+        verdict, parts = first_statement(compared["planned"])
+        text = (f"- Their first statement (pressure has the largest effect), on W: "
+                f"{'provisionally ' if pending and not verdict.startswith('open') else ''}**{verdict}** "
+                f"(per shape, |ln| of the pressure's effect less the shape's, Welch 95%, the direction rule: "
+                f"{'; '.join(parts)})")
+        if added and "all" in peffs:
+            v_all, p_all = first_statement(compared["all"])
+            text += (f" [seeds {', '.join(str(k) for k in added)} of the pressure study added after a look, all "
+                     f"{peffs['all'][3]} seeds: {v_all}: {'; '.join(p_all)}]")
+        L.append(text + ". Reproduced needs the pressure's effect resolved larger for every shape; one shape's "
+                 "resolved larger than the pressure's would not reproduce it.")
+        outs = {sh: rules.resolved(d) for sh, d in peaks}
+        # resolved: the ratio's 95% interval excludes 1 (rules.resolved on rules.ratio_diff)
+        moved = [sh for sh, d in peaks if outs[sh] == "resolved"]
+        still = [sh for sh, d in peaks if outs[sh] == "unresolved"]
+        L.append("- Their second (shape tunes stiffness and yielding), in the damper's terms: **"
+                 + rules.label("nothing measured") + "**: its separate modulus and yield stress are not measured "
+                 "here; the peak force over the 10 mm stroke, which mixes the two, "
+                 + (f"changes with the shape for {', '.join(moved)} (resolved)" if moved
+                    else "changes with no shape (resolved)")
                  + (f", not resolved for {', '.join(still)}" if still else "") + ".")
     L.append("")
+    L += page_rules(study, plan, added)
     if bench:
         L.append("")
         L.append("## Cost per step")

@@ -1,7 +1,7 @@
 """A cylinder given as a mesh (issue 47; docs/membrane.md): the damper's W with the lattice foil
 and with the mesh foil (foil.builder = "mesh"), from the runs of studies/membrane/cylinder.toml.
 
-usage: python3 -m vppdem.report membrane_cylinder DATA
+usage: python3 -m vppdem.report membrane_cylinder DATA [--page FILE]
 
 DATA holds one folder per run (summary.json, cycles.csv; scripts/membrane_cylinder_study.sh
 publishes them into docs/data/membrane_cylinder). Every seed of every foil is its own prepared
@@ -10,8 +10,13 @@ t and the Welch-Satterthwaite degrees of freedom (vppdem.report.stats welch(), t
 Student t), its 95% interval, and |difference| against the seeds' standard deviation (each foil's
 and the pooled one). The quantity fixed before the runs: W averaged over cycles 3-5 of each run
 (cycles 1-2 compact the packing; on this damper W is stationary from cycle 2, the 4-cycle trial run
-of the mesh foil said); cycle 5 alone each cycle alone and summary.json's W_settled beside it. "Within the seed
-scatter": the 95% interval of the difference contains 0. Prints Markdown.
+of the mesh foil said); cycle 5 alone each cycle alone and summary.json's W_settled beside it. The
+verdict on issue 47's claim ("a cylinder given as a mesh gives the built-in one's W within the seed
+scatter", a claim of no effect) is vppdem.report.rules' equivalence rule: the whole 95% interval
+of the difference within +-10% of the lattice's mean W reproduces it; 0 inside an interval that
+reaches past the margin leaves it consistent, not established. Prints Markdown (report.md, with its
+"Decision rules"); --page FILE also writes the comparison and the verdict into FILE (docs/membrane.md)
+between <!-- membrane_cylinder begin --> and <!-- membrane_cylinder end -->.
 """
 import glob
 import json
@@ -19,6 +24,7 @@ import math
 import os
 import sys
 
+from . import rules
 from .stats import interval, welch
 
 PRIMARY = (3, 5)  # cycles averaged per run (inclusive)
@@ -62,8 +68,74 @@ def ratio(x, y):
     return f"{x / y:.2f}" if y > 0 else "n/a"
 
 
+def planned(data):
+    """The seeds studies/membrane/cylinder.toml fixed before the runs (rules.planned_seeds)."""
+    from . import source_dir
+    for root in (os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(data)))), source_dir()):
+        n = rules.planned_seeds(os.path.join(root, "studies", "membrane", "cylinder.toml"))
+        if n is not None:
+            return n
+    return "?"
+
+
+def verdict_text(d, ma, mb, pooled):
+    """The verdict paragraph on W of cycles 3-5 (the quantity fixed before the runs): the claim of no
+    effect by the equivalence rule (rules.band, verdict_equivalence, statement_equivalence)."""
+    v = rules.verdict_equivalence([rules.band(d)])
+    return (f"W (cycles {PRIMARY[0]}-{PRIMARY[1]}): mesh {mb:.1f} against lattice {ma:.1f} J/m^2, "
+            f"difference {d.d:+.1f} J/m^2 ({100 * d.d / ma:+.1f}%), 95% interval "
+            f"[{d.d - d.h:+.1f}, {d.d + d.h:+.1f}] J/m^2; |difference| is {ratio(abs(d.d), pooled)} of the "
+            f"seeds' pooled SD ({pooled:.1f} J/m^2). By the equivalence rule (+-{100 * rules.MARGIN:.0f}% of the "
+            f"lattice's mean): {rules.statement_equivalence(d)}. Issue 47's claim, the mesh foil's W within the seed "
+            f"scatter of the lattice's, is therefore **{v}**"
+            + {"reproduced": ": the whole interval lies within the margin.",
+               "consistent, not established": (": 0 lies inside the interval (no difference resolved), but the "
+                                               "interval reaches past the margin, so a difference of that size is "
+                                               "not excluded." if not d.resolved else
+                                               ": a difference is resolved, within reach of the margin."),
+               "not reproduced": ": the interval lies wholly beyond the margin."}.get(v, "."))
+
+
+def page_rules(data):
+    return rules.section(rules.PageRules(
+        module="vppdem.report.membrane_cylinder",
+        tests=[("welch", "mesh foil against lattice foil: every seed of every foil prepares its own sample"),
+               ("equivalence", "issue 47's claim that the mesh foil gives the lattice's W within the seed scatter, "
+                               "on W of cycles 3-5; the reference: the lattice's mean")],
+        which_w=f"W averaged over cycles {PRIMARY[0]}-{PRIMARY[1]} of each run (cycles.csv), fixed before the runs; "
+                "each cycle alone and summary.json's W_settled beside it, not in the verdict.",
+        planned=f"{planned(data)} per foil (`seeds` of studies/membrane/cylinder.toml), fixed before the runs.",
+        labels=[],
+        fixed_before=["the quantity (W over cycles 3-5), the test (Welch's t, 95%) and the seeds, before the runs; "
+                      "then 'within the seed scatter' read as '0 inside the 95% interval', which says only that no "
+                      "difference was resolved"],
+        fixed_after=["the equivalence margin (+-10% of the lattice's mean) and the verdict by it: written after the "
+                     "data were seen (issue 60's rules module); the page said 'within the seed scatter' before"]))
+
+
+def replace_block(page, text):
+    """The lines between <!-- membrane_cylinder begin --> and <!-- membrane_cylinder end --> of page."""
+    with open(page) as f:
+        doc = f.read()
+    b, e = "<!-- membrane_cylinder begin -->", "<!-- membrane_cylinder end -->"
+    if b not in doc or e not in doc:
+        raise SystemExit(f"vppdem.report membrane_cylinder: {page} has no {b} ... {e} block")
+    doc = doc[: doc.index(b)] + f"{b}\n{text.rstrip()}\n{e}" + doc[doc.index(e) + len(e):]
+    with open(page + ".part", "w") as f:
+        f.write(doc)
+    os.replace(page + ".part", page)
+
+
 def main(argv=None):
     args = sys.argv[1:] if argv is None else list(argv)
+    page = None
+    if "--page" in args:
+        i = args.index("--page")
+        if i + 1 >= len(args):
+            sys.stderr.write(__doc__)
+            return 2
+        page = args[i + 1]
+        args = args[:i] + args[i + 2:]
     if len(args) != 1:
         sys.stderr.write(__doc__)
         return 2
@@ -103,8 +175,11 @@ def main(argv=None):
     out.append("")
     out.append("## Comparison (mesh - lattice; independent samples, Welch's t, 95%)\n")
     out.append("| quantity | lattice mean +- SD (n) | mesh mean +- SD (n) | difference [95% interval] | "
-               "difference / mean lattice | dof | abs(difference) / SD lattice, mesh, pooled | within the seed scatter |")
+               f"difference / mean lattice | dof | abs(difference) / SD lattice, mesh, pooled | "
+               f"by the rules (+-{100 * rules.MARGIN:.0f}% of the lattice's mean) |")
     out.append("|---|---|---|---|---|---|---|---|")
+    brief = ["| W [J/m^2] | lattice, mean +- SD (5 seeds) | mesh, mean +- SD (5 seeds) | mesh - lattice [95% interval] | "
+             "relative | abs(difference) / SD (lattice, mesh, pooled) |", "|---|---|---|---|---|---|"]
     verdict = None
     rows = [("primary", f"W, cycles {PRIMARY[0]}-{PRIMARY[1]}")] + [(c, f"W, cycle {c}") for c in cycles] + \
         [("settled", "W_settled (runs stationary by summary.json)")]
@@ -120,26 +195,29 @@ def main(argv=None):
             out.append(f"| {label} | {ma:.1f} ({na}) | {mb:.1f} ({nb}) | too few runs | | | | |")
             continue
         pooled = math.sqrt(((na - 1) * sa * sa + (nb - 1) * sb * sb) / (na + nb - 2))
-        within = d.d - d.h <= 0.0 <= d.d + d.h
         if what == "primary":
-            verdict = (within, d, sa, sb, pooled, ma, mb)
+            verdict = (d, pooled, ma, mb)
+        rel = (f"{100 * d.d / ma:+.1f}% [{100 * (d.d - d.h) / ma:+.1f}%, {100 * (d.d + d.h) / ma:+.1f}%]")
+        sds = f"{ratio(abs(d.d), sa)}, {ratio(abs(d.d), sb)}, {ratio(abs(d.d), pooled)}"
         out.append(f"| {label} | {ma:.1f} +- {sa:.1f} ({na}) | {mb:.1f} +- {sb:.1f} ({nb}) | "
-                   f"{d.d:+.1f} [{d.d - d.h:+.1f}, {d.d + d.h:+.1f}] | {100 * d.d / ma:+.1f}% "
-                   f"[{100 * (d.d - d.h) / ma:+.1f}%, {100 * (d.d + d.h) / ma:+.1f}%] | {d.dof:.1f} | "
-                   f"{ratio(abs(d.d), sa)}, {ratio(abs(d.d), sb)}, {ratio(abs(d.d), pooled)} | "
-                   f"{'yes' if within else 'no'} |")
+                   f"{d.d:+.1f} [{d.d - d.h:+.1f}, {d.d + d.h:+.1f}] | {rel} | {d.dof:.1f} | {sds} | "
+                   f"{rules.statement_equivalence(d)} |")
+        if isinstance(what, int) or what == "primary":
+            name = f"cycles {PRIMARY[0]}-{PRIMARY[1]}" if what == "primary" else f"cycle {what}"
+            brief.append(f"| {name} | {ma:.1f} +- {sa:.1f} | {mb:.1f} +- {sb:.1f} | {d.d:+.1f} [{d.d - d.h:+.1f}, "
+                         f"{d.d + d.h:+.1f}] | {rel.replace(' [', ' [').replace('%]', '%]')} | {sds} |")
     out.append("")
     if verdict:
-        within, d, sa, sb, pooled, ma, mb = verdict
+        d, pooled, ma, mb = verdict
         out.append("## Verdict\n")
-        out.append(f"W (cycles {PRIMARY[0]}-{PRIMARY[1]}): mesh {mb:.1f} against lattice {ma:.1f} J/m^2, "
-                   f"difference {d.d:+.1f} J/m^2 ({100 * d.d / ma:+.1f}%), 95% interval "
-                   f"[{d.d - d.h:+.1f}, {d.d + d.h:+.1f}] J/m^2; |difference| is {ratio(abs(d.d), pooled)} of the "
-                   f"seeds' pooled SD ({pooled:.1f} J/m^2). " +
-                   ("The interval contains 0: the mesh foil's W lies **within the seed scatter** of the lattice's."
-                    if within else
-                    "The interval excludes 0: the mesh foil's W differs from the lattice's **beyond the seed scatter**."))
-    print("\n".join(out))
+        out.append(verdict_text(d, ma, mb, pooled))
+        out.append("")
+        if page:
+            rel = (f"`python3 -m vppdem.report membrane_cylinder {data} --page {page}` (do not edit by hand; "
+                   f"per run and the rules: `{data}/report.md`).")
+            replace_block(page, "\n".join([f"Made by {rel}", ""] + brief + ["", "**Verdict.** " + verdict_text(d, ma, mb, pooled)]))
+    out += page_rules(data)
+    print("\n".join(out).rstrip("\n"))
     return 0
 
 

@@ -15,7 +15,10 @@ Every number comes from the runs' summary.json: W and peak force of the testing 
 (summary.json "air", W_machine and peak_force_machine: grains + foil + the lid's -dp A, the
 machine force that an experiment measures) of the last cycle, and the underpressure's range over
 the samples. Means and 95% intervals over the seeds with Student's t (vppdem.report.stats);
-pump minus constant paired by seed (the same prepared sample). Runs under /usr/bin/python3.
+pump minus constant paired by seed (the same prepared sample). What the page says of an effect on
+W (none within the margin, none resolved, how large a change the intervals leave open) and its
+verdicts are vppdem.report.rules' (the equivalence rule on the paired difference); the page
+states them in "Decision rules". Runs under /usr/bin/python3.
 """
 import json
 import math
@@ -23,6 +26,7 @@ import os
 import sys
 
 from ..records import RecordError, fail, read_csv
+from . import rules
 from .stats import interval
 
 P_ATM = 101325.0
@@ -245,6 +249,68 @@ def reversal_text(pump, f):
             f"({1e3 * c['displacement'][k]:.1f} mm).")
 
 
+def w_by_seed(runs, w, f):
+    """{seed: W of the machine's loop} of the runs at waveform w and frequency f."""
+    return {s: r["W_machine"] for (ww, ff, s), r in runs.items() if ww == w and ff == f}
+
+
+def study_seeds(docs, study):
+    """The seeds examples/operation/STUDY.toml fixed before its runs (rules.planned_seeds), the
+    repository's study file beside DOCS' parent, else the source tree's."""
+    from . import source_dir
+    for root in (os.path.dirname(os.path.abspath(docs)), source_dir()):
+        n = rules.planned_seeds(os.path.join(root, "examples", "operation", f"{study}.toml"))
+        if n is not None:
+            return n
+    return "?"
+
+
+def frequency_statement(diffs, f0):
+    """The frequency's effect on W by the equivalence rule: diffs [(waveform, f, paired difference
+    against f0)]. The claim of no effect (W independent of the frequency) is reproduced only where
+    every interval lies within the margin; the text names what the intervals resolve and what they
+    do not exclude."""
+    bands = [rules.band(d) for _, _, d in diffs]
+    verdict = rules.verdict_equivalence(bands)
+    res = [f"{w} {f:g} Hz" for (w, f, d), b in zip(diffs, bands) if b in ("resolved", "beyond")]
+    within = [f"{w} {f:g} Hz" for (w, f, d), b in zip(diffs, bands) if b == "within"]
+    reach = [(rules.reach(d), w, f) for w, f, d in diffs if rules.reach(d) is not None]
+    widest = max(reach) if reach else None
+    text = (f"a change from {f0:g} Hz resolved at {', '.join(res)}" if res else
+            f"no change from {f0:g} Hz resolved at any frequency")
+    if within:
+        text += f"; within the +-{100 * rules.MARGIN:.0f}% margin at {', '.join(within)}"
+    if widest:
+        lo = min(r for r, _, _ in reach)
+        text += (f"; changes up to {100 * lo:.0f}-{100 * widest[0]:.0f}% not excluded (the intervals' reach, "
+                 f"in % of W at {f0:g} Hz; the widest {widest[1]} {widest[2]:g} Hz)")
+    return (f"{text}. That W does not depend on the frequency is **{verdict}** (the equivalence rule, "
+            f"+-{100 * rules.MARGIN:.0f}%: {len(within)} of {len(diffs)} intervals lie within the margin).")
+
+
+def page_rules(plan_pump, plan_constant):
+    """The page's "## Decision rules" section (vppdem.report.rules.section)."""
+    return rules.section(rules.PageRules(
+        module="vppdem.report.operation",
+        tests=[("paired", "every difference on this page: all cases of a seed cycle its one prepared sample, the "
+                          "constant-dp twins by samples_from"),
+               ("equivalence", "the frequency's effect on W against the slowest frequency, and the pump's, pump "
+                               "minus constant dp; the reference: W at the slowest frequency, or with constant dp")],
+        which_w="W of the testing machine's loop (summary.json \"air\" `W_machine`: grains + foil + the lid's "
+                "-dp A) of the last cycle (cycle 3) of each run; not every run is stationary by then, and none is "
+                "extrapolated.",
+        planned=f"{plan_pump} per case (`seeds` of examples/operation/pump.toml; constant.toml: {plan_constant}), "
+                "fixed before the runs.",
+        labels=[],
+        fixed_before=["the grid (waveforms, 1-20 Hz, the constant-dp twins at 1, 5, 10, 20 Hz), the seeds and the "
+                      "cycles (examples/operation/pump.toml, constant.toml), before the runs; a plan, not a decision "
+                      "rule"],
+        fixed_after=["the tests and the equivalence margin as this page applies them: the study ran before issue "
+                     "60's rules module (vppdem.report.rules), and they were applied to its data after they had been "
+                     "seen (the page said before that W 'does not depend on the frequency' from intervals of "
+                     "+-12-29%, and that a 2 m^3/h pump at a quasi-static stroke 'is the constant model')"]))
+
+
 def main(argv=None):
     argv = list(sys.argv[1:] if argv is None else argv)
     runs = None
@@ -336,10 +402,11 @@ def main(argv=None):
     f0 = freqs[0]
     L.append(f"## The frequency's own effect (paired against {f0:g} Hz, same seed, same sample)")
     L.append("W(f) - W(f0) per seed, mean +- 95% interval; an interval that excludes 0 is a change the seed "
-             "scatter cannot explain.")
+             f"scatter cannot explain. By the rules: the equivalence rule (+-{100 * rules.MARGIN:.0f}% of W(f0)'s "
+             "mean) on the paired difference of W, its interval in % of that mean (\"Decision rules\").")
     L.append("")
-    L.append("| waveform | f [Hz] | pairs | W(f) - W(f0) [J/m^2] | relative | peak(f) - peak(f0) [N] |")
-    L.append("|---|---|---|---|---|---|")
+    L.append("| waveform | f [Hz] | pairs | W(f) - W(f0) [J/m^2] | relative | peak(f) - peak(f0) [N] | W by the rules |")
+    L.append("|---|---|---|---|---|---|---|")
     for w in waveforms:
         for f in freqs[1:]:
             pairs = [(pump[(w, f, s)], pump[(w, f0, s)]) for (ww, ff, s) in pump if ww == w and ff == f and (w, f0, s) in pump]
@@ -348,17 +415,21 @@ def main(argv=None):
             dW = [a["W_machine"] - b["W_machine"] for a, b in pairs]
             rel = [100.0 * (a["W_machine"] / b["W_machine"] - 1.0) for a, b in pairs]
             dP = [a["peak"] - b["peak"] for a, b in pairs]
-            L.append(f"| {w} | {f:g} | {len(pairs)} | {ci(dW)} | {ci(rel, 1, '%')} | {ci(dP)} |")
+            d = rules.difference("paired", w_by_seed(pump, w, f0), w_by_seed(pump, w, f))
+            L.append(f"| {w} | {f:g} | {len(pairs)} | {ci(dW)} | {ci(rel, 1, '%')} | {ci(dP)} | "
+                     f"{rules.statement_equivalence(d)} |")
     L.append("")
 
     # Pump against constant.
     L.append("## The pump's effect: pump minus constant dp (paired: same seed, same sample, same stroke)")
     L.append("\"bit for bit\": the pump run's cycles.csv is byte-identical to the constant run's (the regulator "
-             "held the set point at every step, so every step was the constant model's; docs/damper.md).")
+             "held the set point at every step, so every step was the constant model's; docs/damper.md). By the "
+             f"rules: the equivalence rule (+-{100 * rules.MARGIN:.0f}% of the constant runs' mean W) on the paired "
+             "difference of W.")
     L.append("")
     L.append("| waveform | f [Hz] | pairs | W pump - constant [J/m^2] | relative | peak force pump - constant [N] | "
-             "identical runs |")
-    L.append("|---|---|---|---|---|---|---|")
+             "identical runs | W by the rules |")
+    L.append("|---|---|---|---|---|---|---|---|")
     effect = {}
     for w in waveforms:
         for f in sorted({k[1] for k in const}):
@@ -369,9 +440,10 @@ def main(argv=None):
             dW = [a["W_machine"] - b["W_machine"] for a, b in pairs]
             rel = [100.0 * (a["W_machine"] / b["W_machine"] - 1.0) for a, b in pairs]
             dP = [a["peak"] - b["peak"] for a, b in pairs]
-            effect[(w, f)] = (interval(dW), interval(rel), same, len(pairs))
+            d = rules.difference("paired", w_by_seed(const, w, f), w_by_seed(pump, w, f))
+            effect[(w, f)] = (interval(dW), interval(rel), same, len(pairs), d)
             L.append(f"| {w} | {f:g} | {len(pairs)} | {ci(dW, 1)} | {ci(rel, 2, '%')} | {ci(dP, 1)} | "
-                     f"{same} of {len(pairs)} bit for bit |")
+                     f"{same} of {len(pairs)} bit for bit | {rules.statement_equivalence(d)} |")
     L.append("")
 
     # The paper's speed.
@@ -413,13 +485,16 @@ def main(argv=None):
              "(the table above): DEM is chaotic, and a perturbation of 1e-5 sends the grains along another path, "
              "so that difference is the spread of equally likely loops of one sample, not a bias.")
     if ("triangle", 1.0) in effect:
-        (n, m, sd, h), (rn, rm, rsd, rh), same, npairs = effect[("triangle", 1.0)]
+        (n, m, sd, h), (rn, rm, rsd, rh), same, npairs, d = effect[("triangle", 1.0)]
         L.append("")
         L.append(f"**The pump's effect at the paper's speed** is at most that of 1 Hz: W {rm:+.2f} +- "
                  f"{rh:.2f}% ({m:+.1f} +- {h:.1f} J/m^2, {npairs} pairs, {same} of them identical bit for bit), "
-                 "against a seed-to-seed scatter of W of several percent. A pump of 2 m^3/h at a "
-                 "quasi-static stroke is the constant model. The paper's \"pump struggled to keep pace\" at the "
-                 "onset of compression therefore points to its control rather than its speed: a regulator with "
+                 f"against a seed-to-seed scatter of W of several percent: {rules.statement_equivalence(d)}. "
+                 "That a pump of 2 m^3/h at a quasi-static stroke is the constant model in W is therefore "
+                 f"**{rules.verdict_equivalence([rules.band(d)])}** (the equivalence rule); in dp the pump held "
+                 f"the set point to {qexc / 0.06e6:.1e} of it in the quasi-static runs (above). Since the pump keeps "
+                 "up with the stroke, the paper's \"pump struggled to keep pace\" at the onset of compression "
+                 "points to its control rather than its speed: a regulator with "
                  "a switching band, a throttled line, or a leak (`process.leak_rate`), none of which the paper "
                  "describes.")
     L.append("")
@@ -436,14 +511,14 @@ def main(argv=None):
                  f"{', '.join(f'{f:g}' for f in big) if big else 'no frequency up to ' + format(fs[-1], 'g')} Hz.")
         for f in sorted({k[1] for k in const}):
             if (w, f) in effect:
-                (n, m, sd, h), (rn, rm, rsd, rh), same, npairs = effect[(w, f)]
+                (n, m, sd, h), (rn, rm, rsd, rh), same, npairs, d = effect[(w, f)]
                 if same == npairs:
                     L.append(f"  - {f:g} Hz: no effect (all {npairs} pairs identical bit for bit).")
                 else:
-                    sig = "an interval that excludes 0" if abs(m) > h else "an interval that contains 0"
+                    sig = rules.statement_equivalence(d)
                     L.append(f"  - {f:g} Hz: W {rm:+.2f} +- {rh:.2f}% ({m:+.1f} J/m^2, 95% interval "
-                             f"{m - h:+.1f} ... {m + h:+.1f}, {sig}; {same} of {npairs} pairs identical bit "
-                             "for bit) when the pump replaces the constant dp.")
+                             f"{m - h:+.1f} ... {m + h:+.1f}; {same} of {npairs} pairs identical bit "
+                             f"for bit) when the pump replaces the constant dp: {sig}.")
     # The waveforms against each other at the fastest frequency.
     fmax = freqs[-1]
     ex = {}
@@ -457,7 +532,7 @@ def main(argv=None):
                  f"{math.pi / 2:.2f} times the triangle's: the triangle reverses at once at each end of the stroke, "
                  "the sine slows down into it." + reversal_text(pump, fmax))
     # The frequency's own effect on W: the largest paired change from the slowest frequency.
-    worst = None
+    worst, diffs = None, []
     for w in waveforms:
         for f in freqs[1:]:
             pairs = [(pump[(w, f, sd)], pump[(w, f0, sd)]) for (ww, ff, sd) in pump
@@ -466,13 +541,17 @@ def main(argv=None):
                 n, m, sd_, h = interval([100.0 * (a["W_machine"] / b["W_machine"] - 1.0) for a, b in pairs])
                 if worst is None or abs(m) > abs(worst[2]):
                     worst = (w, f, m, h)
+                diffs.append((w, f, rules.difference("paired", w_by_seed(pump, w, f0), w_by_seed(pump, w, f))))
     if worst:
         w, f, m, h = worst
-        L.append(f"- W does not depend on the frequency beyond the seeds' scatter from {f0:g} to {fmax:g} Hz: the "
-                 f"largest paired change from {f0:g} Hz is {m:+.1f} +- {h:.1f}% ({w}, {f:g} Hz). With restitution "
-                 "as the dissipation, the grains' inertia and the dashpots add little at these speeds (inertial "
-                 f"number up to {max(r['inertial'] for r in pump.values()):.2g}).")
+        L.append(f"- W against the frequency from {f0:g} to {fmax:g} Hz: "
+                 + frequency_statement(diffs, f0) +
+                 f" The largest paired change from {f0:g} Hz is {m:+.1f} +- {h:.1f}% ({w}, {f:g} Hz). With "
+                 "restitution as the dissipation, the grains' inertia and the dashpots add little at these speeds "
+                 f"(inertial number up to {max(r['inertial'] for r in pump.values()):.2g}), as far as these "
+                 "intervals can tell.")
     L.append("")
+    L += page_rules(study_seeds(docs, "pump"), study_seeds(docs, "constant"))
     figs = figures(pump, const, docs, waveforms, freqs)
     if figs:
         L.append("## Figures")

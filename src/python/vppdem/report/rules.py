@@ -32,7 +32,7 @@ are vppdem.report.stats'.
 import math
 from dataclasses import dataclass, field
 
-from .stats import LEVEL, interval, ols, paired, profile_range, t_quantile, welch
+from .stats import LEVEL, Diff, interval, log_ratio, ols, paired, profile_range, ratio, t_quantile, welch
 
 MARGIN = 0.10       # equivalence margin: a fraction of the reference's mean
 SATURATION = 0.5    # a later step's change under half the earlier one's: saturating
@@ -384,3 +384,84 @@ def section(page):
     if when:
         out.append("- **When**: " + ". ".join(w[0].upper() + w[1:] for w in when) + ".")
     return out + [""]
+
+
+# ---------------------------------------------------------------------------------------------
+# Added for the study pages (grains, operation, devices, velocity, membrane; issue 60, items 1
+# and 5): the same rules on what those pages hold, and the statements a page may make from their
+# outcomes. Nothing above changes.
+
+
+def resolved(diff):
+    """A difference no claim gives a direction: 'resolved' (0 outside its 95% interval),
+    'unresolved', None (pending)."""
+    if diff is None or not diff.ok:
+        return None
+    return "resolved" if diff.resolved else "unresolved"
+
+
+def from_interval(test, n, d, h, dof, ref):
+    """A difference a published table holds (its mean d, the half width h of its 95% interval, the
+    reference's mean ref), for the rules above (band, direction, resolved)."""
+    return Diff(test, n, d, h, dof, ref)
+
+
+def one_sample(values, value):
+    """The mean of the values against a fixed value (a published number): mean - value with the 95%
+    Student-t interval of the mean, ref = value; test 'one sample'."""
+    n, m, _, h = interval(values)
+    return Diff("one sample", n, m - value if n else None, h if n >= 2 else None, n - 1, value)
+
+
+def ratio_diff(a, b):
+    """The ratio of b's mean to a's (independent samples) less 1, with the 95% half width of the ratio
+    by the delta method on its logarithm (stats.ratio; Welch's degrees of freedom), ref = 1: resolved
+    where the interval of the ratio excludes 1; band() reads the margin as a fraction of 1."""
+    R, h, na, nb = ratio(a, b)
+    e = log_ratio(a, b)
+    return Diff("ratio", (na, nb), R - 1.0, h if math.isfinite(h) else None, e[2] if e else None, 1.0)
+
+
+def reach(diff):
+    """The largest change the 95% interval does not exclude, as a fraction of the reference's mean:
+    (|d| + h) / |ref|; None where pending or without a reference."""
+    if diff is None or not diff.ok or not diff.ref:
+        return None
+    return (abs(diff.d) + diff.h) / abs(diff.ref)
+
+
+def statement_equivalence(diff, margin=MARGIN):
+    """What a page may say of an effect that a claim (or the page) calls absent, from band()'s
+    outcome: 'within' -> no change beyond the margin; 'beyond' -> a change beyond it; 'resolved'
+    -> a change resolved from 0, not beyond the margin; 'unresolved' -> no change resolved, changes
+    up to reach() not excluded (never 'does not depend', never 'equal'). The interval in % of the
+    reference's mean follows in brackets."""
+    b = band(diff, margin)
+    if b is None:
+        return "pending (fewer than 2 runs)"
+    lo, hi = 100 * (diff.d - diff.h) / abs(diff.ref), 100 * (diff.d + diff.h) / abs(diff.ref)
+    iv = f"{lo:+.1f}% to {hi:+.1f}%"
+    m = f"+-{100 * margin:.0f}%"
+    if b == "within":
+        return f"no change beyond the {m} margin (the whole 95% interval within it: {iv})"
+    if b == "beyond":
+        return f"a change beyond the {m} margin, resolved ({iv})"
+    if b == "resolved":
+        return f"a change resolved from 0, not beyond the {m} margin ({iv})"
+    return f"no change resolved; changes up to {100 * reach(diff):.1f}% not excluded ({iv})"
+
+
+def verdict_text(verdict, detail=""):
+    """A verdict (VERDICTS' names, or a label()) with what decided it after a colon."""
+    return verdict + (f": {detail}" if detail else "")
+
+
+def planned_seeds(study):
+    """The seeds a study file fixed before its runs: its `seeds` (1 without the key); None without
+    the file."""
+    import os
+    import tomllib
+    if not study or not os.path.isfile(study):
+        return None
+    with open(study, "rb") as f:
+        return int(tomllib.load(f).get("seeds", 1))
