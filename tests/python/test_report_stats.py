@@ -139,9 +139,8 @@ def test_welch_difference_by_hand():
 
 
 def test_ratio_and_satterthwaite_by_hand():
-    # Dimers 210, 220, 230 against spheres 100, 110, 120 (tests/physics/test_tools.cpp,
-    # GrainShapesReportByHand): R = 2, var(ln R) = 100 / (3 110^2) + 100 / (3 220^2), Welch dof
-    # 2.9412: R t se = 0.378.
+    # Dimers 210, 220, 230 against spheres 100, 110, 120 (test_report_grain_shapes.py): R = 2,
+    # var(ln R) = 100 / (3 110^2) + 100 / (3 220^2), Welch dof 2.9412: R t se = 0.378.
     lr, se, dof = stats.log_ratio([100, 110, 120], [210, 220, 230])
     assert lr == pytest.approx(math.log(2), rel=1e-14)
     assert se * se == pytest.approx(100 / (3 * 110 ** 2) + 100 / (3 * 220 ** 2), rel=1e-13)
@@ -247,7 +246,7 @@ def test_the_entry_point_lists_the_reports_and_refuses_an_unknown_one():
 def test_paired_velocity_by_hand(tmp_path):
     # Three seeds whose packings differ by +-10 J/m^2; the offsets against 0.005 m/s are 1, 2, 0 at
     # 0.05 m/s (interval 1 +- t_{0.975,2} / sqrt(3) = 1 +- 2.484: within) and 10, 11, 9 at 0.1 m/s
-    # (not): the converged velocity is 0.05 m/s (tests/physics/test_tools.cpp, the same data).
+    # (not): the converged velocity is 0.05 m/s (test_report_paired_velocity.py, the same data).
     lines = ["process.velocity,simulation.seed,W,status,case"]
     for v, off in (("0.1", (10, 11, 9)), ("0.05", (1, 2, 0)), ("0.005", (0, 0, 0))):
         for s, (base, o) in enumerate(zip((100, 110, 90), off), 1):
