@@ -357,23 +357,16 @@ def diff_text(p, digits=0, pct=True):
     return s, abs(d) > h
 
 
-def band(p, tol):
-    """Where a paired difference lies against a tolerance (a fraction of the reference's mean):
-    None (pending: fewer than 2 seeds), "within" (the whole 95% interval inside +-tol), "beyond"
-    (the whole interval outside +-tol), "resolved" (0 outside the interval, which reaches inside
-    +-tol), "unresolved" (0 inside, the interval reaching past +-tol); None also for a difference
-    over fewer than FIRST_SEEDS seeds where its study plans more (Study.pair's 'partial')."""
+def band(p, tol=rules.MARGIN):
+    """rules.band on a paired difference of the sweep's table (summary_paired.csv): None (pending:
+    fewer than 2 seeds, or fewer than FIRST_SEEDS where its study plans more: Study.pair's 'partial'),
+    else "within", "beyond", "resolved" or "unresolved" against +-tol of the reference's mean."""
     if paired_n(p) < 2 or p.get("partial"):
         return None
     d, h, ref = fnum(p["diff_mean"]), fnum(p["diff_ci95"]), fnum(p["ref_mean"])
     if d is None or h is None or not ref:
         return None
-    t = tol * abs(ref)
-    if abs(d) + h <= t:
-        return "within"
-    if abs(d) - h > t:
-        return "beyond"
-    return "resolved" if abs(d) > h else "unresolved"
+    return rules.band(rules.from_interval("paired", paired_n(p), d, h, paired_n(p) - 1, ref), tol)
 
 
 def rel_interval(p):
@@ -525,7 +518,7 @@ def friction_claims(fr, f06, cycles, mus):
     t18e, _ = diff_text(f06.pair("grains.friction", 1.0, "dissipated_energy"), digits=3)
     c18 = f"mu 0.6 -> 1.0, paired: {f06.qlabel} {t18} J/m2, dissipated energy (cycle {cycles}) {t18e} J"
     # "A few per cent": the whole 95% interval within +-10% of mu 0.6's W.
-    b18 = band(f06.pair("grains.friction", 1.0), 0.10)
+    b18 = band(f06.pair("grains.friction", 1.0))
     c18v = {None: "open (runs pending)",
             "within": "reproduced (the 95% interval within +-10%)",
             "beyond": "not reproduced (more than 10%, resolved)",
