@@ -247,11 +247,14 @@ def self_test(work):
         with open(os.path.join(work, rel), "w") as f:
             f.write(text)
 
-    write("src/dem/world.h", "struct World {\n    void step();\n    double time = 0;\n};\nvoid reset_energy();\n")
+    write("src/dem/world.h", "struct World {\n    void step();\n    double time = 0;\n    int ring_ = 0;\n};\n"
+                             "struct WorldRun {};\nvoid reset_energy();\n")
+    write("tests/test_world.cpp", "TEST(World, Steps) {}\n")
     write("scripts/run.sh", "#!/bin/sh\n")
     write("README.md", "# x\n\nRun `bash scripts/run.sh`; see [the model](docs/model.md).\n")
     write("docs/model.md", "# model\n\n`World::step()` advances `World::time`; `reset_energy()` starts over "
-                           "(`src/dem/world.h`, `docs/<name>.md`, [back](../README.md)).\n\n"
+                           "(`src/dem/world.h`, `dem/world.h`, `docs/<name>.md`, [back](../README.md)).\n"
+                           "`WorldRun`, `World`'s `ring_`; test `World.Steps`.\n\n"
                            "```\nbash scripts/gone.sh   # fenced: an example, not checked\n```\n")
 
     def run():
@@ -263,19 +266,26 @@ def self_test(work):
         sys.exit(f"self-test: a clean tree was refused:\n{out}")
     write("docs/bad.md", "# bad\n\nIt runs `bash scripts/removed.sh`.\n\n"
                          "The step calls `World::advance` and `gone_helper()`; "
-                         "see [there](missing.md) and [out](../../elsewhere/x.md).\n")
+                         "see [there](missing.md) and [out](../../elsewhere/x.md).\n"
+                         "`GoneRun`'s `top_`, in `dem/gone.h` (`../../shared/x.md`); test `World.StepsBack`.\n")
     rc, out = run()
     want = ["docs/bad.md:3: path 'scripts/removed.sh' does not exist",
             "docs/bad.md:5: identifier 'World::advance'",
             "docs/bad.md:5: function 'gone_helper()'",
             "docs/bad.md:5: link 'missing.md' does not exist",
-            "docs/bad.md:5: link '../../elsewhere/x.md' points outside the repository"]
+            "docs/bad.md:5: link '../../elsewhere/x.md' points outside the repository",
+            "docs/bad.md:6: identifier 'GoneRun' does not occur",
+            "docs/bad.md:6: identifier 'top_' does not occur",
+            "docs/bad.md:6: identifier 'GoneRun's top_'",
+            "docs/bad.md:6: path 'dem/gone.h' does not exist under src/",
+            "docs/bad.md:6: path '../../shared/x.md' points outside the repository",
+            "docs/bad.md:6: test 'World.StepsBack'"]
     missing = [w for w in want if w not in out]
     if rc == 0 or missing:
         sys.exit(f"self-test: the bad page was not refused as expected (exit {rc}; not named: {missing}):\n{out}")
     if "docs/model.md" in out or "README.md:" in out:
         sys.exit(f"self-test: a clean page was flagged:\n{out}")
-    print("self-test: the clean pages pass; the bad page's five dead references are named")
+    print(f"self-test: the clean pages pass; the bad page's {len(want)} dead references are named")
 
 
 def main(argv):
