@@ -14,7 +14,7 @@ the README.md of each folder under src/) is read, and each of the following it n
   file under src/), `function()` (the name must occur as a word under src/; `obj.method()` and
   `A::f()` by their last part, and the `::` rule too), "`Class`'s `member`" (as `Class::member`),
   a lone CamelCase name of two humps or more (`DamperRun`) or a name with a trailing underscore
-  (`top_ring_`: private data) (a word under src/ or tests/, where fixtures live);
+  (`top_ring_`: private data) (a word under src/ or tests/, where fixtures live, or a ctest name);
 - a test in backticks, `Suite.Name`: a gtest TEST(Suite, Name) under tests/ or a ctest name that
   CMakeLists.txt adds.
 
@@ -215,7 +215,7 @@ def check(root):
                     flag(n, f"function '{name}()': '{last}' does not occur under src/", name + "()")
             if TEST_RE.match(s) and s not in tests:
                 flag(n, f"test '{s}': no TEST({s.replace('.', ', ')}) under tests/ nor ctest entry", s)
-            if (CAMEL_RE.match(s) or MEMBER_RE.match(s)) and s not in words and s not in test_words:
+            if (CAMEL_RE.match(s) or MEMBER_RE.match(s)) and not ({s} & (words | test_words | tests)):
                 flag(n, f"identifier '{s}' does not occur under src/ or tests/", s)
         for n, line in lines:
             for m in OWNED_RE.finditer(line):
