@@ -22,7 +22,9 @@
 #                   (`vppdem sweep --report-only --publish`).
 #   Beside each pinned binary a COMMIT file names its commit; a binary of another commit than a
 #   study's published runs is refused (those builds predate build.json, by which the sweep itself
-#   refuses to mix builds).
+#   refuses to mix builds). The pinned builds predate --publish too: this build's
+#   `sweep --report-only --publish` puts the published records back into OUT before the pinned
+#   sweep runs, and publishes its finished runs and the COMMAND this script writes after it.
 #   OUT   run folders (default out/paper; checkpoints and full records, not in the repository)
 #   JOBS  runs at once (default: vppdem's choice, the free cores)
 #   DATA  where the records go (default docs/data/paper)
@@ -56,7 +58,7 @@ for s in "${studies[@]}"; do
     [ -x "$b" ] || { echo "paper_studies.sh: $s: no vppdem binary at $b (build: bash scripts/build.sh; a pinned one: mkdir -p DIR && cp build/vppdem DIR/ && git rev-parse HEAD > DIR/COMMIT)" >&2; exit 2; }
   done
 done
-# publish FILE DEST, restore_records DATA OUT, check_pinned COMMIT WHO DIR..., whole_knobs
+# whole_knobs WHO NAME...
 source scripts/publish.sh
 [ -z "$JOBS" ] || whole_knobs paper_studies.sh JOBS
 jobs_arg=()
@@ -66,8 +68,9 @@ failed=0
 for study in "${studies[@]}"; do
   f=$(folder "$study") bin=$(binary "$study")
   file=studies/paper/$study.toml
-  # Publishing: every finished case's records and the tables into DATA/f (the current build's
-  # report of the runs; it runs nothing and reads runs of any build).
+  # Publishing: the published records back into OUT/f first, then every finished case's records,
+  # the tables and OUT/f/COMMAND into DATA/f (the current build's report of the runs; it runs
+  # nothing and reads runs of any build).
   publish_cmd=("$VPPDEM_NOW" sweep "$file" --out "$OUT/$f" --report-only --mix-builds --publish "$DATA/$f" --no-plot --quiet)
   if [ $publish_only -eq 1 ]; then
     [ -d "$OUT/$f" ] && { "${publish_cmd[@]}" || failed=1; }
@@ -85,9 +88,21 @@ for study in "${studies[@]}"; do
     "${cmd[@]}" || failed=1
     continue
   fi
-  commit=$(cat "$(dirname "$bin")/COMMIT" 2>/dev/null || echo unknown)
-  check_pinned "$commit" paper_studies.sh "$DATA/$f" "$OUT/$f"
-  restore_records "$DATA/$f" "$OUT/$f"  # the pinned builds have no --publish
+  # One study, one build: the COMMAND of the published records and of the run folder names the
+  # pinned build of their runs; a binary of another commit, or without a COMMIT file, is refused.
+  commit=$(cat "$(dirname "$bin")/COMMIT" 2>/dev/null || true)
+  [ -n "$commit" ] || { echo "paper_studies.sh: no COMMIT file beside the binary: write the commit it was built from into it (see the script's header)" >&2; exit 2; }
+  for dir in "$DATA/$f" "$OUT/$f"; do
+    held=$(sed -n 's/.*(pinned build \([^)]*\)).*/\1/p' "$dir/COMMAND" 2>/dev/null | head -n 1 || true)
+    [ -z "$held" ] || [ "$held" = "$commit" ] || {
+      echo "paper_studies.sh: the runs in $dir came from the pinned build $held; this binary's COMMIT says $commit." >&2
+      echo "paper_studies.sh: one study, one build: rebuild $held and pin it (see the script's header), or give new DATA and OUT folders" >&2
+      exit 2
+    }
+  done
+  # The published records back (the pinned builds have no --publish); without them the pinned
+  # sweep would run again what is published.
+  "${publish_cmd[@]}" || { failed=1; continue; }
   cmd=("$bin" sweep "$file" --out "$OUT/$f" "${jobs_arg[@]}" --no-plot)
   echo "== $study: ${cmd[*]}"
   # The radius study's COMMAND names the whole study (its 25.5 mm rows are the same cases).
@@ -99,7 +114,5 @@ for study in "${studies[@]}"; do
   fi
   "${cmd[@]}" || failed=1
   "${publish_cmd[@]}" || failed=1
-  mkdir -p "$DATA/$f"
-  cmp -s "$OUT/$f/COMMAND" "$DATA/$f/COMMAND" 2>/dev/null || publish "$OUT/$f/COMMAND" "$DATA/$f/COMMAND"
 done
 exit $failed

@@ -129,46 +129,34 @@ TEST(Tools, KillResumeResumesEveryCheckpointARunForces) {
         << r.output;
 }
 
-// scripts/publish.sh, the functions the study scripts keep their records with, on hand-made run
-// folders (paths with a space, as a user's home may have): restoring puts the published cases back
-// into an empty run folder; one study, one build (check_pinned). (Saving the records is the
-// sweep's --publish now: Study.PublishKeepsTheSmallRecordsAndAnotherFolderResumesFromThem.)
-TEST(Tools, PublishedRecordsComeBackAndOneBuild) {
-    const fs::path d = scratch_path("tools", "publish records");
+// scripts/publish.sh, what the study scripts share beside `vppdem sweep --publish` (which alone
+// publishes a study's records: Study.PublishKeepsTheSmallRecordsAndAnotherFolderResumesFromThem):
+// a report output's copy into docs/ through a temporary name, its row in SOURCES.md (one per file
+// set, replaced by a newer one), and the knobs' check; on a folder with a space in its path, as a
+// user's home may have. And a study script's unknown argument, named.
+TEST(Tools, PublishShCopiesAReportsOutputsAndRecordsTheirCommand) {
+    const fs::path d = scratch_path("tools", "publish sh");
     fs::remove_all(d);
-    const fs::path data = d / "data", out = d / "o ut";
-    auto run = [](const fs::path& c, const std::string& w) {
-        fs::create_directories(c);
-        write_file(c / "case.toml", "seed = 1\n");
-        write_file(c / "cycles.csv", "cycle,W\n1," + w + "\n");
-        write_file(c / "summary.json", "{\"W\": " + w + "}\n");
-    };
-    for (const char* c : {"a", "b", "c"}) run(data / c, "1");
-    fs::create_directories(data / "x");  // not finished: not put back
-    write_file(data / "COMMAND", "vppdem sweep x (pinned build abc)\n");
-    run(out / "a", "2");
-    write_file(out / "COMMAND", "vppdem sweep x (pinned build abc)\n");
+    fs::create_directories(d / "docs");
+    write_file(d / "figure.png", "png");
     // In bash (the scripts' shell), from the scratch folder.
     auto in_bash = [&](const std::string& body) {
-        write_file(d / "t.sh", "set -euo pipefail\ncd \"$(dirname \"$0\")\"\nsource '" +
+        write_file(d / "t.sh", "set -euo pipefail\ncd \"$(dirname \"$0\")\"\nDOCS=docs\nsource '" +
                                    (kSource / "scripts/publish.sh").string() + "'\n" + body + "\n");
         return shell("bash '" + (d / "t.sh").string() + "'");
     };
-    Outcome r = in_bash("restore_records data back; ls back; restore_records data 'o ut'");
+    Outcome r = in_bash("publish figure.png docs/a.png; record 'a.png' 'make a'; record 'b.png' 'make b'; "
+                        "record 'a.png' 'make a again'; ls docs");
     ASSERT_EQ(r.status, 0) << r.output;
-    EXPECT_EQ(r.output, "a\nb\nc\n");
-    EXPECT_EQ(slurp(out / "a" / "summary.json"), "{\"W\": 2}\n");  // a run's own records stay
-    EXPECT_EQ(slurp(out / "b" / "summary.json"), "{\"W\": 1}\n");
-    // One study, one build: another commit, or none, is refused before anything runs.
-    r = in_bash("check_pinned abc me data 'o ut'; echo same");
-    EXPECT_EQ(r.status, 0);
-    EXPECT_NE(r.output.find("same"), std::string::npos);
-    r = in_bash("check_pinned def me data 'o ut'");
+    EXPECT_EQ(r.output, "a.png\ndata\n");
+    EXPECT_EQ(slurp(d / "docs" / "a.png"), "png");
+    const std::string sources = slurp(d / "docs" / "data" / "SOURCES.md");
+    EXPECT_EQ(sources.find("`make a` |"), std::string::npos) << sources;
+    EXPECT_NE(sources.find("| a.png | `make a again` |"), std::string::npos) << sources;
+    EXPECT_NE(sources.find("| b.png | `make b` |"), std::string::npos) << sources;
+    r = in_bash("SEEDS=0; whole_knobs me SEEDS");
     EXPECT_EQ(WEXITSTATUS(r.status), 2);
-    EXPECT_NE(r.output.find("came from the pinned build abc; this binary's COMMIT says def"), std::string::npos) << r.output;
-    r = in_bash("check_pinned unknown me data");
-    EXPECT_EQ(WEXITSTATUS(r.status), 2);
-    EXPECT_NE(r.output.find("no COMMIT file beside the binary"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("me: SEEDS = '0': must be an integer >= 1"), std::string::npos) << r.output;
     // An unknown argument is named, nothing run.
     r = shell("bash '" + (kSource / "scripts/grain_shapes.sh").string() + "' --publish-onyl");
     EXPECT_EQ(WEXITSTATUS(r.status), 2);
@@ -178,13 +166,14 @@ TEST(Tools, PublishedRecordsComeBackAndOneBuild) {
 
 // scripts/paper_studies.sh, a thin wrapper since the studies' branching and continuing moved into
 // study files (samples_from, continues: Study.ACaseBranchesFromAnotherStudysSampleByName,
-// Study.ASecondLegContinuesCopiesOfAnotherStudysRuns), on stand-in binaries that print their
-// arguments: a pinned study runs with its pinned binary after its published records are put back,
-// then this build publishes it (--report-only --publish) and its COMMAND names the pinned commit;
-// the study files with the newer keys (timestep, friction_8 and friction_8_seeds) are one command
-// of this build with --publish (the leg with --mix-builds); a pinned binary of another commit than
-// a study's published runs is refused before anything runs; --publish-only runs this build's
-// report alone; an unknown study is named.
+// Study.ASecondLegContinuesCopiesOfAnotherStudysRuns) and the publishing into --publish, on
+// stand-in binaries that print their arguments: a pinned study runs with its pinned binary between
+// two of this build's `--report-only --publish` (the first puts the published records back, the
+// second publishes the runs and the COMMAND, which names the pinned commit); the study files with
+// the newer keys (timestep, friction_8 and friction_8_seeds) are one command of this build with
+// --publish (the leg with --mix-builds); a pinned binary of another commit than a study's
+// published runs, or without a COMMIT file, is refused before anything runs; --publish-only runs
+// this build's report alone; an unknown study is named.
 TEST(Tools, PaperStudiesRunEachStudyFileWithItsBuildAndPublish) {
     const fs::path d = scratch_path("tools", "paper studies");
     fs::remove_all(d);
@@ -206,22 +195,33 @@ TEST(Tools, PaperStudiesRunEachStudyFileWithItsBuildAndPublish) {
     Outcome r = shell(env + script + " friction timestep friction_8");
     ASSERT_EQ(r.status, 0) << r.output;
     const std::string o = out.string(), p = data.string();
+    const std::string pinned_run = "PINNED sweep studies/paper/friction.toml --out " + o + "/friction --no-plot",
+                      report = "NOW sweep studies/paper/friction.toml --out " + o +
+                               "/friction --report-only --mix-builds --publish " + p + "/friction --no-plot --quiet";
     for (const std::string& want :
-         {"PINNED sweep studies/paper/friction.toml --out " + o + "/friction --no-plot",
-          "NOW sweep studies/paper/friction.toml --out " + o + "/friction --report-only --mix-builds --publish " + p +
-              "/friction --no-plot --quiet",
+         {pinned_run, report,
           "NOW sweep studies/paper/timestep.toml --out " + o + "/timestep --publish " + p + "/timestep --no-plot",
           "NOW sweep studies/paper/friction_8.toml --out " + o + "/friction_8 --publish " + p +
               "/friction_8 --mix-builds --no-plot"})
         EXPECT_NE(r.output.find(want), std::string::npos) << want << "\n" << r.output;
-    EXPECT_EQ(slurp(out / "friction" / "c1" / "summary.json"), "summary.json");  // put back before the run
-    EXPECT_NE(slurp(data / "friction" / "COMMAND").find("(pinned build abc)"), std::string::npos);
+    // The records put back before the pinned run, its runs published after it.
+    const std::size_t ran = r.output.find(pinned_run);
+    EXPECT_LT(r.output.find(report), ran) << r.output;
+    EXPECT_NE(r.output.find(report, ran), std::string::npos) << r.output;
+    EXPECT_NE(slurp(out / "friction" / "COMMAND").find(pinned_run.substr(7) + " (pinned build abc)"), std::string::npos)
+        << slurp(out / "friction" / "COMMAND");
     // Another commit than the published runs': refused, nothing run.
     write_file(data / "damping" / "COMMAND", "vppdem sweep damping (pinned build old)\n");
     r = shell(env + script + " damping");
     EXPECT_EQ(WEXITSTATUS(r.status), 2) << r.output;
     EXPECT_NE(r.output.find("came from the pinned build old; this binary's COMMIT says abc"), std::string::npos) << r.output;
     EXPECT_EQ(r.output.find("PINNED"), std::string::npos) << r.output;
+    fs::remove(pinned / "COMMIT");
+    r = shell(env + script + " friction");
+    EXPECT_EQ(WEXITSTATUS(r.status), 2) << r.output;
+    EXPECT_NE(r.output.find("no COMMIT file beside the binary"), std::string::npos) << r.output;
+    EXPECT_EQ(r.output.find("PINNED"), std::string::npos) << r.output;
+    write_file(pinned / "COMMIT", "abc\n");
     // --publish-only: this build's report and publishing alone.
     r = shell(env + script + " --publish-only friction");
     ASSERT_EQ(r.status, 0) << r.output;

@@ -1371,6 +1371,55 @@ TEST_F(Study, PublishKeepsTheSmallRecordsAndAnotherFolderResumesFromThem) {
     EXPECT_NE(b.output.find("done earlier"), std::string::npos) << b.output;
     EXPECT_FALSE(fs::exists(again / "grains.friction=0.3" / "prepared.ckpt"));  // nothing ran
     EXPECT_EQ(slurp(again / "summary.csv"), slurp(out / "summary.csv"));
+
+    // What scripts/publish.sh did in bash, now --publish's (issue 59, item 4):
+    // 1. --report-only --publish into an empty folder puts the records back too (a build without
+    //    --publish then resumes from them: scripts/paper_studies.sh's pinned builds) and
+    //    republishes the study as it was, byte for byte.
+    auto files_of = [](const fs::path& dir) {
+        std::map<std::string, std::string> m;
+        for (const auto& e : fs::recursive_directory_iterator(dir))
+            if (e.is_regular_file()) m[fs::relative(e.path(), dir).string()] = slurp(e.path());
+        return m;
+    };
+    const auto published = files_of(results);
+    const fs::path empty = scratch("publish_empty");
+    fs::remove_all(empty);
+    fs::create_directories(empty);
+    const Outcome e = run("sweep " + study.string() + " --out " + empty.string() + " --report-only --publish " +
+                          results.string());
+    ASSERT_EQ(e.status, 0) << e.output;
+    EXPECT_NE(e.output.find("2 finished case(s) restored"), std::string::npos) << e.output;
+    EXPECT_NE(e.output.find("2 of 2 cases finished"), std::string::npos) << e.output;
+    for (const char* f : {"case.toml", "cycles.csv", "summary.json", "build.json"})
+        EXPECT_EQ(slurp(empty / "grains.friction=0.3" / f), slurp(out / "grains.friction=0.3" / f)) << f;
+    EXPECT_EQ(slurp(empty / "summary.csv"), slurp(out / "summary.csv"));
+    EXPECT_EQ(files_of(results), published);
+    // 2. The run folder's COMMAND (the note a script writes of a build without --publish) is
+    //    published with the records, and again only when it changed.
+    write_file(out / "COMMAND", "vppdem sweep publish.toml (pinned build abc)\n");
+    ASSERT_EQ(run("sweep " + study.string() + " --out " + out.string() + " --report-only --quiet --publish " +
+                  results.string()).status, 0);
+    EXPECT_EQ(slurp(results / "COMMAND"), "vppdem sweep publish.toml (pinned build abc)\n");
+    // 3. An assembled study folder (scripts/paper_report.sh: copies of published runs without
+    //    their case.toml, sources.csv naming them, the study's COMMAND): its tables, sources.csv
+    //    and COMMAND are published, its case folders are not (they stay where they came from).
+    const fs::path assembly = scratch("publish_assembly"), report = scratch("publish_report");
+    for (const fs::path& p : {assembly, report}) fs::remove_all(p);
+    for (const char* c : {"grains.friction=0.3", "grains.friction=0.6"}) {
+        fs::create_directories(assembly / c);
+        for (const char* f : {"cycles.csv", "summary.json"}) fs::copy_file(results / c / f, assembly / c / f);
+    }
+    write_file(assembly / "sources.csv", "case,source\ngrains.friction=0.3,x/grains.friction=0.3\n");
+    write_file(assembly / "COMMAND", "the study's command\n");
+    const Outcome a = run("sweep " + study.string() + " --out " + assembly.string() + " --report-only --quiet --publish " +
+                          report.string());
+    ASSERT_EQ(a.status, 0) << a.output;
+    EXPECT_EQ(entries(report), (std::vector<std::string>{"COMMAND", "sources.csv", "summary.csv", "summary_cases.csv"}));
+    EXPECT_EQ(slurp(report / "summary.csv"), slurp(assembly / "summary.csv"));
+    EXPECT_EQ(table_of(report / "summary.csv").size(), 2u);
+    for (const auto& row : table_of(report / "summary.csv")) EXPECT_EQ(row.at("status"), "ok");
+    for (const fs::path& p : {empty, assembly, report}) fs::remove_all(p);
 }
 
 }  // namespace test_study

@@ -1,6 +1,7 @@
 // A World changed by hand between steps (walls or particles added, flags set): what the API
 // accepts keeps the state consistent, and what it cannot make consistent it refuses with a
-// message, before anything is changed.
+// message, before anything is changed. And the kinetic energy the applications read off the
+// particle arrays.
 #include <gtest/gtest.h>
 
 #include <bit>
@@ -142,4 +143,80 @@ TEST(WorldByHand, RefusesWhatItCannotMakeConsistent) {
     EXPECT_EQ(w.wall_count(), nw);
     EXPECT_EQ(w.broken_invariant(), nullptr);
     run(w, 10);  // and it still steps
+}
+
+// dem::kinetic_energy (dem/core/particles.h), the one sum the damper, the devices and the foil's
+// envelope check read to tell a sample at rest: which particles count, and the same bits as the
+// loops it replaced.
+namespace {
+
+// Five spheres by hand: free ones, one fixed (inverse mass and inertia 0) and one prescribed
+// (inverse mass 0, turning freely) that still carry a velocity, so that leaving them out shows.
+Particles five_spheres() {
+    Particles p;
+    const double mass[] = {2.0, 0.5, 3.0, 1.25, 0.1};
+    const Vec3 vel[] = {{1, 0, 0}, {0.3, -0.2, 0.1}, {5, 5, 5}, {0, 0, -2}, {1e-3, 2e-3, -3e-3}};
+    const Vec3 angvel[] = {{0, 0, 1}, {2, 0, 0}, {9, 9, 9}, {0.5, 0.5, 0}, {10, -10, 10}};
+    for (int i = 0; i < 5; ++i) {
+        p.pos.push_back({double(i), 0, 0});
+        p.vel.push_back(vel[i]);
+        p.angvel.push_back(angvel[i]);
+        p.mass.push_back(mass[i]);
+        p.inv_mass.push_back(1.0 / mass[i]);
+        p.inv_inertia.push_back(1.0 / (0.4 * mass[i] * 0.01 * 0.01));
+        p.flags.push_back(0);
+    }
+    p.inv_mass[2] = p.inv_inertia[2] = 0.0;  // fixed
+    p.flags[2] = kFixed;
+    p.inv_mass[3] = 0.0;  // prescribed: its translation follows a motion
+    p.flags[3] = kPrescribed;
+    return p;
+}
+
+}  // namespace
+
+TEST(Particles, KineticEnergyCountsTheFreeParticlesOnly) {
+    const Particles p = five_spheres();
+    const KineticEnergy e = kinetic_energy(p, 0, 5);
+    // Translation: particles 0, 1 and 4; rotation: 0, 1, 3 and 4.
+    double t = 0, r = 0;
+    for (int i : {0, 1, 4}) t += 0.5 * p.mass[i] * norm2(p.vel[i]);
+    for (int i : {0, 1, 3, 4}) r += 0.5 / p.inv_inertia[i] * norm2(p.angvel[i]);
+    EXPECT_EQ(bits(e.translation), bits(t));
+    EXPECT_EQ(bits(e.rotation), bits(r));
+    EXPECT_EQ(bits(e.total()), bits(t + r));
+    EXPECT_DOUBLE_EQ(e.translation, 0.5 * 2.0 * 1.0 + 0.5 * 0.5 * 0.14 + 0.5 * 0.1 * 14e-6);
+    // A range and a list of the same indices give the same bits; a list is summed in its order.
+    const std::vector<uint32_t> ids = {0, 1, 2, 3, 4};
+    const KineticEnergy l = kinetic_energy(p, ids);
+    EXPECT_EQ(bits(l.translation), bits(e.translation));
+    EXPECT_EQ(bits(l.rotation), bits(e.rotation));
+    const std::vector<uint32_t> some = {4, 0};
+    EXPECT_EQ(bits(kinetic_energy(p, some).translation),
+              bits(0.5 * p.mass[4] * norm2(p.vel[4]) + 0.5 * p.mass[0] * norm2(p.vel[0])));
+    // Nothing to sum: zero.
+    EXPECT_EQ(kinetic_energy(p, 3, 3).total(), 0.0);
+    EXPECT_EQ(kinetic_energy(p, std::span<const uint32_t>{}).total(), 0.0);
+}
+
+// The loops it replaced, as they were written: the damper's and the devices' grains (every sphere
+// of a range, translation; grains are free) and the envelope's foil nodes (two passes, translation
+// then rotation, each over the free ones), summed as they summed.
+TEST(Particles, KineticEnergyGivesTheBitsOfTheLoopsItReplaced) {
+    Particles p = five_spheres();
+    p.inv_mass[2] = 1.0 / p.mass[2];  // every grain free, as a damper's are
+    p.inv_mass[3] = 1.0 / p.mass[3];
+    double grains = 0;
+    for (uint32_t i = 1; i < 5; ++i) grains += 0.5 * p.mass[i] * norm2(p.vel[i]);
+    EXPECT_EQ(bits(kinetic_energy(p, 1, 5).translation), bits(grains));
+    p = five_spheres();
+    const std::vector<uint32_t> nodes = {3, 1, 4, 0, 2};
+    double tr = 0, rot = 0;
+    for (uint32_t i : nodes)
+        if (p.inv_mass[i] != 0.0) tr += 0.5 * p.mass[i] * norm2(p.vel[i]);
+    for (uint32_t i : nodes)
+        if (p.inv_inertia[i] != 0.0) rot += 0.5 / p.inv_inertia[i] * norm2(p.angvel[i]);
+    const KineticEnergy e = kinetic_energy(p, nodes);
+    EXPECT_EQ(bits(e.translation), bits(tr));
+    EXPECT_EQ(bits(e.total()), bits(tr + rot));
 }

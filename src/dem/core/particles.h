@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "dem/core/vec3.h"
@@ -57,5 +58,21 @@ struct Particles {
 // Whether particle i moves under forces: free spheres and clump members (whose inverse mass is
 // 0 because their clump, not the particle integrator, moves them).
 inline bool moves(const Particles& p, std::size_t i) { return p.inv_mass[i] != 0.0 || (p.flags[i] & kClumpMember); }
+
+// The kinetic energy of some particles from their stored half-step velocities (vel, angvel), as
+// the applications read it to tell a sample at rest: translation over the free particles
+// (inv_mass != 0; fixed and prescribed particles and clump members are left out: a clump's is
+// World::clump_kinetic_energy), rotation over those free to rotate (inv_inertia != 0), each summed
+// in index order. Not the energy ledger's K (dem/core/energy.h), which averages the two half
+// steps around t.
+struct KineticEnergy {
+    double translation = 0;  // [J] sum 1/2 m v^2
+    double rotation = 0;     // [J] sum 1/2 I w^2, I = 1 / inv_inertia
+    double total() const { return translation + rotation; }
+};
+// The particles named by `ids` (a foil's nodes), in that order.
+KineticEnergy kinetic_energy(const Particles& p, std::span<const uint32_t> ids);
+// The particles first .. end - 1 (a scene's grains).
+KineticEnergy kinetic_energy(const Particles& p, uint32_t first, uint32_t end);
 
 }  // namespace dem

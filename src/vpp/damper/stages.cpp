@@ -18,16 +18,15 @@ namespace vpp::damper_detail::stages {
 
 namespace {
 
-// The grains' kinetic energy [J]: the spheres g0 .. g1, or every clump (the damper's clumps are
-// its grains; their members' inverse mass is 0).
+// The grains' kinetic energy [J]: the spheres g0 .. g1's translation, or every clump's translation
+// and rotation (the damper's clumps are its grains; their members' inverse mass is 0).
 double grains_kinetic_energy(const dem::World& w, uint32_t g0, uint32_t g1) {
     double e = 0;
     if (!w.clumps().empty()) {
         for (std::size_t k = 0; k < w.clumps().size(); ++k) e += w.clump_kinetic_energy(k);
         return e;
     }
-    for (uint32_t i = g0; i < g1; ++i) e += 0.5 * w.particles.mass[i] * norm2(w.particles.vel[i]);
-    return e;
+    return dem::kinetic_energy(w.particles, g0, g1).translation;
 }
 
 // Yade's unbalanced force: mean net force on free particles over mean contact force.

@@ -561,9 +561,7 @@ void DeviceRun::warn(const std::string& what) {
 }
 
 double DeviceRun::grains_kinetic_energy() const {
-    double e = 0;
-    for (uint32_t i = first_grain_; i < end_grain_; ++i) e += 0.5 * world_.particles.mass[i] * norm2(world_.particles.vel[i]);
-    return e;
+    return dem::kinetic_energy(world_.particles, first_grain_, end_grain_).translation;
 }
 
 bool DeviceRun::step(DeviceStage stage, double dp_set) {

@@ -14,26 +14,6 @@ namespace vpp {
 
 namespace fs = std::filesystem;
 
-namespace {
-double translational_energy(const dem::World& w, const std::vector<uint32_t>& ids) {
-    const auto& p = w.particles;
-    double e = 0;
-    for (uint32_t i : ids)
-        if (p.inv_mass[i] != 0.0) e += 0.5 * p.mass[i] * norm2(p.vel[i]);
-    return e;
-}
-double rotational_energy(const dem::World& w, const std::vector<uint32_t>& ids) {
-    const auto& p = w.particles;
-    double e = 0;
-    for (uint32_t i : ids)
-        if (p.inv_inertia[i] != 0.0) e += 0.5 / p.inv_inertia[i] * norm2(p.angvel[i]);
-    return e;
-}
-double kinetic_energy(const dem::World& w, const std::vector<uint32_t>& ids) {
-    return translational_energy(w, ids) + rotational_energy(w, ids);
-}
-}  // namespace
-
 EnvelopeResult run_envelope(const Config& c, const std::string& out_dir, bool quiet) {
     dem::World w;
     w.params.gravity = {0, 0, -9.81};
@@ -85,9 +65,10 @@ EnvelopeResult run_envelope(const Config& c, const std::string& out_dir, bool qu
         if (t + eps >= next_out * out_dt) {
             const double gap = min_nonbonded_gap(L, w);
             r.min_gap = std::min(r.min_gap, gap);
-            const double ke = kinetic_energy(w, L.particles);
+            const dem::KineticEnergy e = dem::kinetic_energy(w.particles, L.particles);
+            const double ke = e.total();
             r.peak_kinetic_energy = std::max(r.peak_kinetic_energy, ke);
-            r.peak_translational_energy = std::max(r.peak_translational_energy, translational_energy(w, L.particles));
+            r.peak_translational_energy = std::max(r.peak_translational_energy, e.translation);
             if (csv) csv->row({t, w.pressure.dp, enclosed_volume(L, w.particles.pos), ke, gap});
             while (t + eps >= next_out * out_dt) ++next_out;
         }
@@ -102,8 +83,9 @@ EnvelopeResult run_envelope(const Config& c, const std::string& out_dir, bool qu
         progress.update(s + 1, w.time);
     }
     r.final_volume_ratio = enclosed_volume(L, w.particles.pos) / r.initial_volume;
-    r.final_kinetic_energy = kinetic_energy(w, L.particles);
-    r.final_translational_energy = translational_energy(w, L.particles);
+    const dem::KineticEnergy e = dem::kinetic_energy(w.particles, L.particles);
+    r.final_kinetic_energy = e.total();
+    r.final_translational_energy = e.translation;
     for (uint32_t i : L.particles)
         r.max_radial_excursion = std::max(r.max_radial_excursion, std::hypot(w.particles.pos[i].x, w.particles.pos[i].y));
     if (csv) csv->close();

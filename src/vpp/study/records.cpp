@@ -552,14 +552,16 @@ std::size_t publish_records(const fs::path& results, const fs::path& out, const 
         const fs::path run = out / cases[i].name;
         if (outcomes[i].ok) {
             ++finished;
-            for (const std::string& f : kRunRecords)
-                if (fs::exists(run / f)) dem::copy_text_if_changed(run / f, results / cases[i].name / f);
+            if (fs::exists(run / "case.toml"))
+                for (const std::string& f : kRunRecords)
+                    if (fs::exists(run / f)) dem::copy_text_if_changed(run / f, results / cases[i].name / f);
         }
         held += fs::exists(results / cases[i].name / "summary.json");
     }
     if (finished >= ok_rows(results / "summary.csv"))
         for (const std::string& f : kStudyTables)
             if (fs::exists(out / f)) dem::copy_text_if_changed(out / f, results / f);
+    if (fs::exists(out / kStudyCommand)) dem::copy_text_if_changed(out / kStudyCommand, results / kStudyCommand);
     return held;
 }
 

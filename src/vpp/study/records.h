@@ -151,24 +151,34 @@ std::vector<std::vector<std::size_t>> ensemble_groups(const Study& s, const std:
 std::string write_study_tables(const std::filesystem::path& out, const Study& s, const std::vector<StudyCase>& cases,
                                const std::vector<CaseOutcome>& outcomes);
 
-// Publishing a study's small records (SweepOptions::publish, `--publish RESULTS`): what a
-// repository keeps of each finished case, kRunRecords, and the study's tables, while the run
-// folders (checkpoints, forces.csv, frames) stay on the machine.
+// Publishing a study's small records (SweepOptions::publish, `--publish RESULTS`), the one way a
+// study's records reach a repository (the scripts under scripts/ only call it): what it keeps of
+// each finished case, kRunRecords, and the study's tables, while the run folders (checkpoints,
+// forces.csv, frames) stay on the machine.
 inline const std::vector<std::string> kRunRecords = {"case.toml", "summary.json", "cycles.csv", "build.json"};
-inline const std::vector<std::string> kStudyTables = {"summary.csv", "summary_cases.csv", "summary_paired.csv"};
+// The tables: the sweep's, and sources.csv, which an assembled study folder has (the paper
+// report's: which published run each case folder is; python3 -m vppdem.report paper assemble).
+inline const std::vector<std::string> kStudyTables = {"summary.csv", "summary_cases.csv", "summary_paired.csv",
+                                                      "sources.csv"};
+// The study folder's note of the command that ran it, written by a script that runs a build
+// without --publish (scripts/paper_studies.sh: "... (pinned build <commit>)"), published with the
+// records whenever the run folder has one.
+inline const std::string kStudyCommand = "COMMAND";
 
-// The published records back into the run folders before a study runs: each case of `cases`
-// with RESULTS/<case>/summary.json whose run folder has neither summary.json nor run.ckpt gets
-// them (so the sweep takes it as finished, or continues it to more cycles if it has a run.ckpt
-// elsewhere: refused, as any records without one). Returns how many cases were restored.
+// The published records back into the run folders before a study runs or is reported: each case
+// of `cases` with RESULTS/<case>/summary.json whose run folder has neither summary.json nor
+// run.ckpt gets them (so the sweep takes it as finished, or continues it to more cycles if it has
+// a run.ckpt elsewhere: refused, as any records without one). Returns how many cases were restored.
 std::size_t restore_published(const std::filesystem::path& results, const std::filesystem::path& out,
                               const std::vector<StudyCase>& cases);
 
 // Every finished case's records (its outcome ok: records complete for this study, as the sweep or
 // the report read them) into RESULTS/<case>/, each file only when it changed, through a temporary
-// name (a reader never sees half a file); then the study's tables, unless the published
-// summary.csv lists more finished cases (a sweep of part of the study). Returns how many cases
-// RESULTS holds.
+// name (a reader never sees half a file), if its folder has a case.toml (records that say which
+// case they are: an assembled folder's copies of published runs, which have none, stay where
+// they came from); then the study's tables, unless the published summary.csv lists more finished
+// cases (a sweep of part of the study); then OUT/COMMAND, when there is one. Returns how many
+// cases RESULTS holds.
 std::size_t publish_records(const std::filesystem::path& results, const std::filesystem::path& out,
                             const std::vector<StudyCase>& cases, const std::vector<CaseOutcome>& outcomes);
 

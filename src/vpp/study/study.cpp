@@ -40,10 +40,13 @@ fs::path sibling_study_folder(const std::string& out_dir, const std::string& nam
     return p.is_relative() ? fs::path(out_dir).parent_path() / p : p;
 }
 
-// --report-only: the tables from the records already in DIR. Only reads: no case folder, FAILED
-// marker or case.toml is written, so a sweep running into DIR at the same time is not disturbed
-// (a case it finishes meanwhile is either read whole or not at all: summary.json is written
-// last and atomically).
+// --report-only: the tables from the records already in DIR. No FAILED marker or case.toml is
+// written, so a sweep running into DIR at the same time is not disturbed (a case it finishes
+// meanwhile is either read whole or not at all: summary.json is written last and atomically).
+// With --publish the published records DIR lacks come back first, as before a sweep (only into
+// case folders with neither summary.json nor run.ckpt: a sweep with the same --publish has put
+// them back before it started, so none of them is running): the report then covers every
+// finished case, and a build without --publish can resume from them (scripts/paper_studies.sh).
 SweepResult report_sweep(const Study& s, const SweepOptions& opt, SweepResult res) {
     const fs::path out(opt.out_dir);
     if (!fs::is_directory(out))
@@ -51,6 +54,11 @@ SweepResult report_sweep(const Study& s, const SweepOptions& opt, SweepResult re
                           " (--report-only reads the cases a sweep finished there and runs nothing)");
     res.outcomes.assign(res.cases.size(), CaseOutcome{});
     if (opt.rank != 0) return res;
+    if (!opt.publish.empty()) {
+        const std::size_t n = restore_published(opt.publish, out, res.cases);
+        if (n && !opt.quiet)
+            std::fprintf(stderr, "sweep --report-only: %zu finished case(s) restored from %s\n", n, opt.publish.c_str());
+    }
     std::size_t finished = 0;
     for (std::size_t i = 0; i < res.cases.size(); ++i) {
         const StudyCase& c = res.cases[i];

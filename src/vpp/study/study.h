@@ -36,8 +36,8 @@ struct SweepOptions {
     // writing summary.csv. The folder stays resumable: finished cases keep their summary.json,
     // a stopped case restarts from its last run.ckpt (or from its start).
     std::function<bool(std::size_t done, std::size_t total, const std::string& name)> progress;
-    // Report only (`--report-only`): run, prepare and plot nothing, touch no case folder; read
-    // the cases finished in out_dir (which must exist: ConfigError naming it otherwise) as a
+    // Report only (`--report-only`): run, prepare and plot nothing, touch no case folder but to
+    // put published records back (with publish); read the cases finished in out_dir (which must exist: ConfigError naming it otherwise) as a
     // resumed sweep does, and write its tables, the other cases marked "not run". A study that
     // runs over many sessions gets its interim tables, and a newer build re-analyses old records
     // (read_case_outcome recomputes the stationary loops) without running them again. Rank 0 alone
@@ -53,9 +53,10 @@ struct SweepOptions {
     // both builds): a study's table would mix the results of two builds unknowingly.
     bool mix_builds = false;
     // Publish the small records into this folder (`--publish RESULTS`; empty: none): before the
-    // cases run, the published records of cases the run folder lacks are put back
-    // (restore_published: they count as finished); after the tables, every finished case's
-    // records and the tables go there (publish_records). With report_only too (no restore).
+    // cases run (or are reported), the published records of cases the run folder lacks are put
+    // back (restore_published: they count as finished); after the tables, every finished case's
+    // records, the tables and the folder's COMMAND go there (publish_records). With report_only
+    // too.
     std::string publish;
 };
 
