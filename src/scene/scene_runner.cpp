@@ -118,6 +118,242 @@ void check_initial_overlaps(const Scene& sc, double tolerance) {
                             "them apart, or raise simulation.max_initial_overlap to start them so on purpose");
 }
 
+// The scene's parts, each from its array of tables in the order build_scene reads them; every key
+// through the scene's settings table (scene/scene_settings.cpp): its default, its check.
+using Materials = std::map<std::string, uint32_t>;  // the World's material index by name
+
+// [[materials]]
+Materials add_materials(Section& top, dem::World& w) {
+    Materials by_name;
+    for (SceneSection m : entries(top, "materials")) {
+        dem::Material mat;
+        mat.name = m.string("name");
+        if (by_name.count(mat.name)) m.fail("name", "duplicate material name");
+        mat.density = m.real("density");
+        mat.young = m.real("young");
+        mat.stiffness_ratio = m.real("stiffness_ratio");
+        mat.friction = m.real("friction");
+        mat.restitution = m.real("restitution");
+        m.finish();
+        by_name[mat.name] = w.add_material(mat);
+    }
+    return by_name;
+}
+
+// [[spheres]]: one sphere each, free, fixed or prescribed.
+void add_spheres(Section& top, const Materials& by_name, Scene& sc) {
+    dem::World& w = sc.world;
+    for (SceneSection s : entries(top, "spheres")) {
+        dem::SphereDef d;
+        d.material = material_index(s, by_name);
+        d.radius = s.real("radius");
+        d.position = s.vec3("position");
+        d.velocity = s.vec3("velocity");
+        d.angular_velocity = s.vec3("angular_velocity");
+        d.mask = read_mask(s);
+        if (s.flag("fixed")) d.flags |= dem::kFixed;
+        // Prescribed motion: `prescribed = true` keeps `velocity` constant whatever the forces;
+        // a `displacement` history [[t, dx, dy, dz], ...] moves the sphere along it instead.
+        const bool prescribed = s.flag("prescribed") || s.has("displacement");
+        std::optional<dem::Motion> motion;
+        if (prescribed) {
+            if (d.flags & dem::kFixed) s.fail("prescribed", "a sphere cannot be both fixed and prescribed");
+            motion = read_motion(s);
+        }
+        const bool track = s.flag("track");
+        s.finish();
+        const uint32_t id = w.add_sphere(d);
+        if (motion) w.set_prescribed(id, w.add_motion(*motion));
+        if (track) sc.tracked.push_back(id);
+        sc.sphere_origin.push_back({-1, uint32_t(sc.sphere_origin.size())});
+    }
+}
+
+// [[sphere_files]]: a sphere per row (x, y, z, r) of a CSV file.
+void add_sphere_files(Section& top, const Materials& by_name, const std::string& base_dir, Scene& sc) {
+    dem::World& w = sc.world;
+    int32_t file_index = 0;
+    for (SceneSection s : entries(top, "sphere_files")) {
+        const fs::path path = resolve(base_dir, s.string("path"));
+        dem::SphereDef d;
+        d.material = material_index(s, by_name);
+        d.velocity = s.vec3("velocity");
+        d.mask = read_mask(s);
+        if (s.flag("fixed")) d.flags |= dem::kFixed;
+        const bool track = s.flag("track");
+        s.finish();
+        std::vector<std::vector<double>> rows;
+        try {
+            rows = dem::read_numeric_csv(path.string(), 4);
+        } catch (const std::exception& e) {
+            s.fail("path", e.what());
+        }
+        for (std::size_t k = 0; k < rows.size(); ++k) {
+            d.position = {rows[k][0], rows[k][1], rows[k][2]};
+            d.radius = rows[k][3];
+            for (int c = 0; c < 4; ++c)
+                if (!std::isfinite(rows[k][std::size_t(c)]))
+                    s.fail("path", "row " + std::to_string(k + 1) + " of '" + path.string() + "' holds " +
+                                       std::to_string(rows[k][std::size_t(c)]) + " in column " + "xyzr"[c] +
+                                       ": must be a finite number");
+            if (!(d.radius > 0.0))
+                s.fail("path", "row " + std::to_string(k + 1) + " of '" + path.string() + "' has radius <= 0");
+            const uint32_t id = w.add_sphere(d);
+            if (track) sc.tracked.push_back(id);
+            sc.sphere_origin.push_back({file_index, uint32_t(k)});
+        }
+        sc.sphere_file_paths.push_back(path.string());
+        ++file_index;
+    }
+}
+
+// [[clumps]]: a rigid clump each, of a built-in shape or a template file.
+void add_clumps(Section& top, const Materials& by_name, const std::string& base_dir, Scene& sc) {
+    dem::World& w = sc.world;
+    uint32_t clump_entry = 0;
+    for (SceneSection s : entries(top, "clumps")) {
+        dem::ClumpDef d;
+        d.material = material_index(s, by_name);
+        const std::string shape = s.string("shape");
+        std::optional<double> radius;
+        if (s.has("radius")) radius = s.real("radius");
+        dem::ClumpShape cs;
+        try {
+            if (shape == "template") {
+                if (!s.has("template")) s.fail("template", "is required with shape = \"template\"");
+                const fs::path path = resolve(base_dir, s.string("template"));
+                try {
+                    cs = read_clump_template(path.string());
+                } catch (const std::exception& e) {
+                    s.fail("template", e.what());
+                }
+                if (radius) cs = dem::scaled_to_radius(cs, *radius);
+            } else {
+                if (s.has("template")) s.fail("template", "is only read with shape = \"template\"");
+                if (!radius) s.fail("radius", "is required with a built-in shape (the volume-equivalent radius)");
+                cs = dem::builtin_clump_shape(shape, *radius);
+            }
+        } catch (const std::invalid_argument& e) {
+            s.fail(shape == "template" ? "template" : "shape", e.what());
+        }
+        d.position = s.vec3("position");
+        const dem::Vec3 rot = s.vec3("orientation");
+        const double angle = norm(rot);
+        if (angle > 0.0) {
+            const dem::Vec3 u = rot / angle;
+            const double sh = std::sin(0.5 * angle);
+            d.orientation = {std::cos(0.5 * angle), u.x * sh, u.y * sh, u.z * sh};
+        }
+        d.velocity = s.vec3("velocity");
+        d.angular_velocity = s.vec3("angular_velocity");
+        d.mask = read_mask(s);
+        s.finish();
+        w.add_clump(cs, d);
+        for (std::size_t m = 0; m < cs.members.size(); ++m) sc.sphere_origin.push_back({-2, clump_entry});
+        ++clump_entry;
+    }
+}
+
+// [[planes]]
+void add_planes(Section& top, const Materials& by_name, Scene& sc) {
+    dem::World& w = sc.world;
+    for (SceneSection s : entries(top, "planes")) {
+        dem::Plane p;
+        p.material = material_index(s, by_name);
+        p.point = s.vec3("point");
+        p.normal = s.vec3("normal");
+        if (dem::norm(p.normal) == 0.0) s.fail("normal", s.row("normal").limits.allowed);
+        p.one_sided = s.flag("one_sided");
+        p.mask = read_mask(s);
+        p.motion = read_motion(s);
+        s.finish();
+        sc.wall_members.push_back({uint32_t(w.add_plane(p))});
+        sc.wall_names.push_back(s.path());
+    }
+}
+
+// [[facets]]: one triangle each, after every plane (the World numbers walls planes first).
+void add_facets(Section& top, const Materials& by_name, Scene& sc) {
+    dem::World& w = sc.world;
+    const uint32_t nplanes = uint32_t(w.planes.size());
+    for (SceneSection s : entries(top, "facets")) {
+        dem::Facet f;
+        f.material = material_index(s, by_name);
+        const toml::node* n = s.node("vertices");
+        const toml::array* a = n->as_array();
+        if (!a || a->size() != 3) s.fail("vertices", "must be 3 points [[x,y,z],[x,y,z],[x,y,z]]");
+        for (int v = 0; v < 3; ++v) {
+            const toml::array* r = a->get(v)->as_array();
+            if (!r || r->size() != 3) s.fail("vertices", "must be 3 points [[x,y,z],[x,y,z],[x,y,z]]");
+            for (int k = 0; k < 3; ++k) {
+                auto x = r->get(k)->value<double>();
+                if (!x) s.fail("vertices", "coordinates must be numbers");
+                if (!std::isfinite(*x)) s.fail("vertices", "coordinates must be finite numbers");
+                f.vertices[v][k] = *x;
+            }
+        }
+        if (dem::norm(dem::cross(f.vertices[1] - f.vertices[0], f.vertices[2] - f.vertices[0])) == 0.0)
+            s.fail("vertices", "the triangle has zero area");
+        f.one_sided = s.flag("one_sided");
+        f.mask = read_mask(s);
+        f.motion = read_motion(s);
+        s.finish();
+        sc.wall_members.push_back({nplanes + w.add_facet(f)});
+        sc.wall_names.push_back(s.path());
+    }
+}
+
+// [[facet_sets]]: triangles made (cylinder, funnel) or read (STL), one output wall each.
+void add_facet_sets(Section& top, const Materials& by_name, const std::string& base_dir, Scene& sc) {
+    dem::World& w = sc.world;
+    const uint32_t nplanes = uint32_t(w.planes.size());
+    for (SceneSection s : entries(top, "facet_sets")) {
+        const std::string type = s.string("type");
+        std::vector<dem::Facet> fs;
+        try {
+            // Arguments in the order of the calls' parameters (function arguments have no
+            // order of evaluation, and a message should name the first bad key).
+            if (type == "cylinder") {
+                const Vec3 base = s.vec3("base");
+                const double radius = s.real("radius"), height = s.real("height");
+                const int segments = int(s.integer("segments"));
+                fs = dem::make_cylinder_facets(base, radius, height, segments, s.flag("inward"));
+            } else if (type == "funnel") {
+                const Vec3 base = s.vec3("base");
+                const double bottom = s.real("bottom_radius"), top_r = s.real("top_radius");
+                const double height = s.real("height");
+                const int segments = int(s.integer("segments"));
+                fs = dem::make_funnel_facets(base, bottom, top_r, height, segments, s.flag("inward"));
+            } else if (type == "stl") {
+                const std::string path = resolve(base_dir, s.string("path")).string();
+                fs = dem::read_stl(path, s.real("scale"));
+            } else {
+                s.fail("type", s.row("type").limits.allowed);
+            }
+        } catch (const std::invalid_argument& e) {
+            s.fail("type", e.what());
+        } catch (const std::runtime_error& e) {
+            if (dynamic_cast<const ConfigError*>(&e)) throw;
+            s.fail("path", e.what());
+        }
+        const uint32_t material = material_index(s, by_name);
+        const bool one_sided = s.flag("one_sided");
+        const uint32_t mask = read_mask(s);
+        const dem::Motion motion = read_motion(s);
+        s.finish();
+        std::vector<uint32_t> members;
+        for (dem::Facet f : fs) {
+            f.material = material;
+            f.one_sided = one_sided;
+            f.mask = mask;
+            f.motion = motion;
+            members.push_back(nplanes + w.add_facet(f));
+        }
+        sc.wall_members.push_back(members);
+        sc.wall_names.push_back(s.path());
+    }
+}
+
 }  // namespace
 
 std::string sphere_name(const Scene& sc, uint32_t id) {
@@ -169,205 +405,13 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     w.params.track_energy = out.flag("energy");
     out.finish();
 
-    std::map<std::string, uint32_t> by_name;
-    for (SceneSection m : entries(top, "materials")) {
-        dem::Material mat;
-        mat.name = m.string("name");
-        if (by_name.count(mat.name)) m.fail("name", "duplicate material name");
-        mat.density = m.real("density");
-        mat.young = m.real("young");
-        mat.stiffness_ratio = m.real("stiffness_ratio");
-        mat.friction = m.real("friction");
-        mat.restitution = m.real("restitution");
-        m.finish();
-        by_name[mat.name] = w.add_material(mat);
-    }
-
-    for (SceneSection s : entries(top, "spheres")) {
-        dem::SphereDef d;
-        d.material = material_index(s, by_name);
-        d.radius = s.real("radius");
-        d.position = s.vec3("position");
-        d.velocity = s.vec3("velocity");
-        d.angular_velocity = s.vec3("angular_velocity");
-        d.mask = read_mask(s);
-        if (s.flag("fixed")) d.flags |= dem::kFixed;
-        // Prescribed motion: `prescribed = true` keeps `velocity` constant whatever the forces;
-        // a `displacement` history [[t, dx, dy, dz], ...] moves the sphere along it instead.
-        const bool prescribed = s.flag("prescribed") || s.has("displacement");
-        std::optional<dem::Motion> motion;
-        if (prescribed) {
-            if (d.flags & dem::kFixed) s.fail("prescribed", "a sphere cannot be both fixed and prescribed");
-            motion = read_motion(s);
-        }
-        const bool track = s.flag("track");
-        s.finish();
-        const uint32_t id = w.add_sphere(d);
-        if (motion) w.set_prescribed(id, w.add_motion(*motion));
-        if (track) sc.tracked.push_back(id);
-        sc.sphere_origin.push_back({-1, uint32_t(sc.sphere_origin.size())});
-    }
-    int32_t file_index = 0;
-    for (SceneSection s : entries(top, "sphere_files")) {
-        const fs::path path = resolve(base_dir, s.string("path"));
-        dem::SphereDef d;
-        d.material = material_index(s, by_name);
-        d.velocity = s.vec3("velocity");
-        d.mask = read_mask(s);
-        if (s.flag("fixed")) d.flags |= dem::kFixed;
-        const bool track = s.flag("track");
-        s.finish();
-        std::vector<std::vector<double>> rows;
-        try {
-            rows = dem::read_numeric_csv(path.string(), 4);
-        } catch (const std::exception& e) {
-            s.fail("path", e.what());
-        }
-        for (std::size_t k = 0; k < rows.size(); ++k) {
-            d.position = {rows[k][0], rows[k][1], rows[k][2]};
-            d.radius = rows[k][3];
-            for (int c = 0; c < 4; ++c)
-                if (!std::isfinite(rows[k][std::size_t(c)]))
-                    s.fail("path", "row " + std::to_string(k + 1) + " of '" + path.string() + "' holds " +
-                                       std::to_string(rows[k][std::size_t(c)]) + " in column " + "xyzr"[c] +
-                                       ": must be a finite number");
-            if (!(d.radius > 0.0))
-                s.fail("path", "row " + std::to_string(k + 1) + " of '" + path.string() + "' has radius <= 0");
-            const uint32_t id = w.add_sphere(d);
-            if (track) sc.tracked.push_back(id);
-            sc.sphere_origin.push_back({file_index, uint32_t(k)});
-        }
-        sc.sphere_file_paths.push_back(path.string());
-        ++file_index;
-    }
-
-    uint32_t clump_entry = 0;
-    for (SceneSection s : entries(top, "clumps")) {
-        dem::ClumpDef d;
-        d.material = material_index(s, by_name);
-        const std::string shape = s.string("shape");
-        std::optional<double> radius;
-        if (s.has("radius")) radius = s.real("radius");
-        dem::ClumpShape cs;
-        try {
-            if (shape == "template") {
-                if (!s.has("template")) s.fail("template", "is required with shape = \"template\"");
-                const fs::path path = resolve(base_dir, s.string("template"));
-                try {
-                    cs = read_clump_template(path.string());
-                } catch (const std::exception& e) {
-                    s.fail("template", e.what());
-                }
-                if (radius) cs = dem::scaled_to_radius(cs, *radius);
-            } else {
-                if (s.has("template")) s.fail("template", "is only read with shape = \"template\"");
-                if (!radius) s.fail("radius", "is required with a built-in shape (the volume-equivalent radius)");
-                cs = dem::builtin_clump_shape(shape, *radius);
-            }
-        } catch (const std::invalid_argument& e) {
-            s.fail(shape == "template" ? "template" : "shape", e.what());
-        }
-        d.position = s.vec3("position");
-        const dem::Vec3 rot = s.vec3("orientation");
-        const double angle = norm(rot);
-        if (angle > 0.0) {
-            const dem::Vec3 u = rot / angle;
-            const double sh = std::sin(0.5 * angle);
-            d.orientation = {std::cos(0.5 * angle), u.x * sh, u.y * sh, u.z * sh};
-        }
-        d.velocity = s.vec3("velocity");
-        d.angular_velocity = s.vec3("angular_velocity");
-        d.mask = read_mask(s);
-        s.finish();
-        w.add_clump(cs, d);
-        for (std::size_t m = 0; m < cs.members.size(); ++m) sc.sphere_origin.push_back({-2, clump_entry});
-        ++clump_entry;
-    }
-
-    for (SceneSection s : entries(top, "planes")) {
-        dem::Plane p;
-        p.material = material_index(s, by_name);
-        p.point = s.vec3("point");
-        p.normal = s.vec3("normal");
-        if (dem::norm(p.normal) == 0.0) s.fail("normal", s.row("normal").limits.allowed);
-        p.one_sided = s.flag("one_sided");
-        p.mask = read_mask(s);
-        p.motion = read_motion(s);
-        s.finish();
-        sc.wall_members.push_back({uint32_t(w.add_plane(p))});
-        sc.wall_names.push_back(s.path());
-    }
-    const uint32_t nplanes = uint32_t(w.planes.size());
-    for (SceneSection s : entries(top, "facets")) {
-        dem::Facet f;
-        f.material = material_index(s, by_name);
-        const toml::node* n = s.node("vertices");
-        const toml::array* a = n->as_array();
-        if (!a || a->size() != 3) s.fail("vertices", "must be 3 points [[x,y,z],[x,y,z],[x,y,z]]");
-        for (int v = 0; v < 3; ++v) {
-            const toml::array* r = a->get(v)->as_array();
-            if (!r || r->size() != 3) s.fail("vertices", "must be 3 points [[x,y,z],[x,y,z],[x,y,z]]");
-            for (int k = 0; k < 3; ++k) {
-                auto x = r->get(k)->value<double>();
-                if (!x) s.fail("vertices", "coordinates must be numbers");
-                if (!std::isfinite(*x)) s.fail("vertices", "coordinates must be finite numbers");
-                f.vertices[v][k] = *x;
-            }
-        }
-        if (dem::norm(dem::cross(f.vertices[1] - f.vertices[0], f.vertices[2] - f.vertices[0])) == 0.0)
-            s.fail("vertices", "the triangle has zero area");
-        f.one_sided = s.flag("one_sided");
-        f.mask = read_mask(s);
-        f.motion = read_motion(s);
-        s.finish();
-        sc.wall_members.push_back({nplanes + w.add_facet(f)});
-        sc.wall_names.push_back(s.path());
-    }
-    for (SceneSection s : entries(top, "facet_sets")) {
-        const std::string type = s.string("type");
-        std::vector<dem::Facet> fs;
-        try {
-            // Arguments in the order of the calls' parameters (function arguments have no
-            // order of evaluation, and a message should name the first bad key).
-            if (type == "cylinder") {
-                const Vec3 base = s.vec3("base");
-                const double radius = s.real("radius"), height = s.real("height");
-                const int segments = int(s.integer("segments"));
-                fs = dem::make_cylinder_facets(base, radius, height, segments, s.flag("inward"));
-            } else if (type == "funnel") {
-                const Vec3 base = s.vec3("base");
-                const double bottom = s.real("bottom_radius"), top_r = s.real("top_radius");
-                const double height = s.real("height");
-                const int segments = int(s.integer("segments"));
-                fs = dem::make_funnel_facets(base, bottom, top_r, height, segments, s.flag("inward"));
-            } else if (type == "stl") {
-                const std::string path = resolve(base_dir, s.string("path")).string();
-                fs = dem::read_stl(path, s.real("scale"));
-            } else {
-                s.fail("type", s.row("type").limits.allowed);
-            }
-        } catch (const std::invalid_argument& e) {
-            s.fail("type", e.what());
-        } catch (const std::runtime_error& e) {
-            if (dynamic_cast<const ConfigError*>(&e)) throw;
-            s.fail("path", e.what());
-        }
-        const uint32_t material = material_index(s, by_name);
-        const bool one_sided = s.flag("one_sided");
-        const uint32_t mask = read_mask(s);
-        const dem::Motion motion = read_motion(s);
-        s.finish();
-        std::vector<uint32_t> members;
-        for (dem::Facet f : fs) {
-            f.material = material;
-            f.one_sided = one_sided;
-            f.mask = mask;
-            f.motion = motion;
-            members.push_back(nplanes + w.add_facet(f));
-        }
-        sc.wall_members.push_back(members);
-        sc.wall_names.push_back(s.path());
-    }
+    const Materials by_name = add_materials(top, w);
+    add_spheres(top, by_name, sc);
+    add_sphere_files(top, by_name, base_dir, sc);
+    add_clumps(top, by_name, base_dir, sc);
+    add_planes(top, by_name, sc);
+    add_facets(top, by_name, sc);
+    add_facet_sets(top, by_name, base_dir, sc);
     top.finish();
     if (w.particles.size() == 0) throw ConfigError("the scene has no spheres: add [[spheres]], [[sphere_files]] or [[clumps]]");
     check_initial_overlaps(sc, max_overlap);

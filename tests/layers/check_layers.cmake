@@ -20,6 +20,7 @@
 #   3  foil_checks, damper, device      the applications: the foil's checks, the damper, devices
 #   4  study                            sweeps of dampers and devices, their records, the key reference
 #   5  calibration                      studies fitted to an experiment's loops
+#   6  commands                         the commands' arguments turned into their runs' options, for both front doors
 # Every file of src/dem and src/vpp lives in a folder (room): one directly in src/dem or src/vpp is refused.
 # Usage: cmake -DROOT=<folder that holds src/> -P check_layers.cmake
 # Fails naming each offending file:line; quoted includes must name their layer folder.
@@ -71,6 +72,8 @@ function(vpp_rank folder out)
     set(r 4)
   elseif(folder STREQUAL "calibration")
     set(r 5)
+  elseif(folder STREQUAL "commands")
+    set(r 6)
   endif()
   set(${out} "${r}" PARENT_SCOPE)
 endfunction()
@@ -78,7 +81,7 @@ endfunction()
 set(what_dem "a folder of src/dem")
 set(what_vpp "a room of src/vpp")
 set(order_dem "core <- bonds, walls, mesh, clumps <- detect, integrate <- contact <- kernels <- world <- io, batch")
-set(order_vpp "analysis <- membrane <- settings <- foil_checks, damper, device <- study <- calibration")
+set(order_vpp "analysis <- membrane <- settings <- foil_checks, damper, device <- study <- calibration <- commands")
 
 set(bad "")
 set(checked 0)

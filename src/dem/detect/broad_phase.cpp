@@ -39,6 +39,87 @@ float gap_down(double g) {
     return f;
 }
 
+// Facets are registered in every cell of a coarser grid (2 x 2 x 2 particle cells) that their box
+// (grown by rmax + skin) touches, so a particle only has to look at its own coarse cell's list.
+// Coarse because facets are often large (a cylinder wall of full height): in the particle grid
+// their lists were among the largest arrays of a run.
+struct FacetCells {
+    std::array<int64_t, 3> dims{};      // coarse cells per axis
+    std::vector<uint32_t> start, items;  // the facets of coarse cell c: items[start[c] .. start[c + 1])
+    int64_t cell(int64_t x, int64_t y, int64_t z) const { return (z * dims[1] + y) * dims[0] + x; }
+};
+
+// The facets now (facet_now) in the coarse cells of `grid`, each facet's box grown by `grow` [m].
+FacetCells facet_cells(const CellGrid& grid, const std::vector<Facet>& facets,
+                       const std::vector<std::array<Vec3, 3>>& facet_now, double grow) {
+    FacetCells fc;
+    fc.dims = {(grid.dims[0] + 1) / 2, (grid.dims[1] + 1) / 2, (grid.dims[2] + 1) / 2};
+    if (facets.empty()) return fc;
+    fc.start.assign(std::size_t(fc.dims[0] * fc.dims[1] * fc.dims[2] + 1), 0);
+    std::vector<std::array<int64_t, 6>> range(facets.size());
+    std::vector<uint8_t> inside(facets.size(), 0);
+    for (std::size_t f = 0; f < facets.size(); ++f) {
+        Vec3 lo = facet_now[f][0], hi = lo;
+        for (int v = 1; v < 3; ++v)
+            for (int d = 0; d < 3; ++d) {
+                lo[d] = std::min(lo[d], facet_now[f][v][d]);
+                hi[d] = std::max(hi[d], facet_now[f][v][d]);
+            }
+        bool ok = true;
+        for (int d = 0; d < 3; ++d) {
+            const double a = (lo[d] - grow - grid.origin[d]) / grid.cell;
+            const double b = (hi[d] + grow - grid.origin[d]) / grid.cell;
+            if (b < 0.0 || a >= double(grid.dims[d])) ok = false;
+            range[f][d] = std::clamp<int64_t>(int64_t(std::floor(a)), 0, grid.dims[d] - 1) / 2;
+            range[f][d + 3] = std::clamp<int64_t>(int64_t(std::floor(b)), 0, grid.dims[d] - 1) / 2;
+        }
+        inside[f] = ok;
+    }
+    // Two passes over the facets' cells: count per cell, then fill.
+    for (int pass = 0; pass < 2; ++pass) {
+        std::vector<uint32_t> fill;
+        if (pass == 1) {
+            for (std::size_t c = 0; c + 1 < fc.start.size(); ++c) fc.start[c + 1] += fc.start[c];
+            fc.items.resize(fc.start.back());
+            fill.assign(fc.start.begin(), fc.start.end() - 1);
+        }
+        for (std::size_t f = 0; f < facets.size(); ++f) {
+            if (!inside[f]) continue;
+            const auto& r = range[f];
+            for (int64_t z = r[2]; z <= r[5]; ++z)
+                for (int64_t y = r[1]; y <= r[4]; ++y)
+                    for (int64_t x = r[0]; x <= r[3]; ++x) {
+                        const int64_t c = fc.cell(x, y, z);
+                        if (pass == 0) ++fc.start[c + 1];
+                        else fc.items[fill[c]++] = uint32_t(f);
+                    }
+        }
+    }
+    return fc;
+}
+
+// What the next rebuild test measures from: the particles' positions (in float, with the bound
+// of their rounding) and the walls' displacements at `time` [s]; no move since.
+void keep_reference(BroadPhase& b, const Particles& p, const std::vector<Plane>& planes,
+                    const std::vector<Facet>& facets, double time) {
+    const std::size_t n = p.size();
+    b.ref_pos.resize(n);
+    double big = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        const Vec3 x = p.pos[i];
+        b.ref_pos[i] = {float(x.x), float(x.y), float(x.z)};
+        big = std::max({big, std::abs(x.x), std::abs(x.y), std::abs(x.z)});
+    }
+    // A float rounds a coordinate by at most 2^-24 of it (relative): |x - ref| <= |x - float
+    // ref| + sqrt(3) 2^-24 max|x|; twice that for safety.
+    b.ref_round = 2.0 * 1.7320508075688772 * big * 0x1p-24;
+    b.wall_ref_disp.resize(planes.size() + facets.size());
+    for (std::size_t k = 0; k < planes.size(); ++k) b.wall_ref_disp[k] = planes[k].motion.displacement(time);
+    for (std::size_t k = 0; k < facets.size(); ++k)
+        b.wall_ref_disp[planes.size() + k] = facets[k].motion.displacement(time);
+    b.max_disp = b.wall_move = 0.0;
+}
+
 }  // namespace
 
 bool BroadPhase::needs_rebuild(std::size_t n, const std::vector<Plane>& planes, const std::vector<Facet>& facets,
@@ -69,55 +150,7 @@ void BroadPhase::rebuild(const Scene& s, CandidateList& pp, CandidateList& pw) {
     const double rmax = n ? *std::max_element(p.radius.begin(), p.radius.end()) : 0.0;
     grid.build(p.pos, 2.0 * rmax + skin, std::max<int64_t>(int64_t(4 * n), 4096));
 
-    // Facets are registered in every cell of a coarser grid (2 x 2 x 2 particle cells) that
-    // their box (grown by rmax + skin) touches, so a particle only has to look at its own coarse
-    // cell's list. Coarse because facets are often large (a cylinder wall of full height): in
-    // the particle grid their lists were among the largest arrays of a run.
-    std::vector<uint32_t> fstart, fitems;
-    const std::array<int64_t, 3> fdims{(grid.dims[0] + 1) / 2, (grid.dims[1] + 1) / 2, (grid.dims[2] + 1) / 2};
-    const auto fcell = [&](int64_t x, int64_t y, int64_t z) { return (z * fdims[1] + y) * fdims[0] + x; };
-    if (!facets.empty()) {
-        fstart.assign(std::size_t(fdims[0] * fdims[1] * fdims[2] + 1), 0);
-        const double grow = rmax + skin;
-        std::vector<std::array<int64_t, 6>> range(facets.size());
-        std::vector<uint8_t> inside(facets.size(), 0);
-        for (std::size_t f = 0; f < facets.size(); ++f) {
-            Vec3 lo = facet_now[f][0], hi = lo;
-            for (int v = 1; v < 3; ++v)
-                for (int d = 0; d < 3; ++d) {
-                    lo[d] = std::min(lo[d], facet_now[f][v][d]);
-                    hi[d] = std::max(hi[d], facet_now[f][v][d]);
-                }
-            bool ok = true;
-            for (int d = 0; d < 3; ++d) {
-                const double a = (lo[d] - grow - grid.origin[d]) / grid.cell;
-                const double b = (hi[d] + grow - grid.origin[d]) / grid.cell;
-                if (b < 0.0 || a >= double(grid.dims[d])) ok = false;
-                range[f][d] = std::clamp<int64_t>(int64_t(std::floor(a)), 0, grid.dims[d] - 1) / 2;
-                range[f][d + 3] = std::clamp<int64_t>(int64_t(std::floor(b)), 0, grid.dims[d] - 1) / 2;
-            }
-            inside[f] = ok;
-        }
-        for (int pass = 0; pass < 2; ++pass) {
-            std::vector<uint32_t> fill;
-            if (pass == 1) {
-                for (std::size_t c = 0; c + 1 < fstart.size(); ++c) fstart[c + 1] += fstart[c];
-                fitems.resize(fstart.back());
-                fill.assign(fstart.begin(), fstart.end() - 1);
-            }
-            for (std::size_t f = 0; f < facets.size(); ++f) {
-                if (!inside[f]) continue;
-                const auto& r = range[f];
-                for (int64_t z = r[2]; z <= r[5]; ++z)
-                    for (int64_t y = r[1]; y <= r[4]; ++y)
-                        for (int64_t x = r[0]; x <= r[3]; ++x) {
-                            const int64_t c = fcell(x, y, z);
-                            if (pass == 0) ++fstart[c + 1];
-                            else fitems[fill[c]++] = uint32_t(f);
-                        }
-            }
-        }
-    }
+    const FacetCells fc = facet_cells(grid, facets, facet_now, rmax + skin);
 
     // The old lists go first (the new ones reuse the memory); the live contacts find their
     // pairs again through the stores' (i, j). The per-thread lists get room for about as many
@@ -175,9 +208,9 @@ void BroadPhase::rebuild(const Scene& s, CandidateList& pp, CandidateList& pw) {
                 }
             }
             if (!facets.empty()) {
-                const int64_t cell = fcell(c[0] / 2, c[1] / 2, c[2] / 2);
-                for (uint32_t k = fstart[cell]; k < fstart[cell + 1]; ++k) {
-                    const uint32_t f = fitems[k];
+                const int64_t cell = fc.cell(c[0] / 2, c[1] / 2, c[2] / 2);
+                for (uint32_t k = fc.start[cell]; k < fc.start[cell + 1]; ++k) {
+                    const uint32_t f = fc.items[k];
                     if (!(facets[f].mask & p.mask[i])) continue;
                     const double reach = ri + skin;
                     const double d2 = distance2_to_triangle(xi, facet_now[f]);
@@ -200,21 +233,7 @@ void BroadPhase::rebuild(const Scene& s, CandidateList& pp, CandidateList& pw) {
     pp.slot.assign(pp.size(), kNoSlot);
     pw.slot.assign(pw.size(), kNoSlot);
 
-    ref_pos.resize(n);
-    double big = 0.0;
-    for (std::size_t i = 0; i < n; ++i) {
-        const Vec3 x = p.pos[i];
-        ref_pos[i] = {float(x.x), float(x.y), float(x.z)};
-        big = std::max({big, std::abs(x.x), std::abs(x.y), std::abs(x.z)});
-    }
-    // A float rounds a coordinate by at most 2^-24 of it (relative): |x - ref| <= |x - float
-    // ref| + sqrt(3) 2^-24 max|x|; twice that for safety.
-    ref_round = 2.0 * 1.7320508075688772 * big * 0x1p-24;
-    wall_ref_disp.resize(planes.size() + facets.size());
-    for (std::size_t k = 0; k < planes.size(); ++k) wall_ref_disp[k] = planes[k].motion.displacement(s.time);
-    for (std::size_t k = 0; k < facets.size(); ++k)
-        wall_ref_disp[planes.size() + k] = facets[k].motion.displacement(s.time);
-    max_disp = wall_move = 0.0;
+    keep_reference(*this, p, planes, facets, s.time);
     dirty = false;
     ++rebuilds;
 }

@@ -105,6 +105,102 @@ bool triangles_intersect(const Vec3& a0, const Vec3& a1, const Vec3& a2, const V
     return alo <= bhi && blo <= ahi;
 }
 
+namespace {
+
+// Non-manifold vertices: the triangles around a vertex must form a single fan, i.e. be connected
+// through the edges that contain the vertex. The first such vertex, or "".
+std::string non_manifold_vertex(const SurfaceMesh& m) {
+    const std::size_t nt = m.triangles.size(), nv = m.vertices.size();
+    std::vector<std::vector<uint32_t>> around(nv);
+    for (std::size_t t = 0; t < nt; ++t)
+        for (uint32_t k : m.triangles[t]) around[k].push_back(uint32_t(t));
+    for (uint32_t v = 0; v < nv; ++v) {
+        const auto& fan = around[v];
+        if (fan.empty()) continue;
+        // Walk from the first triangle across shared edges through v; a fan reaches them all.
+        std::vector<char> seen(fan.size(), 0);
+        std::vector<std::size_t> stack{0};
+        seen[0] = 1;
+        std::size_t reached = 1;
+        while (!stack.empty()) {
+            const auto& t = m.triangles[fan[stack.back()]];
+            stack.pop_back();
+            for (std::size_t q = 0; q < fan.size(); ++q) {
+                if (seen[q]) continue;
+                const auto& s = m.triangles[fan[q]];
+                int shared = 0;
+                for (uint32_t a : t)
+                    for (uint32_t b : s) shared += (a == b);
+                if (shared >= 2) {
+                    seen[q] = 1;
+                    ++reached;
+                    stack.push_back(q);
+                }
+            }
+        }
+        if (reached != fan.size())
+            return "not a manifold: vertex " + std::to_string(v) + " at " + point_name(m.vertices[v]) +
+                   " joins surfaces that touch only there";
+    }
+    return "";
+}
+
+// Self-intersection between triangles that share no vertex, on a grid of cells about the size of
+// the mean triangle's bounding box. The first intersecting pair, or "".
+std::string self_intersection(const SurfaceMesh& m) {
+    const std::size_t nt = m.triangles.size();
+    std::vector<Vec3> lo(nt), hi(nt);
+    Vec3 glo = m.vertices[0], ghi = m.vertices[0];
+    double mean_extent = 0.0;
+    for (std::size_t t = 0; t < nt; ++t) {
+        const auto& [a, b, c] = m.triangles[t];
+        const Vec3 &A = m.vertices[a], &B = m.vertices[b], &C = m.vertices[c];
+        lo[t] = {std::min({A.x, B.x, C.x}), std::min({A.y, B.y, C.y}), std::min({A.z, B.z, C.z})};
+        hi[t] = {std::max({A.x, B.x, C.x}), std::max({A.y, B.y, C.y}), std::max({A.z, B.z, C.z})};
+        glo = {std::min(glo.x, lo[t].x), std::min(glo.y, lo[t].y), std::min(glo.z, lo[t].z)};
+        ghi = {std::max(ghi.x, hi[t].x), std::max(ghi.y, hi[t].y), std::max(ghi.z, hi[t].z)};
+        mean_extent += std::max({hi[t].x - lo[t].x, hi[t].y - lo[t].y, hi[t].z - lo[t].z});
+    }
+    const Vec3 box = ghi - glo;
+    double cell = std::max(mean_extent / double(nt), 1e-9 * norm(box));
+    // At most ~8 cells per triangle on average: a few huge triangles must not blow up the grid.
+    while ((box.x / cell + 1) * (box.y / cell + 1) * (box.z / cell + 1) > 8.0 * double(nt) + 64) cell *= 1.5;
+    auto cidx = [&](double x, double o) { return int64_t(std::floor((x - o) / cell)); };
+    const int64_t nx = cidx(ghi.x, glo.x) + 1, ny = cidx(ghi.y, glo.y) + 1;
+    std::unordered_map<int64_t, std::vector<uint32_t>> grid;
+    for (uint32_t t = 0; t < nt; ++t)
+        for (int64_t z = cidx(lo[t].z, glo.z); z <= cidx(hi[t].z, glo.z); ++z)
+            for (int64_t y = cidx(lo[t].y, glo.y); y <= cidx(hi[t].y, glo.y); ++y)
+                for (int64_t x = cidx(lo[t].x, glo.x); x <= cidx(hi[t].x, glo.x); ++x)
+                    grid[(z * ny + y) * nx + x].push_back(t);
+    std::vector<uint32_t> stamp(nt, UINT32_MAX);
+    for (uint32_t t = 0; t < nt; ++t) {
+        const auto& T = m.triangles[t];
+        for (int64_t z = cidx(lo[t].z, glo.z); z <= cidx(hi[t].z, glo.z); ++z)
+            for (int64_t y = cidx(lo[t].y, glo.y); y <= cidx(hi[t].y, glo.y); ++y)
+                for (int64_t x = cidx(lo[t].x, glo.x); x <= cidx(hi[t].x, glo.x); ++x)
+                    for (uint32_t s : grid[(z * ny + y) * nx + x]) {
+                        if (s <= t || stamp[s] == t) continue;
+                        stamp[s] = t;
+                        const auto& S = m.triangles[s];
+                        bool adjacent = false;
+                        for (uint32_t a : T)
+                            for (uint32_t b : S) adjacent |= (a == b);
+                        if (adjacent) continue;
+                        if (hi[s].x < lo[t].x || hi[t].x < lo[s].x || hi[s].y < lo[t].y || hi[t].y < lo[s].y ||
+                            hi[s].z < lo[t].z || hi[t].z < lo[s].z)
+                            continue;
+                        if (triangles_intersect(m.vertices[T[0]], m.vertices[T[1]], m.vertices[T[2]], m.vertices[S[0]],
+                                                m.vertices[S[1]], m.vertices[S[2]]))
+                            return "self-intersecting: " + tri_name(m, t) + " and " + tri_name(m, s) + " intersect near " +
+                                   point_name(m.vertices[T[0]]);
+                    }
+    }
+    return "";
+}
+
+}  // namespace
+
 std::string find_mesh_defect(const SurfaceMesh& m) {
     const std::size_t nt = m.triangles.size(), nv = m.vertices.size();
     if (nt < 4) return "not closed: " + std::to_string(nt) + " triangles cannot enclose a volume";
@@ -163,96 +259,14 @@ std::string find_mesh_defect(const SurfaceMesh& m) {
         i = j;
     }
 
-    // Non-manifold vertices: the triangles around a vertex must form a single fan, i.e. be
-    // connected through the edges that contain the vertex.
-    std::vector<std::vector<uint32_t>> around(nv);
-    for (std::size_t t = 0; t < nt; ++t)
-        for (uint32_t k : m.triangles[t]) around[k].push_back(uint32_t(t));
-    for (uint32_t v = 0; v < nv; ++v) {
-        const auto& fan = around[v];
-        if (fan.empty()) continue;
-        // Walk from the first triangle across shared edges through v; a fan reaches them all.
-        std::vector<char> seen(fan.size(), 0);
-        std::vector<std::size_t> stack{0};
-        seen[0] = 1;
-        std::size_t reached = 1;
-        while (!stack.empty()) {
-            const auto& t = m.triangles[fan[stack.back()]];
-            stack.pop_back();
-            for (std::size_t q = 0; q < fan.size(); ++q) {
-                if (seen[q]) continue;
-                const auto& s = m.triangles[fan[q]];
-                int shared = 0;
-                for (uint32_t a : t)
-                    for (uint32_t b : s) shared += (a == b);
-                if (shared >= 2) {
-                    seen[q] = 1;
-                    ++reached;
-                    stack.push_back(q);
-                }
-            }
-        }
-        if (reached != fan.size())
-            return "not a manifold: vertex " + std::to_string(v) + " at " + point_name(m.vertices[v]) +
-                   " joins surfaces that touch only there";
-    }
+    if (std::string fan = non_manifold_vertex(m); !fan.empty()) return fan;
     if (!inconsistent.empty()) return inconsistent;
     std::size_t pieces = 0;
     for (uint32_t t = 0; t < nt; ++t) pieces += root(t) == t;
     if (pieces > 1) return "several surfaces: " + std::to_string(pieces) + " separate closed pieces (one is expected)";
     const double vol = enclosed_volume(m);
     if (!(vol > 0)) return "inverted: the enclosed volume is negative, the normals point inward (reverse the winding)";
-
-    // Self-intersection between triangles that share no vertex, on a grid of cells about the
-    // size of the mean triangle's bounding box.
-    std::vector<Vec3> lo(nt), hi(nt);
-    Vec3 glo = m.vertices[0], ghi = m.vertices[0];
-    double mean_extent = 0.0;
-    for (std::size_t t = 0; t < nt; ++t) {
-        const auto& [a, b, c] = m.triangles[t];
-        const Vec3 &A = m.vertices[a], &B = m.vertices[b], &C = m.vertices[c];
-        lo[t] = {std::min({A.x, B.x, C.x}), std::min({A.y, B.y, C.y}), std::min({A.z, B.z, C.z})};
-        hi[t] = {std::max({A.x, B.x, C.x}), std::max({A.y, B.y, C.y}), std::max({A.z, B.z, C.z})};
-        glo = {std::min(glo.x, lo[t].x), std::min(glo.y, lo[t].y), std::min(glo.z, lo[t].z)};
-        ghi = {std::max(ghi.x, hi[t].x), std::max(ghi.y, hi[t].y), std::max(ghi.z, hi[t].z)};
-        mean_extent += std::max({hi[t].x - lo[t].x, hi[t].y - lo[t].y, hi[t].z - lo[t].z});
-    }
-    const Vec3 box = ghi - glo;
-    double cell = std::max(mean_extent / double(nt), 1e-9 * norm(box));
-    // At most ~8 cells per triangle on average: a few huge triangles must not blow up the grid.
-    while ((box.x / cell + 1) * (box.y / cell + 1) * (box.z / cell + 1) > 8.0 * double(nt) + 64) cell *= 1.5;
-    auto cidx = [&](double x, double o) { return int64_t(std::floor((x - o) / cell)); };
-    const int64_t nx = cidx(ghi.x, glo.x) + 1, ny = cidx(ghi.y, glo.y) + 1;
-    std::unordered_map<int64_t, std::vector<uint32_t>> grid;
-    for (uint32_t t = 0; t < nt; ++t)
-        for (int64_t z = cidx(lo[t].z, glo.z); z <= cidx(hi[t].z, glo.z); ++z)
-            for (int64_t y = cidx(lo[t].y, glo.y); y <= cidx(hi[t].y, glo.y); ++y)
-                for (int64_t x = cidx(lo[t].x, glo.x); x <= cidx(hi[t].x, glo.x); ++x)
-                    grid[(z * ny + y) * nx + x].push_back(t);
-    std::vector<uint32_t> stamp(nt, UINT32_MAX);
-    for (uint32_t t = 0; t < nt; ++t) {
-        const auto& T = m.triangles[t];
-        for (int64_t z = cidx(lo[t].z, glo.z); z <= cidx(hi[t].z, glo.z); ++z)
-            for (int64_t y = cidx(lo[t].y, glo.y); y <= cidx(hi[t].y, glo.y); ++y)
-                for (int64_t x = cidx(lo[t].x, glo.x); x <= cidx(hi[t].x, glo.x); ++x)
-                    for (uint32_t s : grid[(z * ny + y) * nx + x]) {
-                        if (s <= t || stamp[s] == t) continue;
-                        stamp[s] = t;
-                        const auto& S = m.triangles[s];
-                        bool adjacent = false;
-                        for (uint32_t a : T)
-                            for (uint32_t b : S) adjacent |= (a == b);
-                        if (adjacent) continue;
-                        if (hi[s].x < lo[t].x || hi[t].x < lo[s].x || hi[s].y < lo[t].y || hi[t].y < lo[s].y ||
-                            hi[s].z < lo[t].z || hi[t].z < lo[s].z)
-                            continue;
-                        if (triangles_intersect(m.vertices[T[0]], m.vertices[T[1]], m.vertices[T[2]], m.vertices[S[0]],
-                                                m.vertices[S[1]], m.vertices[S[2]]))
-                            return "self-intersecting: " + tri_name(m, t) + " and " + tri_name(m, s) + " intersect near " +
-                                   point_name(m.vertices[T[0]]);
-                    }
-    }
-    return "";
+    return self_intersection(m);
 }
 
 void check_closed_surface(const SurfaceMesh& m, const std::string& name) {

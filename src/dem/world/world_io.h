@@ -70,6 +70,60 @@ template <class A, class F> void facet_io(A& a, F& f) {
     motion_io(a, f.motion);
 }
 
+template <class A, class P> void particles_io(A& a, P& p) {
+    a.vec(p.pos);
+    a.vec(p.vel);
+    a.vec(p.angvel);
+    a.vec(p.force);
+    a.vec(p.torque);
+    a.vec(p.ext_force);
+    a.vec(p.radius);
+    a.vec(p.mass);
+    a.vec(p.inv_mass);
+    a.vec(p.inv_inertia);
+    a.vec(p.material);
+    a.vec(p.mask);
+    a.vec(p.flags);
+    a.vec(p.motion);
+    a.vec(p.ref_pos);
+}
+
+// Version 1 kept a bond's shear spring and previous normal as one record (ShearHistory).
+template <class A, class B> void bonds_io(A& a, B& b, uint32_t version) {
+    a.vec(b.i);
+    a.vec(b.j);
+    a.vec(b.phys);
+    if (version >= 2) {
+        a.vec(b.shear);
+        a.vec(b.prev_normal);
+    } else if constexpr (A::kLoading) {
+        std::vector<ShearHistory> hist;
+        a.vec(hist);
+        for (const ShearHistory& h : hist) {
+            b.shear.push_back(h.shear);
+            b.prev_normal.push_back(h.prev_normal);
+        }
+    }
+    a.vec(b.force);
+    a.vec(b.torque1);
+    a.vec(b.torque2);
+}
+
+template <class A, class C> void clumps_io(A& a, C& c) {
+    a.vec(c.pos);
+    a.vec(c.vel);
+    a.vec(c.q);
+    a.vec(c.mom);
+    a.vec(c.angvel);
+    a.vec(c.inertia);
+    a.vec(c.mass);
+    a.vec(c.inv_mass);
+    a.vec(c.start);
+    a.vec(c.member);
+    a.vec(c.rel);
+    a.vec(c.owner);
+}
+
 // Version 2: the light candidate lists and the stores of live contacts.
 template <class A, class C> void candidates_io(A& a, C& c) {
     a.vec(c.start);
@@ -169,24 +223,7 @@ inline void convert_v1(ContactSet& cs, std::size_t n, const V1Contacts& v1_) {
 template <class A, class W> void World::serialize(A& a, W& w, uint32_t version) {
     [[maybe_unused]] io::V1Contacts v1_lists, *v1 = &v1_lists;
     a.section("MATL", [&](A& s) { s.list(w.materials, [](A& x, auto& m) { io::material_io(x, m); }); });
-    a.section("PART", [&](A& s) {
-        auto& p = w.particles;
-        s.vec(p.pos);
-        s.vec(p.vel);
-        s.vec(p.angvel);
-        s.vec(p.force);
-        s.vec(p.torque);
-        s.vec(p.ext_force);
-        s.vec(p.radius);
-        s.vec(p.mass);
-        s.vec(p.inv_mass);
-        s.vec(p.inv_inertia);
-        s.vec(p.material);
-        s.vec(p.mask);
-        s.vec(p.flags);
-        s.vec(p.motion);
-        s.vec(p.ref_pos);
-    });
+    a.section("PART", [&](A& s) { io::particles_io(s, w.particles); });
     a.section("WALL", [&](A& s) {
         s.list(w.planes, [](A& x, auto& pl) { io::plane_io(x, pl); });
         s.list(w.facets, [](A& x, auto& f) { io::facet_io(x, f); });
@@ -229,26 +266,7 @@ template <class A, class W> void World::serialize(A& a, W& w, uint32_t version) 
             io::contacts_v1_io(s, v1->pw);
         });
     }
-    a.section("BOND", [&](A& s) {
-        auto& b = w.bonds_;
-        s.vec(b.i);
-        s.vec(b.j);
-        s.vec(b.phys);
-        if (version >= 2) {
-            s.vec(b.shear);
-            s.vec(b.prev_normal);
-        } else if constexpr (A::kLoading) {
-            std::vector<ShearHistory> hist;
-            s.vec(hist);
-            for (const ShearHistory& h : hist) {
-                b.shear.push_back(h.shear);
-                b.prev_normal.push_back(h.prev_normal);
-            }
-        }
-        s.vec(b.force);
-        s.vec(b.torque1);
-        s.vec(b.torque2);
-    });
+    a.section("BOND", [&](A& s) { io::bonds_io(s, w.bonds_, version); });
     // The bonds' arm, written only when it is not the default (older files, and files of worlds
     // that keep the paper's convention, have no such section and load as kRadius).
     if constexpr (A::kLoading) w.bonds_.arm = BondArm::kRadius;
@@ -309,21 +327,7 @@ template <class A, class W> void World::serialize(A& a, W& w, uint32_t version) 
         }
     });
     // Clumps: only in files of worlds that have them, so other checkpoints are unchanged.
-    a.optional_section("CLMP", !w.clumps_.empty(), [&](A& s) {
-        auto& c = w.clumps_;
-        s.vec(c.pos);
-        s.vec(c.vel);
-        s.vec(c.q);
-        s.vec(c.mom);
-        s.vec(c.angvel);
-        s.vec(c.inertia);
-        s.vec(c.mass);
-        s.vec(c.inv_mass);
-        s.vec(c.start);
-        s.vec(c.member);
-        s.vec(c.rel);
-        s.vec(c.owner);
-    });
+    a.optional_section("CLMP", !w.clumps_.empty(), [&](A& s) { io::clumps_io(s, w.clumps_); });
     if constexpr (A::kLoading)
         if (version == 1) io::convert_v1(w.contacts_, w.particles.size(), v1_lists);
 }

@@ -69,8 +69,8 @@ def calibrate(study_path, experiment, out, sets=None, seeds=0, jobs=0, quiet=Tru
         raise ValueError("displacement_unit: 'm' or 'mm'; force_unit: 'N' or 'kN'")
     extra = _study_sets(sets, settings)
     rc = _run(_core.calibrate, progress, os.fspath(study_path), os.fspath(experiment), _out_folder("out", out), extra,
-              int(seeds), _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), 1e-3 if displacement_unit == "mm" else 1.0,
-              1e3 if force_unit == "kN" else 1.0, bool(compression_negative), simulated_force,
+              int(seeds), _count("jobs", jobs, 0, 2**31 - 1), bool(quiet), displacement_unit, force_unit,
+              bool(compression_negative), simulated_force,
               int(points), bool(plot), time_column, displacement_column, force_column, callback=_CaseProgress,
               mix_builds=bool(mix_builds))
     path = os.path.join(os.fspath(out), "calibration.json")

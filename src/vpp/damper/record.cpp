@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
+#include <string_view>
+#include <utility>
 
 #include "scene/scene_runner.h"
 #include "dem/detect/cell_grid.h"
@@ -24,6 +26,100 @@ namespace vpp {
 namespace fs = std::filesystem;
 
 namespace damper_detail {
+
+namespace {
+
+// Energy per cycle: ledger differences between the first samples of consecutive cycles (`rows`,
+// one per sample, S a cycle); the last cycle ends at `last`, the last step of cycling (one step
+// before the cycle's end).
+void add_cycle_energies(std::vector<CycleResult>& cycles, const std::vector<EnergyRow>& rows, const EnergyRow& last,
+                        int S) {
+    for (CycleResult& cr : cycles) {
+        const std::size_t a = std::size_t(cr.cycle - 1) * std::size_t(S), b = a + std::size_t(S);
+        if (a >= rows.size()) continue;
+        const EnergyRow& e0 = rows[a];
+        const EnergyRow& e1 = b < rows.size() ? rows[b] : last;
+        auto d = [&](std::string_view column) {
+            const std::size_t k = dem::energy_column(column);
+            return e1.v[k] - e0.v[k];
+        };
+        cr.has_energy = true;
+        cr.boundary_work = d("boundary_work");
+        cr.friction_dissipation = d("friction_dissipation");
+        cr.damping_dissipation = d("damping_dissipation");
+        cr.viscous_dissipation = d("viscous_dissipation");
+        cr.energy_residual = d("residual");
+    }
+}
+
+// The machine's loop: forces.csv's force_machine_zeroed (the grains' and foil's force `ls`, the
+// lid's -dp A added, zeroed at the first sample) through the same analysis, and the air's range
+// over each cycle (`air`, one row per sample).
+std::vector<AirCycle> air_by_cycle(LoopSeries ls, const std::vector<AirSample>& air, double radius) {
+    std::vector<AirCycle> out;
+    const double m0 = ls.force[0] - air[0].dp * air[0].lid_area;
+    for (std::size_t k = 0; k < ls.force.size(); ++k) ls.force[k] += -air[k].dp * air[k].lid_area - m0;
+    for (const CycleResult& m : analyze_cycles(ls, radius)) {
+        AirCycle a;
+        a.cycle = m.cycle;
+        a.W_machine = m.W;
+        a.peak_force_machine = m.peak_force;
+        a.min_force_machine = m.min_force;
+        a.underpressure_min = a.gas_volume_min = std::numeric_limits<double>::infinity();
+        a.underpressure_max = a.gas_volume_max = -std::numeric_limits<double>::infinity();
+        double dp_sum = 0;
+        std::size_t dp_n = 0;
+        for (std::size_t k = 0; k < ls.cycle.size(); ++k) {
+            if (ls.cycle[k] != m.cycle) continue;
+            dp_sum += air[k].dp;
+            ++dp_n;
+            a.underpressure_min = std::min(a.underpressure_min, air[k].dp);
+            a.underpressure_max = std::max(a.underpressure_max, air[k].dp);
+            a.gas_volume_min = std::min(a.gas_volume_min, air[k].gas);
+            a.gas_volume_max = std::max(a.gas_volume_max, air[k].gas);
+        }
+        a.underpressure_mean = dp_n ? dp_sum / double(dp_n) : 0.0;
+        out.push_back(a);
+    }
+    return out;
+}
+
+// The pump model's warnings: a cycle whose mean dp fell short of the set value, and one whose dp
+// fell below half of it (each the first such cycle).
+void add_pump_warnings(DamperResult& r, const Config& config) {
+    // The pump model's dp follows the gas: a leak that outruns the pump lets it fall below the set
+    // value, and W is then that of a lower underpressure (W grows with dp: a leak of 1e-3 m^3/s
+    // held 35.8 of 60 kPa and gave W 313 against 419 J/m^2). Warned from 5% below, a cycle's mean.
+    for (const AirCycle& a : r.air)
+        if (a.underpressure_mean < (1.0 - kUnderpressureShortfall) * config.process.underpressure) {
+            char msg[400];
+            std::snprintf(msg, sizeof msg,
+                          "pump model: the mean dp of cycle %d was %.4g Pa, %.1f%% below the set "
+                          "process.underpressure %.4g Pa (the run held %.4g Pa over its cycles): the leak "
+                          "(process.leak_rate %.3g m^3/s) or the stroke outruns the pump (process.pump_speed "
+                          "%.3g m^3/s); W is that of the lower dp",
+                          a.cycle, a.underpressure_mean,
+                          100.0 * (1.0 - a.underpressure_mean / config.process.underpressure),
+                          config.process.underpressure, r.underpressure_held, config.process.leak_rate,
+                          config.process.pump_speed);
+            r.warnings.push_back(msg);
+            break;
+        }
+    for (const AirCycle& a : r.air)
+        if (a.underpressure_min < 0.5 * config.process.underpressure) {
+            char msg[400];
+            std::snprintf(msg, sizeof msg,
+                          "pump model: dp fell to %.4g Pa in cycle %d, below half the set process.underpressure "
+                          "%.4g Pa: the leak (process.leak_rate %.3g m^3/s) or the stroke outruns the pump "
+                          "(process.pump_speed %.3g m^3/s); this is not a run at the set underpressure",
+                          a.underpressure_min, a.cycle, config.process.underpressure, config.process.leak_rate,
+                          config.process.pump_speed);
+            r.warnings.push_back(msg);
+            break;
+        }
+}
+
+}  // namespace
 
 DamperResult DamperRun::result() const {
     const dem::World& world = scene_.world;
@@ -64,55 +160,10 @@ DamperResult DamperRun::result() const {
         ls.cycle.push_back(int(k / S) + 1);
     }
     r.cycles = analyze_cycles(ls, config.damper.radius);
-    // Energy per cycle: ledger differences between the first samples of consecutive cycles;
-    // the last cycle ends at the last step of cycling (one step before the cycle's end).
-    if (!state_.energy.empty() && state_.energy.size() == state_.samples.size()) {
-        const EnergyRow last = energy_row(world.energy(), world.energy().time - state_.cycle_t0);
-        for (CycleResult& cr : r.cycles) {
-            const std::size_t a = std::size_t(cr.cycle - 1) * std::size_t(S), b = a + std::size_t(S);
-            if (a >= state_.energy.size()) continue;
-            const EnergyRow& e0 = state_.energy[a];
-            const EnergyRow& e1 = b < state_.energy.size() ? state_.energy[b] : last;
-            auto d = [&](std::string_view column) {
-                const std::size_t k = dem::energy_column(column);
-                return e1.v[k] - e0.v[k];
-            };
-            cr.has_energy = true;
-            cr.boundary_work = d("boundary_work");
-            cr.friction_dissipation = d("friction_dissipation");
-            cr.damping_dissipation = d("damping_dissipation");
-            cr.viscous_dissipation = d("viscous_dissipation");
-            cr.energy_residual = d("residual");
-        }
-    }
+    if (!state_.energy.empty() && state_.energy.size() == state_.samples.size())
+        add_cycle_energies(r.cycles, state_.energy, energy_row(world.energy(), world.energy().time - state_.cycle_t0), S);
     r.settling = mark_settled(r.cycles, config.analysis.settle_tolerance);
-    if (air_complete(state_) && !ls.force.empty()) {
-        // The machine's loop: forces.csv's force_machine_zeroed through the same analysis.
-        const double m0 = ls.force[0] - state_.air[0].dp * state_.air[0].lid_area;
-        for (std::size_t k = 0; k < ls.force.size(); ++k) ls.force[k] += -state_.air[k].dp * state_.air[k].lid_area - m0;
-        for (const CycleResult& m : analyze_cycles(ls, config.damper.radius)) {
-            AirCycle a;
-            a.cycle = m.cycle;
-            a.W_machine = m.W;
-            a.peak_force_machine = m.peak_force;
-            a.min_force_machine = m.min_force;
-            a.underpressure_min = a.gas_volume_min = std::numeric_limits<double>::infinity();
-            a.underpressure_max = a.gas_volume_max = -std::numeric_limits<double>::infinity();
-            double dp_sum = 0;
-            std::size_t dp_n = 0;
-            for (std::size_t k = 0; k < ls.cycle.size(); ++k) {
-                if (ls.cycle[k] != m.cycle) continue;
-                dp_sum += state_.air[k].dp;
-                ++dp_n;
-                a.underpressure_min = std::min(a.underpressure_min, state_.air[k].dp);
-                a.underpressure_max = std::max(a.underpressure_max, state_.air[k].dp);
-                a.gas_volume_min = std::min(a.gas_volume_min, state_.air[k].gas);
-                a.gas_volume_max = std::max(a.gas_volume_max, state_.air[k].gas);
-            }
-            a.underpressure_mean = dp_n ? dp_sum / double(dp_n) : 0.0;
-            r.air.push_back(a);
-        }
-    }
+    if (air_complete(state_) && !ls.force.empty()) r.air = air_by_cycle(std::move(ls), state_.air, config.damper.radius);
     r.report = state_.report;
     r.warnings = state_.warnings;
     if (!incomplete.empty()) r.warnings.push_back(incomplete);
@@ -131,38 +182,7 @@ DamperResult DamperRun::result() const {
         for (const AirCycle& a : r.air) sum += a.underpressure_mean;
         r.underpressure_held = sum / double(r.air.size());
     }
-    // The pump model's dp follows the gas: a leak that outruns the pump lets it fall below the set
-    // value, and W is then that of a lower underpressure (W grows with dp: a leak of 1e-3 m^3/s
-    // held 35.8 of 60 kPa and gave W 313 against 419 J/m^2). Warned from 5% below, a cycle's mean.
-    if (config.process.pressure_model != 0)
-        for (const AirCycle& a : r.air)
-            if (a.underpressure_mean < (1.0 - kUnderpressureShortfall) * config.process.underpressure) {
-                char msg[400];
-                std::snprintf(msg, sizeof msg,
-                              "pump model: the mean dp of cycle %d was %.4g Pa, %.1f%% below the set "
-                              "process.underpressure %.4g Pa (the run held %.4g Pa over its cycles): the leak "
-                              "(process.leak_rate %.3g m^3/s) or the stroke outruns the pump (process.pump_speed "
-                              "%.3g m^3/s); W is that of the lower dp",
-                              a.cycle, a.underpressure_mean,
-                              100.0 * (1.0 - a.underpressure_mean / config.process.underpressure),
-                              config.process.underpressure, r.underpressure_held, config.process.leak_rate,
-                              config.process.pump_speed);
-                r.warnings.push_back(msg);
-                break;
-            }
-    if (config.process.pressure_model != 0)
-        for (const AirCycle& a : r.air)
-            if (a.underpressure_min < 0.5 * config.process.underpressure) {
-                char msg[400];
-                std::snprintf(msg, sizeof msg,
-                              "pump model: dp fell to %.4g Pa in cycle %d, below half the set process.underpressure "
-                              "%.4g Pa: the leak (process.leak_rate %.3g m^3/s) or the stroke outruns the pump "
-                              "(process.pump_speed %.3g m^3/s); this is not a run at the set underpressure",
-                              a.underpressure_min, a.cycle, config.process.underpressure, config.process.leak_rate,
-                              config.process.pump_speed);
-                r.warnings.push_back(msg);
-                break;
-            }
+    if (config.process.pressure_model != 0) add_pump_warnings(r, config);
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     r.config = config;
     return r;

@@ -199,6 +199,60 @@ std::vector<double> parse_range(const std::string& key, const std::string& text,
     return out;
 }
 
+namespace {
+
+// A [grid] key's values into `ax`: a list of values, or a range "start:stop:step" (integers when
+// its three numbers are); no value twice.
+void read_grid_values(const FlatEntry& e, const std::string& where, GridAxis& ax) {
+    if (const toml::array* a = e.node->as_array()) {
+        if (a->empty()) throw ConfigError(where + "grid key '" + e.key + "' is an empty list; give at least one value");
+        for (const toml::node& v : *a) {
+            std::string lit, label;
+            if (!scalar_literal(v, lit, label))
+                throw ConfigError(where + "grid key '" + e.key + "': value " + cfg::describe(v) +
+                                  " must be a number, string or boolean");
+            ax.literals.push_back(lit);
+            ax.labels.push_back(label);
+        }
+    } else if (const toml::value<std::string>* r = e.node->as_string()) {
+        bool ints = false;
+        for (double v : parse_range(e.key, r->get(), &ints)) {
+            std::string lit, label;
+            if (ints) {
+                lit = label = std::to_string(std::llround(v));
+            } else {
+                scalar_literal(toml::value<double>(v), lit, label);
+            }
+            ax.literals.push_back(lit);
+            ax.labels.push_back(label);
+        }
+    } else {
+        throw ConfigError(where + "grid key '" + e.key + "' = " + cfg::describe(*e.node) +
+                          ": expected a list of values or a range \"start:stop:step\"");
+    }
+    std::set<std::string> uniq(ax.labels.begin(), ax.labels.end());
+    if (uniq.size() != ax.labels.size()) throw ConfigError(where + "grid key '" + e.key + "' repeats a value");
+}
+
+// The ensemble: simulation.seed = 1..seeds as the last grid key (varying fastest), so the seeds of
+// one case sit side by side; --seeds (seeds_override) replaces a seed list of [grid].
+void add_seed_axis(Study& s, int seeds, int seeds_override, const std::string& where) {
+    const std::string from = seeds_override > 0 ? "--seeds" : "key 'seeds'";
+    for (const std::string& x : s.set)
+        if (x.starts_with("simulation.seed="))
+            throw ConfigError(where + from + " and a fixed simulation.seed (" + x +
+                              ") contradict each other: give one of them");
+    const auto it = std::find_if(s.grid.begin(), s.grid.end(), [](const GridAxis& a) { return a.key == "simulation.seed"; });
+    if (it != s.grid.end()) {
+        if (seeds_override == 0)
+            throw ConfigError(where + "key 'seeds' and a [grid] list of simulation.seed both give the seeds: keep one");
+        s.grid.erase(it);
+    }
+    s.grid.push_back(axis_from_text("simulation.seed", "1:" + std::to_string(seeds) + ":1"));
+}
+
+}  // namespace
+
 Study load_study(const std::string& path, const std::vector<std::string>& extra_sets, int seeds_override) {
     if (!fs::is_regular_file(path)) throw ConfigError("study file '" + path + "' not found");
     const toml::table root = cfg::parse_file(path, "study");
@@ -286,53 +340,11 @@ Study load_study(const std::string& path, const std::vector<std::string>& extra_
             if (seen.count(e.key)) throw ConfigError(where + "key '" + e.key + "' is in both [set] and [grid]");
             for (const GridAxis& o : s.grid)
                 if (o.key == e.key) throw ConfigError(where + "grid key '" + e.key + "' is given twice");
-            if (const toml::array* a = e.node->as_array()) {
-                if (a->empty()) throw ConfigError(where + "grid key '" + e.key + "' is an empty list; give at least one value");
-                for (const toml::node& v : *a) {
-                    std::string lit, label;
-                    if (!scalar_literal(v, lit, label))
-                        throw ConfigError(where + "grid key '" + e.key + "': value " + cfg::describe(v) +
-                                          " must be a number, string or boolean");
-                    ax.literals.push_back(lit);
-                    ax.labels.push_back(label);
-                }
-            } else if (const toml::value<std::string>* r = e.node->as_string()) {
-                bool ints = false;
-                for (double v : parse_range(e.key, r->get(), &ints)) {
-                    std::string lit, label;
-                    if (ints) {
-                        lit = label = std::to_string(std::llround(v));
-                    } else {
-                        scalar_literal(toml::value<double>(v), lit, label);
-                    }
-                    ax.literals.push_back(lit);
-                    ax.labels.push_back(label);
-                }
-            } else {
-                throw ConfigError(where + "grid key '" + e.key + "' = " + cfg::describe(*e.node) +
-                                  ": expected a list of values or a range \"start:stop:step\"");
-            }
-            std::set<std::string> uniq(ax.labels.begin(), ax.labels.end());
-            if (uniq.size() != ax.labels.size()) throw ConfigError(where + "grid key '" + e.key + "' repeats a value");
+            read_grid_values(e, where, ax);
             s.grid.push_back(std::move(ax));
         }
     }
-    if (seeds > 0) {
-        // The ensemble: simulation.seed = 1..seeds as the last grid key (varying fastest), so
-        // the seeds of one case sit side by side; --seeds replaces a seed list of [grid].
-        const std::string from = seeds_override > 0 ? "--seeds" : "key 'seeds'";
-        for (const std::string& x : s.set)
-            if (x.starts_with("simulation.seed="))
-                throw ConfigError(where + from + " and a fixed simulation.seed (" + x +
-                                  ") contradict each other: give one of them");
-        const auto it = std::find_if(s.grid.begin(), s.grid.end(), [](const GridAxis& a) { return a.key == "simulation.seed"; });
-        if (it != s.grid.end()) {
-            if (seeds_override == 0)
-                throw ConfigError(where + "key 'seeds' and a [grid] list of simulation.seed both give the seeds: keep one");
-            s.grid.erase(it);
-        }
-        s.grid.push_back(axis_from_text("simulation.seed", "1:" + std::to_string(seeds) + ":1"));
-    }
+    if (seeds > 0) add_seed_axis(s, seeds, seeds_override, where);
     return s;
 }
 
