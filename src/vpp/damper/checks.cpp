@@ -8,6 +8,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "scene/shared_keys.h"
 #include "vpp/damper/stored_settings.h"
 #include "vpp/settings/settings.h"
 
@@ -167,11 +168,14 @@ void check_steps(const DamperScene& scene) {
                                  "seconds; allowed: moduli, densities and sizes of real materials");
     }
     const std::string source = sim.dt_auto ? from_auto() : "simulation.dt = " + show_value("", sim.dt);
-    // A fixed step has the automatic one's bound: half one contact's critical step (dt_safety <= 0.5).
-    if (!sim.dt_auto && std::isfinite(critical) && sim.dt > 0.5 * critical)
+    // A fixed step has the automatic one's bound: the largest simulation.dt_safety times one contact's
+    // critical step (scene/shared_keys.h).
+    constexpr double bound = cfg::keys::dt_safety.limits.hi;
+    static_assert(bound == 0.5, "the message says \"half the critical step\"");
+    if (!sim.dt_auto && std::isfinite(critical) && sim.dt > bound * critical)
         throw std::runtime_error("config key 'simulation.dt' = " + show_value("", sim.dt) + ": more than half the critical "
                                  "step sqrt(m/k) = " + fmt("%.4g", critical) + " s of the stiffest contact (the bound of "
-                                 "simulation.dt_safety); allowed: at most " + fmt("%.4g", 0.5 * critical) +
+                                 "simulation.dt_safety); allowed: at most " + fmt("%.4g", bound * critical) +
                                  " s here, or \"auto\"");
     // The neighbour lists' skin: a few tenths of a radius saves list rebuilds; ten radii already
     // lists hundreds of pairs per grain that never touch, and 1e300 m overflowed the cell grid.

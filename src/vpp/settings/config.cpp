@@ -9,6 +9,7 @@
 #include "dem/io/csv.h"
 #include "scene/clump_template.h"
 #include "scene/config.h"
+#include "scene/time_step.h"
 #include "vpp/settings/settings.h"
 
 namespace vpp {
@@ -168,7 +169,7 @@ double peak_speed(const ProcessDef& p) {
 }
 
 double resolve_dt(const SimulationDef& s, const dem::World& w) {
-    return s.dt_auto ? s.dt_safety * w.critical_dt() : s.dt;
+    return scene::time_step({.automatic = s.dt_auto, .dt = s.dt, .safety = s.dt_safety}, w);
 }
 
 }  // namespace vpp

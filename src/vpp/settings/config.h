@@ -174,7 +174,7 @@ double cycling_local_damping(const Config& c);
 Config load_config(const std::string& path, const std::vector<std::string>& overrides,
                    CommandSet commands = CommandSet::Damper);
 
-// Time step for a world built from this config: fixed, or safety * critical step.
+// Time step [s] for a world built from this config: fixed, or safety * critical step (scene/time_step.h).
 double resolve_dt(const SimulationDef& s, const dem::World& w);
 
 }  // namespace vpp
