@@ -1,7 +1,7 @@
 // The settings table (vpp/settings/settings.h): its defaults are the ones the reader applies, its ranges
 // are the ones the reader enforces with messages naming key, value and what is allowed, and its
 // sharing rule is the study's rule of before the table.
-// At its end, the keys every settings table shares (scene/shared_keys.h).
+// At its end, the keys every settings table shares (scene/shared_keys.h) and the enumerated settings.
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -20,6 +20,7 @@
 #include "scene/time_step.h"
 #include "toml_literal.h"
 #include "vpp/device/definition.h"
+#include "vpp/settings/choices.h"
 #include "vpp/settings/config.h"
 #include "vpp/settings/settings.h"
 #include "vpp/study/key_reference.h"
@@ -280,7 +281,8 @@ TEST(Settings, EveryKeyActingDuringThePreparationIsRecordedWithTheSample) {
 
 // ---- One declaration per shared key (issue 59, item 2; scene/shared_keys.h): the scene runner's,
 // the damper's and the device file's tables read a key they share with its one range, and the
-// time step comes from one rule (scene/time_step.h).
+// time step comes from one rule (scene/time_step.h). The enumerated settings' words and numbers
+// (vpp/settings/choices.h).
 namespace test_shared_keys {
 
 namespace {
@@ -459,6 +461,45 @@ TEST(TimeStep, OneRuleForEveryCommand) {
         EXPECT_NE(device_refusal(compact).find("'simulation.dt'"), std::string::npos) << compact;
         EXPECT_EQ(device_refusal(compact), damper_refusal(compact)) << compact;
     }
+}
+
+TEST(Choices, WordsAndNumbersOfTheEnumeratedSettings) {
+    using vpp::GrainShape;
+    // The numbers are what checkpoints and records hold: they never change.
+    EXPECT_EQ(int(GrainShape::Template), 5);
+    EXPECT_EQ(int(vpp::RadiusDistribution::Sieve), 3);
+    EXPECT_EQ(int(vpp::PressureModel::Pump), 1);
+    EXPECT_EQ(int(vpp::Waveform::Sine), 1);
+    EXPECT_EQ(int(vpp::FoilBuilder::Mesh), 1);
+    // The first shapes are dem's built-in ones, in their order (grain_shape() asks for them by word).
+    const std::vector<std::string>& builtin = dem::builtin_clump_shapes();
+    for (std::size_t i = 0; i < builtin.size(); ++i) EXPECT_EQ(builtin[i], vpp::word_of(GrainShape(i)));
+    EXPECT_EQ(vpp::from_word<GrainShape>("template"), GrainShape::Template);
+    EXPECT_EQ(vpp::from_word<GrainShape>("cube"), std::nullopt);
+    EXPECT_EQ(vpp::from_number<vpp::Waveform>(1.0), vpp::Waveform::Sine);
+    EXPECT_EQ(vpp::from_number<vpp::Waveform>(2.0), std::nullopt);
+    EXPECT_EQ(vpp::from_number<vpp::Waveform>(0.5), std::nullopt);
+    // Each Choice key's sentence names its words, and a config reads each of them.
+    auto check = [](const char* key, const auto& words) {
+        const std::string allowed = vpp::find_setting(key)->allowed;
+        for (const char* w : words) {
+            EXPECT_NE(allowed.find(std::string("\"") + w + "\""), std::string::npos) << key << ": " << w;
+            if (std::string(key) == "grains.radius_distribution" || std::string(key) == "grains.shape") continue;
+            EXPECT_EQ(damper_refusal(std::string(key) + "=" + w), "") << key << " = " << w;
+        }
+    };
+    check("grains.radius_distribution", vpp::Words<vpp::RadiusDistribution>::words);
+    check("grains.shape", vpp::Words<GrainShape>::words);
+    check("foil.builder", vpp::Words<vpp::FoilBuilder>::words);
+    check("process.pressure_model", vpp::Words<vpp::PressureModel>::words);
+    check("process.waveform", vpp::Words<vpp::Waveform>::words);
+    const vpp::Config c = vpp::load_config("", {"process.waveform=sine", "process.pressure_model=pump", "grains.shape=dimer"});
+    EXPECT_EQ(c.process.waveform, vpp::Waveform::Sine);
+    EXPECT_EQ(c.process.pressure_model, vpp::PressureModel::Pump);
+    EXPECT_EQ(c.grains.shape, GrainShape::Dimer);
+    // Stored as their numbers.
+    EXPECT_EQ(vpp::find_setting("grains.shape")->get(c), 1.0);
+    EXPECT_EQ(vpp::find_setting("process.waveform")->get(c), 1.0);
 }
 
 }  // namespace test_shared_keys

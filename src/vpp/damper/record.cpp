@@ -134,7 +134,7 @@ DamperResult DamperRun::result() const {
     // The pump model's dp follows the gas: a leak that outruns the pump lets it fall below the set
     // value, and W is then that of a lower underpressure (W grows with dp: a leak of 1e-3 m^3/s
     // held 35.8 of 60 kPa and gave W 313 against 419 J/m^2). Warned from 5% below, a cycle's mean.
-    if (config.process.pressure_model != 0)
+    if (config.process.pressure_model == PressureModel::Pump)
         for (const AirCycle& a : r.air)
             if (a.underpressure_mean < (1.0 - kUnderpressureShortfall) * config.process.underpressure) {
                 char msg[400];
@@ -150,7 +150,7 @@ DamperResult DamperRun::result() const {
                 r.warnings.push_back(msg);
                 break;
             }
-    if (config.process.pressure_model != 0)
+    if (config.process.pressure_model == PressureModel::Pump)
         for (const AirCycle& a : r.air)
             if (a.underpressure_min < 0.5 * config.process.underpressure) {
                 char msg[400];
@@ -249,7 +249,7 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
         .num("foil_radius", r.foil_radius)
         .num("height", r.height)
         .num("particle_modulus", particle_modulus(c.foil))
-        .num("bond_kn", c.damper.foil_builder == 1 ? r.foil_bond_kn_mean : bond_normal_stiffness(c.foil))
+        .num("bond_kn", c.damper.foil_builder == FoilBuilder::Mesh ? r.foil_bond_kn_mean : bond_normal_stiffness(c.foil))
         .num("dt", r.dt)
         .num("cycle_steps", cycle_period(c.process) / r.dt)
         .num("inertial_number", I)
@@ -265,7 +265,7 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
         .raw("preparation", report_json("prepare."))
         .raw("start_of_cycling", report_json("cycle."));
     // The mesh foil (docs/membrane.md): what it is made of; foil_columns and foil_rows are 0.
-    if (c.damper.foil_builder == 1)
+    if (c.damper.foil_builder == FoilBuilder::Mesh)
         j.str("foil_builder", "mesh").num("foil_vacancies", double(r.foil_vacancies));
     if (!r.air.empty()) {
         std::string air_cycles = "[";
@@ -280,7 +280,7 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
             air_cycles += (k ? ", " : "") + o.value();
         }
         dem::JsonObject air;
-        air.str("pressure_model", c.process.pressure_model == 0 ? "constant" : "pump")
+        air.str("pressure_model", word_of(c.process.pressure_model))
             .num("underpressure_set", c.process.underpressure)
             .num("underpressure_held", r.underpressure_held)
             .raw("cycles", air_cycles + "]");
@@ -331,7 +331,7 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
     const bool quasi_static = I < kQuasiStaticInertialNumber;
     if (!opt.quiet) {
         std::fprintf(stderr, "\n=== vppdem damper: %s ===\n", opt.out_dir.c_str());
-        if (c.damper.foil_builder == 1)
+        if (c.damper.foil_builder == FoilBuilder::Mesh)
             std::fprintf(stderr, "grains %zu, mesh foil %zu particles (%zu vacancies, radius %.4g mm), height %.4g mm, dt %.3g s\n",
                          r.grains, r.foil_particles, r.foil_vacancies, 1e3 * r.foil_radius, 1e3 * r.height, r.dt);
         else

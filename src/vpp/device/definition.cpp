@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -13,6 +14,7 @@
 #include "scene/setting.h"
 #include "scene/shared_keys.h"
 #include "scene/time_step.h"
+#include "vpp/settings/choices.h"
 #include "vpp/settings/config.h"
 
 namespace vpp {
@@ -257,10 +259,9 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     st.finish();
 
     Section air = top.table("air");
-    const std::string model = air.string("model", "constant");
-    if (model == "constant") d.air.model = PressureModel::Constant;
-    else if (model == "pump") d.air.model = PressureModel::Pump;
-    else air.fail("model", "must be \"constant\" (dp held at stages.underpressure) or \"pump\" (a sealed gas pumped down)");
+    const std::optional<PressureModel> model = from_word<PressureModel>(air.string("model", word_of(PressureModel::Constant)));
+    if (!model) air.fail("model", "must be \"constant\" (dp held at stages.underpressure) or \"pump\" (a sealed gas pumped down)");
+    d.air.model = *model;
     d.air.line.speed = air.non_negative("pump_speed", air.number("pump_speed", 5.6e-4));
     d.air.line.bleed = air.non_negative("bleed_rate", air.number("bleed_rate", 0.0));
     d.air.line.leak = air.non_negative("leak_rate", air.number("leak_rate", 0.0));
@@ -383,7 +384,7 @@ std::vector<std::pair<std::string, std::string>> device_inputs(const DeviceDef& 
     in.emplace_back("membrane.particle_radius", json_number(d.membrane.foil.particle_radius));
     in.emplace_back("membrane.friction", json_number(d.membrane.foil.friction));
     in.emplace_back("membrane.clamp_tool", json_string(d.clamp_tool));
-    in.emplace_back("air.model", json_string(d.air.model == PressureModel::Pump ? "pump" : "constant"));
+    in.emplace_back("air.model", json_string(word_of(d.air.model)));
     in.emplace_back("result.object", json_string(d.object));
     in.emplace_back("result.cycle_tool", json_string(d.cycle_tool));
     in.emplace_back("grains.lattice", json_string(d.lattice));

@@ -38,6 +38,16 @@ std::string short_key(const Setting& s) {
     return k.substr(k.find('.') + 1);
 }
 
+// An enumerated key (vpp/settings/choices.h): its word in the file, `def` where the file has none;
+// another word is refused with the row's `allowed`.
+template <class E>
+E read_word(cfg::Section& s, const Setting& r, E def) {
+    const std::string k = short_key(r);
+    const std::optional<E> v = from_word<E>(s.string(k, word_of(def)));
+    if (!v) s.fail(k, r.allowed);
+    return *v;
+}
+
 // A row of a key declared once for every table (scene/shared_keys.h): its type, unit, default,
 // range and doc from there; `row` gives what this table adds (what it acts on, where it is
 // recorded, its field, a note on what it does in these commands). `key` and `doc`: another key
@@ -98,13 +108,7 @@ const std::vector<Setting>& table() {
                 "grains.radius_spread); \"lognormal\": ln r with sd grains.radius_spread, cut at 3 sd, mean "
                 "grains.radius; \"sieve\": from the sieve curve grains.sieve_curve (docs/damper.md, \"Grain sizes\")",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
-             const std::string k = short_key(r);
-             const std::string d = s.string(k, "single");
-             const char* const names[] = {"single", "uniform", "lognormal", "sieve"};
-             c.grains.radius_distribution = -1;
-             for (int i = 0; i < 4; ++i)
-                 if (d == names[i]) c.grains.radius_distribution = i;
-             if (c.grains.radius_distribution < 0) s.fail(k, r.allowed);
+             c.grains.radius_distribution = read_word(s, r, RadiusDistribution::Single);
          },
          FIELD(grains.radius_distribution), .legacy = 0.0},  // an older vppdem's grains had one radius
         {.key = "grains.radius_spread", .type = T::Real, .unit = "-", .def = 0.0, .check = C::Range, .lo = 0.0,
@@ -146,13 +150,7 @@ const std::vector<Setting>& table() {
                 "sphere of the grain's radius, in random orientations (docs/scene.md#clumps: dimer, trimer, "
                 "tetrahedron, pellet; \"template\": grains.clump_template)",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
-             const std::string k = short_key(r);
-             const std::string d = s.string(k, "sphere");
-             const char* const names[] = {"sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"};
-             c.grains.shape = -1;
-             for (int i = 0; i < 6; ++i)
-                 if (d == names[i]) c.grains.shape = i;
-             if (c.grains.shape < 0) s.fail(k, r.allowed);
+             c.grains.shape = read_word(s, r, GrainShape::Sphere);
          },
          FIELD(grains.shape), .legacy = 0.0},  // an older vppdem's grains were spheres
         {.key = "grains.clump_template", .type = T::String, .unit = "", .def = Setting::kUnset, .default_text = "none",
@@ -250,13 +248,10 @@ const std::vector<Setting>& table() {
                 "stiffness times 2.05, the end rings held by base and cap (docs/membrane.md, \"A cylinder given as a "
                 "mesh\")",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet commands) {
-             const std::string k = short_key(r);
-             const std::string b = s.string(k, "lattice");
-             if (b != "lattice" && b != "mesh") s.fail(k, r.allowed);
-             if (b == "mesh" && commands == CommandSet::Foil)
-                 s.fail(k, "must be \"lattice\" for the tension and envelope commands: they check the lattice foil "
-                           "(docs/foil.md); \"mesh\" is the damper's (damper, sweep, calibrate)");
-             c.damper.foil_builder = b == "mesh" ? 1 : 0;
+             c.damper.foil_builder = read_word(s, r, FoilBuilder::Lattice);
+             if (c.damper.foil_builder == FoilBuilder::Mesh && commands == CommandSet::Foil)
+                 s.fail(short_key(r), "must be \"lattice\" for the tension and envelope commands: they check the lattice "
+                                      "foil (docs/foil.md); \"mesh\" is the damper's (damper, sweep, calibrate)");
          },
          FIELD(damper.foil_builder), .legacy = 0.0},  // an older vppdem's foil was the lattice
         // [damper]; radius and height are also checked against the foil (vpp/settings/config.cpp).
@@ -356,10 +351,7 @@ const std::vector<Setting>& table() {
                 "isothermal gas in the foil's pores, drawn by a pump through a regulator set to process.underpressure, "
                 "with a leak (docs/damper.md, \"The air inside\")",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
-             const std::string k = short_key(r);
-             const std::string m = s.string(k, "constant");
-             if (m != "constant" && m != "pump") s.fail(k, r.allowed);
-             c.process.pressure_model = m == "pump" ? 1 : 0;
+             c.process.pressure_model = read_word(s, r, PressureModel::Constant);
          },
          FIELD(process.pressure_model), .legacy = 0.0},  // an older vppdem held dp constant
         {.key = "process.pump_speed", .type = T::Real, .unit = "m^3/s", .def = 2.0 / 3600.0, .check = C::NonNegative,
@@ -391,10 +383,7 @@ const std::vector<Setting>& table() {
          .doc = "the stroke's shape: \"triangle\" (constant speed, the paper) or \"sine\" (d = A (1 - cos 2 pi t / T) / "
                 "2, peak speed pi A / T), period T from process.frequency or process.velocity",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
-             const std::string k = short_key(r);
-             const std::string w = s.string(k, "triangle");
-             if (w != "triangle" && w != "sine") s.fail(k, r.allowed);
-             c.process.waveform = w == "sine" ? 1 : 0;
+             c.process.waveform = read_word(s, r, Waveform::Triangle);
          },
          FIELD(process.waveform), .legacy = 0.0},
         {.key = "process.frequency", .type = T::Real, .unit = "Hz", .def = 0.0, .check = C::NonNegative,
