@@ -28,7 +28,7 @@
 namespace cfg {
 
 struct KeyDecl {
-    const char* key;                  // the dotted key as the damper's and the device's files spell it
+    const char* key;                  // the dotted key as the files spell it (a scene's material: materials[].young)
     SettingType type;
     const char* unit;                 // SI unit; "-" a ratio, "" a count, flag or word
     double def = std::numeric_limits<double>::quiet_NaN();  // the default (NaN: default_text says it)
@@ -75,15 +75,15 @@ inline constexpr KeyDecl dt_safety{
     .doc = "dt = safety * min sqrt(m/k) when simulation.dt is \"auto\""};
 // At most 0.9: the damping removes the fraction lambda of each force's power; near 1 it holds the
 // particles back instead of damping them (process.local_damping = 0.999999 gave the damper a W of
-// 125,099 J/m^2 against 388). Scenes and devices had allowed [0, 1); none gives more than 0.5.
+// 125,099 J/m^2 against 388). Scenes and devices had allowed [0, 1); no file gives more than 0.5.
 // Default 0: a scene is undamped unless it asks.
 inline constexpr KeyDecl local_damping{
     .key = "simulation.local_damping", .type = SettingType::Real, .unit = "-", .def = 0.0,
     .limits = {.check = Check::Range, .lo = 0.0, .hi = 0.9,
                .allowed = "must be in [0, 0.9] (above, the damping, not the contacts, dissipates)"},
     .doc = "Yade's non-viscous damping: each force and torque component is scaled by 1 - lambda sign(F_k v_k)"};
-// 0: the free cores, measured only when asked for (scene/threads.h). At most 1024: a thread team
-// larger than any machine's cores only waits at the step's barriers.
+// 0: the free cores, measured only when asked for (scene/threads.h); the damper's default. Scenes
+// and devices had allowed 1 ... 1024 only.
 inline constexpr KeyDecl threads{
     .key = "simulation.threads", .type = SettingType::Integer, .unit = "", .def = 1,
     .limits = {.check = Check::Custom, .lo = 0, .hi = 1024, .allowed = "must be an integer 1..1024, or 0 for the free cores"},

@@ -64,8 +64,8 @@ struct DeviceDef {
     double dt_safety = cfg::keys::dt_safety.def;  // [-]
     double local_damping = 0.3;  // [-] Yade's non-viscous damping of every free particle
     dem::Vec3 gravity = cfg::keys::gravity.def3;  // [m/s^2]
-    uint64_t seed = 1;           // [-] the fill's jitter and the membrane's vacancies
-    int threads = 1;             // [-] threads of the step (results do not depend on it)
+    uint64_t seed = uint64_t(cfg::keys::seed.def);  // [-] the fill's jitter and the membrane's vacancies
+    int threads = int(cfg::keys::threads.def);      // [-] threads of the step (results do not depend on it)
 
     // [membrane]
     DeviceShape membrane_shape;
