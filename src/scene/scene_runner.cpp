@@ -15,6 +15,8 @@
 #include "scene/initial_overlaps.h"
 #include "scene/progress.h"
 #include "scene/scene_settings.h"
+#include "scene/shared_keys.h"
+#include "scene/time_step.h"
 #include "dem/io/csv.h"
 #include "dem/io/energy_columns.h"
 #include "dem/io/json.h"
@@ -373,25 +375,16 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     // Every key through the scene's settings table (scene/scene_settings.cpp): its default, its check.
     SceneSection sim(top.table("simulation"), "simulation");
     sim.record_into(&sc.inputs);
-    if (const toml::node* dtn = sim.node("dt")) {
-        const char* allowed = sim.row("dt").limits.allowed;
-        if (auto str = dtn->as_string()) {
-            if (str->get() != "auto") sim.fail("dt", allowed);
-            sc.dt_auto = true;
-        } else if (auto v = dtn->value<double>()) {
-            w.params.dt = sim.positive("dt", *v);
-        } else {
-            sim.fail("dt", allowed);
-        }
-    } else {
-        w.params.dt = sim.row("dt").def;
-    }
+    const TimeStep step = read_dt(sim.section(), "dt", sim.row("dt").def);
+    sc.dt_auto = step.automatic;
+    if (!step.automatic) w.params.dt = step.dt;
     sim.record("dt", sc.dt_auto ? "\"auto\"" : dem::json_double(w.params.dt));
     sc.dt_safety = sim.real("dt_safety");
     sc.duration = sim.real("duration");
     w.params.gravity = sim.vec3("gravity");
     w.params.local_damping = sim.real("local_damping");
-    w.params.threads = int(sim.integer("threads"));
+    w.params.threads = cfg::read_threads(sim.section(), "threads", int64_t(sim.row("threads").def));
+    sim.record("threads", std::to_string(w.params.threads));
     sc.output_interval = sim.real("output_interval");
     w.params.skin = sim.real("skin");
     // [-] of the smaller radius; a packing written to a few digits touches by a little.
@@ -417,7 +410,7 @@ Scene build_scene(const toml::table& root, const std::string& base_dir) {
     check_initial_overlaps(sc, max_overlap);
 
     if (sc.dt_auto) {
-        w.params.dt = sc.dt_safety * w.critical_dt();
+        w.params.dt = time_step({.automatic = true, .safety = sc.dt_safety}, w);
         if (!std::isfinite(w.params.dt))  // no free sphere: nothing sets a critical step
             sim.fail("dt", "\"auto\" needs at least one sphere that is not fixed; give dt in seconds");
     }

@@ -8,6 +8,7 @@
 
 #include "dem/world/world.h"
 #include "dem/io/folder_lock.h"
+#include "scene/shared_keys.h"
 
 namespace scene {
 
@@ -18,7 +19,7 @@ struct Scene {
     double output_interval = 1e-6;      // [s]
     double vtk_interval = 0.0;          // [s], 0 = no VTK frames
     bool dt_auto = false;
-    double dt_safety = 0.3;             // [-] dt = safety * critical step when dt = "auto"
+    double dt_safety = cfg::keys::dt_safety.def;  // [-] dt = safety * critical step when dt = "auto"
     std::vector<uint32_t> tracked;      // particle indices written to tracked.csv
     // Output walls: planes, then [[facets]], then each [[facet_sets]] entry as one wall;
     // wall_members[k] lists the World wall indices summed into output wall k.

@@ -4,6 +4,7 @@
 
 #include "dem/core/material.h"
 #include "dem/io/json.h"
+#include "scene/shared_keys.h"
 
 namespace scene {
 
@@ -47,32 +48,30 @@ SceneSetting positive_row(const std::string& g, const char* name, const char* un
             .limits = {.check = C::Positive}, .doc = doc};
 }
 
+// A row of a key declared once for every table (scene/shared_keys.h). A material property has
+// the scene's key (`key`: "materials[].young") and says whose it is (`doc`).
+SceneSetting declared(const cfg::KeyDecl& k, const std::string& key = "", const char* doc = nullptr) {
+    return {.key = key.empty() ? std::string(k.key) : key, .type = k.type, .unit = k.unit, .def = k.def,
+            .def3 = k.def3, .default_text = k.default_text, .limits = k.limits, .doc = doc ? doc : k.doc};
+}
+
 std::vector<SceneSetting> build_table() {
-    const dem::Material material;  // the core's defaults are the table's
+    namespace keys = cfg::keys;
+    const dem::Material& material = keys::kCoreMaterial;  // the core's defaults are the table's
     std::vector<SceneSetting> t = {
         // [simulation]
-        {.key = "simulation.dt", .type = T::RealOrAuto, .unit = "s", .def = 1e-7,
-         .limits = {.check = C::Custom, .allowed = "must be a time step in seconds (> 0) or \"auto\""},
-         .doc = "time step; \"auto\": dt_safety times the critical step, the minimum over free spheres of "
-                "sqrt(m / kn) (needs a sphere that is not fixed)"},
-        {.key = "simulation.dt_safety", .type = T::Real, .unit = "-", .def = 0.3,
-         .limits = {.check = C::Range, .lo = 0.0, .hi = 1.0, .lo_open = true, .allowed = "must be in (0, 1]"},
-         .doc = "safety factor of dt = \"auto\" (read, but unused, with a numeric dt)"},
+        // A fixed 1e-7 s by default, not "auto": what a scene file without dt has always run at.
+        declared(cfg::with_default(keys::dt, 1e-7)),
+        declared(keys::dt_safety),
         {.key = "simulation.duration", .type = T::Real, .unit = "s", .def = 1e-3, .limits = {.check = C::Positive},
          .doc = "simulated time; the run makes round(duration / dt) steps"},
-        {.key = "simulation.gravity", .type = T::Vec3, .unit = "m/s^2", .def3 = {0.0, 0.0, -9.81},
-         .doc = "acceleration of gravity"},
-        {.key = "simulation.local_damping", .type = T::Real, .unit = "-", .def = 0.0,
-         .limits = {.check = C::Range, .lo = 0.0, .hi = 1.0, .hi_open = true, .allowed = "must be in [0, 1)"},
-         .doc = "Yade's non-viscous damping: each force and torque component is scaled by 1 - lambda sign(F_k v_k)"},
-        {.key = "simulation.threads", .type = T::Integer, .unit = "", .def = 1,
-         .limits = {.check = C::Range, .lo = 1, .hi = 1024, .allowed = "must be an integer 1 ... 1024"},
-         .doc = "threads of the run; results are bitwise the same for any count"},
+        declared(keys::gravity),
+        declared(keys::local_damping),
+        declared(keys::threads),
         {.key = "simulation.output_interval", .type = T::Real, .unit = "s", .def = 1e-6,
          .limits = {.check = C::Positive},
          .doc = "time between rows of tracked.csv, walls.csv and energy.csv; an interval <= dt writes every step"},
-        {.key = "simulation.skin", .type = T::Real, .unit = "m", .def = 0.0, .limits = {.check = C::NonNegative},
-         .doc = "Verlet distance of the neighbour lists; 0: half the smallest radius (Yade). A speed setting"},
+        declared(keys::skin),
         {.key = "simulation.max_initial_overlap", .type = T::Real, .unit = "-", .def = 0.01,
          .limits = {.check = C::NonNegative},
          .doc = "largest overlap at t = 0 as a fraction of the smaller radius (the sphere's for a wall); more is "
@@ -82,22 +81,19 @@ std::vector<SceneSetting> build_table() {
          .doc = "time between VTK frames in vtk/; 0: no VTK output"},
         {.key = "output.energy", .type = T::Boolean, .unit = "", .def = 0.0,
          .doc = "keep the energy ledger and write energy.csv at the output times (docs/energy.md)"},
-        // [[materials]]
+        // [[materials]]: the grains' properties (scene/shared_keys.h) at the core's defaults.
         {.key = "materials[].name", .type = T::String, .unit = "", .required = true,
          .limits = {.allowed = "a name no other material has"},
          .doc = "what material = \"...\" of a body refers to"},
-        {.key = "materials[].density", .type = T::Real, .unit = "kg/m^3", .def = material.density,
-         .limits = {.check = C::Positive}, .doc = "mass density of the spheres"},
-        {.key = "materials[].young", .type = T::Real, .unit = "Pa", .def = material.young,
-         .limits = {.check = C::Positive},
-         .doc = "E; a sphere's side of a contact is a spring E r, the two in series (Yade's FrictPhys)"},
-        {.key = "materials[].stiffness_ratio", .type = T::Real, .unit = "-", .def = material.stiffness_ratio,
-         .limits = {.check = C::NonNegative}, .doc = "ks/kn (Yade's \"poisson\"; not a Poisson ratio)"},
-        {.key = "materials[].friction", .type = T::Real, .unit = "-", .def = material.friction,
-         .limits = {.check = C::NonNegative}, .doc = "Coulomb coefficient mu (not an angle)"},
-        {.key = "materials[].restitution", .type = T::Real, .unit = "-", .def = material.restitution,
-         .limits = {.check = C::Range, .lo = 0.0, .hi = 1.0, .lo_open = true, .allowed = "must be in (0, 1]"},
-         .doc = "normal coefficient of restitution; 1: no viscous damping"},
+        declared(cfg::with_default(keys::density, material.density), "materials[].density", "mass density of the spheres"),
+        declared(cfg::with_default(keys::young, material.young), "materials[].young",
+                 "E; a sphere's side of a contact is a spring E r, the two in series (Yade's FrictPhys)"),
+        declared(cfg::with_default(keys::stiffness_ratio, material.stiffness_ratio), "materials[].stiffness_ratio",
+                 "ks/kn (Yade's \"poisson\"; not a Poisson ratio)"),
+        declared(cfg::with_default(keys::friction, material.friction), "materials[].friction",
+                 "Coulomb coefficient mu (not an angle)"),
+        declared(cfg::with_default(keys::restitution, material.restitution), "materials[].restitution",
+                 "normal coefficient of restitution; 1: no viscous damping"),
     };
     auto add = [&](SceneSetting s) { t.push_back(std::move(s)); };
     // [[spheres]]

@@ -57,6 +57,9 @@ public:
     std::string string(const std::string& key);
     // The raw value of a key with a reader of its own (nullptr when absent).
     const toml::node* node(const std::string& key);
+    // The section itself, for the readers of keys declared for every table (scene/shared_keys.h,
+    // scene/time_step.h); what they read is recorded with record().
+    cfg::Section& section() { return s_; }
 
     const SceneSetting& row(const std::string& key) const;
     // Keeps every value read from here on, as (dotted key, JSON value), in `out` (summary.json's

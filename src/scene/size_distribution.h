@@ -20,7 +20,8 @@
 namespace scene {
 
 struct SizeDistribution {
-    enum class Kind { Single, Uniform, Lognormal, Sieve };
+    // Numbered: the damper's checkpoints and records store the number (grains.radius_distribution).
+    enum class Kind : int { Single = 0, Uniform = 1, Lognormal = 2, Sieve = 3 };
     Kind kind = Kind::Single;
     double radius = 0;                    // [m] Single, Uniform, Lognormal: the number-mean radius
     double spread = 0;                    // [-] Uniform: half-width over mean; Lognormal: sd of ln r

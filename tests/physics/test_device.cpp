@@ -409,6 +409,7 @@ TEST(Device, BadFilesAndMeshesAreRefusedNamingTheKeyAndNothingIsWritten) {
     const std::vector<Case> cases = {
         {good, "--set grains.radius=-1", {"config key 'grains.radius' = -1: must be > 0"}},
         {good, "--set grains.fill=1.5", {"config key 'grains.fill' = 1.5: must be in (0, 1]"}},
+        {good, "--set simulation.dt_safety=0.6", {"config key 'simulation.dt_safety' = 0.6: must be in (0, 0.5]"}},
         {good, "--set stages.colour=1", {"unknown config key 'stages.colour'"}},
         {good, "--set membrane.clamp_tool=arm", {"config key 'membrane.clamp_tool' = 'arm': must name one of the [[tools]]"}},
         {good, "--set membrane.shape=cube", {"config key 'membrane.shape' = 'cube': must be"}},

@@ -1,16 +1,26 @@
 // The settings table (vpp/settings/settings.h): its defaults are the ones the reader applies, its ranges
 // are the ones the reader enforces with messages naming key, value and what is allowed, and its
 // sharing rule is the study's rule of before the table.
+// At its end, the keys every settings table shares (scene/shared_keys.h) and the enumerated settings.
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <set>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
-#include <fstream>
-
+#include "dem/clumps/clump_shape.h"
+#include "dem/world/world.h"
 #include "scene/config.h"
+#include "scene/scene_runner.h"
+#include "scene/scene_settings.h"
+#include "scene/shared_keys.h"
+#include "scene/time_step.h"
 #include "toml_literal.h"
+#include "vpp/device/definition.h"
+#include "vpp/settings/choices.h"
 #include "vpp/settings/config.h"
 #include "vpp/settings/settings.h"
 #include "vpp/study/key_reference.h"
@@ -268,3 +278,228 @@ TEST(Settings, EveryKeyActingDuringThePreparationIsRecordedWithTheSample) {
 }
 
 }  // namespace test_settings
+
+// ---- One declaration per shared key (issue 59, item 2; scene/shared_keys.h): the scene runner's,
+// the damper's and the device file's tables read a key they share with its one range, and the
+// time step comes from one rule (scene/time_step.h). The enumerated settings' words and numbers
+// (vpp/settings/choices.h).
+namespace test_shared_keys {
+
+namespace {
+
+namespace keys = cfg::keys;
+
+const std::vector<const cfg::KeyDecl*> kDeclared = {
+    &keys::dt,           &keys::dt_safety, &keys::local_damping, &keys::threads,         &keys::seed,
+    &keys::skin,         &keys::gravity,   &keys::grain_radius,  &keys::density,         &keys::young,
+    &keys::friction,     &keys::stiffness_ratio, &keys::restitution,
+};
+
+bool same_limits(const cfg::Limits& a, const cfg::Limits& b) {
+    return a.check == b.check && a.lo == b.lo && a.hi == b.hi && a.lo_open == b.lo_open && a.hi_open == b.hi_open &&
+           std::string(a.allowed) == b.allowed;
+}
+
+// The scene's key of a declared one: the same, or the [[materials]] key of a grains' property.
+std::string scene_key(const cfg::KeyDecl& k) {
+    const std::string key = k.key;
+    return key.starts_with("grains.") ? "materials[]." + key.substr(7) : key;
+}
+
+std::string scene_refusal(const std::string& simulation) {
+    const std::string text = "[simulation]\n" + simulation +
+                             "\n[[materials]]\nname = \"a\"\n"
+                             "[[spheres]]\nmaterial = \"a\"\nradius = 0.01\nposition = [0.0, 0.0, 0.0]\n";
+    try {
+        scene::build_scene(toml::parse(text), ".");
+    } catch (const cfg::ConfigError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+const std::string kTinyGripperPath = std::string(VPPDEM_SOURCE_DIR) + "/tests/data/devices/tiny_gripper.toml";
+
+std::string device_refusal(const std::string& set) {
+    try {
+        vpp::load_device(kTinyGripperPath, {set});
+    } catch (const cfg::ConfigError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+std::string damper_refusal(const std::string& set) {
+    try {
+        vpp::load_config("", {set});
+    } catch (const cfg::ConfigError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(SharedKeys, EveryTableTakesTypeUnitAndRangeFromTheDeclaration) {
+    int damper_rows = 0, scene_rows = 0;
+    for (const cfg::KeyDecl* k : kDeclared) {
+        SCOPED_TRACE(k->key);
+        if (const vpp::Setting* s = vpp::find_setting(k->key)) {
+            ++damper_rows;
+            EXPECT_EQ(s->type, k->type);
+            EXPECT_EQ(std::string(s->unit), k->unit);
+            EXPECT_TRUE(same_limits(s->limits(), k->limits));
+            EXPECT_EQ(std::string(s->doc), k->doc);  // the same key: the same doc
+        }
+        if (const scene::SceneSetting* s = scene::find_scene_setting(scene_key(*k))) {
+            ++scene_rows;
+            EXPECT_EQ(s->type, k->type);
+            EXPECT_EQ(std::string(s->unit), k->unit);
+            EXPECT_TRUE(same_limits(s->limits, k->limits));
+        }
+    }
+    EXPECT_EQ(damper_rows, 12);  // all but gravity
+    EXPECT_EQ(scene_rows, 11);   // all but seed and the grains' radius
+    // The foil's stiffness ratio is the grains' property.
+    EXPECT_TRUE(same_limits(vpp::find_setting("foil.stiffness_ratio")->limits(), keys::stiffness_ratio.limits));
+    // A default differs only where a table says why: the rest are the declaration's.
+    EXPECT_EQ(vpp::find_setting("simulation.dt_safety")->def, keys::dt_safety.def);
+    EXPECT_EQ(scene::find_scene_setting("simulation.dt_safety")->def, keys::dt_safety.def);
+    EXPECT_EQ(vpp::DeviceDef{}.dt_safety, keys::dt_safety.def);
+    EXPECT_EQ(scene::Scene{}.dt_safety, keys::dt_safety.def);
+}
+
+TEST(SharedKeys, ADtSafetyAboveHalfIsRefusedByEveryCommand) {
+    // One range, (0, 0.5]: scenes and devices allowed up to 1 before.
+    const std::string words = "(0, 0.5]";
+    const std::string scene = scene_refusal("dt_safety = 0.6");
+    EXPECT_NE(scene.find("'simulation.dt_safety' = 0.6"), std::string::npos) << scene;
+    EXPECT_NE(scene.find(words), std::string::npos) << scene;
+    const std::string device = device_refusal("simulation.dt_safety=0.6");
+    EXPECT_NE(device.find("'simulation.dt_safety' = 0.6"), std::string::npos) << device;
+    EXPECT_NE(device.find(words), std::string::npos) << device;
+    const std::string damper = damper_refusal("simulation.dt_safety=0.6");
+    EXPECT_NE(damper.find("'simulation.dt_safety' = 0.6"), std::string::npos) << damper;
+    EXPECT_NE(damper.find(words), std::string::npos) << damper;
+    // The bound itself is allowed everywhere.
+    EXPECT_EQ(scene_refusal("dt_safety = 0.5"), "");
+    EXPECT_EQ(device_refusal("simulation.dt_safety=0.5"), "");
+    EXPECT_EQ(damper_refusal("simulation.dt_safety=0.5"), "");
+}
+
+TEST(SharedKeys, TheOtherSharedRangesReadTheSameInEveryCommand) {
+    struct Case {
+        const char* key;
+        const char* value;
+        bool refused;
+    };
+    // local_damping [0, 0.9] (scenes and devices [0, 1) before), threads 0 ... 1024 with 0 the
+    // free cores (scenes and devices 1 ... 1024), a seed any integer >= 0 (devices 0 ... 2^31).
+    const std::vector<Case> cases = {
+        {"local_damping", "0.95", true}, {"local_damping", "0.9", false}, {"threads", "1025", true},
+        {"threads", "-1", true},         {"threads", "0", false},
+    };
+    for (const Case& c : cases) {
+        SCOPED_TRACE(std::string(c.key) + " = " + c.value);
+        const std::string scene = scene_refusal(std::string(c.key) + " = " + c.value);
+        const std::string device = device_refusal(std::string("simulation.") + c.key + "=" + c.value);
+        const std::string damper = damper_refusal(std::string("simulation.") + c.key + "=" + c.value);
+        EXPECT_EQ(!scene.empty(), c.refused) << scene;
+        EXPECT_EQ(!device.empty(), c.refused) << device;
+        EXPECT_EQ(!damper.empty(), c.refused) << damper;
+        if (c.refused) {
+            const std::string allowed = c.key == std::string("threads") ? keys::threads.limits.allowed
+                                                                         : keys::local_damping.limits.allowed;
+            for (const std::string& m : {scene, device, damper}) EXPECT_NE(m.find(allowed), std::string::npos) << m;
+        }
+    }
+    EXPECT_EQ(vpp::load_device(kTinyGripperPath, {"simulation.seed=4294967297"}).seed, 4294967297ull);
+    EXPECT_NE(device_refusal("simulation.seed=-1").find(keys::seed.limits.allowed), std::string::npos);
+    // ks/kn of a scene's material: [0.01, 1] as the damper's grains and the device's membrane.
+    const std::string m = [] {
+        try {
+            scene::build_scene(toml::parse("[[materials]]\nname = \"a\"\nstiffness_ratio = 0.0\n[[spheres]]\n"
+                                           "material = \"a\"\nradius = 0.01\nposition = [0.0, 0.0, 0.0]\n"),
+                               ".");
+        } catch (const cfg::ConfigError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    }();
+    EXPECT_NE(m.find(keys::stiffness_ratio.limits.allowed), std::string::npos) << m;
+    EXPECT_NE(device_refusal("membrane.stiffness_ratio=0").find(keys::stiffness_ratio.limits.allowed), std::string::npos);
+}
+
+TEST(TimeStep, OneRuleForEveryCommand) {
+    dem::World w;
+    const uint32_t m = w.add_material(dem::Material{});
+    dem::SphereDef s;
+    s.radius = 1e-3;
+    s.material = m;
+    w.add_sphere(s);
+    const double critical = w.critical_dt();
+    ASSERT_TRUE(std::isfinite(critical) && critical > 0.0);
+    EXPECT_EQ(scene::time_step({.automatic = true, .safety = 0.25}, w), 0.25 * critical);
+    EXPECT_EQ(scene::time_step({.automatic = false, .dt = 1e-7, .safety = 0.25}, w), 1e-7);
+    vpp::SimulationDef sim;
+    sim.dt_auto = true;
+    sim.dt_safety = 0.3;
+    EXPECT_EQ(vpp::resolve_dt(sim, w), 0.3 * critical);
+    // A scene's "auto" step is the same rule.
+    const scene::Scene sc = scene::build_scene(
+        toml::parse("[simulation]\ndt = \"auto\"\ndt_safety = 0.4\n[[materials]]\nname = \"a\"\n"
+                    "[[spheres]]\nmaterial = \"a\"\nradius = 0.01\nposition = [0.0, 0.0, 0.0]\n"),
+        ".");
+    EXPECT_EQ(sc.world.params.dt, scene::time_step({.automatic = true, .safety = 0.4}, sc.world));
+    // simulation.dt's reader: the same words for every command.
+    for (const char* bad : {"dt = -1", "dt = \"fast\"", "dt = 0.0"}) {
+        EXPECT_NE(scene_refusal(bad).find("'simulation.dt'"), std::string::npos) << bad;
+        const std::string set = std::string("simulation.") + bad;
+        std::string compact;
+        for (char ch : set)
+            if (ch != ' ') compact += ch;
+        EXPECT_NE(device_refusal(compact).find("'simulation.dt'"), std::string::npos) << compact;
+        EXPECT_EQ(device_refusal(compact), damper_refusal(compact)) << compact;
+    }
+}
+
+TEST(Choices, WordsAndNumbersOfTheEnumeratedSettings) {
+    using vpp::GrainShape;
+    // The numbers are what checkpoints and records hold: they never change.
+    EXPECT_EQ(int(GrainShape::Template), 5);
+    EXPECT_EQ(int(vpp::RadiusDistribution::Sieve), 3);
+    EXPECT_EQ(int(vpp::PressureModel::Pump), 1);
+    EXPECT_EQ(int(vpp::Waveform::Sine), 1);
+    EXPECT_EQ(int(vpp::FoilBuilder::Mesh), 1);
+    // The first shapes are dem's built-in ones, in their order (grain_shape() asks for them by word).
+    const std::vector<std::string>& builtin = dem::builtin_clump_shapes();
+    for (std::size_t i = 0; i < builtin.size(); ++i) EXPECT_EQ(builtin[i], vpp::word_of(GrainShape(i)));
+    EXPECT_EQ(vpp::from_word<GrainShape>("template"), GrainShape::Template);
+    EXPECT_EQ(vpp::from_word<GrainShape>("cube"), std::nullopt);
+    EXPECT_EQ(vpp::from_number<vpp::Waveform>(1.0), vpp::Waveform::Sine);
+    EXPECT_EQ(vpp::from_number<vpp::Waveform>(2.0), std::nullopt);
+    EXPECT_EQ(vpp::from_number<vpp::Waveform>(0.5), std::nullopt);
+    // Each Choice key's sentence names its words, and a config reads each of them.
+    auto check = [](const char* key, const auto& words) {
+        const std::string allowed = vpp::find_setting(key)->allowed;
+        for (const char* w : words) {
+            EXPECT_NE(allowed.find(std::string("\"") + w + "\""), std::string::npos) << key << ": " << w;
+            if (std::string(key) == "grains.radius_distribution" || std::string(key) == "grains.shape") continue;
+            EXPECT_EQ(damper_refusal(std::string(key) + "=" + w), "") << key << " = " << w;
+        }
+    };
+    check("grains.radius_distribution", vpp::Words<vpp::RadiusDistribution>::words);
+    check("grains.shape", vpp::Words<GrainShape>::words);
+    check("foil.builder", vpp::Words<vpp::FoilBuilder>::words);
+    check("process.pressure_model", vpp::Words<vpp::PressureModel>::words);
+    check("process.waveform", vpp::Words<vpp::Waveform>::words);
+    const vpp::Config c = vpp::load_config("", {"process.waveform=sine", "process.pressure_model=pump", "grains.shape=dimer"});
+    EXPECT_EQ(c.process.waveform, vpp::Waveform::Sine);
+    EXPECT_EQ(c.process.pressure_model, vpp::PressureModel::Pump);
+    EXPECT_EQ(c.grains.shape, GrainShape::Dimer);
+    // Stored as their numbers.
+    EXPECT_EQ(vpp::find_setting("grains.shape")->get(c), 1.0);
+    EXPECT_EQ(vpp::find_setting("process.waveform")->get(c), 1.0);
+}
+
+}  // namespace test_shared_keys

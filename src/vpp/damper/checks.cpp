@@ -8,6 +8,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "scene/shared_keys.h"
 #include "vpp/damper/stored_settings.h"
 #include "vpp/settings/settings.h"
 
@@ -129,7 +130,7 @@ std::vector<std::string> check_process(const DamperScene& scene) {
                            fmt("%.4g", peak_speed(p)) + " m/s) and the start offset's speed: the velocity is not used");
     // A pump-down runs until the pump has drawn the gas down: time constant V / S, the stage
     // waiting five of them. The gas volume is at most the foil's interior less the poured grains.
-    if (p.pressure_model != 0 && p.pump_down && p.pump_speed > 0.0) {
+    if (p.pressure_model == PressureModel::Pump && p.pump_down && p.pump_speed > 0.0) {
         constexpr double kMaxPumpDown = 60.0;  // [s] of simulated time: a minute (2 m^3/h on the paper's damper: 0.7 s)
         const double r_in = scene.lattice.radius - config.foil.particle_radius;
         const double gas = std::numbers::pi * r_in * r_in * H * (1.0 - config.grains.volume_fraction);
@@ -167,11 +168,14 @@ void check_steps(const DamperScene& scene) {
                                  "seconds; allowed: moduli, densities and sizes of real materials");
     }
     const std::string source = sim.dt_auto ? from_auto() : "simulation.dt = " + show_value("", sim.dt);
-    // A fixed step has the automatic one's bound: half one contact's critical step (dt_safety <= 0.5).
-    if (!sim.dt_auto && std::isfinite(critical) && sim.dt > 0.5 * critical)
+    // A fixed step has the automatic one's bound: the largest simulation.dt_safety times one contact's
+    // critical step (scene/shared_keys.h).
+    constexpr double bound = cfg::keys::dt_safety.limits.hi;
+    static_assert(bound == 0.5, "the message says \"half the critical step\"");
+    if (!sim.dt_auto && std::isfinite(critical) && sim.dt > bound * critical)
         throw std::runtime_error("config key 'simulation.dt' = " + show_value("", sim.dt) + ": more than half the critical "
                                  "step sqrt(m/k) = " + fmt("%.4g", critical) + " s of the stiffest contact (the bound of "
-                                 "simulation.dt_safety); allowed: at most " + fmt("%.4g", 0.5 * critical) +
+                                 "simulation.dt_safety); allowed: at most " + fmt("%.4g", bound * critical) +
                                  " s here, or \"auto\"");
     // The neighbour lists' skin: a few tenths of a radius saves list rebuilds; ten radii already
     // lists hundreds of pairs per grain that never touch, and 1e300 m overflowed the cell grid.
@@ -252,11 +256,10 @@ std::vector<std::string> check_grains_fit(const DamperScene& scene, std::size_t 
     const double rk = scene.sizes.max_radius();
     const double r_in = scene.lattice.radius - config.foil.particle_radius;  // [m] inner surface of the foil
     if (rk > r_in / 3.0) {
-        const char* const kinds[] = {"single", "uniform", "lognormal", "sieve"};
-        const std::string what = scene.sizes.kind == scene::SizeDistribution::Kind::Single
+        const std::string what = scene.sizes.kind == RadiusDistribution::Single
                                      ? "config key 'grains.radius' = " + show_value("", rk) + ": too large"
                                      : std::string("config key 'grains.radius_distribution' = \"") +
-                                           kinds[config.grains.radius_distribution] + "\": its largest grain (radius " +
+                                           word_of(config.grains.radius_distribution) + "\": its largest grain (radius " +
                                            show_value("", rk) + " m) is too large";
         throw std::runtime_error(what + " for the damper; at most a third of the foil's inner radius (" +
                                  show_value("", r_in / 3.0) + " m)");
@@ -266,9 +269,9 @@ std::vector<std::string> check_grains_fit(const DamperScene& scene, std::size_t 
     // template reaching the foil's inner radius itself was accepted (issue 48) where a sphere of
     // a third of it is refused.
     if (scene.clumps() && scene.grain_reach(rk) > 0.5 * r_in) {
-        const char* const shapes[] = {"sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"};
-        const std::string what = config.grains.shape == 5 ? "config key 'grains.clump_template' = '" + config.grains.clump_template + "'"
-                                                      : std::string("config key 'grains.shape' = \"") + shapes[config.grains.shape] + "\"";
+        const std::string what = config.grains.shape == GrainShape::Template
+                                     ? "config key 'grains.clump_template' = '" + config.grains.clump_template + "'"
+                                     : std::string("config key 'grains.shape' = \"") + word_of(config.grains.shape) + "\"";
         throw std::runtime_error(what + ": its grains reach " + show_value("", scene.grain_reach(rk)) + " m from their centre (at "
                                  "grains.radius " + show_value("", rk) + " m); at most half the foil's inner radius (" +
                                  show_value("", 0.5 * r_in) + " m), so that a grain can turn inside the foil");

@@ -182,7 +182,7 @@ DamperResult DamperRun::result() const {
         for (const AirCycle& a : r.air) sum += a.underpressure_mean;
         r.underpressure_held = sum / double(r.air.size());
     }
-    if (config.process.pressure_model != 0) add_pump_warnings(r, config);
+    if (config.process.pressure_model == PressureModel::Pump) add_pump_warnings(r, config);
     r.run_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
     r.config = config;
     return r;
@@ -269,7 +269,7 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
         .num("foil_radius", r.foil_radius)
         .num("height", r.height)
         .num("particle_modulus", particle_modulus(c.foil))
-        .num("bond_kn", c.damper.foil_builder == 1 ? r.foil_bond_kn_mean : bond_normal_stiffness(c.foil))
+        .num("bond_kn", c.damper.foil_builder == FoilBuilder::Mesh ? r.foil_bond_kn_mean : bond_normal_stiffness(c.foil))
         .num("dt", r.dt)
         .num("cycle_steps", cycle_period(c.process) / r.dt)
         .num("inertial_number", I)
@@ -285,7 +285,7 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
         .raw("preparation", report_json("prepare."))
         .raw("start_of_cycling", report_json("cycle."));
     // The mesh foil (docs/membrane.md): what it is made of; foil_columns and foil_rows are 0.
-    if (c.damper.foil_builder == 1)
+    if (c.damper.foil_builder == FoilBuilder::Mesh)
         j.str("foil_builder", "mesh").num("foil_vacancies", double(r.foil_vacancies));
     if (!r.air.empty()) {
         std::string air_cycles = "[";
@@ -300,7 +300,7 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
             air_cycles += (k ? ", " : "") + o.value();
         }
         dem::JsonObject air;
-        air.str("pressure_model", c.process.pressure_model == 0 ? "constant" : "pump")
+        air.str("pressure_model", word_of(c.process.pressure_model))
             .num("underpressure_set", c.process.underpressure)
             .num("underpressure_held", r.underpressure_held)
             .raw("cycles", air_cycles + "]");
@@ -351,7 +351,7 @@ DamperResult run_damper(const Config& config, const DamperOptions& opt) {
     const bool quasi_static = I < kQuasiStaticInertialNumber;
     if (!opt.quiet) {
         std::fprintf(stderr, "\n=== vppdem damper: %s ===\n", opt.out_dir.c_str());
-        if (c.damper.foil_builder == 1)
+        if (c.damper.foil_builder == FoilBuilder::Mesh)
             std::fprintf(stderr, "grains %zu, mesh foil %zu particles (%zu vacancies, radius %.4g mm), height %.4g mm, dt %.3g s\n",
                          r.grains, r.foil_particles, r.foil_vacancies, 1e3 * r.foil_radius, 1e3 * r.height, r.dt);
         else

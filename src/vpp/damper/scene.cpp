@@ -69,11 +69,14 @@ std::vector<Vec3> generate_grains(const Config& c, const FoilLattice& L, std::si
 DamperScene::DamperScene(const Config& c) : config(c) {
     // A checkpoint's sample holds its radii; its sieve curve is read only when given (a re-fill
     // of a sample in the fill stage needs it, refill() says so).
-    if (config.grains.radius_distribution != 3 || !config.grains.sieve_curve.empty()) sizes = grain_sizes(config);
-    else sizes.kind = scene::SizeDistribution::Kind::Sieve;
+    if (config.grains.radius_distribution != RadiusDistribution::Sieve || !config.grains.sieve_curve.empty())
+        sizes = grain_sizes(config);
+    else
+        sizes.kind = RadiusDistribution::Sieve;
     // A checkpoint's clumps hold their shape; its template is read only when given (a re-fill
     // in the fill stage needs it).
-    if (clumps() && (config.grains.shape != 5 || !config.grains.clump_template.empty())) shape = grain_shape(config);
+    if (clumps() && (config.grains.shape != GrainShape::Template || !config.grains.clump_template.empty()))
+        shape = grain_shape(config);
     build_foil();
 }
 
@@ -357,7 +360,7 @@ double DamperScene::top_ring_force_z() const {
 }  // namespace damper_detail
 
 std::size_t grain_count(const Config& c) {
-    if (c.grains.radius_distribution != 0)
+    if (c.grains.radius_distribution != RadiusDistribution::Single)
         return std::size_t(std::llround(c.grains.volume_fraction * std::numbers::pi * c.damper.radius * c.damper.radius *
                                         c.damper.height / grain_sizes(c).mean_volume()));
     const double rk = c.grains.radius;

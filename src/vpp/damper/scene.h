@@ -51,11 +51,11 @@ struct DamperScene {
     void set_foil_pressure();
 
     // The foil's builder (foil.builder): the lattice (lattice, the paper's) or the mesh membrane.
-    bool mesh_foil() const { return config.damper.foil_builder == 1; }
+    bool mesh_foil() const { return config.damper.foil_builder == FoilBuilder::Mesh; }
     // The mesh foil's definition from the config: the paper's rules carried to the membrane
     // (docs/membrane.md, "A cylinder given as a mesh").
     MembraneDef membrane_def() const;
-    bool clumps() const { return config.grains.shape != 0; }
+    bool clumps() const { return config.grains.shape != GrainShape::Sphere; }
     // Grains in the world: clumps, or the spheres first_grain .. end_grain.
     std::size_t grain_count_now() const {
         return clumps() ? world.clumps().size() : std::size_t(end_grain - first_grain);
@@ -93,7 +93,7 @@ struct DamperScene {
 
     Config config;                   // the definition (a checkpoint's geometry and settings adopted)
     scene::SizeDistribution sizes;   // what the fill and re-fills draw the radii from
-    dem::ClumpShape shape;           // grains.shape > 0: the clump at a volume-equivalent radius of 1 m
+    dem::ClumpShape shape;           // clumps(): the clump at a volume-equivalent radius of 1 m
     dem::World world;
     // The lattice foil; with the mesh foil only its radius, spacing, material and particles are
     // set (rows and cols 0), which the grains, funnel and checks read alike.

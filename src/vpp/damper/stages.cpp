@@ -69,7 +69,7 @@ double next_check_after(const RunState& state, double t, double check) {
 }
 
 // The air (docs/damper.md, "The air inside") is recorded with the pump model, or output.air.
-bool air_recorded(const Config& config) { return config.process.pressure_model != 0 || config.output.air; }
+bool air_recorded(const Config& config) { return config.process.pressure_model == PressureModel::Pump || config.output.air; }
 
 // The re-fills made so far (the run state's report, kept in the checkpoints).
 int refills_done(const RunState& state) {
@@ -194,7 +194,7 @@ void air_step(DamperScene& scene, RunState& state, double dp_set) {
     if (!(v > 0.0))
         throw std::runtime_error("air: the gas volume inside the foil is " + std::to_string(v) +
                                  " m^3 (the foil's enclosure minus the grains); the foil has collapsed onto them");
-    const bool pump = config.process.pressure_model != 0;
+    const bool pump = config.process.pressure_model == PressureModel::Pump;
     if (pump && state.gas_amount == 0.0) state.gas_amount = kAtmosphericPressure * v;  // sealed at the atmosphere's
     // The gas's work over the step just taken, at the amount it held (isothermal: exact for a
     // fixed amount; the constant model's gas is at p_atm - dp).
@@ -263,7 +263,7 @@ void record_start_of_cycling(const DamperScene& scene, RunState& state, const Sa
 void lay_out_cycles(const Config& config, const RunState& state, dem::Motion& cap, dem::Motion& ring, double cap0,
                     double ring0, int k0, int k1, bool first_knot) {
     const double A = config.process.amplitude, T = cycle_period(config.process);
-    const bool sine = config.process.waveform == 1;
+    const bool sine = config.process.waveform == Waveform::Sine;
     const double sign = config.process.compression_first ? -1.0 : 1.0;  // z direction of the first leg
     // The sine as kSineKnots straight segments per cycle: within A (pi / kSineKnots)^2 / 4 =
     // 2.5e-6 A of the curve, the speed within 1.6e-6 of its own.
@@ -404,7 +404,7 @@ void vacuum(DamperScene& scene, RunState& state, StageServices& services) {
     const double ramp = config.process.ramp_time, min_hold = 0.02, check = 2e-3;
     scene.set_foil_pressure();
     const double dp = config.process.underpressure;
-    const bool pump = config.process.pressure_model != 0;
+    const bool pump = config.process.pressure_model == PressureModel::Pump;
     // The pump model follows the constant model's ramp (a sample evacuated long before its
     // test) unless process.pump_down asks the pump to draw the gas down from the atmosphere:
     // time constant V / S (at 2 m^3/h on the paper's damper, 0.08 L of gas: 0.14 s), and the

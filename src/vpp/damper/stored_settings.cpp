@@ -13,6 +13,7 @@
 #include "dem/io/checkpoint.h"
 #include "dem/io/csv.h"
 #include "vpp/damper/state.h"
+#include "vpp/settings/choices.h"
 #include "vpp/settings/settings.h"
 
 namespace vpp {
@@ -44,28 +45,33 @@ std::map<std::string, double> values_of(const Config& c, const auto& keys) {
     return m;
 }
 
+// The quoted word of an enumerated key's stored number (vpp/settings/choices.h); nullopt for a
+// number no value has.
+template <class E>
+std::optional<std::string> quoted_word(double v) {
+    const std::optional<E> e = from_number<E>(v);
+    if (!e) return std::nullopt;
+    return std::string("\"") + word_of(*e) + "\"";
+}
+
 bool same_value(double a, double b) { return std::abs(a - b) <= 1e-12 * std::max(1.0, std::abs(b)); }
 
 }  // namespace
 
 std::string show_value(const std::string& key, double v) {
+    // Words, not the numbers the checkpoint keeps for them (a refusal said "grains.shape = 5").
+    std::optional<std::string> word;
+    if (key == "grains.radius_distribution") word = quoted_word<RadiusDistribution>(v);
+    if (key == "grains.shape") word = quoted_word<GrainShape>(v);
+    if (key == "foil.builder") word = quoted_word<FoilBuilder>(v);
+    if (key == "process.pressure_model") word = quoted_word<PressureModel>(v);
+    if (key == "process.waveform") word = quoted_word<Waveform>(v);
+    if (word) return *word;
     if (key == "process.direction") return v == 0.0 ? "\"compression\"" : "\"extension\"";
-    if (key == "process.pressure_model") return v == 0.0 ? "\"constant\"" : "\"pump\"";
-    if (key == "process.waveform") return v == 0.0 ? "\"triangle\"" : "\"sine\"";
     if (key == "output.energy" || key == "damper.refill") return v != 0.0 ? "true" : "false";
-    if (key == "foil.builder") return v == 0.0 ? "\"lattice\"" : "\"mesh\"";
     if (key == "foil.bond_arm") return std::string("\"") + dem::bond_arm_name(dem::BondArm(int(v))) + "\"";
     if (key == "simulation.dt" && v == 0.0) return "\"auto\"";
     if (key == "damper.cap_friction" && v < 0.0) return "(unset: the grains' friction)";
-    // Words, not the numbers the checkpoint keeps for them (a refusal said "grains.shape = 5").
-    if (key == "grains.shape") {
-        const char* const names[] = {"\"sphere\"", "\"dimer\"", "\"trimer\"", "\"tetrahedron\"", "\"pellet\"", "\"template\""};
-        if (v >= 0 && v < 6 && v == std::floor(v)) return names[int(v)];
-    }
-    if (key == "grains.radius_distribution") {
-        const char* const names[] = {"\"single\"", "\"uniform\"", "\"lognormal\"", "\"sieve\""};
-        if (v >= 0 && v < 4 && v == std::floor(v)) return names[int(v)];
-    }
     std::string out;
     dem::append_number(out, v);
     return out;

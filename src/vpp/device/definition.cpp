@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <stdexcept>
 
@@ -11,6 +12,9 @@
 #include "dem/mesh/mesh_shapes.h"
 #include "scene/config.h"
 #include "scene/setting.h"
+#include "scene/shared_keys.h"
+#include "scene/time_step.h"
+#include "vpp/settings/choices.h"
 #include "vpp/settings/config.h"
 
 namespace vpp {
@@ -34,18 +38,24 @@ struct NumberKey {
 constexpr cfg::Limits kPos{Check::Positive};
 constexpr cfg::Limits kNonNeg{Check::NonNegative};
 
+// A key declared for every table (scene/shared_keys.h): its range and default are the damper's
+// and the scene's too.
+NumberKey declared_key(const cfg::KeyDecl& k, double DeviceDef::*field) { return {k.key, k.unit, k.def, k.limits, field}; }
+
 const std::vector<NumberKey>& number_keys() {
-    static const std::vector<NumberKey> keys = {
-        {"simulation.dt_safety", "-", 0.3, {Check::Range, 0.0, 1.0, true, false, "must be in (0, 1]"}, &DeviceDef::dt_safety},
-        {"simulation.local_damping", "-", 0.3, {Check::Range, 0.0, 1.0, false, true, "must be in [0, 1)"},
-         &DeviceDef::local_damping},
-        {"grains.radius", "m", 1e-3, kPos, &DeviceDef::grain_radius},
-        {"grains.density", "kg/m^3", 1500.0, kPos, &DeviceDef::grain_density},
-        {"grains.young", "Pa", 1e8, kPos, &DeviceDef::grain_young},
-        {"grains.friction", "-", 0.5, kNonNeg, &DeviceDef::grain_friction},
+    namespace keys = cfg::keys;
+    using cfg::with_default;
+    static const std::vector<NumberKey> number_keys = {
+        declared_key(keys::dt_safety, &DeviceDef::dt_safety),
+        // 0.3: what the device files were tuned with (examples/devices/ give it).
+        declared_key(with_default(keys::local_damping, 0.3), &DeviceDef::local_damping),
+        // The gripper's millimetre grains in a latex-like bag, not the paper's.
+        declared_key(with_default(keys::grain_radius, 1e-3), &DeviceDef::grain_radius),
+        declared_key(with_default(keys::density, 1500.0), &DeviceDef::grain_density),
+        declared_key(with_default(keys::young, 1e8), &DeviceDef::grain_young),
+        declared_key(with_default(keys::friction, 0.5), &DeviceDef::grain_friction),
         {"grains.fill_friction", "-", 0.0, kNonNeg, &DeviceDef::fill_friction},
-        {"grains.stiffness_ratio", "-", 0.5, {Check::Range, 0.0, 1.0, true, false, "must be in (0, 1]"},
-         &DeviceDef::grain_stiffness_ratio},
+        declared_key(keys::stiffness_ratio, &DeviceDef::grain_stiffness_ratio),
         {"grains.fill", "-", 0.8, {Check::Range, 0.0, 1.0, true, false, "must be in (0, 1]: the fraction of the fill lattice's sites inside the membrane that get a grain"},
          &DeviceDef::fill},
         {"grains.lattice_spacing", "-", 2.2, {Check::Range, 2.0, 10.0, true, false, "must be in (2, 10] grain radii (2: touching neighbours)"},
@@ -61,7 +71,7 @@ const std::vector<NumberKey>& number_keys() {
         {"output.vtk_interval", "s", 0.0, kNonNeg, &DeviceDef::vtk_interval},
         {"result.release_time", "s", 2e-3, kNonNeg, &DeviceDef::release_time},
     };
-    return keys;
+    return number_keys;
 }
 
 void read_numbers(Section& s, const std::string& section, DeviceDef& d) {
@@ -180,15 +190,12 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     Section top(&root, "");
 
     Section sim = top.table("simulation");
-    if (const toml::node* n = sim.node("dt")) {
-        if (n->value<std::string>() && *n->value<std::string>() == "auto") d.dt = 0.0;
-        else if (n->value<double>() && *n->value<double>() > 0.0 && std::isfinite(*n->value<double>())) d.dt = *n->value<double>();
-        else sim.fail("dt", "must be \"auto\" or a time step > 0 [s]");
-    }
+    const scene::TimeStep step = scene::read_dt(sim, "dt", cfg::keys::dt.def);
+    d.dt = step.automatic ? 0.0 : step.dt;
     read_numbers(sim, "simulation", d);
-    d.gravity = sim.vec3("gravity", {0, 0, -9.81});
-    d.seed = uint64_t(integer_in(sim, "seed", 1, 0, int64_t(1) << 31));
-    d.threads = integer_in(sim, "threads", 1, 1, 1024);
+    d.gravity = sim.vec3("gravity", cfg::keys::gravity.def3);
+    d.seed = cfg::read_seed(sim, "seed", int64_t(cfg::keys::seed.def));
+    d.threads = cfg::read_threads(sim, "threads", int64_t(cfg::keys::threads.def));
     sim.finish();
 
     Section mem = top.table("membrane");
@@ -197,10 +204,11 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     f.young = positive(mem, "young", 2e6);
     f.thickness = positive(mem, "thickness", 5e-4);
     f.particle_radius = positive(mem, "particle_radius", 5e-4);
-    f.density = positive(mem, "density", 1000.0);
+    // The grains' properties (scene/shared_keys.h) of the membrane's particles.
+    f.density = cfg::check_real(mem, "density", mem.number("density", 1000.0), cfg::keys::density.limits);
     f.friction = mem.non_negative("friction", mem.number("friction", 0.5));
-    f.stiffness_ratio = mem.number("stiffness_ratio", 0.5);
-    if (!(f.stiffness_ratio > 0.0 && f.stiffness_ratio <= 1.0)) mem.fail("stiffness_ratio", "must be in (0, 1]");
+    f.stiffness_ratio = cfg::check_real(mem, "stiffness_ratio", mem.number("stiffness_ratio", 0.5),
+                                        cfg::keys::stiffness_ratio.limits);
     d.membrane.spacing = mem.non_negative("spacing", mem.number("spacing", 0.0));
     d.membrane.vacancies = mem.boolean("vacancies", false);
     d.membrane.stiffness_factor = positive(mem, "stiffness_factor", 1.0);
@@ -251,10 +259,9 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     st.finish();
 
     Section air = top.table("air");
-    const std::string model = air.string("model", "constant");
-    if (model == "constant") d.air.model = PressureModel::Constant;
-    else if (model == "pump") d.air.model = PressureModel::Pump;
-    else air.fail("model", "must be \"constant\" (dp held at stages.underpressure) or \"pump\" (a sealed gas pumped down)");
+    const std::optional<PressureModel> model = from_word<PressureModel>(air.string("model", word_of(PressureModel::Constant)));
+    if (!model) air.fail("model", "must be \"constant\" (dp held at stages.underpressure) or \"pump\" (a sealed gas pumped down)");
+    d.air.model = *model;
     d.air.line.speed = air.non_negative("pump_speed", air.number("pump_speed", 5.6e-4));
     d.air.line.bleed = air.non_negative("bleed_rate", air.number("bleed_rate", 0.0));
     d.air.line.leak = air.non_negative("leak_rate", air.number("leak_rate", 0.0));
@@ -284,8 +291,8 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
         read_shape(t, tool.shape, true);
         tool.young = positive(t, "young", 1e9);
         tool.friction = t.non_negative("friction", t.number("friction", 0.5));
-        tool.stiffness_ratio = t.number("stiffness_ratio", 0.5);
-        if (!(tool.stiffness_ratio > 0.0 && tool.stiffness_ratio <= 1.0)) t.fail("stiffness_ratio", "must be in (0, 1]");
+        tool.stiffness_ratio = cfg::check_real(t, "stiffness_ratio", t.number("stiffness_ratio", 0.5),
+                                               cfg::keys::stiffness_ratio.limits);
         int32_t last = 0;
         std::vector<Section> prog = t.array_of_tables("program");
         for (Section& p : prog) {
@@ -377,7 +384,7 @@ std::vector<std::pair<std::string, std::string>> device_inputs(const DeviceDef& 
     in.emplace_back("membrane.particle_radius", json_number(d.membrane.foil.particle_radius));
     in.emplace_back("membrane.friction", json_number(d.membrane.foil.friction));
     in.emplace_back("membrane.clamp_tool", json_string(d.clamp_tool));
-    in.emplace_back("air.model", json_string(d.air.model == PressureModel::Pump ? "pump" : "constant"));
+    in.emplace_back("air.model", json_string(word_of(d.air.model)));
     in.emplace_back("result.object", json_string(d.object));
     in.emplace_back("result.cycle_tool", json_string(d.cycle_tool));
     in.emplace_back("grains.lattice", json_string(d.lattice));

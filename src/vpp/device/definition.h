@@ -23,6 +23,7 @@
 #include "dem/core/vec3.h"
 #include "dem/mesh/surface_mesh.h"
 #include "dem/world/tool.h"
+#include "scene/shared_keys.h"
 #include "vpp/membrane/membrane.h"
 #include "vpp/membrane/air.h"
 
@@ -60,11 +61,11 @@ struct DeviceDef {
 
     // [simulation]
     double dt = 0.0;             // [s] 0: auto, dt_safety x the critical step
-    double dt_safety = 0.3;      // [-]
+    double dt_safety = cfg::keys::dt_safety.def;  // [-]
     double local_damping = 0.3;  // [-] Yade's non-viscous damping of every free particle
-    dem::Vec3 gravity{0, 0, -9.81};  // [m/s^2]
-    uint64_t seed = 1;           // [-] the fill's jitter and the membrane's vacancies
-    int threads = 1;             // [-] threads of the step (results do not depend on it)
+    dem::Vec3 gravity = cfg::keys::gravity.def3;  // [m/s^2]
+    uint64_t seed = uint64_t(cfg::keys::seed.def);  // [-] the fill's jitter and the membrane's vacancies
+    int threads = int(cfg::keys::threads.def);      // [-] threads of the step (results do not depend on it)
 
     // [membrane]
     DeviceShape membrane_shape;

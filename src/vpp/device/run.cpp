@@ -29,6 +29,7 @@
 #include "scene/progress.h"
 #include "scene/setting.h"
 #include "scene/scene_runner.h"
+#include "scene/time_step.h"
 #include "vpp/membrane/foil.h"
 
 namespace vpp {
@@ -349,7 +350,7 @@ void DeviceRun::build() {
     world_.params.gravity = def_.gravity;
     world_.params.local_damping = def_.local_damping;
     world_.params.threads = def_.threads;
-    world_.params.dt = def_.dt > 0.0 ? def_.dt : def_.dt_safety * world_.critical_dt();
+    world_.params.dt = scene::time_step({.automatic = def_.dt == 0.0, .dt = def_.dt, .safety = def_.dt_safety}, world_);
     if (!(world_.params.dt > 0.0) || !std::isfinite(world_.params.dt))
         throw std::runtime_error("device: no usable time step (" + std::to_string(world_.params.dt) + " s)");
 }

@@ -9,6 +9,7 @@
 #include "dem/io/csv.h"
 #include "scene/clump_template.h"
 #include "scene/config.h"
+#include "scene/time_step.h"
 #include "vpp/settings/settings.h"
 
 namespace vpp {
@@ -100,22 +101,26 @@ void read_table(const toml::table& root, CommandSet commands, Config& c) {
                 s.fail("packing_target", "must be 0 when damper.refill = false (the re-fills reach the target)");
         }
         if (section == "grains") {
-            if (c.grains.shape == 5 && c.grains.clump_template.empty())
+            const bool from_template = c.grains.shape == GrainShape::Template;
+            if (from_template && c.grains.clump_template.empty())
                 s.fail("clump_template", "must name a CSV file of the members when grains.shape = \"template\"");
-            if (c.grains.shape != 5 && !c.grains.clump_template.empty())
+            if (!from_template && !c.grains.clump_template.empty())
                 s.fail("shape", "must be \"template\" when grains.clump_template is given");
-            if (c.grains.radius_distribution == 3 && c.grains.sieve_curve.empty())
+            const RadiusDistribution sizes = c.grains.radius_distribution;
+            if (sizes == RadiusDistribution::Sieve && c.grains.sieve_curve.empty())
                 s.fail("sieve_curve", "must name a CSV file of the sieve curve when grains.radius_distribution = \"sieve\"");
-            if (c.grains.radius_distribution != 3 && !c.grains.sieve_curve.empty())
+            if (sizes != RadiusDistribution::Sieve && !c.grains.sieve_curve.empty())
                 s.fail("radius_distribution", "must be \"sieve\" when grains.sieve_curve is given");
-            if ((c.grains.radius_distribution == 1 || c.grains.radius_distribution == 2) && !(c.grains.radius_spread > 0.0))
+            if ((sizes == RadiusDistribution::Uniform || sizes == RadiusDistribution::Lognormal) &&
+                !(c.grains.radius_spread > 0.0))
                 s.fail("radius_spread", "must be > 0 for a uniform or lognormal distribution (0: every grain grains.radius; "
                                         "say grains.radius_distribution = \"single\")");
-            if (c.grains.radius_distribution == 2 && c.grains.radius_spread > 0.5)
+            if (sizes == RadiusDistribution::Lognormal && c.grains.radius_spread > 0.5)
                 s.fail("radius_spread", "must be at most 0.5 for a lognormal distribution (the sd of ln r: radii span a "
                                         "factor exp(6 sd) = 20 at 0.5)");
         }
-        if (section == "process" && c.process.pressure_model != 0 && c.process.pump_down && !(c.process.pump_speed > 0.0))
+        if (section == "process" && c.process.pressure_model == PressureModel::Pump && c.process.pump_down &&
+            !(c.process.pump_speed > 0.0))
             s.fail("pump_down", "must be false when process.pump_speed is 0 (a pump-down needs a pump)");
         s.finish();
     }
@@ -136,12 +141,12 @@ Config load_config(const std::string& path, const std::vector<std::string>& over
 }
 
 scene::SizeDistribution grain_sizes(const Config& c) {
-    using K = scene::SizeDistribution::Kind;
-    if (c.grains.radius_distribution == 3) return scene::SizeDistribution::sieve_curve(c.grains.sieve_curve);
+    if (c.grains.radius_distribution == RadiusDistribution::Sieve)
+        return scene::SizeDistribution::sieve_curve(c.grains.sieve_curve);
     scene::SizeDistribution d;
-    d.kind = c.grains.radius_distribution == 1 ? K::Uniform : c.grains.radius_distribution == 2 ? K::Lognormal : K::Single;
+    d.kind = c.grains.radius_distribution;
     d.radius = c.grains.radius;
-    d.spread = d.kind == K::Single ? 0.0 : c.grains.radius_spread;
+    d.spread = d.kind == RadiusDistribution::Single ? 0.0 : c.grains.radius_spread;
     return d;
 }
 
@@ -150,8 +155,8 @@ dem::ClumpShape clump_template_shape(const std::string& path) {
 }
 
 dem::ClumpShape grain_shape(const Config& c) {
-    if (c.grains.shape == 5) return clump_template_shape(c.grains.clump_template);
-    return dem::builtin_clump_shape(dem::builtin_clump_shapes().at(std::size_t(c.grains.shape)), 1.0);
+    if (c.grains.shape == GrainShape::Template) return clump_template_shape(c.grains.clump_template);
+    return dem::builtin_clump_shape(word_of(c.grains.shape), 1.0);
 }
 
 double cycling_local_damping(const Config& c) {
@@ -163,12 +168,12 @@ double cycle_period(const ProcessDef& p) {
 }
 
 double peak_speed(const ProcessDef& p) {
-    if (p.waveform == 1) return std::numbers::pi * p.amplitude / cycle_period(p);
+    if (p.waveform == Waveform::Sine) return std::numbers::pi * p.amplitude / cycle_period(p);
     return p.frequency > 0.0 ? 2.0 * p.amplitude * p.frequency : p.velocity;
 }
 
 double resolve_dt(const SimulationDef& s, const dem::World& w) {
-    return s.dt_auto ? s.dt_safety * w.critical_dt() : s.dt;
+    return scene::time_step({.automatic = s.dt_auto, .dt = s.dt, .safety = s.dt_safety}, w);
 }
 
 }  // namespace vpp

@@ -17,21 +17,18 @@
 #include "dem/clumps/clump_shape.h"
 #include "scene/size_distribution.h"
 #include "vpp/membrane/foil.h"
+#include "vpp/settings/choices.h"
 
 namespace vpp {
 
 struct GrainsDef {
     double radius{};              // [m] r_k; with a size distribution its number mean
-    // Grain sizes (scene/size_distribution.h): 0 single radius (the paper), 1 uniform,
-    // 2 lognormal, 3 a sieve curve.
-    int radius_distribution{};
+    RadiusDistribution radius_distribution{};  // grain sizes (vpp/settings/choices.h)
     double radius_spread{};       // [-] uniform: half-width over radius; lognormal: sd of ln r
-    std::string sieve_curve;      // CSV of sieve openings [m] and mass fractions passing (distribution 3)
+    std::string sieve_curve;      // CSV of sieve openings [m] and mass fractions passing (Sieve)
     double sieve_curve_id{};      // fingerprint of the curve's numbers (0: none): the sample's geometry check
-    // Grain shape: 0 spheres (the paper), else rigid clumps (dem/clumps) of the same volume as the
-    // sphere of the grain's radius: 1 dimer, 2 trimer, 3 tetrahedron, 4 pellet, 5 the template.
-    int shape{};
-    std::string clump_template;   // CSV x, y, z, r [m] of the members in the grain's frame (shape 5)
+    GrainShape shape{};           // spheres or clumps (vpp/settings/choices.h)
+    std::string clump_template;   // CSV x, y, z, r [m] of the members in the grain's frame (Template)
     double clump_template_id{};   // fingerprint of the template's numbers (0: none)
     double density{};             // [kg/m^3]
     double young{};               // [Pa] E_k
@@ -54,10 +51,8 @@ struct DamperDef {
     // foil's interior up to H_p (pi r_in^2 H_p), instead of until their level reaches H_p, so that
     // dampers of other radii are prepared at the same packing (docs/damper.md, "Preparation").
     double packing_target{};      // [-] 0, or in (0, 0.74)
-    // The foil's builder (key foil.builder): 0 "lattice", the paper's square grid (vpp/membrane/foil.h);
-    // 1 "mesh", the membrane on the cylinder's lateral surface (vpp/membrane/membrane.h,
-    // membrane_tube_sites; docs/membrane.md, "A cylinder given as a mesh").
-    int foil_builder{};
+    // The foil's builder (key foil.builder; docs/membrane.md, "A cylinder given as a mesh").
+    FoilBuilder foil_builder{};
 };
 
 // dp is the atmosphere's pressure minus the pressure inside the foil: at most a perfect vacuum.
@@ -75,13 +70,13 @@ struct ProcessDef {
     int64_t samples_per_cycle{};
     double sample_window{};       // [s]
     // The air inside (vpp/membrane/gas.h; docs/damper.md, "The air inside").
-    int pressure_model{};         // 0 "constant": dp held (the paper); 1 "pump": gas, pump, leak
+    PressureModel pressure_model{};  // Constant: dp held (the paper); Pump: gas, pump, leak
     double pump_speed{};          // [m^3/s] S (2 m^3/h, a small rotary-vane pump)
     double bleed_rate{};          // [m^3/s] B: the regulator's bleed lets air in below the set point
     double leak_rate{};           // [m^3/s] C: air leaks in at C (p_atm - p_inside)
     bool pump_down{};             // the vacuum stage pumps down from the atmosphere (else: the ramp)
     // The stroke's shape (docs/damper.md, "Waveforms and frequency").
-    int waveform{};               // 0 "triangle" (the paper), 1 "sine"
+    Waveform waveform{};          // Triangle (the paper) or Sine
     double frequency{};           // [Hz] cycles per second; 0: the period 2 A / v of velocity
     // Local damping from the vacuum on: < 0 is "auto", simulation.local_damping throughout. A
     // dynamic run keeps the preparation's damping (which brings the pour to rest) and cycles
@@ -165,7 +160,7 @@ scene::SizeDistribution grain_sizes(const Config& c);
 // The members of a clump template file (CSV x, y, z, r [m]) as a shape scaled to the volume of a
 // sphere of radius 1 m. Throws std::runtime_error naming the file and the reason.
 dem::ClumpShape clump_template_shape(const std::string& path);
-// The grains' shape at a volume-equivalent radius of 1 m (grains.shape > 0: a clump; scale it to
+// The grains' shape at a volume-equivalent radius of 1 m (a clump unless GrainShape::Sphere; scale it to
 // a grain's radius with dem::scaled); the template is read from grains.clump_template.
 dem::ClumpShape grain_shape(const Config& c);
 double cycling_local_damping(const Config& c);
@@ -174,7 +169,7 @@ double cycling_local_damping(const Config& c);
 Config load_config(const std::string& path, const std::vector<std::string>& overrides,
                    CommandSet commands = CommandSet::Damper);
 
-// Time step for a world built from this config: fixed, or safety * critical step.
+// Time step [s] for a world built from this config: fixed, or safety * critical step (scene/time_step.h).
 double resolve_dt(const SimulationDef& s, const dem::World& w);
 
 }  // namespace vpp

@@ -8,7 +8,8 @@
 #include <stdexcept>
 
 #include "scene/config.h"
-#include "scene/threads.h"
+#include "scene/shared_keys.h"
+#include "scene/time_step.h"
 
 namespace vpp {
 
@@ -17,6 +18,7 @@ namespace {
 using T = SettingType;
 using A = Acts;
 using C = Check;
+namespace keys = cfg::keys;
 
 // The key within its section ("process.velocity" -> "velocity").
 // A fingerprint of a file's numbers (FNV-1a over their bytes), exact in a double (52 bits): the
@@ -34,6 +36,41 @@ double fingerprint(const std::vector<double>& values) {
 std::string short_key(const Setting& s) {
     const std::string k = s.key;
     return k.substr(k.find('.') + 1);
+}
+
+// An enumerated key (vpp/settings/choices.h): its word in the file, `def` where the file has none;
+// another word is refused with the row's `allowed`.
+template <class E>
+E read_word(cfg::Section& s, const Setting& r, E def) {
+    const std::string k = short_key(r);
+    const std::optional<E> v = from_word<E>(s.string(k, word_of(def)));
+    if (!v) s.fail(k, r.allowed);
+    return *v;
+}
+
+// A row of a key declared once for every table (scene/shared_keys.h): its type, unit, default,
+// range and doc from there; `row` gives what this table adds (what it acts on, where it is
+// recorded, its field, a note on what it does in these commands). `key` and `doc`: another key
+// of the same property (the foil's stiffness ratio is the grains' property).
+// A row may restate its key and default where a reader of this file's text needs them here (the
+// time step's, below); they must be the declaration's.
+Setting declared(const cfg::KeyDecl& k, Setting row, const char* key = nullptr, const char* doc = nullptr) {
+    if ((*row.key && std::string(row.key) != k.key) || (!std::isnan(row.def) && row.def != k.def))
+        throw std::logic_error(std::string("settings: the row of ") + k.key + " restates its key or default otherwise "
+                               "than its declaration (scene/shared_keys.h)");
+    row.key = key ? key : k.key;
+    row.type = k.type;
+    row.unit = k.unit;
+    row.def = k.def;
+    row.default_text = k.default_text;
+    row.check = k.limits.check;
+    row.lo = k.limits.lo;
+    row.hi = k.limits.hi;
+    row.lo_open = k.limits.lo_open;
+    row.hi_open = k.limits.hi_open;
+    row.allowed = k.limits.allowed;
+    row.doc = doc ? doc : k.doc;
+    return row;
 }
 
 #define FIELD(f)                                                    \
@@ -62,10 +99,7 @@ std::string short_key(const Setting& s) {
 const std::vector<Setting>& table() {
     static const std::vector<Setting> rows = {
         // [grains]
-        {.key = "grains.radius", .type = T::Real, .unit = "m", .def = 2.965e-3, .check = C::Positive,
-         .acts = A::Geometry, .geometry = 1, .summary = 1,
-         .doc = "r_k, radius of every grain; with grains.radius_distribution the number-mean radius",
-         FIELD(grains.radius)},
+        declared(keys::grain_radius, {.acts = A::Geometry, .geometry = 1, .summary = 1, FIELD(grains.radius)}),
         {.key = "grains.radius_distribution", .type = T::Choice, .unit = "", .def = Setting::kUnset,
          .default_text = "\"single\"", .check = C::Custom,
          .allowed = "must be \"single\", \"uniform\", \"lognormal\" or \"sieve\"", .acts = A::Geometry,
@@ -74,13 +108,7 @@ const std::vector<Setting>& table() {
                 "grains.radius_spread); \"lognormal\": ln r with sd grains.radius_spread, cut at 3 sd, mean "
                 "grains.radius; \"sieve\": from the sieve curve grains.sieve_curve (docs/damper.md, \"Grain sizes\")",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
-             const std::string k = short_key(r);
-             const std::string d = s.string(k, "single");
-             const char* const names[] = {"single", "uniform", "lognormal", "sieve"};
-             c.grains.radius_distribution = -1;
-             for (int i = 0; i < 4; ++i)
-                 if (d == names[i]) c.grains.radius_distribution = i;
-             if (c.grains.radius_distribution < 0) s.fail(k, r.allowed);
+             c.grains.radius_distribution = read_word(s, r, RadiusDistribution::Single);
          },
          FIELD(grains.radius_distribution), .legacy = 0.0},  // an older vppdem's grains had one radius
         {.key = "grains.radius_spread", .type = T::Real, .unit = "-", .def = 0.0, .check = C::Range, .lo = 0.0,
@@ -122,13 +150,7 @@ const std::vector<Setting>& table() {
                 "sphere of the grain's radius, in random orientations (docs/scene.md#clumps: dimer, trimer, "
                 "tetrahedron, pellet; \"template\": grains.clump_template)",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
-             const std::string k = short_key(r);
-             const std::string d = s.string(k, "sphere");
-             const char* const names[] = {"sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"};
-             c.grains.shape = -1;
-             for (int i = 0; i < 6; ++i)
-                 if (d == names[i]) c.grains.shape = i;
-             if (c.grains.shape < 0) s.fail(k, r.allowed);
+             c.grains.shape = read_word(s, r, GrainShape::Sphere);
          },
          FIELD(grains.shape), .legacy = 0.0},  // an older vppdem's grains were spheres
         {.key = "grains.clump_template", .type = T::String, .unit = "", .def = Setting::kUnset, .default_text = "none",
@@ -155,26 +177,11 @@ const std::vector<Setting>& table() {
          },
          .get = [](const Config& c) { return c.grains.clump_template_id; },
          .set = [](Config&, double) {}, .legacy = 0.0},
-        // At most 1e6 kg/m^3: 44 times osmium (22,590), room for mass scaling; 1e300 left a body
-        // that never comes to rest.
-        {.key = "grains.density", .type = T::Real, .unit = "kg/m^3", .def = 2689.639, .check = C::Range, .lo = 0.0,
-         .hi = 1e6, .lo_open = true,
-         .allowed = "must be in (0, 1e6] kg/m^3 (44 times osmium's 22,590: room for mass scaling)",
-         .acts = A::Geometry, .geometry = 3, .summary = 2, .doc = "density of the grains", FIELD(grains.density)},
-        {.key = "grains.young", .type = T::Real, .unit = "Pa", .def = 2.3e9, .check = C::Positive,
-         .acts = A::ContactPhysics, .run = 2, .summary = 3, .doc = "E_k, Young's modulus of the grains (contact stiffness)",
-         FIELD(grains.young)},
-        {.key = "grains.friction", .type = T::Real, .unit = "-", .def = 0.6, .check = C::NonNegative,
-         .acts = A::ContactPhysics, .shares_preparation = true, .run = 1, .summary = 4,
-         .doc = "mu_k, grain-grain Coulomb friction (the preparation is frictionless)", FIELD(grains.friction)},
-        // At most 1: ks/kn of elastic spheres is 2 (1 - nu) / (2 - nu), 0.67 to 1 for Poisson ratios
-        // 0.5 to 0; and the time step is sized on the normal stiffness, so a stiffer tangential
-        // spring outruns it (1.5 blew the run up).
-        {.key = "grains.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::Range, .lo = 0.01,
-         .hi = 1.0, .allowed = "must be in [0.01, 1] (ks/kn of elastic spheres is at most 1; the time step is sized on "
-                               "kn; below 0.01 the shear spring cannot carry the friction force: at 0 its elongation "
-                               "f_t / k_s is NaN)",
-         .acts = A::ContactPhysics, .run = 3, .summary = 5, .doc = "ks/kn of grain contacts", FIELD(grains.stiffness_ratio)},
+        declared(keys::density, {.acts = A::Geometry, .geometry = 3, .summary = 2, FIELD(grains.density)}),
+        declared(keys::young, {.acts = A::ContactPhysics, .run = 2, .summary = 3, FIELD(grains.young)}),
+        declared(keys::friction, {.acts = A::ContactPhysics, .shares_preparation = true, .run = 1, .summary = 4,
+                                  FIELD(grains.friction)}),
+        declared(keys::stiffness_ratio, {.acts = A::ContactPhysics, .run = 3, .summary = 5, FIELD(grains.stiffness_ratio)}),
         {.key = "grains.volume_fraction", .type = T::Real, .unit = "-", .def = 0.54, .check = C::Range, .lo = 0.0,
          .hi = 0.74, .lo_open = true, .hi_open = true,
          .allowed = "must be in (0, 0.74) (0.74 is the densest sphere packing)", .acts = A::Geometry, .geometry = 2,
@@ -182,13 +189,8 @@ const std::vector<Setting>& table() {
          .doc = "phi: the pour's N = round(phi pi r_p^2 H_p / (4/3 pi r_k^3)) grains; with damper.refill more follow "
                 "(docs/damper.md)",
          FIELD(grains.volume_fraction)},
-        {.key = "grains.restitution", .type = T::Real, .unit = "-", .def = 1.0, .check = C::Range, .lo = 0.0, .hi = 1.0,
-         .lo_open = true, .allowed = "must be in (0, 1] (1: no dashpot)", .acts = A::ContactPhysics,
-         .shares_preparation = true, .run = 30, .summary = 32,
-         .doc = "normal coefficient of restitution of grain contacts (a linear dashpot) from the vacuum on; the "
-                "physical dissipation of dynamic runs, with process.local_damping = 0 (docs/damper.md, "
-                "\"Waveforms and frequency\"); the preparation has none",
-         FIELD(grains.restitution), .legacy = 1.0},
+        declared(keys::restitution, {.acts = A::ContactPhysics, .shares_preparation = true, .run = 30, .summary = 32,
+                                     FIELD(grains.restitution), .legacy = 1.0}),
         // [foil]
         {.key = "foil.young", .type = T::Real, .unit = "Pa", .def = 122.18e6, .check = C::Positive,
          .acts = A::ContactPhysics, .run = 4, .summary = 7, .doc = "E_f of the real foil (bond and foil contact stiffness)",
@@ -217,11 +219,9 @@ const std::vector<Setting>& table() {
          .acts = A::Geometry, .geometry = 5, .summary = 10, .doc = "density of the foil particles", FIELD(foil.density)},
         {.key = "foil.friction", .type = T::Real, .unit = "-", .def = 0.0, .check = C::NonNegative,
          .acts = A::ContactPhysics, .run = 6, .summary = 11, .doc = "friction of foil contacts", FIELD(foil.friction)},
-        {.key = "foil.stiffness_ratio", .type = T::Real, .unit = "-", .def = 0.5, .check = C::Range, .lo = 0.01,
-         .hi = 1.0, .allowed = "must be in [0.01, 1] (ks/kn of elastic spheres is at most 1; the time step is sized on "
-                               "kn; below 0.01 the shear spring cannot carry the friction force: at 0 its elongation "
-                               "f_t / k_s is NaN)",
-         .acts = A::ContactPhysics, .run = 7, .doc = "ks/kn of bonds and foil contacts", FIELD(foil.stiffness_ratio)},
+        // The grains' property (scene/shared_keys.h) for the foil's particles and bonds.
+        declared(keys::stiffness_ratio, {.acts = A::ContactPhysics, .run = 7, FIELD(foil.stiffness_ratio)},
+                 "foil.stiffness_ratio", "ks/kn of bonds and foil contacts"),
         {.key = "foil.bond_arm", .type = T::Choice, .unit = "", .def = Setting::kUnset, .default_text = "\"radius\"",
          .check = C::Custom, .allowed = "must be \"radius\" or \"bond_point\"", .acts = A::ContactPhysics, .run = 32,
          .summary = 35,
@@ -248,13 +248,10 @@ const std::vector<Setting>& table() {
                 "stiffness times 2.05, the end rings held by base and cap (docs/membrane.md, \"A cylinder given as a "
                 "mesh\")",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet commands) {
-             const std::string k = short_key(r);
-             const std::string b = s.string(k, "lattice");
-             if (b != "lattice" && b != "mesh") s.fail(k, r.allowed);
-             if (b == "mesh" && commands == CommandSet::Foil)
-                 s.fail(k, "must be \"lattice\" for the tension and envelope commands: they check the lattice foil "
-                           "(docs/foil.md); \"mesh\" is the damper's (damper, sweep, calibrate)");
-             c.damper.foil_builder = b == "mesh" ? 1 : 0;
+             c.damper.foil_builder = read_word(s, r, FoilBuilder::Lattice);
+             if (c.damper.foil_builder == FoilBuilder::Mesh && commands == CommandSet::Foil)
+                 s.fail(short_key(r), "must be \"lattice\" for the tension and envelope commands: they check the lattice "
+                                      "foil (docs/foil.md); \"mesh\" is the damper's (damper, sweep, calibrate)");
          },
          FIELD(damper.foil_builder), .legacy = 0.0},  // an older vppdem's foil was the lattice
         // [damper]; radius and height are also checked against the foil (vpp/settings/config.cpp).
@@ -354,10 +351,7 @@ const std::vector<Setting>& table() {
                 "isothermal gas in the foil's pores, drawn by a pump through a regulator set to process.underpressure, "
                 "with a leak (docs/damper.md, \"The air inside\")",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
-             const std::string k = short_key(r);
-             const std::string m = s.string(k, "constant");
-             if (m != "constant" && m != "pump") s.fail(k, r.allowed);
-             c.process.pressure_model = m == "pump" ? 1 : 0;
+             c.process.pressure_model = read_word(s, r, PressureModel::Constant);
          },
          FIELD(process.pressure_model), .legacy = 0.0},  // an older vppdem held dp constant
         {.key = "process.pump_speed", .type = T::Real, .unit = "m^3/s", .def = 2.0 / 3600.0, .check = C::NonNegative,
@@ -389,10 +383,7 @@ const std::vector<Setting>& table() {
          .doc = "the stroke's shape: \"triangle\" (constant speed, the paper) or \"sine\" (d = A (1 - cos 2 pi t / T) / "
                 "2, peak speed pi A / T), period T from process.frequency or process.velocity",
          .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
-             const std::string k = short_key(r);
-             const std::string w = s.string(k, "triangle");
-             if (w != "triangle" && w != "sine") s.fail(k, r.allowed);
-             c.process.waveform = w == "sine" ? 1 : 0;
+             c.process.waveform = read_word(s, r, Waveform::Triangle);
          },
          FIELD(process.waveform), .legacy = 0.0},
         {.key = "process.frequency", .type = T::Real, .unit = "Hz", .def = 0.0, .check = C::NonNegative,
@@ -439,79 +430,46 @@ const std::vector<Setting>& table() {
          .doc = "tension: pulling speed (quasi-static: well below the bond wave speed, about 500 m/s)",
          FIELD(tension.speed)},
         // [simulation]
-        {.key = "simulation.dt", .type = T::RealOrAuto, .unit = "s", .def = Setting::kUnset, .default_text = "\"auto\"",
-         .check = C::Custom, .allowed = "must be a time step in seconds (> 0) or \"auto\"", .acts = A::Simulation,
-         .run = 19, .doc = "a fixed time step, or \"auto\": simulation.dt_safety times the critical step",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
-             const std::string k = short_key(r);
-             c.simulation.dt_auto = true;  // the default, "auto"
-             c.simulation.dt = 0.0;
-             if (const toml::node* n = s.node(k)) {
-                 if (auto str = n->as_string()) {
-                     if (str->get() != "auto") s.fail(k, r.allowed);
-                 } else if (auto v = n->value<double>()) {
-                     c.simulation.dt_auto = false;
-                     c.simulation.dt = s.positive(k, *v);
-                 } else {
-                     s.fail(k, r.allowed);
-                 }
-             }
-         },
-         .get = [](const Config& c) { return c.simulation.dt_auto ? 0.0 : c.simulation.dt; },
-         .set = [](Config& c, double v) {
-             c.simulation.dt_auto = v == 0.0;
-             c.simulation.dt = v;
-         }},
-        // At most 0.5: sqrt(m/k) is one spring's critical step; a grain with several contacts and
-        // the foil's bonds need less (0.7 diverged on the tests' small damper, "cannot create
-        // std::vector larger than max_size()"; 0.6 ran with W 24% off 0.45's). Default 0.3: the
-        // largest step whose mean bias lies within 2% of the converged W (Richardson over 5 seeds
-        // of the paper's damper at 0.06 MPa: 0.45, the paper's studies' step, lies +3.1% +- 5.1%
-        // above it; docs/paper_comparison.md, "Time step converged"), the foil's checks' value too.
-        {.key = "simulation.dt_safety", .type = T::Real, .unit = "-", .def = 0.3, .check = C::Range,
-         .lo = 0.0, .hi = 0.5, .lo_open = true,
-         .allowed = "must be in (0, 0.5] (sqrt(m/k) is one contact's critical step; several contacts need less)", .acts = A::Simulation, .run = 20,
-         .doc = "dt = safety * min sqrt(m/k) when simulation.dt is \"auto\"",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet commands) {
-             const std::string k = short_key(r);
-             c.simulation.dt_safety = s.number(k, r.default_for(commands));
-             if (!(c.simulation.dt_safety > r.lo && c.simulation.dt_safety <= r.hi)) s.fail(k, r.allowed);
-         },
-         FIELD(simulation.dt_safety)},
-        // At most 0.9: the damping removes the fraction lambda of each force's power; near 1 it
-        // holds the grains back instead of damping them (process.local_damping = 0.999999 gave
-        // W 125,099 J/m^2 against 388). Above 0.5 is warned (vpp/damper/checks.cpp).
-        {.key = "simulation.local_damping", .type = T::Real, .unit = "-", .def = 0.2, .check = C::Range, .lo = 0.0,
-         .hi = 0.9, .allowed = "must be in [0, 0.9] (above, the damping, not the grains, dissipates; 0 only from a "
-                               "prepared sample: the preparation needs it)", .acts = A::Simulation, .run = 18, .summary = 20,
-         .doc = "Yade-style non-viscous damping: the preparation's, and the run's unless process.local_damping "
-                "is given", FIELD(simulation.local_damping)},
-        {.key = "simulation.threads", .type = T::Integer, .unit = "", .def = 0, .def_foil = 1, .check = C::Custom,
-         .allowed = "must be an integer 1..1024, or 0 for the default (the free cores)", .acts = A::Simulation,
-         .shares_preparation = true, .summary = 21,
-         .doc = "threads of a run; 0: the free cores (src/scene/threads.h). Results do not depend on it",
-         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet commands) {
-             const std::string k = short_key(r);
-             const int64_t th = s.integer(k, int64_t(r.default_for(commands)));
-             if (th < 0 || th > 1024) s.fail(k, r.allowed);
-             // 0: the free cores (scene/threads.h), measured only when asked for.
-             c.simulation.threads = th == 0 ? scene::default_threads() : int(th);
-         },
-         FIELD(simulation.threads)},
-        {.key = "simulation.seed", .type = T::Integer, .unit = "", .def = 1, .check = C::AtLeast, .lo = 0,
-         .allowed = "must be an integer >= 0", .acts = A::Geometry, .geometry = 8, .summary = 22,
-         .doc = "grain placement (the lattice's jitter)",
-         // Its own reader: a seed is an unsigned 64-bit integer, more than a double holds exactly.
-         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
-             const std::string k = short_key(r);
-             const int64_t seed = s.integer(k, int64_t(r.def));
-             if (seed < 0) s.fail(k, r.allowed);
-             c.simulation.seed = uint64_t(seed);
-         },
-         FIELD(simulation.seed)},
-        {.key = "simulation.skin", .type = T::Real, .unit = "m", .def = 0.0, .check = C::NonNegative,
-         .acts = A::Simulation, .run = 21, .doc = "neighbour list skin; 0: half the smallest radius",
-         FIELD(simulation.skin)},
+        declared(keys::dt,
+                 {.acts = A::Simulation, .run = 19,
+                  .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
+                      const scene::TimeStep t = scene::read_dt(s, short_key(r), r.def);
+                      c.simulation.dt_auto = t.automatic;
+                      c.simulation.dt = t.dt;
+                  },
+                  .get = [](const Config& c) { return c.simulation.dt_auto ? 0.0 : c.simulation.dt; },
+                  .set = [](Config& c, double v) {
+                      c.simulation.dt_auto = v == 0.0;
+                      c.simulation.dt = v;
+                  }}),
+        // The default 0.3 is the foil's checks' too; the paper's studies ran at 0.45 (+3.1% +- 5.1%
+        // in W above the converged value; docs/paper_comparison.md, "Time step converged"). Key and
+        // default restated (and checked by declared()): the time-step study's report reads the
+        // default from this file's text (src/python/vppdem/report/paper.py, current_default).
+        declared(keys::dt_safety, {.key = "simulation.dt_safety", .def = 0.3, .acts = A::Simulation, .run = 20,
+                                   FIELD(simulation.dt_safety)}),
+        // Default 0.2: the preparation is frictionless and has no dashpot, only the damping brings
+        // its pour to rest (0 is refused for a new sample, vpp/damper/checks.cpp). Above 0.5 is
+        // warned there too.
+        declared(cfg::with_default(keys::local_damping, 0.2),
+                 {.acts = A::Simulation, .run = 18, .summary = 20,
+                  .note = "the preparation's, and the run's unless process.local_damping is given; 0 only from a "
+                          "prepared sample (the preparation needs it)",
+                  FIELD(simulation.local_damping)}),
+        // Default 0, the free cores, for the damper's commands (the sweep's cases share them); one
+        // thread for the foil's small checks.
+        declared(cfg::with_default(keys::threads, 0),
+                 {.def_foil = 1, .acts = A::Simulation, .shares_preparation = true, .summary = 21,
+                  .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet commands) {
+                      c.simulation.threads = cfg::read_threads(s, short_key(r), int64_t(r.default_for(commands)));
+                  },
+                  FIELD(simulation.threads)}),
+        declared(keys::seed, {.acts = A::Geometry, .geometry = 8, .summary = 22,
+                              .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet) {
+                                  c.simulation.seed = cfg::read_seed(s, short_key(r), int64_t(r.def));
+                              },
+                              FIELD(simulation.seed)}),
+        declared(keys::skin, {.acts = A::Simulation, .run = 21, FIELD(simulation.skin)}),
         // [output]
         {.key = "output.interval", .type = T::Real, .unit = "s", .def = 0.0, .check = C::NonNegative, .acts = A::Output,
          .shares_preparation = true, .doc = "tension, envelope: rows of the time series; 0: the command's default",
@@ -685,10 +643,11 @@ std::string settings_reference_markdown() {
         if (s.geometry) recorded += "geometry";
         if (s.run) recorded += std::string(recorded.empty() ? "" : ", ") + "run";
         if (s.summary) recorded += std::string(recorded.empty() ? "" : ", ") + "summary";
+        const std::string doc = *s.note ? std::string(s.doc) + "; " + s.note : std::string(s.doc);
         md += "| `" + std::string(s.key) + "` | " + cfg::type_name(s.type) + " | " + cfg::markdown_cell(def) + " | " +
               cfg::markdown_cell(s.unit) + " | " + cfg::markdown_cell(cfg::allowed_text(s.type, s.limits())) + " | " +
               acts_name(s.acts) + " | " + (s.shares_preparation ? "yes" : "no") + " | " + recorded + " | " +
-              cfg::markdown_cell(s.doc) + " |\n";
+              cfg::markdown_cell(doc) + " |\n";
     }
     md += "\n" + limits_markdown();
     return md;

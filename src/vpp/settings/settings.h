@@ -33,10 +33,11 @@ enum class Acts { Geometry, ContactPhysics, Process, Output, Analysis, Simulatio
 struct Setting {
     static constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
 
-    const char* key;        // dotted key as written in the file and in --set
-    SettingType type;
-    const char* unit;       // SI unit; "-" a ratio, "" a count, flag or word
-    double def;             // damper, sweep and calibrate default (NaN: see default_text)
+    // Initialised for the rows of a declared key (scene/shared_keys.h), which get them from there.
+    const char* key = "";   // dotted key as written in the file and in --set
+    SettingType type = SettingType::Real;
+    const char* unit = "";  // SI unit; "-" a ratio, "" a count, flag or word
+    double def = kUnset;    // damper, sweep and calibrate default (NaN: see default_text)
     double def_foil = kUnset;  // tension and envelope default (NaN: the same as def)
     const char* default_text = "";  // the default as the reference shows it when def is NaN or a word
     Check check = Check::None;
@@ -50,7 +51,10 @@ struct Setting {
     int geometry = 0;  // position among the sample's geometry in the checkpoints (0: not there)
     int run = 0;       // position among the settings a started run keeps when resumed (0: not there)
     int summary = 0;   // position among summary.json "inputs" (0: not there)
-    const char* doc;
+    const char* doc = "";
+    // What a key declared for every table (scene/shared_keys.h) does in these commands, printed
+    // after its doc ("": nothing to add).
+    const char* note = "";
     // Reads the key from its section into the config; nullptr: the generic reader of the type
     // and check (vpp/settings/config.cpp).
     void (*read)(cfg::Section&, const Setting&, Config&, CommandSet) = nullptr;

@@ -319,7 +319,8 @@ private:
             d.check_preparation = true;  // never a branch from a sample of other settings
             // Clumps and the mesh foil's pressure fans are not in the batch yet: those cases step
             // on the CPU, as --backend cpu (the same bits).
-            d.batch = c.config.grains.shape == 0 && c.config.damper.foil_builder == 0 ? batch_.get() : nullptr;
+            d.batch = c.config.grains.shape == GrainShape::Sphere && c.config.damper.foil_builder == FoilBuilder::Lattice
+                          ? batch_.get() : nullptr;
             if (opt_.progress || progress_)
                 d.progress = [this, i](const char* stage, uint64_t done, uint64_t total, double) {
                     if (progress_) {
