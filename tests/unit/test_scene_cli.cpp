@@ -67,7 +67,7 @@ Result run_scene(const fs::path& file, const fs::path& out, const std::string& e
     return run_vppdem("scene " + quote(file) + " --out " + quote(out) + " --quiet " + extra);
 }
 
-std::string first_line(const fs::path& p) {
+std::string header_line(const fs::path& p) {
     std::ifstream in(p);
     std::string line;
     std::getline(in, line);
@@ -173,8 +173,8 @@ TEST(SceneCli, HeadersAreExact) {
     write_file(d / "s.toml", tiny_scene());
     const Result r = run_scene(d / "s.toml", d / "out");
     ASSERT_EQ(r.rc, 0) << r.output;
-    EXPECT_EQ(first_line(d / "out/tracked.csv"), "time,id,x,y,z,vx,vy,vz,wx,wy,wz");
-    const std::string wh = first_line(d / "out/walls.csv");
+    EXPECT_EQ(header_line(d / "out/tracked.csv"), "time,id,x,y,z,vx,vy,vz,wx,wy,wz");
+    const std::string wh = header_line(d / "out/walls.csv");
     EXPECT_EQ(wh.rfind("time,wall,fx,fy,fz", 0), 0u) << wh;  // the contract: this prefix
     EXPECT_EQ(wh, "time,wall,fx,fy,fz,tx,ty,tz");             // our implementation
     EXPECT_TRUE(fs::exists(d / "out/summary.json"));
@@ -574,7 +574,7 @@ TEST(SceneCli, OverwriteReplacesOutputs) {
     write_file(d / "out/notes.txt", "keep me\n");
     const Result r2 = run_scene(d / "s.toml", d / "out", "--overwrite");
     ASSERT_EQ(r2.rc, 0) << r2.output;
-    EXPECT_EQ(first_line(d / "out/tracked.csv"), "time,id,x,y,z,vx,vy,vz,wx,wy,wz");
+    EXPECT_EQ(header_line(d / "out/tracked.csv"), "time,id,x,y,z,vx,vy,vz,wx,wy,wz");
     EXPECT_EQ(read_csv(d / "out/tracked.csv").rows.size(), 3u);
     EXPECT_EQ(read_file(d / "out/notes.txt"), "keep me\n");  // files vppdem does not write stay
     EXPECT_FALSE(fs::exists(d / "out/vtk/particles_000000.vtk"));
@@ -619,7 +619,7 @@ TEST(SceneCli, VtkFilesHaveTheLegacyHeader) {
     for (const auto& e : fs::directory_iterator(d / "out/vtk")) {
         ++n;
         EXPECT_EQ(e.path().extension(), ".vtk");
-        EXPECT_EQ(first_line(e.path()).rfind("# vtk DataFile Version", 0), 0u) << e.path();
+        EXPECT_EQ(header_line(e.path()).rfind("# vtk DataFile Version", 0), 0u) << e.path();
     }
     EXPECT_EQ(n, 6);  // particles_ and walls_ at t = 0, 1e-5, 2e-5
 }
