@@ -27,6 +27,7 @@ import math
 import os
 import sys
 import tomllib
+from dataclasses import dataclass
 
 from ..records import fail
 from . import rules, source_dir
@@ -35,6 +36,7 @@ from .stats import LEVEL, interval, log_ratio, ratio, satterthwaite, t_quantile
 COMMAND = ("bash scripts/grain_shapes.sh, then PYTHONPATH=src/python /usr/bin/python3 -m vppdem.report grain_shapes "
            "docs/data/grains/shapes docs "
            "--pressure docs/data/paper/radius_underpressure --bench docs/data/grains/cost_per_step.md")
+FIGURE = "grains_shapes.png"
 ORDER = ["sphere", "dimer", "trimer", "tetrahedron", "pellet", "template"]
 # The seeds the paper's underpressure study (studies/paper/radius_underpressure.toml, whose 25.5 mm
 # rows give the pressure's effect) fixed before it ran: 3; its seeds 4 and 5 came after a look at
@@ -235,46 +237,90 @@ def figure(runs, shapes, docs, note=""):
         a.grid(alpha=0.3, axis="y")
     fig.suptitle("Grain shape at 0.06 MPa: mean and 95% interval over the seeds (dots: the seeds)" + note, fontsize=10)
     fig.tight_layout()
-    p = os.path.join(docs, "grains_shapes.png")
+    p = os.path.join(docs, FIGURE)
     fig.savefig(p + ".part.png", dpi=110)
     os.replace(p + ".part.png", p)
     plt.close(fig)
-    return "grains_shapes.png"
+    return FIGURE
 
 
-def main(argv=None):
-    argv = ["grain_shapes"] + (sys.argv[1:] if argv is None else list(argv))
-    args = [a for a in argv[1:] if not a.startswith("--")]
-    bench = pressure = None
-    if "--bench" in argv:
-        i = argv.index("--bench")
-        if i + 1 >= len(argv):
-            fail("--bench needs a FILE", 2)
-        bench = open(argv[i + 1]).read().strip()
-        args = [a for a in args if a != argv[i + 1]]
-    if "--pressure" in argv:
-        i = argv.index("--pressure")
-        if i + 1 >= len(argv):
-            fail("--pressure needs a DIR", 2)
-        pressure = argv[i + 1]
-        args = [a for a in args if a != pressure]
-    study = os.path.join(source_dir(), "studies", "grains", "shapes.toml")
-    if "--study" in argv:
-        i = argv.index("--study")
-        if i + 1 >= len(argv) or not os.path.isfile(argv[i + 1]):
-            fail(f"--study needs a study FILE (got {argv[i + 1] if i + 1 < len(argv) else 'nothing'})", 2)
-        study = argv[i + 1]
-        args = [a for a in args if a != study]
-    if len(args) != 2:
-        fail(__doc__.strip().splitlines()[2], 2)
-    data, docs = args
+@dataclass
+class Page:
+    """The study's records, read once, and what the page's sections take from them: the runs by
+    (shape, seed), the plan (shapes, seeds) or None, the shapes present in ORDER, the planned runs
+    still pending, the spheres' W (every comparison's reference), the --bench table, and the
+    pressure study's bullet and paired effects (pressure_bullet: the first statement and the
+    decision rules read them)."""
+    docs: str
+    study: str
+    runs: dict
+    plan: tuple | None
+    shapes: list
+    pending: list
+    ref: list
+    bench: str | None
+    pressure: str | None
+    pressure_line: str | None
+    peffs: dict
+    added: list
+
+
+def pressure_bullet(pressure):
+    """The pressure's effect on W from the paper's underpressure study in PRESSURE (pressure_effect),
+    paired by seed between its lowest and highest dp: (the page's bullet, or None with fewer than two
+    pressures; peffs, {"planned" / "all": (mean of ln W(hi) / W(lo), its standard error, dof, n)}
+    where n >= 2; the study's seeds beyond its planned ones)."""
+    line = None
+    pe, pinfo = pressure_effect(pressure) if pressure else ({}, {})
+    peffs = {}  # "planned" / "all": the pressure's effect, paired ln W(hi) / W(lo): (mean, se, dof, n, seeds)
+    added = []  # the pressure study's seeds beyond its planned ones
+    if len(pe) >= 2:
+        lo, hi = min(pe), max(pe)
+        seeds = sorted(set(pe[lo]) & set(pe[hi]))
+        planned_p = [k for k in seeds if k <= PRESSURE_PLANNED]
+        added = [k for k in seeds if k > PRESSURE_PLANNED]
+        texts = {}
+        for key, ss in (("planned", planned_p), ("all", seeds)):
+            n, m, sd, h = interval([math.log(pe[hi][k] / pe[lo][k]) for k in ss])
+            _, mr, _, hr = interval([pe[hi][k] / pe[lo][k] for k in ss])
+            texts[key] = (ratio_text(mr, hr, n), n)
+            if n >= 2:
+                peffs[key] = (m, sd / math.sqrt(n), n - 1, n)
+        uns = [c for c in pinfo["unsettled"] if any(f"process.underpressure={int(d)}_" in c for d in (lo, hi))]
+        n_all = texts["all"][1]
+        over = (f"{texts['planned'][0]} times W at {lo / 1e6:g} MPa over its {texts['planned'][1]} planned seeds "
+                f"({texts['all'][0]} over all {n_all} seeds; seeds {', '.join(str(k) for k in added)} were added to "
+                "that study after a look at other claims, docs/paper_comparison.md) (the ratio per seed, paired; "
+                if added and planned_p else
+                f"{texts['all'][0]} times W at {lo / 1e6:g} MPa (the ratio per seed, paired, {n_all} seeds; ")
+        line = (f"- Confining pressure: W at {hi / 1e6:g} MPa is {over}25.5 mm, {pinfo['velocity']:g} m/s, "
+                 f"{'/'.join(str(c) for c in sorted(pinfo['cycles']))} cycles: the paper's underpressure study, "
+                 f"{pressure}; stationary by {pinfo['criterion']}"
+                 + (f"; {len(uns)} of these {2 * n_all} runs not stationary: their last two cycles" if uns else "")
+                 + "). Its velocity is half the shape runs', within 1% in W (docs/paper_comparison.md, C22).")
+    return line, peffs, added
+
+
+def read_page(data, docs, study, pressure, bench):
+    """DATA's runs, the plan of STUDY and the pressure study's effect as a Page."""
     runs = load(data)
     plan = planned(study)
-    shapes = [s for s in ORDER if any(k[0] == s for k in runs)]
     pending = []
     if plan:
         pending = [(sh, k) for sh in plan[0] for k in range(1, plan[1] + 1) if (sh, k) not in runs]
-    fig = figure(runs, shapes, docs, f" - provisional: {len(runs)} of {len(plan[0]) * plan[1]} runs" if pending else "")
+    line, peffs, added = pressure_bullet(pressure)
+    return Page(docs=docs, study=study, runs=runs, plan=plan,
+                shapes=[s for s in ORDER if any(k[0] == s for k in runs)], pending=pending,
+                ref=[r["W"] for (s, _), r in runs.items() if s == "sphere"], bench=bench, pressure=pressure,
+                pressure_line=line, peffs=peffs, added=added)
+
+
+# The page's sections, in its order: each takes the Page and returns its lines.
+
+def section_shapes(c):
+    """The title, the setup, the shapes table against the spheres and the figure (drawn here)."""
+    runs, plan, shapes, pending, study, ref = c.runs, c.plan, c.shapes, c.pending, c.study, c.ref
+    fig = figure(runs, shapes, c.docs, f" - provisional: {len(runs)} of {len(plan[0]) * plan[1]} runs" if pending else "")
     any_run = next(iter(runs.values()))
     L = []
     L.append("# Grain shape under vacuum")
@@ -296,8 +342,6 @@ def main(argv=None):
         L.append("")
     L.append("| shape | runs | grains | packing at cycling | W [J/m^2] | W - spheres' [%] | peak force [N] | friction share [%] | damping share [%] |")
     L.append("|---|---|---|---|---|---|---|---|---|")
-    ref = [r["W"] for (s, _), r in runs.items() if s == "sphere"]
-    _, m_ref, _, _ = interval(ref)
     for sh in shapes:
         rs = [r for (s, _), r in sorted(runs.items()) if s == sh]
         vals = [r["W"] for r in rs]
@@ -321,51 +365,30 @@ def main(argv=None):
     L.append("")
     L.append(f"![W, peak force, friction share and packing by shape]({fig})")
     L.append("")
+    return L
+
+
+def section_runs(c):
+    """The runs table: one row per run, in ORDER and by seed."""
+    L = []
     L.append("## The runs")
     L.append("")
     L.append("| case | W [J/m^2] | cycles used | peak [N] | friction [%] | packing | dt [s] |")
     L.append("|---|---|---|---|---|---|---|")
-    for (sh, seed), r in sorted(runs.items(), key=lambda kv: (ORDER.index(kv[0][0]) if kv[0][0] in ORDER else 99, kv[0][1])):
+    for (sh, seed), r in sorted(c.runs.items(), key=lambda kv: (ORDER.index(kv[0][0]) if kv[0][0] in ORDER else 99, kv[0][1])):
         used = f"{r['cycles'][0]}-{r['cycles'][-1]} of {r['n_cycles']}" + ("" if r["stationary"] else " (last two: not stationary)")
         L.append(f"| {r['name']} | {r['W']:.0f} | {used} | {r['peak']:.0f} | {100 * r['friction']:.1f} | "
                  f"{r['packing']:.3f} | {r['dt']:.3g} |")
     L.append("")
-    L.append("## Beside the experiment of Athanassiadis et al.")
-    L.append("")
-    L.append("Athanassiadis et al. (Soft Matter 10, 48, 2014) jammed 3D-printed grains of many shapes by vacuum "
-             "at four confining pressures and measured the effective modulus, the yield stress and the energy "
-             "lost per loading cycle. Only their abstract could be read for this page: \"confining pressure has "
-             "the largest overall effect\" on the mechanical response, while shape \"controls the details\" and "
-             "can tune stiffness and yielding. vppdem's runs against those two statements, effects as ratios of "
-             "means with 95% intervals:")
-    L.append("")
-    pe, pinfo = pressure_effect(pressure) if pressure else ({}, {})
-    peffs = {}  # "planned" / "all": the pressure's effect, paired ln W(hi) / W(lo): (mean, se, dof, n, seeds)
-    added = []  # the pressure study's seeds beyond its planned ones
-    if len(pe) >= 2:
-        lo, hi = min(pe), max(pe)
-        seeds = sorted(set(pe[lo]) & set(pe[hi]))
-        planned_p = [k for k in seeds if k <= PRESSURE_PLANNED]
-        added = [k for k in seeds if k > PRESSURE_PLANNED]
-        texts = {}
-        for key, ss in (("planned", planned_p), ("all", seeds)):
-            n, m, sd, h = interval([math.log(pe[hi][k] / pe[lo][k]) for k in ss])
-            _, mr, _, hr = interval([pe[hi][k] / pe[lo][k] for k in ss])
-            texts[key] = (ratio_text(mr, hr, n), n)
-            if n >= 2:
-                peffs[key] = (m, sd / math.sqrt(n), n - 1, n)
-        uns = [c for c in pinfo["unsettled"] if any(f"process.underpressure={int(d)}_" in c for d in (lo, hi))]
-        n_all = texts["all"][1]
-        over = (f"{texts['planned'][0]} times W at {lo / 1e6:g} MPa over its {texts['planned'][1]} planned seeds "
-                f"({texts['all'][0]} over all {n_all} seeds; seeds {', '.join(str(k) for k in added)} were added to "
-                "that study after a look at other claims, docs/paper_comparison.md) (the ratio per seed, paired; "
-                if added and planned_p else
-                f"{texts['all'][0]} times W at {lo / 1e6:g} MPa (the ratio per seed, paired, {n_all} seeds; ")
-        L.append(f"- Confining pressure: W at {hi / 1e6:g} MPa is {over}25.5 mm, {pinfo['velocity']:g} m/s, "
-                 f"{'/'.join(str(c) for c in sorted(pinfo['cycles']))} cycles: the paper's underpressure study, "
-                 f"{pressure}; stationary by {pinfo['criterion']}"
-                 + (f"; {len(uns)} of these {2 * n_all} runs not stationary: their last two cycles" if uns else "")
-                 + "). Its velocity is half the shape runs', within 1% in W (docs/paper_comparison.md, C22).")
+    return L
+
+
+def shape_bullets(c):
+    """Each shape's W and peak force against the spheres': (the bullets; compared, {"planned" / "all":
+    [(shape, |ln| of the pressure's effect less the shape's as a rules difference, or None)]}; peaks,
+    [(shape, the peak force's ratio to the spheres' as a rules difference)])."""
+    runs, shapes, ref, peffs = c.runs, c.shapes, c.ref, c.peffs
+    L = []
     compared = {"planned": [], "all": []}  # (shape, the rules' difference of |ln| or None)
     peaks = []  # (shape, the peak force's ratio to the spheres' as a rules difference)
     if ref:
@@ -390,6 +413,14 @@ def main(argv=None):
             e = log_ratio(ref, vals)
             for key in compared:
                 compared[key].append((sh, effect_difference(peffs[key], e) if key in peffs and e else None))
+    return L, compared, peaks
+
+
+def statements(c, compared, peaks):
+    """Athanassiadis et al.'s two statements against the runs (nothing without the pressure's effect
+    over the planned seeds)."""
+    pending, added, peffs = c.pending, c.added, c.peffs
+    L = []
     if compared["planned"] and "planned" in peffs:
         verdict, parts = first_statement(compared["planned"])
         text = (f"- Their first statement (pressure has the largest effect), on W: "
@@ -412,18 +443,92 @@ def main(argv=None):
                  + (f"changes with the shape for {', '.join(moved)} (resolved)" if moved
                     else "changes with no shape (resolved)")
                  + (f", not resolved for {', '.join(still)}" if still else "") + ".")
+    return L
+
+
+def section_beside(c):
+    """Beside the experiment of Athanassiadis et al.: the pressure's effect, each shape's, and their two
+    statements."""
+    L = []
+    L.append("## Beside the experiment of Athanassiadis et al.")
     L.append("")
-    L += page_rules(study, plan, added)
-    if bench:
+    L.append("Athanassiadis et al. (Soft Matter 10, 48, 2014) jammed 3D-printed grains of many shapes by vacuum "
+             "at four confining pressures and measured the effective modulus, the yield stress and the energy "
+             "lost per loading cycle. Only their abstract could be read for this page: \"confining pressure has "
+             "the largest overall effect\" on the mechanical response, while shape \"controls the details\" and "
+             "can tune stiffness and yielding. vppdem's runs against those two statements, effects as ratios of "
+             "means with 95% intervals:")
+    L.append("")
+    if c.pressure_line is not None:
+        L.append(c.pressure_line)
+    bullets, compared, peaks = shape_bullets(c)
+    L += bullets
+    L += statements(c, compared, peaks)
+    L.append("")
+    return L
+
+
+def section_rules(c):
+    """The decision rules (page_rules)."""
+    return page_rules(c.study, c.plan, c.added)
+
+
+def section_cost(c):
+    """Cost per step: the --bench table as it is (nothing without one)."""
+    L = []
+    if c.bench:
         L.append("")
         L.append("## Cost per step")
         L.append("")
-        L.append(bench)
+        L.append(c.bench)
+    return L
+
+
+SECTIONS = (section_shapes, section_runs, section_beside, section_rules, section_cost)
+
+
+def parse_args(argv):
+    """(DATA, DOCS, the --bench table's text or None, the --pressure DIR or None, the study FILE);
+    fails with the usage on anything else."""
+    argv = ["grain_shapes"] + list(argv)
+    args = [a for a in argv[1:] if not a.startswith("--")]
+    bench = pressure = None
+    if "--bench" in argv:
+        i = argv.index("--bench")
+        if i + 1 >= len(argv):
+            fail("--bench needs a FILE", 2)
+        bench = open(argv[i + 1]).read().strip()
+        args = [a for a in args if a != argv[i + 1]]
+    if "--pressure" in argv:
+        i = argv.index("--pressure")
+        if i + 1 >= len(argv):
+            fail("--pressure needs a DIR", 2)
+        pressure = argv[i + 1]
+        args = [a for a in args if a != pressure]
+    study = os.path.join(source_dir(), "studies", "grains", "shapes.toml")
+    if "--study" in argv:
+        i = argv.index("--study")
+        if i + 1 >= len(argv) or not os.path.isfile(argv[i + 1]):
+            fail(f"--study needs a study FILE (got {argv[i + 1] if i + 1 < len(argv) else 'nothing'})", 2)
+        study = argv[i + 1]
+        args = [a for a in args if a != study]
+    if len(args) != 2:
+        fail(__doc__.strip().splitlines()[2], 2)
+    data, docs = args
+    return data, docs, bench, pressure, study
+
+
+def main(argv=None):
+    data, docs, bench, pressure, study = parse_args(sys.argv[1:] if argv is None else argv)
+    c = read_page(data, docs, study, pressure, bench)
+    L = []
+    for section in SECTIONS:
+        L += section(c)
     path = os.path.join(docs, "grains.md")
     with open(path + ".part", "w") as f:
         f.write("\n".join(L) + "\n")
     os.replace(path + ".part", path)
-    print(f"vppdem.report grain_shapes: {len(runs)} runs of {len(shapes)} shapes -> {path}, {fig}")
+    print(f"vppdem.report grain_shapes: {len(c.runs)} runs of {len(c.shapes)} shapes -> {path}, {FIGURE}")
 
 
 if __name__ == "__main__":

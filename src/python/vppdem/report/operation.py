@@ -24,6 +24,7 @@ import json
 import math
 import os
 import sys
+from dataclasses import dataclass
 
 from ..records import RecordError, fail, read_csv
 from . import rules
@@ -311,32 +312,68 @@ def page_rules(plan_pump, plan_constant):
                      "+-12-29%, and that a 2 m^3/h pump at a quasi-static stroke 'is the constant model')"]))
 
 
-def main(argv=None):
-    argv = list(sys.argv[1:] if argv is None else argv)
-    runs = None
-    if "--runs" in argv:
-        i = argv.index("--runs")
-        runs = argv[i + 1] if i + 1 < len(argv) else None
-        argv = argv[:i] + argv[i + 2:]
-        if runs is None or not os.path.isdir(runs):
-            fail(f"--runs {runs or ''}: not a folder (the sweeps' --out folders' parent)", 2)
-    if len(argv) != 2 or argv[0].startswith("-") or argv[1].startswith("-"):
-        fail("usage: python3 -m vppdem.report operation DATA DOCS [--runs OUT]", 2)
-    data, docs = argv
-    if runs is not None:
-        try:
-            written, same = publish_last_cycles(runs, data)
-        except RecordError as e:
-            fail(str(e), 1)
-        print(f"vppdem.report operation: last cycles from {runs}: {written} written, {same} unchanged")
+@dataclass
+class Study:
+    """The operation study's records, read once, and what every section of the page takes from them:
+    the runs by (waveform, f, seed), the grid, the damper's radius R, stroke A, pump speed S and
+    cross-section, and the paired pump minus constant differences (a table's rows, read again by
+    two later sections)."""
+    docs: str
+    pump: dict
+    const: dict
+    waveforms: list
+    freqs: list
+    any_run: dict
+    R: float
+    A: float
+    S: float
+    area: float
+    pairs: dict  # (waveform, f): pump minus constant, pump_minus_constant()
+    effect: dict  # (waveform, f): (interval(dW), interval(rel), identical runs, pairs, rules' difference)
+
+
+def pump_minus_constant(pump, const, waveforms):
+    """{(waveform, f): the paired differences pump minus constant dp at f} in the table's order
+    (waveforms, then the constant twins' frequencies): dW, rel (in % of the constant run's W), dP
+    (peak force), same (pairs whose cycles.csv are byte-identical), n (pairs) and d (the rules'
+    paired difference of W)."""
+    out = {}
+    for w in waveforms:
+        for f in sorted({k[1] for k in const}):
+            pairs = [(pump[k], const[k]) for k in const if k[0] == w and k[1] == f and k in pump]
+            if not pairs:
+                continue
+            out[(w, f)] = dict(
+                same=sum(1 for a, b in pairs
+                         if a["cycles_bytes"] is not None and a["cycles_bytes"] == b["cycles_bytes"]),
+                dW=[a["W_machine"] - b["W_machine"] for a, b in pairs],
+                rel=[100.0 * (a["W_machine"] / b["W_machine"] - 1.0) for a, b in pairs],
+                dP=[a["peak"] - b["peak"] for a, b in pairs],
+                n=len(pairs),
+                d=rules.difference("paired", w_by_seed(const, w, f), w_by_seed(pump, w, f)))
+    return out
+
+
+def read_study(data, docs):
+    """DATA's pump and constant records as a Study; fails when DATA holds no finished pump run."""
     pump, const = load(data, "pump"), load(data, "constant")
     if not pump:
         fail(f"no finished run in {data}/pump: run bash examples/operation/run.sh first", 2)
     waveforms = [w for w in ("triangle", "sine") if any(k[0] == w for k in pump)]
-    freqs = sorted({k[1] for k in pump})
     any_run = next(iter(pump.values()))
-    R, A, S = any_run["radius"], any_run["amplitude"], any_run["pump_speed"]
-    area = math.pi * R * R
+    R = any_run["radius"]
+    pairs = pump_minus_constant(pump, const, waveforms)
+    return Study(docs=docs, pump=pump, const=const, waveforms=waveforms,
+                 freqs=sorted({k[1] for k in pump}), any_run=any_run, R=R, A=any_run["amplitude"],
+                 S=any_run["pump_speed"], area=math.pi * R * R, pairs=pairs,
+                 effect={k: (interval(p["dW"]), interval(p["rel"]), p["same"], p["n"], p["d"])
+                         for k, p in pairs.items()})
+
+
+# The page's sections, in its order: each takes the Study and returns its lines.
+
+def section_question(c):
+    """The title, the generated-by line and the question."""
     L = []
     L.append("# The damper at its working frequencies, with the air inside")
     L.append("")
@@ -351,6 +388,13 @@ def main(argv=None):
              "This study measures where that starts and what it costs, with the pump model of "
              "docs/damper.md (\"The air inside\").")
     L.append("")
+    return L
+
+
+def section_runs(c):
+    """The runs section: the damper, the pump, the dissipation, the grid, which W."""
+    any_run, R, A, S = c.any_run, c.R, c.A, c.S
+    L = []
     L.append("## The runs")
     L.append(f"- The paper's damper (radius {1e3 * R:g} mm, the calibrated defaults) at dp = 0.06 MPa, stroke "
              f"{1e3 * A:g} mm, {any_run['cycles']} cycles; the last cycle's loop is reported. 3 seeds: each "
@@ -373,8 +417,13 @@ def main(argv=None):
              "grains + foil + the lid's -dp A (summary.json \"air\": `W_machine`, `peak_force_machine`). With "
              "a constant dp the lid adds a constant and this is the W of every other page.")
     L.append("")
+    return L
 
-    # Table 1: against frequency.
+
+def section_frequency_table(c):
+    """Table 1: W, peak force and dp against frequency, the pump runs."""
+    pump, waveforms, freqs, A, S, area = c.pump, c.waveforms, c.freqs, c.A, c.S, c.area
+    L = []
     L.append("## W, peak force and dp against frequency (pump, 2 m^3/h)")
     L.append("Mean +- 95% interval over the seeds (Student t, n - 1 degrees of freedom). dp range: the smallest "
              "and largest underpressure at any sample of any seed's run. Rigid flow / S: the gas flow a rigid "
@@ -397,8 +446,13 @@ def main(argv=None):
                      f"{1e-3 * min(r['dp_min'] for r in rs):.3f} ... {1e-3 * max(r['dp_max'] for r in rs):.3f} | "
                      f"{exc * rs[0]['dp_set']:.3g} Pa ({exc:.1e}), {moved} of {len(rs)} runs | {v * area / S:.2f} |")
     L.append("")
+    return L
 
-    # Frequency trend, paired against the slowest.
+
+def section_frequency_paired(c):
+    """The frequency trend, each frequency paired by seed against the slowest."""
+    pump, waveforms, freqs = c.pump, c.waveforms, c.freqs
+    L = []
     f0 = freqs[0]
     L.append(f"## The frequency's own effect (paired against {f0:g} Hz, same seed, same sample)")
     L.append("W(f) - W(f0) per seed, mean +- 95% interval; an interval that excludes 0 is a change the seed "
@@ -419,8 +473,12 @@ def main(argv=None):
             L.append(f"| {w} | {f:g} | {len(pairs)} | {ci(dW)} | {ci(rel, 1, '%')} | {ci(dP)} | "
                      f"{rules.statement_equivalence(d)} |")
     L.append("")
+    return L
 
-    # Pump against constant.
+
+def section_pump_effect(c):
+    """Pump against constant dp, paired (the rows of c.pairs)."""
+    L = []
     L.append("## The pump's effect: pump minus constant dp (paired: same seed, same sample, same stroke)")
     L.append("\"bit for bit\": the pump run's cycles.csv is byte-identical to the constant run's (the regulator "
              "held the set point at every step, so every step was the constant model's; docs/damper.md). By the "
@@ -430,23 +488,19 @@ def main(argv=None):
     L.append("| waveform | f [Hz] | pairs | W pump - constant [J/m^2] | relative | peak force pump - constant [N] | "
              "identical runs | W by the rules |")
     L.append("|---|---|---|---|---|---|---|---|")
-    effect = {}
-    for w in waveforms:
-        for f in sorted({k[1] for k in const}):
-            pairs = [(pump[k], const[k]) for k in const if k[0] == w and k[1] == f and k in pump]
-            if not pairs:
-                continue
-            same = sum(1 for a, b in pairs if a["cycles_bytes"] is not None and a["cycles_bytes"] == b["cycles_bytes"])
-            dW = [a["W_machine"] - b["W_machine"] for a, b in pairs]
-            rel = [100.0 * (a["W_machine"] / b["W_machine"] - 1.0) for a, b in pairs]
-            dP = [a["peak"] - b["peak"] for a, b in pairs]
-            d = rules.difference("paired", w_by_seed(const, w, f), w_by_seed(pump, w, f))
-            effect[(w, f)] = (interval(dW), interval(rel), same, len(pairs), d)
-            L.append(f"| {w} | {f:g} | {len(pairs)} | {ci(dW, 1)} | {ci(rel, 2, '%')} | {ci(dP, 1)} | "
-                     f"{same} of {len(pairs)} bit for bit | {rules.statement_equivalence(d)} |")
+    for (w, f), p in c.pairs.items():
+        L.append(f"| {w} | {f:g} | {p['n']} | {ci(p['dW'], 1)} | {ci(p['rel'], 2, '%')} | {ci(p['dP'], 1)} | "
+                 f"{p['same']} of {p['n']} bit for bit | {rules.statement_equivalence(p['d'])} |")
     L.append("")
+    return L
 
-    # The paper's speed.
+
+def section_paper_speed(c):
+    """The paper's speed (3.33e-4 m/s): what the stroke asks of the pump, the quasi-static runs' dips,
+    and the pump's effect at 1 Hz."""
+    pump, freqs, A, S, area, effect = c.pump, c.freqs, c.A, c.S, c.area, c.effect
+    f0 = freqs[0]
+    L = []
     qs = [r for (w, f, s), r in pump.items() if f == f0 and w == "triangle"] or list(pump.values())
     swing = max(r["gas_max"] - r["gas_min"] for r in qs)
     v_paper = 3.33e-4
@@ -498,8 +552,16 @@ def main(argv=None):
                  "a switching band, a throttled line, or a leak (`process.leak_rate`), none of which the paper "
                  "describes.")
     L.append("")
+    return L
 
-    # Findings.
+
+def section_shows(c):
+    """What it shows: per waveform the pump's limit and its effect, the waveforms against each
+    other at the fastest frequency, the frequency's own effect on W."""
+    pump, const, waveforms, freqs, effect = c.pump, c.const, c.waveforms, c.freqs, c.effect
+    A, S, area = c.A, c.S, c.area
+    f0 = freqs[0]
+    L = []
     L.append("## What it shows")
     for w in waveforms:
         fs = [f for f in freqs if any(k[0] == w and k[1] == f for k in pump)]
@@ -551,13 +613,29 @@ def main(argv=None):
                  f"(inertial number up to {max(r['inertial'] for r in pump.values()):.2g}), as far as these "
                  "intervals can tell.")
     L.append("")
-    L += page_rules(study_seeds(docs, "pump"), study_seeds(docs, "constant"))
-    figs = figures(pump, const, docs, waveforms, freqs)
+    return L
+
+
+def section_rules(c):
+    """The decision rules (page_rules), with the seeds the study files planned."""
+    return page_rules(study_seeds(c.docs, "pump"), study_seeds(c.docs, "constant"))
+
+
+def section_figures(c):
+    """Draws the figures into c.docs; the figures section links them (nothing when there is none)."""
+    L = []
+    figs = figures(c.pump, c.const, c.docs, c.waveforms, c.freqs)
     if figs:
         L.append("## Figures")
         for p in figs:
             L.append(f"![{p}]({p})")
             L.append("")
+    return L
+
+
+def section_reproduce(c):
+    """Reproduce: the command and what it does."""
+    L = []
     L.append("## Reproduce")
     L.append(f"`{COMMAND}` runs both studies, one `vppdem sweep STUDY.toml --publish docs/data/operation/STUDY` "
              "each: `pump.toml` prepares each seed's sample, `constant.toml` prepares nothing and branches from "
@@ -567,12 +645,46 @@ def main(argv=None):
              f"(`python3 -m vppdem.report operation docs/data/operation docs --runs OUT`); `{COMMAND} --report-only` "
              "only rewrites the page and figures from the records. The build and time step of the published runs, "
              "and what a run of this build would change: the script's header.")
+    return L
+
+
+SECTIONS = (section_question, section_runs, section_frequency_table, section_frequency_paired, section_pump_effect,
+            section_paper_speed, section_shows, section_rules, section_figures, section_reproduce)
+
+
+def parse_args(argv):
+    """(DATA, DOCS, the --runs folder or None); fails with the usage on anything else."""
+    runs = None
+    if "--runs" in argv:
+        i = argv.index("--runs")
+        runs = argv[i + 1] if i + 1 < len(argv) else None
+        argv = argv[:i] + argv[i + 2:]
+        if runs is None or not os.path.isdir(runs):
+            fail(f"--runs {runs or ''}: not a folder (the sweeps' --out folders' parent)", 2)
+    if len(argv) != 2 or argv[0].startswith("-") or argv[1].startswith("-"):
+        fail("usage: python3 -m vppdem.report operation DATA DOCS [--runs OUT]", 2)
+    data, docs = argv
+    return data, docs, runs
+
+
+def main(argv=None):
+    data, docs, runs = parse_args(list(sys.argv[1:] if argv is None else argv))
+    if runs is not None:
+        try:
+            written, same = publish_last_cycles(runs, data)
+        except RecordError as e:
+            fail(str(e), 1)
+        print(f"vppdem.report operation: last cycles from {runs}: {written} written, {same} unchanged")
+    c = read_study(data, docs)
+    L = []
+    for section in SECTIONS:
+        L += section(c)
     md = "\n".join(L) + "\n"
     path = os.path.join(docs, "operation.md")
     with open(path + ".part", "w") as f:
         f.write(md)
     os.replace(path + ".part", path)
-    print(f"vppdem.report operation: wrote {path} ({len(pump)} pump runs, {len(const)} constant runs)")
+    print(f"vppdem.report operation: wrote {path} ({len(c.pump)} pump runs, {len(c.const)} constant runs)")
 
 
 if __name__ == "__main__":
