@@ -2,6 +2,7 @@
 // balance on a scene with every mechanism, the damper, determinism and checkpoints.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -389,6 +390,63 @@ TEST_F(EnergyDamper, BalanceClosesPerCycle) {
         EXPECT_NEAR(c.at("boundary_work")[k], work, 0.02 * work);
         EXPECT_NEAR(c.at("energy_residual")[k], res, 0.01 * work);
     }
+}
+
+// analysis.event_threshold (issue 60, item 3): the same run with the split on writes the same
+// forces.csv and energy.csv (analysis only), and cycles.csv gains the events' columns, cycle 1's
+// equal to the detector applied by hand to energy.csv's rows of that cycle (its 81 records: the
+// median kinetic energy, the intervals with a record above 1.5 times it: this fast small damper
+// shakes evenly, the paper's bursts rise far higher); a threshold of 1 or less
+// (but 0) is refused naming the key.
+TEST_F(EnergyDamper, EventsSplitTheCyclesDissipation) {
+    ASSERT_EQ(base_.status, 0) << base_.output;
+    const fs::path d = scratch("events");
+    const Outcome r = shell(kBinary + " damper --out " + d.string() + " " + kSmallDamper +
+                            " --set analysis.event_threshold=1.5");
+    ASSERT_EQ(r.status, 0) << r.output;
+    EXPECT_EQ(slurp(d / "energy.csv"), slurp(scratch("base") / "energy.csv"));
+    EXPECT_EQ(slurp(d / "forces.csv"), slurp(scratch("base") / "forces.csv"));
+    std::string header;
+    const auto c = read_columns(d / "cycles.csv", &header);
+    EXPECT_EQ(header, "cycle,dissipated_energy,W,peak_force,min_force,friction_dissipation,damping_dissipation,"
+                      "viscous_dissipation,settled,boundary_work,energy_residual,events,event_fraction,"
+                      "friction_in_events,damping_in_events,viscous_in_events");
+    const auto e = read_columns(d / "energy.csv");
+    const std::size_t S = 80;
+    std::vector<double> ke(e.at("kinetic").begin(), e.at("kinetic").begin() + S + 1);
+    std::vector<double> sorted = ke;
+    std::sort(sorted.begin(), sorted.end());
+    const double median = sorted[S / 2];  // 81 records: the middle one
+    double fr = 0, dm = 0;
+    int hot = 0, events = 0;
+    bool previous = false;
+    for (std::size_t k = 0; k < S; ++k) {
+        const bool in = ke[k] > 1.5 * median || ke[k + 1] > 1.5 * median;
+        if (in) {
+            fr += e.at("friction_dissipation")[k + 1] - e.at("friction_dissipation")[k];
+            dm += e.at("damping_dissipation")[k + 1] - e.at("damping_dissipation")[k];
+            ++hot;
+            if (!previous) ++events;
+        }
+        previous = in;
+    }
+    std::printf("cycle 1: %d events over %d of %zu intervals; friction %.4g of %.4g J, damping %.4g of %.4g J in them\n",
+                events, hot, S, fr, c.at("friction_dissipation")[0], dm, c.at("damping_dissipation")[0]);
+    EXPECT_GT(hot, 0);  // the check has events to count
+    EXPECT_EQ(c.at("events")[0], double(events));
+    EXPECT_NEAR(c.at("event_fraction")[0], double(hot) / double(S), 1e-12);
+    EXPECT_NEAR(c.at("friction_in_events")[0], fr, 1e-9 * c.at("friction_dissipation")[0]);
+    EXPECT_NEAR(c.at("damping_in_events")[0], dm, 1e-9 * c.at("damping_dissipation")[0]);
+    for (std::size_t k = 0; k < c.at("cycle").size(); ++k) {
+        EXPECT_GE(c.at("friction_in_events")[k], 0.0);
+        EXPECT_LE(c.at("friction_in_events")[k], c.at("friction_dissipation")[k] * (1 + 1e-12));
+        EXPECT_LE(c.at("damping_in_events")[k], c.at("damping_dissipation")[k] * (1 + 1e-12));
+    }
+    const Outcome bad = shell(kBinary + " damper --out " + scratch("bad").string() + " " + kSmallDamper +
+                              " --set analysis.event_threshold=0.5");
+    EXPECT_EQ(WEXITSTATUS(bad.status), 2) << bad.output;
+    EXPECT_NE(bad.output.find("event_threshold"), std::string::npos) << bad.output;
+    EXPECT_NE(bad.output.find("must be 0 (no split) or a number above 1"), std::string::npos) << bad.output;
 }
 
 // An interrupted and resumed cycling run writes the same energy.csv, bit for bit.

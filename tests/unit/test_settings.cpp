@@ -122,6 +122,7 @@ TEST(Settings, EveryKeyIsReadAndNoOther) {
                                                                 : "\"extension\"";  // the other word
         else if (s.type == SettingType::RealOrAuto) v = "1e-6";
         else if (s.type == SettingType::Integer) v = "5";
+        else if (std::string(s.key) == "analysis.event_threshold") v = "3";  // 0 or above 1
         else v = toml_float_literal(std::isnan(s.def) || s.def == 0.0 ? 0.001 : s.def);
         std::vector<std::string> sets{std::string(s.key) + "=" + v};
         // The size distribution's keys go together: a law with its width, a sieve law with its file.

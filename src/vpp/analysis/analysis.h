@@ -39,6 +39,14 @@ struct CycleResult {
     double viscous_dissipation = 0;   // [J] normal dashpots
     double boundary_work = 0;         // [J] work of the cap and the top ring on the sample
     double energy_residual = 0;       // [J] input - stored change - dissipated over the cycle
+    // The dissipation in rearrangement events (vpp/analysis/events.h): a damper run with the energy
+    // ledger and analysis.event_threshold > 0 fills these (has_events).
+    bool has_events = false;
+    int events = 0;                   // bursts of kinetic energy in the cycle
+    double event_fraction = 0;        // [-] share of the cycle's record intervals inside events
+    double friction_in_events = 0;    // [J] of friction_dissipation, inside events
+    double damping_in_events = 0;     // [J] of damping_dissipation, inside events
+    double viscous_in_events = 0;     // [J] of viscous_dissipation, inside events
     // Stationarity of the loop (vpp/analysis/settle.h); only a damper run fills these (has_settled).
     bool has_settled = false;
     bool settled = false;             // W has settled by this cycle (the criterion in settle.h)

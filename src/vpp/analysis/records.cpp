@@ -51,6 +51,18 @@ const std::vector<CycleColumn>& cycle_columns() {
         {.name = "energy_residual", .unit = "J",
          .meaning = "energy ledger: input - change of stored energy - dissipation over the cycle (the balance's error)",
          .group = G::Energy, .flag = false, .added_later = true, CYCLE_FIELD(energy_residual)},
+        {.name = "events", .unit = "",
+         .meaning = "rearrangement events: bursts of kinetic energy above analysis.event_threshold times the cycle's "
+                    "median (vpp/analysis/events.h)",
+         .group = G::Events, .flag = false, .added_later = false, CYCLE_FIELD(events)},
+        {.name = "event_fraction", .unit = "", .meaning = "the share of the cycle's record intervals inside events",
+         .group = G::Events, .flag = false, .added_later = false, CYCLE_FIELD(event_fraction)},
+        {.name = "friction_in_events", .unit = "J", .meaning = "the part of friction_dissipation inside events",
+         .group = G::Events, .flag = false, .added_later = false, CYCLE_FIELD(friction_in_events)},
+        {.name = "damping_in_events", .unit = "J", .meaning = "the part of damping_dissipation inside events",
+         .group = G::Events, .flag = false, .added_later = false, CYCLE_FIELD(damping_in_events)},
+        {.name = "viscous_in_events", .unit = "J", .meaning = "the part of viscous_dissipation inside events",
+         .group = G::Events, .flag = false, .added_later = false, CYCLE_FIELD(viscous_in_events)},
     };
     return columns;
 }
@@ -62,6 +74,7 @@ bool cycle_has(const CycleResult& c, CycleGroup g) {
     case CycleGroup::Always: return true;
     case CycleGroup::Energy: return c.has_energy;
     case CycleGroup::Settle: return c.has_settled;
+    case CycleGroup::Events: return c.has_events;
     }
     return false;
 }
@@ -100,19 +113,20 @@ std::vector<CycleResult> read_cycles_csv(const std::string& path) {
     if (rows.empty()) throw std::runtime_error(path + " holds no cycle");
     // Each column of the table: its position in the file, or -1.
     std::vector<long> at;
-    bool energy = true, settle = true;
+    bool energy = true, settle = true, events = true;
     for (const CycleColumn& col : cycle_columns()) {
         const auto it = std::find(header.begin(), header.end(), col.name);
         at.push_back(it == header.end() ? -1 : long(it - header.begin()));
         if (at.back() >= 0 || col.added_later) continue;
         if (col.group == CycleGroup::Always) throw std::runtime_error(path + ": no column " + col.name);
-        (col.group == CycleGroup::Energy ? energy : settle) = false;
+        (col.group == CycleGroup::Energy ? energy : col.group == CycleGroup::Settle ? settle : events) = false;
     }
     std::vector<CycleResult> cycles;
     for (const auto& r : rows) {
         CycleResult c;
         c.has_energy = energy;
         c.has_settled = settle;
+        c.has_events = events;
         for (std::size_t k = 0; k < at.size(); ++k) {
             const CycleColumn& col = cycle_columns()[k];
             if (at[k] >= 0 && std::size_t(at[k]) < r.size()) col.set(c, r[std::size_t(at[k])]);

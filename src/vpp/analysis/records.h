@@ -14,7 +14,7 @@ namespace vpp {
 
 // Which cycles carry a column: all of them; those with the energy ledger (has_energy: a damper
 // run with output.energy); those with the stationarity flag (has_settled: a damper run).
-enum class CycleGroup { Always, Energy, Settle };
+enum class CycleGroup { Always, Energy, Settle, Events };
 
 struct CycleColumn {
     const char* name;     // as in cycles.csv's header, summary.json and Python

@@ -16,6 +16,7 @@
 #include "dem/io/csv.h"
 #include "dem/io/json.h"
 #include "vpp/damper/run.h"
+#include "vpp/analysis/events.h"
 #include "vpp/analysis/records.h"
 #include "vpp/analysis/plot.h"
 
@@ -49,6 +50,35 @@ void add_cycle_energies(std::vector<CycleResult>& cycles, const std::vector<Ener
         cr.damping_dissipation = d("damping_dissipation");
         cr.viscous_dissipation = d("viscous_dissipation");
         cr.energy_residual = d("residual");
+    }
+}
+
+// Each cycle's dissipation split into rearrangement events and the creep between them (the
+// detector: vpp/analysis/events.h) from the ledger's rows, a row per sample; the cycle's last
+// interval ends at the next cycle's first row (or the run's last state, `last`).
+void add_cycle_events(std::vector<CycleResult>& cycles, const std::vector<EnergyRow>& rows, const EnergyRow& last,
+                      int S, double threshold) {
+    const std::size_t ke = dem::energy_column("kinetic"), fr = dem::energy_column("friction_dissipation"),
+                      da = dem::energy_column("damping_dissipation"), vi = dem::energy_column("viscous_dissipation");
+    for (CycleResult& cr : cycles) {
+        const std::size_t a = std::size_t(cr.cycle - 1) * std::size_t(S), b = a + std::size_t(S);
+        if (a >= rows.size()) continue;
+        EventSeries s;
+        for (std::size_t k = a; k <= b; ++k) {
+            const EnergyRow& e = k < rows.size() ? rows[k] : last;
+            s.kinetic.push_back(e.v[ke]);
+            s.friction.push_back(e.v[fr]);
+            s.damping.push_back(e.v[da]);
+            s.viscous.push_back(e.v[vi]);
+            if (k >= rows.size()) break;
+        }
+        const EventSplit split = split_events(s, threshold);
+        cr.has_events = true;
+        cr.events = split.events;
+        cr.event_fraction = split.event_fraction;
+        cr.friction_in_events = split.friction;
+        cr.damping_in_events = split.damping;
+        cr.viscous_in_events = split.viscous;
     }
 }
 
@@ -160,8 +190,12 @@ DamperResult DamperRun::result() const {
         ls.cycle.push_back(int(k / S) + 1);
     }
     r.cycles = analyze_cycles(ls, config.damper.radius);
-    if (!state_.energy.empty() && state_.energy.size() == state_.samples.size())
-        add_cycle_energies(r.cycles, state_.energy, energy_row(world.energy(), world.energy().time - state_.cycle_t0), S);
+    if (!state_.energy.empty() && state_.energy.size() == state_.samples.size()) {
+        const EnergyRow last = energy_row(world.energy(), world.energy().time - state_.cycle_t0);
+        add_cycle_energies(r.cycles, state_.energy, last, S);
+        if (config.analysis.event_threshold > 0.0)
+            add_cycle_events(r.cycles, state_.energy, last, S, config.analysis.event_threshold);
+    }
     r.settling = mark_settled(r.cycles, config.analysis.settle_tolerance);
     if (air_complete(state_) && !ls.force.empty()) r.air = air_by_cycle(std::move(ls), state_.air, config.damper.radius);
     r.report = state_.report;

@@ -118,6 +118,8 @@ struct OutputDef {
 // Post-processing of the recorded loops; acts on no simulation, so it never needs a new run.
 struct AnalysisDef {
     double settle_tolerance{};    // [-] relative scatter of one cycle's W when stationary (vpp/analysis/settle.h)
+    double event_threshold{};     // [-] 0: no event split; > 1: kinetic energy above this many times the
+                                  //     cycle's median is a rearrangement event (vpp/analysis/events.h)
 };
 
 // The defaults differ between the commands for a few keys (Setting::def_foil): the damper

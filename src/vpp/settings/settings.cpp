@@ -494,6 +494,20 @@ const std::vector<Setting>& table() {
                 "damper): W is stationary from the first of the last cycles (at least 3) that show no trend or jump "
                 "beyond it at 95%",
          FIELD(analysis.settle_tolerance)},
+        {.key = "analysis.event_threshold", .type = T::Real, .unit = "-", .def = 0.0, .check = C::Custom,
+         .allowed = "must be 0 (no split) or a number above 1 up to 1e9, e.g. 3 (a record is in a rearrangement event "
+                    "where its kinetic energy exceeds this many times the cycle's median)",
+         .acts = A::Analysis, .shares_preparation = true,
+         .doc = "the dissipation split into rearrangement events and the creep between them, per cycle (cycles.csv: "
+                "events, event_fraction, friction_in_events, damping_in_events, viscous_in_events; needs output.energy; "
+                "the detector: vpp/analysis/events.h); 0: no split",
+         .read = [](cfg::Section& s, const Setting& r, Config& c, CommandSet commands) {
+             const std::string k = short_key(r);
+             const double v = s.number(k, r.default_for(commands));
+             if (!(v == 0.0 || (v > 1.0 && v <= 1e9))) s.fail(k, r.allowed);
+             c.analysis.event_threshold = v;
+         },
+         FIELD(analysis.event_threshold)},
     };
     return rows;
 }
