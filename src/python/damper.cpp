@@ -2,6 +2,7 @@
 // a second thread's call while a stage runs without the interpreter lock (PyDamper).
 #include "bindings.h"
 
+#include <algorithm>
 #include <limits>
 #include <memory>
 #include <stdexcept>
@@ -173,11 +174,15 @@ void def_records(DamperClass& cls) {
         .def("cycles",
              [](const PyDamper& p) {
                  // Per cycle, every column of the record's table (vpp/analysis/records.h): cycles.csv's and
-                 // summary.json's, NaN where a cycle lacks the column's group (no energy ledger).
+                 // summary.json's, NaN where a cycle lacks the column's group (no energy ledger); the
+                 // events' columns only where the run split its cycles (analysis.event_threshold).
                  const vpp::DamperResult r = p.read("cycles").result();
                  const double nan = std::numeric_limits<double>::quiet_NaN();
+                 const bool events = std::any_of(r.cycles.begin(), r.cycles.end(),
+                                                 [](const vpp::CycleResult& c) { return c.has_events; });
                  py::dict out;
                  for (const vpp::CycleColumn& col : vpp::cycle_columns()) {
+                     if (col.group == vpp::CycleGroup::Events && !events) continue;
                      std::vector<double> v;
                      for (const auto& c : r.cycles) v.push_back(vpp::cycle_has(c, col.group) ? col.get(c) : nan);
                      out[col.name] = double_array(v);

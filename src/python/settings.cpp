@@ -63,6 +63,7 @@ void bind_settings(py::module_& m) {
             row("cycles", c.name, c.unit, c.meaning,
                 c.group == vpp::CycleGroup::Energy   ? "output.energy"
                 : c.group == vpp::CycleGroup::Settle ? "a damper run"
+                : c.group == vpp::CycleGroup::Events ? "analysis.event_threshold above 1 (and output.energy)"
                                                      : "");
         for (const vpp::SampleColumn& c : vpp::sample_columns())
             row("forces", c.name, c.unit, c.meaning,

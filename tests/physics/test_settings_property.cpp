@@ -159,6 +159,9 @@ const std::map<std::string, Spec> kCustomSpecs = {
     {"process.local_damping", {Check::Range, 0.0, 1.0, false, true, false, true}},
     {"simulation.dt", {Check::Positive, 0, 0, false, false, false, true}},
     {"simulation.threads", {Check::Range, 0.0, 1024.0, false, false, true}},
+    // 0 (off) or above 1: drawn in (1, 1e9], so every draw is one the reader accepts or refuses by
+    // the range alone (0 is the default, drawn as the base's value).
+    {"analysis.event_threshold", {Check::Range, 1.0, 1e9, true, false}},
 };
 
 // The scale of a key whose base value is 0 or not a number (a default that is a rule): a value
