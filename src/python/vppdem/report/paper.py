@@ -214,6 +214,19 @@ def read_csv(path):
     return read_table(path)[1] if os.path.isfile(path) else []
 
 
+LAST_CYCLE = "last cycle (too few cycles to extrapolate)"
+
+
+def run_stationary(r, w):
+    """(stationary W, uncertainty, how) of a run from its summary.csv row r and its W per cycle w: its
+    W_settled where the run settled by the criterion, else W_inf extrapolated from its cycles with the
+    pooled decay (RATE); its last cycle's W (how: LAST_CYCLE) where neither can be had."""
+    ws = fnum(r.get("W_settled")) if int(float(r.get("settled_cycles") or 0)) >= 2 else None
+    if ws is None and (len(w) < 4 or RATE.get("q") is None):
+        return fnum(r.get("W")), None, LAST_CYCLE
+    return rules.stationary(w, RATE.get("q"), ws, RATE.get("rel_sd"))
+
+
 class Study:
     def __init__(self, data, name):
         self.name = name
@@ -280,13 +293,8 @@ class Study:
         return out
 
     def stationary(self, r):
-        """(stationary W, uncertainty, how) of a summary.csv row: its W_settled where the run settled by
-        the criterion, else W_inf extrapolated from its cycles with the pooled decay (RATE)."""
-        w = self.cycles_of(r.get("case"))
-        ws = fnum(r.get("W_settled")) if int(float(r.get("settled_cycles") or 0)) >= 2 else None
-        if ws is None and (len(w) < 4 or RATE.get("q") is None):
-            return fnum(r.get("W")), None, "last cycle (too few cycles to extrapolate)"
-        return rules.stationary(w, RATE.get("q"), ws, RATE.get("rel_sd"))
+        """run_stationary() of a summary.csv row of this study."""
+        return run_stationary(r, self.cycles_of(r.get("case")))
 
     def own(self):
         """(finished runs of this study itself, the runs it plans, finished runs borrowed from
@@ -1199,19 +1207,20 @@ TS_PLAN = {"legs": ("timestep_045", "timestep_stationary"), "levels": (0.45, 0.3
 def timestep_plan_runs(raw):
     """{seed: {dt_safety: (stationary W, how)}} of the plan's published runs (DATA/timestep_045 and
     DATA/timestep_stationary: summary.csv and each run's cycles.csv), the stationary W by the page's
-    rule (Study.stationary: W_settled where the run settled, else W_inf at the pooled q)."""
+    rule (run_stationary: W_settled where the run settled, else W_inf at the pooled q; a run with
+    neither is left out)."""
     out = {}
     for leg in TS_PLAN["legs"]:
         folder = os.path.join(raw, leg)
         for r in read_csv(os.path.join(folder, "summary.csv")):
             if r.get("status") != "ok":
                 continue
-            level = fnum(r.get(TS_KEY)) if r.get(TS_KEY) not in (None, "") else 0.45  # leg 1 sets it in [set]
+            # Leg 1 sets its level in [set], so its table has no column of it.
+            level = fnum(r.get(TS_KEY)) if r.get(TS_KEY) not in (None, "") else TS_PLAN["levels"][0]
             w = [fnum(x.get("W")) for x in read_csv(os.path.join(folder, r["case"], "cycles.csv"))]
-            ws = fnum(r.get("W_settled")) if int(float(r.get("settled_cycles") or 0)) >= 2 else None
-            if ws is None and (len(w) < 4 or RATE.get("q") is None):
+            v, _, how = run_stationary(r, w)
+            if how == LAST_CYCLE:
                 continue
-            v, _, how = rules.stationary(w, RATE.get("q"), ws, RATE.get("rel_sd"))
             out.setdefault(int(float(r[SEED])), {})[level] = (v, how)
     return out
 

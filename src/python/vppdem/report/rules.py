@@ -373,9 +373,9 @@ def section(page):
                                                    " No seeds were added after a look."))
     out.append("- **Verdicts**: " + "; ".join(f"**{v}**: {d}" for v, d in VERDICTS) + ".")
     if page.labels:
-        text = {label(k).split(":")[0]: d for k in page.labels for n, d in LABELS if n == label(k)}
-        out.append("- **Labels** of rows that no test decides: " + "; ".join(f"**{n}**: {d}" for n, d in text.items())
-                   + ".")
+        meaning = dict(LABELS)
+        out.append("- **Labels** of rows that no test decides: "
+                   + "; ".join(f"**{label(k)}**: {meaning[label(k)]}" for k in page.labels) + ".")
     when = []
     if page.fixed_before:
         when.append("fixed before the data: " + "; ".join(page.fixed_before))
