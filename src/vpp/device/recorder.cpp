@@ -1,0 +1,79 @@
+// The device run's recorder (device/recorder.h): the output folder, its lock, the checkpoint, the
+// records and the VTK frames. Each file's name, content and atomic write (PATH.part renamed to
+// PATH) are contracts: tests compare them byte for byte and resumed runs load the checkpoint bit
+// for bit.
+#include "vpp/device/recorder.h"
+
+#include <vector>
+
+#include "dem/io/csv.h"
+#include "dem/io/vtk.h"
+#include "scene/build_info.h"
+#include "scene/scene_runner.h"
+#include "vpp/device/result.h"
+#include "vpp/membrane/membrane.h"
+
+namespace vpp::device_detail {
+
+namespace fs = std::filesystem;
+
+void DeviceRecorder::open(const std::string& resumed_from, bool overwrite) {
+    if (!writes()) return;
+    const bool own = !resumed_from.empty() && fs::exists(run_checkpoint()) &&
+                     fs::equivalent(fs::path(resumed_from), run_checkpoint());
+    if (own) {
+        lock_ = scene::lock_output_dir(out_.string());
+        scene::record_build(out_.string(), false);  // another build resuming the run is listed
+        return;
+    }
+    lock_ = scene::prepare_output_dir(out_.string(), overwrite);
+}
+
+bool DeviceRecorder::checkpoint_due(double every) {
+    if (!writes()) return false;
+    const auto now = std::chrono::steady_clock::now();
+    if (std::chrono::duration<double>(now - last_ckpt_).count() < every) return false;
+    last_ckpt_ = now;
+    return true;
+}
+
+void DeviceRecorder::save_checkpoint(dem::World& world, const DeviceState& state) const {
+    if (!writes()) return;
+    save_checkpoint_without_fans(run_checkpoint().string(), world, state.save());
+}
+
+void DeviceRecorder::vtk_frame(const DeviceScene& scene, const std::string& name) const {
+    if (!writes()) return;
+    fs::create_directories(out_ / "vtk");
+    // The retired grains (a pour's struck off) are left out; without any, every particle.
+    std::vector<uint32_t> shown;
+    if (scene.pour)
+        for (uint32_t i = 0; i < uint32_t(scene.world.particles.size()); ++i)
+            if (i < scene.first_grain || i >= scene.end_grain || scene.active_grain(i)) shown.push_back(i);
+    dem::write_particles_vtk((out_ / "vtk" / (name + ".vtk")).string(), scene.world, true, scene.pour ? &shown : nullptr);
+    if (!scene.world.facets.empty()) dem::write_walls_vtk((out_ / "vtk" / (name + "_tools.vtk")).string(), scene.world, 0.0);
+}
+
+namespace {
+
+// `rows` (row after row, `cols` columns each) as CSV at `path` under `header`.
+void write_table(const fs::path& path, const std::string& header, const std::vector<double>& rows, std::size_t cols) {
+    dem::CsvWriter csv(path.string(), header);
+    for (std::size_t s = 0; s + cols <= rows.size(); s += cols)
+        csv.row(std::vector<double>(rows.begin() + long(s), rows.begin() + long(s + cols)));
+    csv.close();
+}
+
+}  // namespace
+
+void DeviceRecorder::write_records(const DeviceScene& scene, const DeviceState& state) const {
+    if (!writes()) return;
+    std::string header = "time,stage";
+    for (const dem::Tool& t : scene.tools) header += "," + t.name + "_z," + t.name + "_fx," + t.name + "_fy," + t.name + "_fz";
+    write_table(out_ / "tools.csv", header, state.records.tools, tool_row_size(scene.tools.size()));
+    write_table(out_ / "air.csv", "time,stage,enclosed_volume,gas_volume,dp", state.records.air, kAirColumns);
+    if (scene.def.energy) write_table(out_ / "energy.csv", dem::energy_csv_header(), state.records.energy, kEnergyRowSize);
+    dem::write_text_atomic((out_ / "summary.json").string(), summary_json(scene, state, device_result(scene, state)));
+}
+
+}  // namespace vpp::device_detail
