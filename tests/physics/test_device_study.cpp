@@ -104,6 +104,8 @@ TEST(DeviceStudy, RunsEachCaseAsTheDeviceCommandWouldAndPublishesItsRecords) {
         << cases;
     EXPECT_NE(cases.find("\ndp0,1,1,1,"), std::string::npos) << cases;
     EXPECT_EQ(slurp(pub / "summary_cases.csv"), cases);
+    // The numbers against the case, drawn at the end (vppdem.plot.device_study).
+    EXPECT_TRUE(fs::exists(out / "sweep_numbers.png"));
 
     // The same run by hand is the study's run, bit for bit.
     const fs::path hand = dir / "hand";
@@ -115,11 +117,13 @@ TEST(DeviceStudy, RunsEachCaseAsTheDeviceCommandWouldAndPublishesItsRecords) {
 
     // Again: every run is finished, nothing runs, the records stay.
     const std::string before = slurp(out / "dp0" / "summary.json");
-    const auto again = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(out));
+    fs::remove(out / "sweep_numbers.png");
+    const auto again = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(out) + " --no-plot");
     ASSERT_EQ(again.rc, 0) << again.output;
     EXPECT_EQ(again.output.find("[1/2]"), std::string::npos) << again.output;
     EXPECT_NE(again.output.find("2 of 2 run(s) finished"), std::string::npos) << again.output;
     EXPECT_EQ(slurp(out / "dp0" / "summary.json"), before);
+    EXPECT_FALSE(fs::exists(out / "sweep_numbers.png"));  // --no-plot
 
     // A fresh folder takes the published records back: finished, nothing runs.
     const auto back = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(dir / "fresh") + " --publish " + quote(pub));
