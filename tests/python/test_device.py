@@ -9,6 +9,7 @@ import pytest
 
 import vppdem
 from conftest import BINARY, SOURCE_DIR
+from synthetic_records import run_report
 
 TINY = os.path.join(SOURCE_DIR, "tests", "data", "devices", "tiny_gripper.toml")
 
@@ -85,9 +86,12 @@ def test_a_device_study_runs_through_vppdem_study(tmp_path, gripper):
     assert (case["case"], case["seeds"], case["ok"], case["folders"]) == ("dp50", 1, 1, "dp50")
     assert case["holding_force_n"] == 1 and case["holding_force_mean"] == rows[0]["holding_force"]
     assert case["holding_force_ci95"] is None
-    # `vppdem plot` on the run's folder and on the study's (issue 61, item 2).
+    # `vppdem plot` on the run's folder and on the study's (issue 61, item 2); the report of the folder.
     out = tmp_path / "out"
     for folder, pngs in ((out / "dp50", ["device_tools.png", "device_air.png"]), (out, ["sweep_numbers.png"])):
         r = subprocess.run([BINARY, "plot", str(folder)], capture_output=True, text=True)
         assert r.returncode == 0, r.stdout + r.stderr
         assert r.stdout.split() == [str(folder / p) for p in pngs]
+    status, printed = run_report("device", out)
+    assert status == 0, printed
+    assert "| `dp50` | 1 | " in (out / "device_report.md").read_text()

@@ -1,7 +1,8 @@
-# The plots of device runs and device studies (issue 61, item 2): `vppdem plot DIR`
+# The plots and the report of device runs and device studies (issue 61, item 2): `vppdem plot DIR`
 # on a `vppdem device` folder (vppdem.plot.device) and on a device study's folder
-# (vppdem.plot.device_study), on synthetic records with known answers, in this process (numpy and
-# matplotlib only).
+# (vppdem.plot.device_study), and `python3 -m vppdem.report device FOLDER` on any device study's
+# folder (vppdem.report.device.study_report), on synthetic records with known answers, in this
+# process (numpy and matplotlib only).
 import gzip
 import math
 import os
@@ -10,9 +11,10 @@ import numpy as np
 import pytest
 
 import vppdem.plot as vplot
-from synthetic_records import write_file
+from synthetic_records import read, run_report, write_file
 
 T2 = 4.302652729749464   # Student's t_{0.975, 2}
+T4 = 2.7764451051977987  # t_{0.975, 4}
 
 
 def plot_command(capsys, *args):
@@ -241,3 +243,65 @@ def test_the_command_draws_a_device_study_and_refuses_a_folder_without_finished_
     write_file(d / "summary.csv", "case,seed,folder,holding_force,status,message\na,1,a_s1,,not run,\n")
     status, out, err = plot_command(capsys, d)
     assert status == 1 and "no finished run (status ok)" in err
+
+
+# ---- the report of any device study's folder ------------------------------------------------------
+
+def table_row(page, case):
+    line = next(x for x in page.splitlines() if x.startswith(f"| `{case}` |"))
+    return [c.strip() for c in line.strip("|").split("|")]
+
+
+def test_the_report_of_a_study_folder_has_the_means_intervals_and_differences(tmp_path):
+    d = tmp_path / "study"
+    summary_csv(d)
+    status, out = run_report("device", d)
+    assert status == 0, out
+    page = read(d / "device_report.md")
+    assert out.strip() == str(d / "device_report.md")
+    assert os.path.getsize(d / "device_report.png") > 0
+    head = next(x for x in page.splitlines() if x.startswith("| case |"))
+    assert head == "| case | n | holding force [N] | volume change, seal to end of vacuum [%] |"
+    # mean ± the 95% Student-t half width: a 2 ± 2.5 N, volume -12 ± 5.0%; c one run, no interval
+    assert table_row(page, "a") == ["`a`", "3", f"2 ± {T2 / math.sqrt(3):.2g}", f"-12 ± {T2 * 2 / math.sqrt(3):.2g}"]
+    assert table_row(page, "c") == ["`c`", "1", "5", "-30"]
+    assert "The same in every run: underpressure 50 kPa, grains 570." in page
+    # b - a by Welch: +1 N, se sqrt(2/3), 4 degrees of freedom
+    row = next(x for x in page.splitlines() if x.startswith("| `b` - `a` |"))
+    assert f"+1 ± {T4 * math.sqrt(2 / 3):.3g}, not resolved" in row
+    # paired by seed: +1 N in every seed, resolved
+    status, out = run_report("device", d, "--test", "paired", "--out", tmp_path / "paired")
+    assert status == 0, out
+    row = next(x for x in read(tmp_path / "paired" / "device_report.md").splitlines() if x.startswith("| `b` - `a` |"))
+    assert "+1 ± 0, resolved" in row
+
+
+def test_the_report_reads_run_folders_without_summary_csv(tmp_path):
+    # A published folder from before the studies wrote summary.csv: <case>_s<seed>/summary.json.
+    d = tmp_path / "published"
+    for case, seed, hf, dv in RUNS:
+        write_file(d / f"{case}_s{seed}" / "summary.json",
+                   f'{{"stage": "done", "holding_force": {hf}, "volume_change": {dv}, "grains": 570}}\n')
+    write_file(d / "c_s2" / "summary.json", '{"stage": "load", "holding_force": 9}\n')  # unfinished: left out
+    status, out = run_report("device", d)
+    assert status == 0, out
+    page = read(d / "device_report.md")
+    assert "from the run folders' summary.json" in page
+    assert table_row(page, "a")[:3] == ["`a`", "3", f"2 ± {T2 / math.sqrt(3):.2g}"]
+    assert table_row(page, "c")[:3] == ["`c`", "1", "5"]
+
+
+def test_the_report_keeps_the_shipped_studies_and_refuses_what_is_neither(tmp_path, monkeypatch):
+    from vppdem.report import device
+    called = []
+    monkeypatch.setattr(device, "load", lambda study: {"study": study})
+    monkeypatch.setattr(device, "beam", lambda runs: called.append(runs) or {})
+    monkeypatch.setattr(device, "trends", lambda: True)
+    assert run_report("device", "beam")[0] == 0
+    assert called == [{"study": "beam"}]
+    status, out = run_report("device", tmp_path / "missing")
+    assert status == 2 and "is neither a shipped study (gripper, gripper_pour, beam, trends) nor a folder" in out
+    status, out = run_report("device", tmp_path)
+    assert status == 2 and "no finished run" in out
+    status, out = run_report("device", "beam", "--out", tmp_path)
+    assert status == 2 and "--out and --test are for a study's folder" in out
