@@ -119,7 +119,8 @@ def test_a_device_run_is_drawn_from_its_records(tmp_path, figures):
     assert points(ax)[0] == {(round(t, 12), round(f, 12)) for t, f in zip(TIME, OBJECT_FZ)}
     assert not axes_titled(fig, "object: force against displacement")
     assert any("object does not move" in t.get_text() for a in fig.axes for t in a.texts)
-    assert "holding force 0.3 N (object)" in fig._suptitle.get_text()
+    # The title: dp and the holding force; no stiffness without result.cycle_tool.
+    assert fig._suptitle.get_text().startswith("device run: dp 50 kPa, holding force 0.3 N (object) (F_z")
     # dp [kPa] and the enclosed volume [cm^3] against time.
     air = figures["device_air.png"]
     (ax,) = axes_titled(air, "underpressure")

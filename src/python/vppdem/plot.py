@@ -665,10 +665,11 @@ def _device_title(d):
         parts.append(f"dp {s['underpressure'] * 1e-3:g} kPa")
     if s.get("object") and records.finite_number(s.get("holding_force")) is not None:
         parts.append(f"holding force {s['holding_force']:.4g} N ({s['object']})")
-    if records.finite_number(s.get("stiffness")) is not None:
-        parts.append(f"stiffness {s['stiffness']:.4g} N/m")
-    if records.finite_number(s.get("work_per_cycle")) is not None:
-        parts.append(f"work per cycle {s['work_per_cycle'] * 1e6:.4g} µJ")
+    if s.get("cycle_tool"):  # the cycles' numbers are 0 in a run without result.cycle_tool
+        if records.finite_number(s.get("stiffness")) is not None:
+            parts.append(f"stiffness {s['stiffness']:.4g} N/m")
+        if records.finite_number(s.get("work_per_cycle")) is not None:
+            parts.append(f"work per cycle {s['work_per_cycle'] * 1e6:.4g} µJ")
     return "device run" + (": " + ", ".join(parts) if parts else "")
 
 
