@@ -667,7 +667,8 @@ def study_runs(folder):
         for r in rows:
             if r.get("status") != "ok":
                 continue
-            run = {"seed": int(r["seed"]), "folder": r["folder"]}
+            seed = records.finite_number(r.get("seed"))
+            run = {"seed": int(seed) if seed is not None else 0, "folder": r["folder"]}
             run.update({q: records.finite_number(r.get(q)) for q in numbers})
             runs.setdefault(r["case"], []).append(run)
         return "summary.csv", numbers, runs
@@ -733,8 +734,9 @@ def study_report(folder, out=None, test="Welch", command=None):
         return fmt(m, h, 3, scale) if n else "-"
 
     lines = [f"# Device study `{name}`", "",
-             f"Made by `{command}` from {source} of `{folder}` ({n_runs} finished runs: {len(cases)} cases, seeds "
-             f"{', '.join(map(str, seeds))}). Mean ± the 95% Student-t half-width over the seeds "
+             f"Made by `{command}` from {source} of `{folder}` ({n_runs} finished runs: {len(cases)} cases, "
+             + (f"seeds {', '.join(map(str, seeds))}" if seeds != [0] else "the device file's seed") +
+             "). Mean ± the 95% Student-t half-width over the seeds "
              "(vppdem.report.stats, as summary_cases.csv); n: the finished runs of the case (a number fewer runs "
              "have says its own n).", ""]
     heads = [(q,) + vplot.device_number_label(q) for q in varying]
