@@ -250,8 +250,10 @@ CLI::App* add_analyze(CLI::App& app, vpp::AnalyzeOptions& ao) {
 
 // vppdem plot DIR
 CLI::App* add_plot(CLI::App& app, std::string& dir) {
-    auto* cmd = app.add_subcommand("plot", "Draw the plots of a damper, sweep or calibration output folder (PNG)");
-    cmd->add_option("dir", dir, "damper, sweep or calibration output folder")->required()->check(CLI::ExistingDirectory);
+    auto* cmd = app.add_subcommand("plot", "Draw the plots of a damper, device, sweep or calibration output folder (PNG)");
+    cmd->add_option("dir", dir, "damper, device, sweep (damper or device study) or calibration output folder")
+        ->required()
+        ->check(CLI::ExistingDirectory);
     return cmd;
 }
 
@@ -318,6 +320,8 @@ int run_device_sweep(const SweepCommandArgs& a, const vpp::SweepCommand& c) {
         std::fprintf(stderr, "warning: --progress-every is not used by a device study: its runs print "
                              "their own progress lines\n");
     const vpp::DeviceSweepResult r = vpp::run_device_study(*c.device_study, c.device_options);
+    // Each number against the case (sweep_numbers.png), as a damper study's plots; --no-plot skips it.
+    if (a.plot && !a.report_only) vpp::plot_device_study_dir(a.out, a.quiet);
     return r.failed && !a.report_only ? 1 : 0;
 }
 

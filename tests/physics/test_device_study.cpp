@@ -7,7 +7,9 @@
 #include <unistd.h>
 
 #include <filesystem>
+#include <cmath>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -96,6 +98,14 @@ TEST(DeviceStudy, RunsEachCaseAsTheDeviceCommandWouldAndPublishesItsRecords) {
     EXPECT_NE(table.find("\ndp0,0,dp0,"), std::string::npos) << table;
     EXPECT_NE(table.find(",50000,"), std::string::npos) << table;
     EXPECT_EQ(slurp(pub / "summary.csv"), table);
+    // summary_cases.csv: a row per case (no seeds: one run each), published beside it.
+    const std::string cases = slurp(out / "summary_cases.csv");
+    EXPECT_EQ(cases.rfind("case,seeds,ok,holding_force_n,holding_force_mean,holding_force_sd,holding_force_ci95,", 0), 0u)
+        << cases;
+    EXPECT_NE(cases.find("\ndp0,1,1,1,"), std::string::npos) << cases;
+    EXPECT_EQ(slurp(pub / "summary_cases.csv"), cases);
+    // The numbers against the case, drawn at the end (vppdem.plot.device_study).
+    EXPECT_TRUE(fs::exists(out / "sweep_numbers.png"));
 
     // The same run by hand is the study's run, bit for bit.
     const fs::path hand = dir / "hand";
@@ -107,11 +117,13 @@ TEST(DeviceStudy, RunsEachCaseAsTheDeviceCommandWouldAndPublishesItsRecords) {
 
     // Again: every run is finished, nothing runs, the records stay.
     const std::string before = slurp(out / "dp0" / "summary.json");
-    const auto again = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(out));
+    fs::remove(out / "sweep_numbers.png");
+    const auto again = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(out) + " --no-plot");
     ASSERT_EQ(again.rc, 0) << again.output;
     EXPECT_EQ(again.output.find("[1/2]"), std::string::npos) << again.output;
     EXPECT_NE(again.output.find("2 of 2 run(s) finished"), std::string::npos) << again.output;
     EXPECT_EQ(slurp(out / "dp0" / "summary.json"), before);
+    EXPECT_FALSE(fs::exists(out / "sweep_numbers.png"));  // --no-plot
 
     // A fresh folder takes the published records back: finished, nothing runs.
     const auto back = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(dir / "fresh") + " --publish " + quote(pub));
@@ -142,6 +154,12 @@ TEST(DeviceStudy, BadStudiesAreRefusedNamingTheKey) {
         {device + "seeds = 2\n[cases.a]\n\"simulation.seed\" = 3\n", "simulation.seed"},
         {"device = \"missing.toml\"\n[cases.a]\n", "missing.toml"},
         {device + "[cases.\"a b\"]\n", "case name 'a b'"},
+        // A key in both [set] and a case (the case's value silently won), quoted or dotted alike:
+        // refused as a damper study refuses one in both [set] and [grid].
+        {device + "[set]\n\"stages.underpressure\" = 1000\n[cases.a]\n[cases.b]\n\"stages.underpressure\" = 0\n",
+         "key 'stages.underpressure' is in both [set] and [cases.b]"},
+        {device + "[set]\nstages.ramp_time = 0.01\n[cases.a]\n\"stages.ramp_time\" = 0.02\n",
+         "key 'stages.ramp_time' is in both [set] and [cases.a]"},
     };
     for (const Case& c : bad) {
         write_file(dir / "study.toml", c.text);
@@ -150,6 +168,69 @@ TEST(DeviceStudy, BadStudiesAreRefusedNamingTheKey) {
         EXPECT_NE(r.output.find(c.names), std::string::npos) << c.text << r.output;
         EXPECT_FALSE(fs::exists(dir / "out")) << c.text;
     }
+}
+
+// summary_cases.csv (a row per case over its seeds, as a damper study's): on hand-made finished
+// runs read by --report-only (no run), the known means, standard deviations and 95% Student-t
+// half widths; a run not finished and a number the runs lack are left out of n.
+TEST(DeviceStudy, CasesTableHoldsTheMeanAndTheStudentIntervalOverTheSeeds) {
+    const fs::path dir = fresh_dir("cases");
+    write_file(dir / "study.toml", "device = " + quote(kTinyGripper.string()) +
+                                       "\nseeds = 3\n[cases.a]\n\"stages.underpressure\" = 50000\n"
+                                       "[cases.b]\n\"stages.underpressure\" = 0\n");
+    const fs::path out = dir / "out";
+    auto run = [&](const std::string& folder, double hf, double dv) {
+        write_file(out / folder / "summary.json", "{\"stage\": \"done\", \"holding_force\": " + std::to_string(hf) +
+                                                       ", \"volume_change\": " + std::to_string(dv) + "}\n");
+    };
+    run("a_s1", 1.0, -0.1);
+    run("a_s2", 2.0, -0.1);
+    run("a_s3", 3.0, -0.1);
+    run("b_s1", 0.5, -0.2);
+    run("b_s2", 1.5, -0.4);  // b_s3 not run
+    const auto r = run_vppdem("sweep " + quote(dir / "study.toml") + " --out " + quote(out) + " --report-only --quiet");
+    ASSERT_EQ(r.rc, 0) << r.output;
+    std::ifstream in(out / "summary_cases.csv");
+    std::string line;
+    std::getline(in, line);
+    std::vector<std::string> head;
+    for (std::stringstream h(line); std::getline(h, line, ',');) head.push_back(line);
+    ASSERT_GE(head.size(), 7u);
+    EXPECT_EQ(std::vector<std::string>(head.begin(), head.begin() + 7),
+              (std::vector<std::string>{"case", "seeds", "ok", "holding_force_n", "holding_force_mean", "holding_force_sd",
+                                        "holding_force_ci95"}));
+    EXPECT_EQ(head.back(), "folders");
+    std::map<std::string, std::map<std::string, std::string>> rows;
+    while (std::getline(in, line)) {
+        std::vector<std::string> cells;
+        std::stringstream c(line);
+        for (std::string cell; std::getline(c, cell, ',');) cells.push_back(cell);
+        if (!line.empty() && line.back() == ',') cells.emplace_back();
+        ASSERT_EQ(cells.size(), head.size()) << line;
+        for (std::size_t k = 0; k < head.size(); ++k) rows[cells[0]][head[k]] = cells[k];
+    }
+    ASSERT_EQ(rows.size(), 2u);
+    auto num = [&](const std::string& c, const std::string& col) { return std::stod(rows[c][col]); };
+    const double t2 = 4.302652729749464, t1 = 12.706204736174698;  // t_{0.975, 2}, t_{0.975, 1}
+    EXPECT_EQ(rows["a"]["seeds"], "3");
+    EXPECT_EQ(rows["a"]["ok"], "3");
+    EXPECT_EQ(rows["a"]["holding_force_n"], "3");
+    EXPECT_NEAR(num("a", "holding_force_mean"), 2.0, 1e-12);
+    EXPECT_NEAR(num("a", "holding_force_sd"), 1.0, 1e-12);
+    EXPECT_NEAR(num("a", "holding_force_ci95"), t2 / std::sqrt(3.0), 1e-9);
+    EXPECT_NEAR(num("a", "volume_change_mean"), -0.1, 1e-12);
+    EXPECT_NEAR(num("a", "volume_change_ci95"), 0.0, 1e-12);
+    EXPECT_EQ(rows["a"]["folders"], "a_s1;a_s2;a_s3");
+    EXPECT_EQ(rows["b"]["seeds"], "3");
+    EXPECT_EQ(rows["b"]["ok"], "2");
+    EXPECT_EQ(rows["b"]["holding_force_n"], "2");
+    EXPECT_NEAR(num("b", "holding_force_mean"), 1.0, 1e-12);
+    EXPECT_NEAR(num("b", "holding_force_sd"), std::sqrt(0.5), 1e-12);
+    EXPECT_NEAR(num("b", "holding_force_ci95"), t1 * 0.5, 1e-9);
+    EXPECT_NEAR(num("b", "volume_change_mean"), -0.3, 1e-12);
+    // A number no run has (the gripper's stiffness): n 0, the rest empty.
+    EXPECT_EQ(rows["b"]["stiffness_n"], "0");
+    EXPECT_EQ(rows["b"]["stiffness_mean"] + rows["b"]["stiffness_sd"] + rows["b"]["stiffness_ci95"], "");
 }
 
 }  // namespace test_device_study

@@ -3,11 +3,13 @@
 import json
 import math
 import os
+import subprocess
 
 import pytest
 
 import vppdem
-from conftest import SOURCE_DIR
+from conftest import BINARY, SOURCE_DIR
+from synthetic_records import run_report
 
 TINY = os.path.join(SOURCE_DIR, "tests", "data", "devices", "tiny_gripper.toml")
 
@@ -79,3 +81,17 @@ def test_a_device_study_runs_through_vppdem_study(tmp_path, gripper):
     assert rows[0]["holding_force"] == pytest.approx(by_hand["holding_force"], rel=1e-12)
     with pytest.raises(vppdem.ConfigError, match="device study"):
         vppdem.Study(study, tmp_path / "out").run(jobs=2)
+    # summary_cases.csv: the case over its one run (no seeds: no interval).
+    (case,) = s.cases_summary()
+    assert (case["case"], case["seeds"], case["ok"], case["folders"]) == ("dp50", 1, 1, "dp50")
+    assert case["holding_force_n"] == 1 and case["holding_force_mean"] == rows[0]["holding_force"]
+    assert case["holding_force_ci95"] is None
+    # `vppdem plot` on the run's folder and on the study's (issue 61, item 2); the report of the folder.
+    out = tmp_path / "out"
+    for folder, pngs in ((out / "dp50", ["device_tools.png", "device_air.png"]), (out, ["sweep_numbers.png"])):
+        r = subprocess.run([BINARY, "plot", str(folder)], capture_output=True, text=True)
+        assert r.returncode == 0, r.stdout + r.stderr
+        assert r.stdout.split() == [str(folder / p) for p in pngs]
+    status, printed = run_report("device", out)
+    assert status == 0, printed
+    assert "| `dp50` | 1 | " in (out / "device_report.md").read_text()

@@ -3,15 +3,19 @@
     damper(run_dir)                           a `vppdem damper` folder
     sweep(study_dir, caption=None, prefix=None)   a `vppdem sweep` folder
     calibration(dir, caption=None)            a `vppdem calibrate` folder
+
+    device(run_dir)                           a `vppdem device` folder
+    device_study(study_dir, caption=None, prefix=None)   a `vppdem sweep` folder of a device study
 each returns the paths of the files it wrote and raises PlotError (a ValueError) naming the file
 and what is wrong when a record is missing or lacks a column. From the shell:
 
     python3 -m vppdem.plot DIR [--caption TEXT] [--prefix NAME] [--kind KIND]
 
-draws what DIR holds (a calibration folder: calibration() then sweep(); a sweep folder: sweep();
-else damper()) and prints the files written, one per line; on an error it prints
-`vppdem.plot: MESSAGE` on stderr and exits 1. Needs numpy and matplotlib, not the compiled
-module: PYTHONPATH=src/python is enough.
+draws what DIR holds (kind_of: a calibration folder: calibration() then sweep(); a device study's
+folder (summary.csv beginning `case,seed,folder`): device_study(); a sweep folder: sweep(); a
+device run's folder (tools.csv, no forces.csv): device(); else damper()) and prints the files
+written, one per line; on an error it prints `vppdem.plot: MESSAGE` on stderr and exits 1. Needs
+numpy and matplotlib, not the compiled module: PYTHONPATH=src/python is enough.
 
 damper(DIR) reads DIR/forces.csv (header `time,displacement,force_total,force_grains,force_foil,
 force_zeroed,cycle`; displacement [m] of the upper cap downward from the start of cycling, forces
@@ -46,6 +50,27 @@ caption: text written under each figure (e.g. the command that made the data); p
 writes NAME_W.png and NAME_loops.png instead. Runs that did not finish ("status" not ok) are
 left out.
 
+device(DIR) reads DIR/tools.csv (`time,stage,` then per tool `NAME_z,NAME_fx,NAME_fy,NAME_fz`:
+time [s], the stage number 0-4 (fill, seal, press, vacuum, load), the tool's z displacement [m]
+and the particles' force on it [N]; a published folder's tools.csv.gz, the rows from the press on,
+when there is no tools.csv), DIR/air.csv when there (`time,stage,enclosed_volume,gas_volume,dp`:
+[m^3], [Pa]) and DIR/summary.json when there (its holding force, stiffness and underpressure in
+the title), and writes
+  device_tools.png  per tool (a row), F_z against its z displacement and F_z against time, one
+                    colour per stage, the stages' starts marked on the time axis
+  device_air.png    dp and the enclosed volume (and the gas volume) against time, the stages
+                    marked (only with air.csv)
+
+device_study(DIR) reads DIR/summary.csv of a device study (`case,seed,folder`, the numbers of each
+run's summary.json, `status,message`: docs/devices.md, "Studies") and DIR/summary_cases.csv when
+there (`case,seeds,ok`, per number Q `Q_n,Q_mean,Q_sd,Q_ci95`, `folders`), and writes
+  PREFIX_numbers.png  (prefix default "sweep") each number of summary.csv that the finished runs
+                    have and that is not the same in every run, against the case (file order): the
+                    mean over the seeds with its 95% interval (Student t) as error bars, each run
+                    as a dot; the numbers the same in every run are named under the figure.
+                    Without summary_cases.csv (a study run before it was written) the means of
+                    summary.csv's runs, without intervals, and a warning.
+
 calibration(DIR) reads DIR/calibration.json (keys "case", "simulated_force", "cycles_compared",
 "grid", "best", "misfit"), DIR/experiment.csv (`time,displacement,force,cycle`: the measured loop
 in SI units, compression positive, displacement from its minimum) and DIR/<case>/forces.csv of
@@ -67,7 +92,7 @@ from matplotlib.figure import Figure
 
 from . import records
 
-__all__ = ["PlotError", "damper", "sweep", "calibration", "main"]
+__all__ = ["PlotError", "damper", "sweep", "calibration", "device", "device_study", "DEVICE_NUMBERS", "main"]
 
 
 class PlotError(ValueError):
@@ -544,17 +569,341 @@ def calibration(dir, caption=None):
     return [_save(fig, os.path.join(d, "calibration.png"), 120)]
 
 
+# ---- device -------------------------------------------------------------------------------------
+
+DEVICE_STAGES = ("fill", "seal", "press", "vacuum", "load")  # tools.csv's stage numbers (docs/devices.md)
+STAGE_COLOURS = ("0.55", "tab:purple", "tab:blue", "tab:orange", "tab:green")
+# The numbers of a device study's summary.csv (docs/devices.md, "Studies"): label, unit, scale
+# from the record's SI unit to the unit shown. A number summary.csv gains later is shown as it is.
+DEVICE_NUMBERS = {
+    "holding_force": ("holding force", "N", 1.0),
+    "press_force": ("press force", "N", 1.0),
+    "underpressure": ("underpressure", "kPa", 1e-3),
+    "volume_change": ("volume change, seal to end of vacuum", "%", 100.0),
+    "volume_change_vacuum": ("volume change in the vacuum", "%", 100.0),
+    "packing_seal": ("packing at the seal", "", 1.0),
+    "packing_vacuum": ("packing after the vacuum", "", 1.0),
+    "grains": ("grains", "", 1.0),
+    "stiffness": ("stiffness", "N/m", 1.0),
+    "work_per_cycle": ("work per cycle", "µJ", 1e6),
+    "peak_force": ("peak force", "N", 1.0),
+    "energy_residual": ("energy ledger's residual", "mJ", 1e3),
+    "energy_scale": ("energy ledger's scale", "mJ", 1e3),
+}
+
+
+def device_number_label(name):
+    """(axis label with its unit, scale) of a device study's number."""
+    label, unit, scale = DEVICE_NUMBERS.get(name, (name, "", 1.0))
+    return (f"{label} [{unit}]" if unit else label), scale
+
+
+def device_tools(path):
+    """The tool names of tools.csv's header (`time,stage,` then `NAME_z,NAME_fx,NAME_fy,NAME_fz` per
+    tool), in its order; PlotError when the header is not a device's."""
+    header, _ = _read_table(path)
+    if header[:2] != ["time", "stage"] or (len(header) - 2) % 4 or len(header) < 6:
+        raise PlotError(f"{path}: not a device's tools.csv (expected time,stage, then NAME_z,NAME_fx,NAME_fy,NAME_fz "
+                        f"per tool; columns: {', '.join(header)})")
+    names = []
+    for k in range(2, len(header), 4):
+        name = header[k][:-2] if header[k].endswith("_z") else None
+        if name is None or header[k + 1:k + 4] != [f"{name}_fx", f"{name}_fy", f"{name}_fz"]:
+            raise PlotError(f"{path}: columns {', '.join(header[k:k + 4])} are not NAME_z,NAME_fx,NAME_fy,NAME_fz")
+        names.append(name)
+    return names
+
+
+def stage_spans(time, stage):
+    """[(stage, first time, last time)] of each run of equal stage numbers, in time order."""
+    spans = []
+    for t, s in zip(time, np.asarray(stage).astype(int)):
+        if spans and spans[-1][0] == s:
+            spans[-1][2] = t
+        else:
+            spans.append([s, t, t])
+    return [tuple(x) for x in spans]
+
+
+def _stage_name(s):
+    return DEVICE_STAGES[s] if 0 <= s < len(DEVICE_STAGES) else f"stage {s}"
+
+
+def _stage_colour(s):
+    return STAGE_COLOURS[s] if 0 <= s < len(STAGE_COLOURS) else "k"
+
+
+def _by_stage(ax, x, y, stage, labelled):
+    """y against x, one colour per stage (each stage's rows joined to the next stage's first row, so
+    the line is unbroken); each stage labelled once per axes."""
+    stage = np.asarray(stage).astype(int)
+    starts = [0] + [i for i in range(1, len(stage)) if stage[i] != stage[i - 1]] + [len(stage)]
+    for a, b in zip(starts[:-1], starts[1:]):
+        s = int(stage[a])
+        stop = min(b + 1, len(stage))
+        ax.plot(x[a:stop], y[a:stop], "-", lw=1.0, color=_stage_colour(s),
+                label=_stage_name(s) if s not in labelled else None)
+        labelled.add(s)
+
+
+def _mark_stages(ax, spans):
+    """A dotted line at each stage's start and its name at the top of the axes."""
+    for s, t0, _ in spans:
+        ax.axvline(t0, color=_stage_colour(s), ls=":", lw=0.8)
+        ax.text(t0, 1.0, " " + _stage_name(s), transform=ax.get_xaxis_transform(), rotation=90, va="top",
+                ha="left", fontsize=7, color=_stage_colour(s))
+
+
+def _device_title(d):
+    try:
+        with open(os.path.join(d, "summary.json")) as f:
+            s = json.load(f)
+    except (OSError, ValueError):
+        return "device run"
+    parts = []
+    if records.finite_number(s.get("underpressure")) is not None:
+        parts.append(f"dp {s['underpressure'] * 1e-3:g} kPa")
+    if s.get("object") and records.finite_number(s.get("holding_force")) is not None:
+        parts.append(f"holding force {s['holding_force']:.4g} N ({s['object']})")
+    if s.get("cycle_tool"):  # the cycles' numbers are 0 in a run without result.cycle_tool
+        if records.finite_number(s.get("stiffness")) is not None:
+            parts.append(f"stiffness {s['stiffness']:.4g} N/m")
+        if records.finite_number(s.get("work_per_cycle")) is not None:
+            parts.append(f"work per cycle {s['work_per_cycle'] * 1e6:.4g} µJ")
+    return "device run" + (": " + ", ".join(parts) if parts else "")
+
+
+def device(run_dir):
+    """The tools' forces and the air of a `vppdem device` folder (device_tools.png, and
+    device_air.png when air.csv is there); returns the paths written."""
+    d = os.fspath(run_dir)
+    path = os.path.join(d, "tools.csv")
+    if not os.path.isfile(path) and os.path.isfile(path + ".gz"):
+        path += ".gz"
+    if not os.path.isfile(path):
+        raise PlotError(f"{os.path.join(d, 'tools.csv')} not found (run `vppdem device FILE --out DIR` first)")
+    names = device_tools(path)
+    data = _read_csv(path, None)
+    title = _device_title(d)
+    t, stage = data["time"], data["stage"]
+    spans = stage_spans(t, stage)
+    written = []
+
+    fig, axes = _figure(len(names), 2, figsize=(12, 3.4 * len(names) + 0.6), squeeze=False)
+    for row, name in enumerate(names):
+        z_mm, fz = 1e3 * data[f"{name}_z"], data[f"{name}_fz"]
+        a1, a2 = axes[row]
+        if np.all(z_mm == z_mm[0]):  # a fixed tool (the gripper's object, the beam's supports)
+            a1.text(0.5, 0.5, f"{name} does not move (z = {z_mm[0]:g} mm):\nits force against time only",
+                    transform=a1.transAxes, ha="center", va="center", fontsize=9)
+            a1.set_axis_off()
+        else:
+            _by_stage(a1, z_mm, fz, stage, set())
+            a1.set_xlabel(f"{name}: z displacement [mm]")
+            a1.set_ylabel(f"{name}: F_z [N]")
+            a1.set_title(f"{name}: force against displacement", fontsize=10)
+            a1.grid(True, alpha=0.3)
+            _legend(a1, fontsize=7, title="stage", title_fontsize=7)
+        _by_stage(a2, t, fz, stage, set())
+        _mark_stages(a2, spans)
+        a2.set_xlabel("time [s]")
+        a2.set_ylabel(f"{name}: F_z [N]")
+        a2.set_title(f"{name}: force against time", fontsize=10)
+        a2.grid(True, alpha=0.3)
+        if np.all(z_mm == z_mm[0]):
+            _legend(a2, fontsize=7, title="stage", title_fontsize=7)
+    fig.suptitle(title + " (F_z: the particles' force on the tool, + up)", fontsize=11)
+    fig.tight_layout()
+    written.append(_save(fig, os.path.join(d, "device_tools.png"), 100))
+
+    apath = os.path.join(d, "air.csv")
+    if os.path.isfile(apath):
+        air = _read_csv(apath, ("time", "stage", "enclosed_volume", "gas_volume", "dp"))
+        aspans = stage_spans(air["time"], air["stage"])
+        fig, (a1, a2) = _figure(1, 2, figsize=(12, 4.4))
+        _by_stage(a1, air["time"], air["dp"] * 1e-3, air["stage"], set())
+        _mark_stages(a1, aspans)
+        a1.set_xlabel("time [s]")
+        a1.set_ylabel("dp (outside - inside) [kPa]")
+        a1.set_title("underpressure", fontsize=10)
+        a1.grid(True, alpha=0.3)
+        _by_stage(a2, air["time"], air["enclosed_volume"] * 1e6, air["stage"], set())
+        a2.plot(air["time"], air["gas_volume"] * 1e6, "k--", lw=0.8, label="gas (enclosed - grains)")
+        _mark_stages(a2, aspans)
+        a2.set_xlabel("time [s]")
+        a2.set_ylabel("volume [cm$^3$]")
+        a2.set_title("enclosed volume (through the membrane particles' centres)", fontsize=10)
+        a2.grid(True, alpha=0.3)
+        _legend(a2, fontsize=7)
+        fig.suptitle(title, fontsize=11)
+        fig.tight_layout()
+        written.append(_save(fig, apath[:-len("air.csv")] + "device_air.png", 100))
+    return written
+
+
+def _read_device_summary(d):
+    """(numbers, finished runs) of a device study's summary.csv: its number columns (between
+    `case,seed,folder` and `status`) and its rows of status ok."""
+    path = os.path.join(d, "summary.csv")
+    if not os.path.exists(path):
+        raise PlotError(f"{path} not found (not a study folder)")
+    header, rows = _read_table(path)
+    if header[:3] != ["case", "seed", "folder"] or "status" not in header:
+        raise PlotError(f"{path}: not a device study's table (expected case,seed,folder, its numbers, status; "
+                        f"columns: {', '.join(header)})")
+    numbers = header[3:header.index("status")]
+    runs = [r for r in rows if r.get("status") == "ok"]
+    if not runs:
+        raise PlotError(f"{path}: no finished run (status ok)")
+    return numbers, runs
+
+
+def device_study_cases(study_dir):
+    """What device_study() draws: (cases in order, {number: {case: (mean, ci95 or None, [the runs'
+    values])}}, intervals) for the numbers of summary.csv that a finished run has. Means and
+    intervals from summary_cases.csv (intervals True); without it the means of summary.csv's
+    finished runs (intervals False)."""
+    d = os.fspath(study_dir)
+    numbers, runs = _read_device_summary(d)
+    cases = list(dict.fromkeys(r["case"] for r in runs))
+    values = {q: {c: [v for r in runs if r["case"] == c for v in [records.finite_number(r.get(q))] if v is not None]
+                  for c in cases} for q in numbers}
+    path = os.path.join(d, "summary_cases.csv")
+    table = {}
+    if os.path.exists(path):
+        header, rows = _read_table(path)
+        need = ["case"] + [f"{q}_{x}" for q in numbers for x in ("mean", "ci95")]
+        missing = [c for c in need if c not in header]
+        if missing:
+            raise PlotError(f"{path}: missing column(s) {', '.join(missing)}")
+        table = {r["case"]: r for r in rows}
+    out = {}
+    for q in numbers:
+        per = {}
+        for c in cases:
+            if not values[q][c]:
+                continue
+            if table:
+                row = table.get(c, {})
+                m = records.finite_number(row.get(f"{q}_mean"))
+                per[c] = (m if m is not None else float(np.mean(values[q][c])),
+                          records.finite_number(row.get(f"{q}_ci95")), values[q][c])
+            else:
+                per[c] = (float(np.mean(values[q][c])), None, values[q][c])
+        if per:
+            out[q] = per
+    return cases, out, bool(table)
+
+
+def device_numbers_figure(title, cases, stats, intervals=True, notes=""):
+    """The figure of device_study() (and of vppdem.report's device study report): a panel per
+    number of `stats` ({number: {case: (mean, 95% half width or None, [the runs' values])}}, in SI
+    units), the cases on the x axis in the order of `cases`: the mean (with its interval as an error
+    bar when `intervals`), each run as a dot. `notes`: text under the panels."""
+    qs = list(stats)
+    if not qs:
+        raise PlotError(f"{title}: no number to draw")
+    cols = min(len(qs), 3)
+    rows = (len(qs) + cols - 1) // cols
+    fig, axes = _figure(rows, cols, figsize=(max(4.8, 0.55 * len(cases) + 2.5) * cols, 3.9 * rows + 0.4), squeeze=False)
+    for k, q in enumerate(qs):
+        ax = axes[k // cols][k % cols]
+        label, scale = device_number_label(q)
+        per = stats[q]
+        xs = [i for i, c in enumerate(cases) if c in per]
+        ms = [per[cases[i]][0] * scale for i in xs]
+        err = [(per[cases[i]][1] or 0.0) * scale for i in xs]
+        ax.errorbar(xs, ms, yerr=err if intervals else None, fmt="s", color="C0", capsize=4, ms=5, zorder=3,
+                    label="mean, 95% interval" if intervals else "mean")
+        for i in xs:
+            vs = per[cases[i]][2]
+            ax.plot([i] * len(vs), [v * scale for v in vs], ".", color="0.45", alpha=0.6, ms=6, zorder=2)
+        ax.set_xticks(range(len(cases)), cases, rotation=30 if len(cases) > 4 else 0,
+                      ha="right" if len(cases) > 4 else "center", fontsize=8)
+        ax.set_xlim(-0.5, len(cases) - 0.5)
+        ax.set_ylabel(label)
+        ax.set_title(q, fontsize=9)
+        ax.grid(True, alpha=0.3)
+    for k in range(len(qs), rows * cols):
+        axes[k // cols][k % cols].axis("off")
+    what = ("mean over the seeds, 95% interval (Student t); dots: runs" if intervals
+            else "mean over the runs, no intervals; dots: runs")
+    fig.suptitle(f"{title}: {what}", fontsize=10)
+    fig.tight_layout(rect=(0, 0.04 if notes else 0, 1, 0.97))
+    _caption(fig, notes)
+    return fig
+
+
+def split_constant(stats):
+    """(the numbers whose runs differ, [(number, value)] of those the same in every run) of
+    device_numbers_figure's `stats`; with no number that differs (one run), all of them differ."""
+    varying, constant = [], []
+    for q, per in stats.items():
+        vals = {v for _, _, vs in per.values() for v in vs}
+        if len(vals) == 1:
+            constant.append((q, next(iter(vals))))
+        else:
+            varying.append(q)
+    return (varying, constant) if varying else (list(stats), [])
+
+
+def constant_text(constant):
+    """'the same in every run: grains = 570, ...' (in the units shown), or ''."""
+    if not constant:
+        return ""
+    parts = []
+    for q, v in constant:
+        label, unit, scale = DEVICE_NUMBERS.get(q, (q, "", 1.0))
+        parts.append(f"{label} {v * scale:g}" + (f" {unit}" if unit else ""))
+    return "the same in every run: " + ", ".join(parts)
+
+
+def device_study(study_dir, caption=None, prefix=None):
+    """Each number of a device study's summary.csv against the case (PREFIX_numbers.png; prefix
+    default "sweep"): the mean over the seeds with its 95% interval, each run as a dot; the numbers
+    the same in every run named under the figure. Returns the paths written."""
+    d = os.fspath(study_dir)
+    prefix = prefix or "sweep"
+    cases, stats, intervals = device_study_cases(d)
+    if not stats:
+        raise PlotError(f"{os.path.join(d, 'summary.csv')}: no finished run has a number")
+    if not intervals:
+        _warn(f"{os.path.join(d, 'summary_cases.csv')} not found: the means without their intervals "
+              "(`vppdem sweep STUDY --out DIR --report-only` writes it)")
+    varying, constant = split_constant(stats)
+    notes = "; ".join(t for t in (constant_text(constant), caption) if t)
+    fig = device_numbers_figure(os.path.basename(os.path.abspath(d)), cases, {q: stats[q] for q in varying},
+                                intervals, notes)
+    return [_save(fig, os.path.join(d, f"{prefix}_numbers.png"), 110)]
+
+
 # ---- command ------------------------------------------------------------------------------------
 
-KINDS = ("damper", "sweep", "calibration")
+KINDS = ("damper", "sweep", "calibration", "device", "device_study")
+
+
+def _is_device_study(d):
+    path = os.path.join(d, "summary.csv")
+    try:
+        with open(path, newline="") as f:
+            return f.readline().startswith("case,seed,folder,")
+    except OSError:
+        return False
 
 
 def kind_of(d):
-    """What a folder holds: "calibration" (calibration.json), "sweep" (summary.csv) or "damper"."""
+    """What a folder holds: "calibration" (calibration.json), "device_study" (a summary.csv beginning
+    `case,seed,folder`), "sweep" (another summary.csv), "device" (tools.csv or tools.csv.gz and no
+    forces.csv) or "damper"."""
     if os.path.exists(os.path.join(d, "calibration.json")):
         return "calibration"
+    if _is_device_study(d):
+        return "device_study"
     if os.path.exists(os.path.join(d, "summary.csv")):
         return "sweep"
+    if not os.path.exists(os.path.join(d, "forces.csv")) and any(
+            os.path.isfile(os.path.join(d, f)) for f in ("tools.csv", "tools.csv.gz")):
+        return "device"
     return "damper"
 
 
@@ -562,12 +911,15 @@ def main(argv=None):
     ap = argparse.ArgumentParser(
         prog="python3 -m vppdem.plot",
         description="Draws the plots of a vppdem output folder (PNG): a calibration folder (calibration.json) "
-                    "calibration.png and the sweep plots, a sweep folder (summary.csv) the sweep plots, else the "
-                    "damper loops. Prints the files written, one per line.")
-    ap.add_argument("dir", help="damper, sweep or calibration output folder")
+                    "calibration.png and the sweep plots, a device study's folder (summary.csv of case,seed,folder) "
+                    "its numbers against the case, a sweep folder (summary.csv) the sweep plots, a device run's "
+                    "folder (tools.csv) its tools' forces and its air, else the damper loops. Prints the files "
+                    "written, one per line.")
+    ap.add_argument("dir", help="damper, device, sweep or calibration output folder")
     ap.add_argument("--caption", default="", metavar="TEXT",
                     help="text under the sweep and calibration figures (e.g. the command that made the data)")
-    ap.add_argument("--prefix", default="sweep", metavar="NAME", help="the sweep plots' names: NAME_W.png, NAME_loops.png")
+    ap.add_argument("--prefix", default="sweep", metavar="NAME",
+                    help="the sweep plots' names: NAME_W.png, NAME_loops.png; a device study's NAME_numbers.png")
     ap.add_argument("--kind", choices=KINDS, help="draw only this kind's plots (default: what DIR holds)")
     a = ap.parse_args(argv)
     kind = a.kind or kind_of(a.dir)
@@ -576,6 +928,10 @@ def main(argv=None):
             written = damper(a.dir)
         elif kind == "sweep":
             written = sweep(a.dir, a.caption, a.prefix)
+        elif kind == "device":
+            written = device(a.dir)
+        elif kind == "device_study":
+            written = device_study(a.dir, a.caption, a.prefix)
         else:
             written = calibration(a.dir, a.caption)
             if not a.kind:

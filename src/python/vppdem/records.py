@@ -7,6 +7,7 @@ and the scripts of tools/ share it: ``sys.path.insert(0, "<repo>/src/python")`` 
 """
 
 import csv
+import gzip
 import math
 import os
 import sys
@@ -37,14 +38,15 @@ def finite_number(x):
 
 
 def _rows(path):
-    """The rows of a CSV file as lists of text, blank lines and `#` comment lines left out."""
+    """The rows of a CSV file as lists of text, blank lines and `#` comment lines left out; a path
+    ending in .gz is read through gzip (a published record: tools.csv.gz)."""
     try:
-        with open(path, newline="") as f:
+        with (gzip.open(path, "rt", newline="") if os.fspath(path).endswith(".gz") else open(path, newline="")) as f:
             return [r for r in csv.reader(f) if r and any(c.strip() for c in r) and not r[0].startswith("#")]
     except FileNotFoundError:
         raise RecordError(f"{path} not found") from None
-    except OSError as e:
-        raise RecordError(f"cannot read {path}: {e.strerror}") from None
+    except (OSError, EOFError) as e:  # gzip: BadGzipFile is an OSError, a cut file an EOFError
+        raise RecordError(f"cannot read {path}: {getattr(e, 'strerror', None) or e}") from None
 
 
 def read_table(path):

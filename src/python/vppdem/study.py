@@ -16,7 +16,8 @@ from ._native import _core
 from ._runs import calibrate as _calibrate, sweep as _sweep
 
 # Columns that are text whatever they hold (names, messages), never numbers.
-_TEXT_COLUMNS = frozenset({"case", "cases", "status", "warnings", "key", "group", "quantity"})
+_TEXT_COLUMNS = frozenset({"case", "cases", "status", "warnings", "key", "group", "quantity", "folder", "folders",
+                           "message"})
 
 # The Study's own settings: not to be given again to calibrate().
 _OWN = ("sets", "seeds", "settings", "out", "study_path")
@@ -52,7 +53,8 @@ class Study:
     A device study file (the key ``device``; docs/devices.md, "Studies") works the same way:
     ``cases()`` lists its runs (with ``case``, ``seed`` and ``overrides`` besides), ``run()`` and
     ``report()`` are ``vppdem sweep`` on it, ``summary()`` reads its summary.csv (case, seed,
-    folder, the numbers of each run's summary.json, status, message).
+    folder, the numbers of each run's summary.json, status, message), ``cases_summary()`` its
+    summary_cases.csv (per case the mean, sd and 95% interval of each number over the seeds).
 
     Units are those of the records (docs/studies.md, "Outputs"): W [J/m^2], dissipated_energy [J],
     peak_force [N], run_seconds [s]; the grid values in the damper config's units (docs/config.md).
@@ -149,7 +151,8 @@ class Study:
         """summary_cases.csv as a list of dicts, one per case over its seeds: the swept keys but the
         seed, seeds, ok, then Q_n, Q_mean, Q_sd, Q_ci95 for Q in W, W_settled, peak_force,
         dissipated_energy, friction_share, damping_share, packing_fraction (Q's units), cases.
-        Numbers as floats, empty cells None. FileNotFoundError when absent."""
+        A device study's: case, seeds, ok, then Q_n, Q_mean, Q_sd, Q_ci95 for each number of its
+        summary.csv, folders. Numbers as floats, empty cells None. FileNotFoundError when absent."""
         return self._table("summary_cases.csv")
 
     def paired(self):

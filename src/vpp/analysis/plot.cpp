@@ -27,8 +27,9 @@ std::string python_package_dir() {
     return (fs::path(VPPDEM_SOURCE_DIR) / "src" / "python").string();
 }
 
-// kind: "damper", "sweep", "calibration", or "" for what the folder holds. The package's folder
-// goes in front of the caller's PYTHONPATH, which stays for whatever else the plots import.
+// kind: "damper", "sweep", "calibration", "device_study", or "" for what the folder holds. The
+// package's folder goes in front of the caller's PYTHONPATH, which stays for whatever else the
+// plots import.
 int run_plot(const std::string& dir, const std::string& kind, bool quiet) {
     std::string path = python_package_dir();
     if (const char* p = std::getenv("PYTHONPATH"); p && *p) path += std::string(":") + p;
@@ -43,6 +44,7 @@ int run_plot(const std::string& dir, const std::string& kind, bool quiet) {
 int plot_damper_dir(const std::string& dir, bool quiet) { return run_plot(dir, "damper", quiet); }
 int plot_sweep_dir(const std::string& dir, bool quiet) { return run_plot(dir, "sweep", quiet); }
 int plot_calibration_dir(const std::string& dir, bool quiet) { return run_plot(dir, "calibration", quiet); }
+int plot_device_study_dir(const std::string& dir, bool quiet) { return run_plot(dir, "device_study", quiet); }
 int plot_dir(const std::string& dir, bool quiet) { return run_plot(dir, "", quiet); }
 
 }  // namespace vpp

@@ -14,7 +14,9 @@ std::string python_interpreter();
 int plot_damper_dir(const std::string& dir, bool quiet);       // the loops of a damper folder
 int plot_sweep_dir(const std::string& dir, bool quiet);        // the plots of a sweep (summary.csv)
 int plot_calibration_dir(const std::string& dir, bool quiet);  // calibration.png (calibration.json)
-// What the folder holds: a calibration's plot and its sweep's, a sweep's, or a damper's.
+int plot_device_study_dir(const std::string& dir, bool quiet); // sweep_numbers.png of a device study
+// What the folder holds: a calibration's plot and its sweep's, a device study's, a sweep's, a
+// device run's or a damper's.
 int plot_dir(const std::string& dir, bool quiet);
 
 }  // namespace vpp

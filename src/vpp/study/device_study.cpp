@@ -15,6 +15,7 @@
 #include "scene/build_info.h"
 #include "scene/config.h"
 #include "scene/scene_runner.h"
+#include "vpp/analysis/stats.h"
 #include "vpp/device/run.h"
 
 namespace vpp {
@@ -113,6 +114,44 @@ std::string summary_csv(const DeviceStudy& s, const DeviceSweepResult& r) {
         t += o.status;
         t += ',';
         t += dem::csv_text(o.message);
+        t += '\n';
+    }
+    return t;
+}
+
+// summary_cases.csv: a row per case over its seeds, as a damper study's (docs/studies.md,
+// "Outputs"): case, seeds (its runs), ok (finished), then per number Q of summary.csv
+// Q_n,Q_mean,Q_sd,Q_ci95 (the finished runs that have Q, their mean, sample standard deviation
+// and the half width of the 95% Student-t interval; sd and ci95 empty for n < 2, all three for
+// n = 0), then folders (the runs' folders, ';'-separated).
+std::string cases_csv(const DeviceStudy& s, const DeviceSweepResult& r) {
+    std::string t = "case,seeds,ok";
+    for (const std::string& q : device_study_numbers()) t += "," + q + "_n," + q + "_mean," + q + "_sd," + q + "_ci95";
+    t += ",folders\n";
+    for (std::size_t c = 0; c < s.cases.size(); ++c) {
+        std::size_t runs = 0, ok = 0;
+        std::string folders;
+        for (std::size_t i = 0; i < r.runs.size(); ++i) {
+            if (r.runs[i].case_index != c) continue;
+            ++runs;
+            ok += r.outcomes[i].status == "ok";
+            folders += (folders.empty() ? "" : ";") + r.runs[i].folder;
+        }
+        t += dem::csv_text(s.cases[c].name) + "," + std::to_string(runs) + "," + std::to_string(ok);
+        for (std::size_t k = 0; k < device_study_numbers().size(); ++k) {
+            std::vector<double> x;
+            for (std::size_t i = 0; i < r.runs.size(); ++i)
+                if (r.runs[i].case_index == c && r.outcomes[i].status == "ok" && k < r.outcomes[i].numbers.size())
+                    x.push_back(r.outcomes[i].numbers[k]);
+            const Interval iv = mean_interval(x);  // the finite values: a number the run lacks is NaN
+            for (const std::string& field :
+                 {std::to_string(iv.n), dem::csv_number(iv.mean), dem::csv_number(iv.sd), dem::csv_number(iv.half)}) {
+                t += ',';
+                t += field;
+            }
+        }
+        t += ',';
+        t += dem::csv_text(folders);
         t += '\n';
     }
     return t;
@@ -240,6 +279,7 @@ DeviceSweepResult run_device_study(const DeviceStudy& s, const DeviceSweepOption
     }
     const std::string table = summary_csv(s, r);
     dem::write_text_atomic((out / "summary.csv").string(), table);
+    dem::write_text_atomic((out / "summary_cases.csv").string(), cases_csv(s, r));
     if (!opt.publish.empty()) {
         std::size_t published = 0;
         for (std::size_t i = 0; i < r.runs.size(); ++i) {
@@ -254,12 +294,12 @@ DeviceSweepResult run_device_study(const DeviceStudy& s, const DeviceSweepOption
                 publish_tools(from / "tools.csv", to / "tools.csv.gz");
             ++published;
         }
-        dem::copy_text_if_changed(out / "summary.csv", pub / "summary.csv");
+        for (const char* f : {"summary.csv", "summary_cases.csv"}) dem::copy_text_if_changed(out / f, pub / f);
         if (!opt.quiet) std::fprintf(stderr, "sweep: %zu finished run(s) published in %s\n", published, opt.publish.c_str());
     }
     if (!opt.quiet)
-        std::fprintf(stderr, "sweep: %zu of %zu run(s) finished, %d failed; %s\n", done, r.runs.size(), r.failed,
-                     (out / "summary.csv").string().c_str());
+        std::fprintf(stderr, "sweep: %zu of %zu run(s) finished, %d failed; %s, summary_cases.csv\n", done,
+                     r.runs.size(), r.failed, (out / "summary.csv").string().c_str());
     return r;
 }
 

@@ -3,9 +3,11 @@
 // seed 2, so a study cut short is balanced), each a `vppdem device` run into DIR/<case>_s<seed>/
 // (DIR/<case>/ without seeds) under the one resume rule (scene::resume_checkpoint): a finished
 // run (its summary.json at stage "done") is skipped, an interrupted one resumes from its
-// run.ckpt. The folder's table DIR/summary.csv; with a results folder, the small records of the
-// finished runs (summary.json, case.toml, build.json and tools.csv.gz: tools.csv from the press
-// on, six digits, gzip) published there, each through a temporary name.
+// run.ckpt. The folder's tables DIR/summary.csv (a row per run) and DIR/summary_cases.csv (a row
+// per case over its seeds: each number's n, mean, sd and 95% Student-t half width, as a damper
+// study's); with a results folder, the tables and the small records of the finished runs
+// (summary.json, case.toml, build.json and tools.csv.gz: tools.csv from the press on, six digits,
+// gzip) published there, each through a temporary name.
 #pragma once
 
 #include <string>
@@ -52,10 +54,10 @@ struct DeviceSweepResult {
     int failed = 0;
 };
 
-// Runs (or resumes) the study into opt.out_dir and writes its summary.csv (and publishes). A
-// run that fails is an outcome (its folder's FAILED marker says why); the others go on. Throws
-// cfg::ConfigError before anything runs for a folder that holds another build's runs (without
-// mix_builds) or a run of other settings (its case.toml).
+// Runs (or resumes) the study into opt.out_dir and writes its summary.csv and summary_cases.csv
+// (and publishes). A run that fails is an outcome (its folder's FAILED marker says why); the
+// others go on. Throws cfg::ConfigError before anything runs for a folder that holds another
+// build's runs (without mix_builds) or a run of other settings (its case.toml).
 DeviceSweepResult run_device_study(const DeviceStudy& s, const DeviceSweepOptions& opt);
 
 }  // namespace vpp

@@ -400,6 +400,10 @@ DeviceStudy load_device_study(const std::string& path, const std::vector<std::st
         return out;
     };
     if (const toml::node* st = root.get("set")) s.set = overrides(*st, "[set]");
+    // The keys of the file's [set]: a case that gives one again is refused, as a damper study
+    // refuses a key in both [set] and [grid] (the case's value would silently win).
+    std::set<std::string> set_keys;
+    for (const std::string& o : s.set) set_keys.insert(o.substr(0, o.find('=')));
     for (const std::string& x : extra_sets) s.set.push_back(x);
     const toml::node* cs = root.get("cases");
     if (!cs || !cs->as_table() || cs->as_table()->empty())
@@ -419,6 +423,9 @@ DeviceStudy load_device_study(const std::string& path, const std::vector<std::st
         if (!v.as_table())
             throw ConfigError(where + "'cases." + c.name + "' must be a table [cases." + c.name + "] of device keys");
         c.set = overrides(v, "[cases." + c.name + "]");
+        for (const std::string& o : c.set)
+            if (const std::string key = o.substr(0, o.find('=')); set_keys.count(key))
+                throw ConfigError(where + "key '" + key + "' is in both [set] and [cases." + c.name + "]");
         in_order.emplace_back(v.source().begin.line, std::move(c));
     }
     std::stable_sort(in_order.begin(), in_order.end(), [](const auto& a, const auto& b) { return a.first < b.first; });

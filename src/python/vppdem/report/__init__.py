@@ -15,7 +15,8 @@ records (docs/data/) or from run folders. From the shell:
                      (docs/data/paper_velocity_cycle1.csv, scripts/trust_studies.sh)
     friction_split   the dissipation split against grain friction (docs/energy_split_friction.png)
     foil             a foil VTK frame rendered to PNG (docs/envelope_0.01MPa.png)
-    device           docs/devices.md's study tables and figures (after scripts/device_study.sh)
+    device           docs/devices.md's study tables and figures (after scripts/device_study.sh), or
+                     any device study's folder: FOLDER/device_report.md and .png
     device_slices    side views of a device run's VTK frames (docs/devices_gripper.png)
     membrane_cylinder  the damper's W with the lattice foil against the mesh foil (docs/data/membrane_cylinder/report.md)
 
@@ -36,7 +37,7 @@ REPORTS = {
     "paper_velocity_cycle1": ("paper_velocity_cycle1", "cycle 1 at the paper's velocity beside the velocity study's (VELOCITY_DIR PAPER_DIR [--seed S] [--out FILE])"),
     "friction_split": ("friction_split", "the dissipation split against grain friction (OUT.png DIR [DIR ...] [--cycle N])"),
     "foil": ("foil", "a foil VTK frame rendered to PNG (FRAME.vtk OUT.png [--title TEXT])"),
-    "device": ("device", "docs/devices.md's tables and figures of a device study, its trends table and rules (gripper | gripper_pour | beam | trends)"),
+    "device": ("device", "docs/devices.md's tables and figures of a device study, its trends table and rules (gripper | gripper_pour | beam | trends), or any device study's folder's report (FOLDER [--out DIR] [--test Welch|paired])"),
     "device_slices": ("device_slices", "side views of a device run (OUT.png FRAME.vtk ... [--titles T] [--sphere R])"),
     "membrane_cylinder": ("membrane_cylinder", "the lattice foil's W against the mesh foil's (DATA: docs/data/membrane_cylinder)"),
 }

@@ -7,11 +7,21 @@ docs/devices_<study>_study.png and writes the table into docs/devices.md between
 <!-- device_report:<study> begin --> and <!-- ... end -->.
 
 usage: python3 -m vppdem.report device gripper|gripper_pour|beam|trends
+       python3 -m vppdem.report device FOLDER [--out DIR] [--test Welch|paired]
 
     python3 -m vppdem.report device gripper
     python3 -m vppdem.report device gripper_pour   # the pour against the gripper's dp50
     python3 -m vppdem.report device beam
     python3 -m vppdem.report device trends         # only the trends table and the rules section
+    python3 -m vppdem.report device out/my_study   # any device study's folder (study_report)
+
+A FOLDER (any device study's: the --out or the --publish folder of `vppdem sweep STUDY.toml`; a
+path, so ./beam for a folder named like a shipped study) gets study_report(): from its summary.csv
+(else from its run folders' summary.json at stage done, <case>_s<seed>/ or <case>/), per case the
+finished runs, the mean and 95% Student-t half width of every number the runs have, the difference
+of each case from the first (Welch by default; --test paired pairs the seeds), written to
+DIR/device_report.md with its figure DIR/device_report.png (DIR: --out, default FOLDER); the page's
+path printed. Exit 2 naming what is wrong for a folder without finished runs.
 
 Every study's run also rewrites, from the records of all three studies, the table "Beside the
 published trends" (between <!-- device_report:trends begin/end -->) and the page's "Decision
@@ -19,6 +29,7 @@ rules" (<!-- device_report:rules begin/end -->). Every statement of an effect an
 there is vppdem.report.rules' (paired or Welch differences, the direction rule, the equivalence
 rule, label() for what no run measures).
 """
+import argparse
 import csv
 import gzip
 import json
@@ -35,6 +46,8 @@ import numpy as np  # noqa: E402
 
 from . import rules, source_dir  # noqa: E402
 from .stats import interval  # noqa: E402
+from .. import plot as vplot  # noqa: E402
+from .. import records  # noqa: E402
 
 ROOT = source_dir()
 OBJECT_TOP = 0.006  # [m] the gripper's object: a sphere of 6 mm radius centred at z = 0
@@ -627,9 +640,169 @@ def trends():
     return True
 
 
+# ---------------------------------------------------------------------------------------------
+# Any device study's folder (issue 61, item 2): its cases' numbers with their intervals.
+
+SHIPPED = ("gripper", "gripper_pour", "beam", "trends")
+
+
+class StudyError(ValueError):
+    """A folder the study report cannot read: the message names the folder and what is wrong."""
+
+
+def study_runs(folder):
+    """(source, numbers, {case: [{"seed": s, "folder": f, number: value or None}]}) of a device
+    study's folder: from summary.csv (its rows of status ok, its number columns between
+    case,seed,folder and status), else from the run folders' summary.json at stage done (case and
+    seed from the folder's name, <case>_s<seed> or <case>; the numbers of vppdem.plot.DEVICE_NUMBERS).
+    Cases in the table's order (file order), else by name."""
+    path = os.path.join(folder, "summary.csv")
+    runs = {}
+    if os.path.isfile(path):
+        header, rows = records.read_table(path)
+        if header[:3] != ["case", "seed", "folder"] or "status" not in header:
+            raise StudyError(f"{path}: not a device study's table (expected case,seed,folder, its numbers, status; "
+                             f"columns: {', '.join(header)})")
+        numbers = header[3:header.index("status")]
+        for r in rows:
+            if r.get("status") != "ok":
+                continue
+            seed = records.finite_number(r.get("seed"))
+            run = {"seed": int(seed) if seed is not None else 0, "folder": r["folder"]}
+            run.update({q: records.finite_number(r.get(q)) for q in numbers})
+            runs.setdefault(r["case"], []).append(run)
+        return "summary.csv", numbers, runs
+    numbers = list(vplot.DEVICE_NUMBERS)
+    for d in sorted(os.listdir(folder)) if os.path.isdir(folder) else []:
+        p = os.path.join(folder, d, "summary.json")
+        if not os.path.isfile(p):
+            continue
+        try:
+            with open(p) as f:
+                js = json.load(f)
+        except (OSError, ValueError):
+            continue
+        if not isinstance(js, dict) or js.get("stage") != "done":
+            continue
+        m = re.match(r"(.+)_s(\d+)$", d)
+        run = {"seed": int(m.group(2)) if m else 0, "folder": d}
+        run.update({q: records.finite_number(js.get(q)) for q in numbers})
+        runs.setdefault(m.group(1) if m else d, []).append(run)
+    return "the run folders' summary.json", numbers, runs
+
+
+def study_stats(runs, numbers):
+    """{number: {case: (n, mean, sd, half width)}} (vppdem.report.stats.interval) of the numbers a
+    finished run has; a number with no value in any run is left out."""
+    out = {}
+    for q in numbers:
+        per = {c: interval([r[q] for r in rs]) for c, rs in runs.items()}
+        if any(v[0] for v in per.values()):
+            out[q] = per
+    return out
+
+
+def study_report(folder, out=None, test="Welch", command=None):
+    """DIR/device_report.md and DIR/device_report.png of any device study's folder (DIR: out, default
+    the folder): per case the finished runs and each number's mean with its 95% Student-t half
+    width, then each case's difference from the first case by `test` ("Welch": independent samples;
+    "paired": seed by seed). Returns the page's path; StudyError for a folder without finished runs."""
+    folder = os.fspath(folder)
+    out = os.fspath(out) if out else folder
+    if not os.path.isdir(folder):
+        raise StudyError(f"'{folder}': no such folder")
+    try:
+        source, numbers, runs = study_runs(folder)
+    except records.RecordError as e:
+        raise StudyError(str(e)) from None
+    if not runs:
+        raise StudyError(f"'{folder}': no finished run (a device study's folder holds summary.csv, or run folders "
+                         "<case>_s<seed>/ with summary.json at stage done)")
+    stats = study_stats(runs, numbers)
+    cases = list(runs)
+    # The figure's numbers: those whose runs differ; the others named once.
+    per = {q: {c: (st[1], st[3] if math.isfinite(st[3]) else None, [r[q] for r in runs[c] if r[q] is not None])
+               for c, st in stats[q].items() if st[0]} for q in stats}
+    varying, constant = vplot.split_constant(per)
+    name = os.path.basename(os.path.abspath(folder))
+    command = command or f"python3 -m vppdem.report device {folder}"
+    n_runs = sum(len(rs) for rs in runs.values())
+    seeds = sorted({r["seed"] for rs in runs.values() for r in rs})
+
+    def cell(st, scale):
+        n, m, _, h = st
+        return fmt(m, h, 3, scale) if n else "-"
+
+    lines = [f"# Device study `{name}`", "",
+             f"Made by `{command}` from {source} of `{folder}` ({n_runs} finished runs: {len(cases)} cases, "
+             + (f"seeds {', '.join(map(str, seeds))}" if seeds != [0] else "the device file's seed") +
+             "). Mean ± the 95% Student-t half-width over the seeds "
+             "(vppdem.report.stats, as summary_cases.csv); n: the finished runs of the case (a number fewer runs "
+             "have says its own n).", ""]
+    heads = [(q,) + vplot.device_number_label(q) for q in varying]
+    lines.append("| case | n | " + " | ".join(h[1] for h in heads) + " |")
+    lines.append("|---|---|" + "---|" * len(heads))
+    for c in cases:
+        n = len(runs[c])
+        cells = []
+        for q, _, scale in heads:
+            st = stats[q][c]
+            cells.append(cell(st, scale) + (f" (n = {st[0]})" if 0 < st[0] < n else ""))
+        lines.append(f"| `{c}` | {n} | " + " | ".join(cells) + " |")
+    if constant:
+        text = vplot.constant_text(constant)
+        lines += ["", text[0].upper() + text[1:] + "."]
+    if len(cases) > 1 and heads:
+        ref = cases[0]
+        how = ("independent samples: Welch's t, valid whether or not a seed's cases share their fill" if test == "Welch"
+               else "paired by seed: Student's t on the per-seed differences, for cases that share a seed's fill")
+        lines += ["", f"Each case against `{ref}` ({how}; 95%; resolved: 0 outside the interval, "
+                  "vppdem.report.rules):", "",
+                  "| difference | " + " | ".join(h[1] for h in heads) + " |", "|---|" + "---|" * len(heads)]
+        for c in cases[1:]:
+            cells = []
+            for q, _, scale in heads:
+                a = {r["seed"]: r[q] for r in runs[ref] if r[q] is not None}
+                b = {r["seed"]: r[q] for r in runs[c] if r[q] is not None}
+                cells.append(dtext(rules.difference(test, a, b), ".3g", scale=scale) if a and b else "-")
+            lines.append(f"| `{c}` - `{ref}` | " + " | ".join(cells) + " |")
+    os.makedirs(out, exist_ok=True)
+    fig = vplot.device_numbers_figure(name, cases, {q: per[q] for q in varying}, True)
+    fig.savefig(os.path.join(out, "device_report.png"), dpi=110)
+    lines += ["", "![the study](device_report.png)", ""]
+    page = os.path.join(out, "device_report.md")
+    with open(page, "w") as f:
+        f.write("\n".join(lines))
+    return page
+
+
 def main(argv=None):
     args = sys.argv[1:] if argv is None else list(argv)
-    study = args[0] if args else "gripper"
+    ap = argparse.ArgumentParser(
+        prog="vppdem.report device",
+        description="docs/devices.md's tables and figures of a shipped device study (gripper, gripper_pour, beam; "
+                    "trends: only the trends table and the rules section), or the report of any device study's "
+                    "folder: DIR/device_report.md and DIR/device_report.png.")
+    ap.add_argument("study", nargs="?", default="gripper",
+                    help="gripper, gripper_pour, beam or trends (default gripper), or a device study's folder (the "
+                         "--out or --publish folder of `vppdem sweep`; ./NAME for a folder named like a shipped study)")
+    ap.add_argument("--out", metavar="DIR", help="a folder's report: where to write it (default: the folder)")
+    ap.add_argument("--test", choices=("Welch", "paired"), default=None,
+                    help="a folder's report: the test of each case against the first (default Welch)")
+    a = ap.parse_args(args)
+    if a.study not in SHIPPED:
+        if not os.path.isdir(a.study):
+            ap.error(f"'{a.study}' is neither a shipped study ({', '.join(SHIPPED)}) nor a folder")
+        try:
+            print(study_report(a.study, a.out, a.test or "Welch"))
+        except StudyError as e:
+            print(f"vppdem.report device: {e}", file=sys.stderr)
+            return 2
+        return 0
+    if a.out or a.test:
+        ap.error(f"--out and --test are for a study's folder, not the shipped study '{a.study}' (its report writes "
+                 "docs/devices.md)")
+    study = a.study
     if study != "trends":
         runs = load(study)
         stats = {"gripper": gripper, "gripper_pour": gripper_pour, "beam": beam}[study](runs)
