@@ -15,7 +15,7 @@
 using namespace dem;
 using namespace dem::testing;
 
-namespace {
+namespace energy_test {
 
 constexpr double kR0 = 0.01;
 constexpr double kYoung = 1e7;
@@ -119,7 +119,6 @@ EnergyRun run_gas(double mu, int steps, int sample_every) {
     return r;
 }
 
-}  // namespace
 
 // mu = 0: E(t) = E0 within 1% at every sample over 40000 steps (~hundreds of collisions).
 // Expected deviation: leapfrog energy ripple ~ (w dt)^2 / 8 with w dt <= 0.03*sqrt(2) -> ~1e-4.
@@ -144,3 +143,5 @@ TEST(PhysicsEnergy, FrictionalGasNeverGainsEnergy) {
     EXPECT_LT(r.max_rel_increase, 0.01);
     EXPECT_LT(r.e_end, r.e0);  // friction dissipated something over hundreds of collisions
 }
+
+}  // namespace energy_test

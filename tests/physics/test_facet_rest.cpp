@@ -13,7 +13,7 @@
 using namespace dem;
 using namespace dem::testing;
 
-namespace {
+namespace facet_rest_test {
 
 constexpr double kR = 0.01;
 constexpr double kYoung = 1e6;
@@ -70,7 +70,6 @@ void check_rest(const std::string& name, Vec3 xy, int expected_region, bool one_
     EXPECT_LT(r.drift, 1e-12);
 }
 
-}  // namespace
 
 TEST(PhysicsFacetRest, OnFace) { check_rest("facet_face", {0.0, 0.3 * kA, 0}, 0); }
 
@@ -82,3 +81,5 @@ TEST(PhysicsFacetRest, OnVertex) { check_rest("facet_vertex", {kA, 0.0, 0}, 2); 
 
 // The same on a one-sided facet (the sphere is on its +normal side).
 TEST(PhysicsFacetRest, OnEdgeOneSided) { check_rest("facet_edge_one_sided", {0.0, 0.0, 0}, 1, true); }
+
+}  // namespace facet_rest_test

@@ -11,7 +11,7 @@
 using namespace dem;
 using namespace dem::testing;
 
-namespace {
+namespace incline_test {
 
 struct InclineResult {
     double accel = 0.0;    // [m/s^2] least-squares slope of v_x(t) over the window
@@ -61,7 +61,6 @@ InclineResult run_incline(double theta, double mu, int settle, int window) {
     return r;
 }
 
-}  // namespace
 
 // Rolling: tan 30deg = 0.577 < 7/2 * 0.5 = 1.75 (and < 7/4 mu = 0.875, so even the start-up
 // stick oscillation, whose friction peaks at twice the mean 2/7 m g sin th, never slips).
@@ -109,3 +108,5 @@ TEST(PhysicsIncline, ThresholdSeparatesRollingFromSliding) {
                          kG * (std::sin(th_slide) - mu * std::cos(th_slide)), 0.01),
               0.01);
 }
+
+}  // namespace incline_test

@@ -270,6 +270,24 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
         air.fail("pump_speed", "must be > 0 [m^3/s] with air.model = \"pump\" and an underpressure");
     air.finish();
 
+    // [suction] (vpp/device/suction.h): the seal between the membrane and result.object.
+    Section suc = top.table("suction");
+    d.suction.enabled = suc.boolean("enabled", false);
+    d.suction.gap = suc.number("gap", d.suction.gap);
+    // A film thinner than a molecule or thicker than the membrane's particles is no seal's.
+    if (!(d.suction.gap >= 1e-9 && d.suction.gap <= d.membrane.foil.particle_radius))
+        suc.fail("gap", "must be in [1e-9, membrane.particle_radius] [m]: the air film between membrane and object where they lie together");
+    d.suction.ambient = suc.number("ambient", kAtmosphericPressure);
+    if (!(d.suction.ambient > d.underpressure && d.suction.ambient <= 1e7))
+        suc.fail("ambient", "must be above stages.underpressure and at most 1e7 [Pa]: the surroundings' absolute pressure");
+    d.suction.capture = suc.number("capture", 0.0);
+    if (!(d.suction.capture >= 0.0 && d.suction.capture <= d.membrane.foil.particle_radius))
+        suc.fail("capture", "must be in [0, membrane.particle_radius] [m]: how far off the object a membrane particle's surface may be and still seal");
+    d.suction.viscosity = suc.number("viscosity", d.suction.viscosity);
+    if (!(d.suction.viscosity > 0.0 && d.suction.viscosity <= 1.0))
+        suc.fail("viscosity", "must be in (0, 1] [Pa s]: the gas's dynamic viscosity (air 1.8e-5), which sets the leak through the seal's rim");
+    suc.finish();
+
     Section out = top.table("output");
     read_numbers(out, "output", d);
     d.energy = out.boolean("energy", true);
@@ -308,6 +326,8 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     if (!d.clamp_tool.empty() && !names.count(d.clamp_tool))
         mem.fail("clamp_tool", "must name one of the [[tools]]");
     if (!d.object.empty() && !names.count(d.object)) res.fail("object", "must name one of the [[tools]]");
+    if (d.suction.enabled && d.object.empty())
+        res.fail("object", "must name the tool the membrane seals on when suction.enabled = true");
     if (!d.cycle_tool.empty()) {
         const DeviceTool* ct = nullptr;
         for (const DeviceTool& t : d.tools)
@@ -405,6 +425,15 @@ std::vector<std::pair<std::string, std::string>> device_inputs(const DeviceDef& 
     in.emplace_back("air.bleed_rate", json_number(d.air.line.bleed));
     in.emplace_back("air.leak_rate", json_number(d.air.line.leak));
     in.emplace_back("output.energy", d.energy ? "true" : "false");
+    // The suction's keys only with the suction on (the inputs of the runs before it, and so their
+    // checkpoints' identity, unchanged).
+    if (d.suction.enabled) {
+        in.emplace_back("suction.enabled", "true");
+        in.emplace_back("suction.gap", json_number(d.suction.gap));
+        in.emplace_back("suction.ambient", json_number(d.suction.ambient));
+        in.emplace_back("suction.capture", json_number(d.suction.capture));
+        in.emplace_back("suction.viscosity", json_number(d.suction.viscosity));
+    }
     static const char* kinds[] = {"move", "hold", "force", "cycle", "force_hold"};
     for (const DeviceTool& t : d.tools) {
         const std::string key = "tools." + t.name;

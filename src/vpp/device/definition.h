@@ -7,6 +7,7 @@
 //                move, hold, force, cycle segments, each in one stage)
 //   [stages]     the fill's settling time, the vacuum's underpressure, ramp and hold
 //   [air]        the air inside: held at the set dp (constant) or a sealed gas pumped down (pump)
+//   [suction]    the seal between the membrane and the object (vpp/device/suction.h)
 //   [simulation] time step, damping, gravity, seed, threads
 //   [output]     sampling of the records, the energy ledger
 //   [result]     which tool the holding force is measured on
@@ -24,6 +25,7 @@
 #include "dem/mesh/surface_mesh.h"
 #include "dem/world/tool.h"
 #include "scene/shared_keys.h"
+#include "vpp/device/suction.h"
 #include "vpp/membrane/membrane.h"
 #include "vpp/membrane/air.h"
 
@@ -100,6 +102,9 @@ struct DeviceDef {
 
     // [air]
     MembraneAirDef air;          // model (constant or pump) and the pump line
+
+    // [suction]
+    SuctionDef suction;          // the seal between the membrane and result.object (off by default)
 
     // [output]
     double sample_interval = 1e-3;  // [s] between rows of the records (forces averaged over it)

@@ -73,6 +73,9 @@ void DeviceRecorder::write_records(const DeviceScene& scene, const DeviceState& 
     write_table(out_ / "tools.csv", header, state.records.tools, tool_row_size(scene.tools.size()));
     write_table(out_ / "air.csv", "time,stage,enclosed_volume,gas_volume,dp", state.records.air, kAirColumns);
     if (scene.def.energy) write_table(out_ / "energy.csv", dem::energy_csv_header(), state.records.energy, kEnergyRowSize);
+    if (state.suction.on)
+        write_table(out_ / "suction.csv", "time,open,sealed,leaked,pressure_min,sealed_area,sealed_volume,force_z", state.suction.rows,
+                    kSuctionColumns);
     dem::write_text_atomic((out_ / "summary.json").string(), summary_json(scene, state, device_result(scene, state)));
 }
 

@@ -7,9 +7,22 @@
 
 namespace vpp::device_detail {
 
+std::size_t object_index(const DeviceScene& scene) {
+    for (std::size_t k = 0; k < scene.tools.size(); ++k)
+        if (scene.tools[k].name == scene.def.object) return k;
+    return scene.tools.size();
+}
+
+dem::Vec3 object_shift(const DeviceScene& scene) {
+    const std::size_t k = object_index(scene);
+    return k < scene.tools.size() ? dem::Vec3{0, 0, dem::tool_displacement(scene.world, scene.tools[k], scene.world.time)} : dem::Vec3{};
+}
+
 void add_tool_forces(const DeviceScene& scene, DeviceState& state) {
+    const std::size_t obj = state.suction.on ? object_index(scene) : scene.tools.size();
     for (std::size_t k = 0; k < scene.tools.size(); ++k) {
-        const dem::Vec3 f = dem::tool_force(scene.world, scene.tools[k]);
+        dem::Vec3 f = dem::tool_force(scene.world, scene.tools[k]);
+        if (k == obj) f += state.suction.last.object_force;  // the surroundings' push through the seal
         state.window.sums[3 * k] += f.x;
         state.window.sums[3 * k + 1] += f.y;
         state.window.sums[3 * k + 2] += f.z;
@@ -35,6 +48,11 @@ void record_sample(const DeviceScene& scene, DeviceState& state, DeviceStage sta
     state.window.steps = 0;
     const double v = scene.enclosed();
     state.records.air.insert(state.records.air.end(), {w.time, double(int(stage)), v, v - scene.grain_volume, w.pressure.dp});
+    if (state.suction.on) {
+        const SuctionStep& s = state.suction.last;
+        state.suction.rows.insert(state.suction.rows.end(), {w.time, double(s.open), double(s.sealed), double(s.leaked),
+                                                             s.pressure_min, s.sealed_area, s.sealed_volume, s.object_force.z});
+    }
 }
 
 void record_energy(const DeviceScene& scene, DeviceState& state) {

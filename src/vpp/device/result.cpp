@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "dem/io/json.h"
+#include "vpp/device/records.h"
 
 namespace vpp::device_detail {
 
@@ -116,6 +117,19 @@ DeviceResult device_result(const DeviceScene& scene, const DeviceState& state) {
     r.dt = scene.world.params.dt;
     r.samples = state.records.tools.size() / tool_row_size(scene.tools.size());
     add_object_forces(scene, state, r);
+    // The object's cross-section normal to the pull: its closed surface projected on the xy plane,
+    // half the sum of |A_z| over its facets.
+    const std::size_t obj = object_index(scene);
+    if (obj < scene.tools.size())
+        for (uint32_t k = scene.tools[obj].facet0; k < scene.tools[obj].facet1; ++k) {
+            const auto& v = scene.world.facets[k].vertices;
+            r.object_area += 0.25 * std::abs(cross(v[1] - v[0], v[2] - v[0]).z);
+        }
+    if (scene.def.underpressure > 0 && r.object_area > 0) r.holding_ratio = r.holding_force / (scene.def.underpressure * r.object_area);
+    const std::vector<double>& suction = state.suction.rows;
+    for (std::size_t s = 0; s + kSuctionColumns <= suction.size(); s += kSuctionColumns)
+        r.suction_force_max = std::max(r.suction_force_max, suction[s + kSuctionColumns - 1]);
+    r.seal_area = reported(state, "seal_area");
     add_cycles(scene, state, r);
     r.volume_seal = reported(state, "volume_seal");
     r.volume_vacuum = reported(state, "volume_vacuum");
@@ -147,6 +161,8 @@ std::string summary_json(const DeviceScene& scene, const DeviceState& state, con
         .num("holding_force", r.holding_force)
         .num("holding_time", r.holding_time)
         .num("press_force", r.press_force)
+        .num("object_area", r.object_area)
+        .num("holding_ratio", r.holding_ratio)
         .num("underpressure", def.underpressure)
         .num("volume_seal", r.volume_seal)
         .num("volume_vacuum", r.volume_vacuum)
@@ -182,8 +198,12 @@ std::string summary_json(const DeviceScene& scene, const DeviceState& state, con
         .num("packing_vacuum", r.volume_vacuum > 0 ? scene.grain_volume / r.volume_vacuum : 0.0)
         .num("energy_residual", r.energy_residual)
         .num("energy_scale", r.energy_scale)
-        .raw("warnings", dem::json_string_array(r.warnings))
-        .raw("inputs", inputs.value());
+        .raw("warnings", dem::json_string_array(r.warnings));
+    if (def.suction.enabled)
+        j.num("suction_force_max", r.suction_force_max)
+            .num("seal_area", r.seal_area)
+            .num("seal_particles", reported(state, "seal_particles"));
+    j.raw("inputs", inputs.value());
     return j.text();
 }
 

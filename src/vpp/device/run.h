@@ -50,6 +50,10 @@ struct DeviceResult {
     double holding_force = 0;       // [N] largest pull (+z force of the particles) on result.object in the load stage
     double holding_time = 0;        // [s] when it was recorded
     double press_force = 0;         // [N] largest push (-F_z) on result.object before the load stage
+    double object_area = 0;         // [m^2] result.object's cross-section normal to the pull (its projection on the xy plane)
+    double holding_ratio = 0;       // [-] holding_force / (stages.underpressure x object_area): Brown et al.'s measure (0 without dp)
+    double suction_force_max = 0;   // [N] the largest pull of the suction's seal on the object (suction.enabled)
+    double seal_area = 0;           // [m^2] the seal's footprint on the object at the load stage's start (suction.enabled)
     double volume_seal = 0;         // [m^3] enclosed by the membrane at the seal
     double volume_vacuum = 0;       // [m^3] at the end of the vacuum stage
     double volume_change = 0;       // [-] (volume_vacuum - volume_seal) / volume_seal: the press's and the vacuum's

@@ -21,6 +21,9 @@ bool step(DeviceScene& scene, DeviceState& state, StageServices& services, Devic
         done = dem::drive_tool(w, scene.tools[k], state.tools[k], int32_t(stage)) && done;
     if (state.sealed) membrane_air_step(w, scene.membrane, scene.grain_volume, dp_set, scene.def.air, state.gas);
     w.compute_forces();
+    if (state.suction.on)  // sets the footprint's ext_force, which integrate() applies and the ledger books
+        state.suction.last = step_seal(state.suction.seal, w.particles.pos, object_shift(scene), w.params.dt, scene.def.suction,
+                                       w.particles.ext_force);
     add_tool_forces(scene, state);
     const bool sample = sample_due(scene, state);
     if (sample) record_sample(scene, state, stage);
@@ -37,6 +40,30 @@ bool step(DeviceScene& scene, DeviceState& state, StageServices& services, Devic
 }
 
 namespace {
+
+// The suction's seal on result.object from the membrane as it lies at the load stage's start
+// (vpp/device/suction.h); a warning where the membrane does not touch the object.
+void capture_suction(DeviceScene& scene, DeviceState& state, StageServices& services) {
+    dem::World& w = scene.world;
+    const dem::Tool& t = scene.tools[object_index(scene)];
+    // The facets at their build positions: capture_seal adds the object's translation.
+    const std::vector<dem::Facet> facets(w.facets.begin() + t.facet0, w.facets.begin() + t.facet1);
+    state.suction.seal = capture_seal(w.pressure.fans, w.particles.pos, scene.def.membrane.foil.particle_radius, facets,
+                                      object_shift(scene), scene.def.suction);
+    state.suction.on = 1;
+    if (w.particles.ext_force.size() != w.particles.size()) w.particles.ext_force.assign(w.particles.size(), Vec3{});
+    double area = 0;
+    for (double a : state.suction.seal.area) area += a;
+    state.report["seal_particles"] = double(state.suction.seal.particle.size());
+    state.report["seal_area"] = area;
+    char msg[200];
+    std::snprintf(msg, sizeof msg, "load: the membrane seals on '%s' over %zu particles (%.4g m^2)", scene.def.object.c_str(),
+                  state.suction.seal.particle.size(), area);
+    services.log(msg);
+    if (state.suction.seal.particle.empty())
+        services.warn(state, "suction: the membrane does not touch result.object '" + scene.def.object +
+                                 "' at the load stage's start: no seal, no suction (press it on further: the press segment's force or travel)");
+}
 
 // Pour: the grains that missed the bag (or spilled over its rim) and fell below it would fall for
 // ever and keep the pour from coming to rest: retired, counted (report "grains_spilled").
@@ -134,6 +161,7 @@ void tools(DeviceScene& scene, DeviceState& state, StageServices& services, Devi
     scene::Progress prog(device_stage_name(stage), uint64_t(longest / w.params.dt) + 1, services.options().quiet);
     uint64_t n = 0;
     const double dp = state.sealed && stage > DeviceStage::Vacuum ? def.underpressure : 0.0;
+    if (stage == DeviceStage::Load && def.suction.enabled && !state.suction.on) capture_suction(scene, state, services);
     // The load stage ends early once the object has carried no force for result.release_time
     // (it has let go: the rest of the lift would record zeros).
     const dem::Tool* obj = nullptr;
@@ -164,7 +192,8 @@ void tools(DeviceScene& scene, DeviceState& state, StageServices& services, Devi
         if (done) break;
         prog.update(++n, w.time);
         if (!obj) continue;
-        state.at.free_steps = dem::tool_force(w, *obj) == Vec3{} ? state.at.free_steps + 1 : 0;
+        const Vec3 held = dem::tool_force(w, *obj) + (state.suction.on ? state.suction.last.object_force : Vec3{});
+        state.at.free_steps = held == Vec3{} ? state.at.free_steps + 1 : 0;
         if (double(state.at.free_steps) * w.params.dt >= def.release_time) {
             char msg[160];
             std::snprintf(msg, sizeof msg, "load: the object '%s' let go; the load stage ends at t = %.6g s", def.object.c_str(), w.time);

@@ -5,7 +5,8 @@
 
 namespace vpp::device_detail {
 
-// The blob's layout: one section "DEVS", its fields in this order (the checkpoint format).
+// The blob's layout: the section "DEVS", its fields in this order (the checkpoint format), then,
+// only where the suction's seal is on, "SUCT" (a checkpoint without it resumes as before).
 template <class A, class S> void DeviceState::fields(A& a, S& r) {
     a.section("DEVS", [&](A& s) {
         s.pod(r.at.stage);
@@ -25,6 +26,11 @@ template <class A, class S> void DeviceState::fields(A& a, S& r) {
         s.pod(r.at.free_steps);
         s.pod(r.at.tools_done);
         s.pod(r.vtk_frames);
+    });
+    a.optional_section("SUCT", r.suction.on != 0, [&](A& s) {
+        s.pod(r.suction.on);
+        SuctionSeal::fields(s, r.suction.seal);
+        s.vec(r.suction.rows);
     });
 }
 

@@ -21,6 +21,8 @@ namespace vpp::device_detail {
 constexpr std::size_t kToolColumns = 4;  // tools.csv per tool: z, fx, fy, fz (after time, stage)
 constexpr std::size_t kAirColumns = 5;   // air.csv: time, stage, enclosed, gas, dp
 constexpr std::size_t kEnergyRowSize = dem::kEnergyColumns.size();  // energy.csv (dem/io/energy_columns.h)
+// suction.csv: time, open, sealed, leaked, pressure_min, sealed_area, sealed_volume, force_z
+constexpr std::size_t kSuctionColumns = 8;
 
 // [-] the columns of a tools.csv row for `tools` tools
 inline std::size_t tool_row_size(std::size_t tools) { return 2 + kToolColumns * tools; }
@@ -48,6 +50,16 @@ struct Records {
     std::vector<double> energy;  // energy.csv (kEnergyRowSize)
 };
 
+// The suction (suction.enabled, vpp/device/suction.h): the seal on result.object, captured at the
+// load stage's start, and the rows of suction.csv; `last` is the seal's latest step (not in the
+// checkpoint: every step recomputes it before it is read).
+struct SuctionState {
+    int32_t on = 0;                // the seal is captured and stepped
+    SuctionSeal seal;
+    std::vector<double> rows;      // suction.csv (kSuctionColumns)
+    SuctionStep last;
+};
+
 struct DeviceState {
     StagePosition at;
     int32_t sealed = 0;                    // pressure fans and air on
@@ -62,6 +74,7 @@ struct DeviceState {
     std::vector<std::string> warnings;     // every warning of the run so far (a resumed run's too)
     std::string inputs;                    // the device's inputs (inputs_text) the run was started with
     int64_t vtk_frames = 0;                // [-] frames written at output.vtk_interval
+    SuctionState suction;                  // in a section of its own that only such runs' checkpoints have
 
     // The checkpoint's app blob, bit for bit what load() reads back.
     std::string save() const;

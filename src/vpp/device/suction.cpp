@@ -82,63 +82,70 @@ SuctionSeal capture_seal(const dem::PressureFans& fans, const std::vector<Vec3>&
     return s;
 }
 
-SuctionStep step_seal(SuctionSeal& s, const std::vector<Vec3>& pos, const Vec3& u, const SuctionDef& d,
+SuctionStep step_seal(SuctionSeal& s, const std::vector<Vec3>& pos, const Vec3& u, double dt, const SuctionDef& d,
                       std::vector<Vec3>& ext_force) {
     SuctionStep r;
     r.pressure_min = d.ambient;
     const std::size_t m = s.particle.size();
     const Vec3 shift = u - s.u0;
-    std::vector<double> volume(m);
+    std::vector<double> volume(m), gap(m);
     std::vector<uint8_t> open(m);
     for (std::size_t i = 0; i < m; ++i) {
-        const double g = s.gap0[i] + dot(pos[s.particle[i]] - s.x0[i] - shift, s.normal[i]);
+        gap[i] = s.gap0[i] + dot(pos[s.particle[i]] - s.x0[i] - shift, s.normal[i]);
         // Open: off the surface by more than a hundredth of the film (a separation within the film's
         // roughness, or a rounding of the positions, does not open the seal).
-        open[i] = g > 0.01 * d.gap;
-        volume[i] = s.area[i] * (d.gap + std::max(g, 0.0));
+        open[i] = gap[i] > 0.01 * d.gap;
+        volume[i] = s.area[i] * (d.gap + std::max(gap[i], 0.0));
         ext_force[s.particle[i]] = Vec3{};
         r.open += open[i];
     }
     // The pockets: open particles connected through the one-rings, in footprint order (a
     // deterministic traversal: the same pockets and sums for any thread count).
-    std::vector<int32_t> pocket(m, -1);
+    std::vector<uint8_t> seen(m, 0);
     std::vector<uint32_t> members, stack;
-    for (std::size_t seed = 0; seed < m; ++seed) {
-        if (!open[seed] || pocket[seed] >= 0) continue;
+    const double pa2 = d.ambient * d.ambient;
+    for (std::size_t first = 0; first < m; ++first) {
+        if (!open[first] || seen[first]) continue;
         members.clear();
-        stack.assign(1, uint32_t(seed));
-        pocket[seed] = int32_t(seed);
-        bool leaks = false;
+        stack.assign(1, uint32_t(first));
+        seen[first] = 1;
         while (!stack.empty()) {
             const uint32_t i = stack.back();
             stack.pop_back();
             members.push_back(i);
-            leaks = leaks || s.rim[i];
             for (uint32_t e = s.start[i]; e < s.start[i + 1]; ++e) {
                 const uint32_t j = s.next[e];
-                if (open[j] && pocket[j] < 0) {
-                    pocket[j] = int32_t(seed);
+                if (open[j] && !seen[j]) {
+                    seen[j] = 1;
                     stack.push_back(j);
                 }
             }
         }
         std::sort(members.begin(), members.end());  // sums in footprint order
-        if (leaks) {
-            for (uint32_t i : members) s.air[i] = d.ambient * volume[i];
-            r.leaked += members.size();
-            continue;
-        }
-        double air = 0, v = 0;
+        double air = 0, v = 0, leak = 0;
         for (uint32_t i : members) {
             air += s.air[i];
             v += volume[i];
+            if (s.rim[i]) leak += gap[i] * gap[i] * gap[i];  // sum of h^3 over the pocket's slits to the outside
         }
+        // The leak: isothermal viscous flow through each open rim particle's slit (gap h, as wide
+        // as it is long): d(pV)/dt = h^3 (p_amb^2 - p^2) / (24 mu) (plane Poiseuille flow of a
+        // gas), explicit over the step and never past the ambient pressure.
+        const double p_old = air / v;
+        const double inflow = dt * leak * (pa2 - p_old * p_old) / (24.0 * d.viscosity);
+        air = p_old < d.ambient ? std::min(air + inflow, d.ambient * v) : std::max(air + inflow, d.ambient * v);
         const double p = air / v;
         r.pressure_min = std::min(r.pressure_min, p);
-        r.sealed_volume += v;
-        r.sealed += members.size();
+        if (p >= d.ambient * (1.0 - 1e-9)) {
+            r.leaked += members.size();
+        } else {
+            r.sealed += members.size();
+            r.sealed_volume += v;
+        }
+        const bool below = p < d.ambient * (1.0 - 1e-9);  // a refilled pocket pulls nothing (not a rounding's 1e-16 N)
         for (uint32_t i : members) {
             s.air[i] = p * volume[i];
+            if (!below) continue;
             r.sealed_area += s.area[i];
             const Vec3 f = s.normal[i] * ((d.ambient - p) * s.area[i]);
             ext_force[s.particle[i]] = -f;  // toward the object

@@ -13,20 +13,26 @@
 //   open     g_i > h0 / 100: the particle has left the object's surface; closed ones touch it and seal.
 //   volume   V_i = a_i (h0 + max(g_i, 0)): a_i the particle's tributary area, h0 the air film
 //            trapped between membrane and object where they lie together (`gap`).
-//   pockets  the open particles connected through the membrane's one-rings. A pocket with a
-//            particle on the footprint's rim (a neighbour off the footprint) is open to the
-//            surroundings (a leak): its air is at the ambient pressure. A pocket ringed by
-//            closed particles is sealed: its air p V = sum of its elements' p_i V_i is conserved
-//            and spread at one pressure p over the pocket (isothermal: slow next to sound).
-//   force    each open particle of a sealed pocket is pulled toward the object by
+//   pockets  the open particles connected through the membrane's one-rings, each with one
+//            pressure p: its air p V (the sum of its elements' p_i V_i) spread over its volume
+//            (isothermal: slow next to sound). Closed particles seal; a pocket with open
+//            particles on the footprint's rim (a neighbour off the footprint) leaks through each
+//            of them as through a slit of height g_i, as wide as long, by plane Poiseuille flow
+//            of an isothermal gas: d(pV)/dt = g_i^3 (p_amb^2 - p^2) / (24 mu). A pocket of 10 mm^2
+//            opened 20 um refills through one rim slit 10 um high in about a millisecond, 1 um
+//            high in about a second: the seal holds while the rim hugs the object and fails
+//            once it lifts.
+//   force    each open particle of a pocket is pulled toward the object by
 //            (p_amb - p) a_i n_i, and the object toward it by the opposite (Newton's third law:
 //            the pair sums to zero). A closed particle keeps its element's air for when it opens.
 // The pull is bounded by p_amb a_i per particle; the membrane follows the object off the grains
 // once p_amb - p exceeds the vacuum's dp, which bounds the holding force from suction by about
 // dp times the sealed area, Brown et al.'s estimate.
-// Where the model stops: no leak through the membrane or along a closed contact (a seal holds
-// perfectly until its rim opens), no wrinkles finer than the membrane's particles, the gap's
-// air isothermal and without flow resistance.
+// Where the model stops: no leak through the membrane or along a closed contact (the rim's
+// open particles are the only way in), no wrinkles finer than the membrane's particles (a real
+// membrane's wrinkles open channels at the rim), one pressure over a pocket (no flow resistance
+// inside it), isothermal air; the footprint is fixed at the capture (a membrane that rolls
+// onto the object later does not join the seal).
 #pragma once
 
 #include <cstddef>
@@ -44,6 +50,7 @@ struct SuctionDef {
     double gap = 1e-5;        // [m] h0: the air film between membrane and object where they lie together
     double ambient = 101325;  // [Pa] the surroundings' absolute pressure
     double capture = 0.0;     // [m] footprint: particles whose surface is within this of the object's (0: touching)
+    double viscosity = 1.8e-5;  // [Pa s] of the air (20 C): the leak through the rim
 };
 
 // The footprint and its air, captured once (capture_seal) and stepped (step_seal); the run's
@@ -78,7 +85,7 @@ struct SuctionStep {
     double pressure_min = 0;      // [Pa] absolute, the lowest pocket pressure (ambient when none is sealed)
     double sealed_volume = 0;     // [m^3] the sealed pockets' air
     double sealed_area = 0;       // [m^2] the open particles' area in sealed pockets
-    std::size_t open = 0, sealed = 0, leaked = 0;  // particles: open; of them in sealed / leaked pockets
+    std::size_t open = 0, sealed = 0, leaked = 0;  // particles: open; of them in pockets below / at the ambient pressure
 };
 
 // The footprint on `object` (its facets at translation `u`: vertices + u) among the nodes of
@@ -88,10 +95,11 @@ struct SuctionStep {
 SuctionSeal capture_seal(const dem::PressureFans& fans, const std::vector<dem::Vec3>& pos, double radius,
                          const std::vector<dem::Facet>& object, const dem::Vec3& u, const SuctionDef& d);
 
-// One step: the pockets from the positions `pos` and the object's translation `u` [m], their air
-// updated (sealed: spread at one pressure; leaked: ambient), and the forces: ext_force[i] of each
-// footprint particle set (zero unless open in a sealed pocket); the object's in the result.
-SuctionStep step_seal(SuctionSeal& s, const std::vector<dem::Vec3>& pos, const dem::Vec3& u, const SuctionDef& d,
+// One step of `dt` [s]: the pockets from the positions `pos` and the object's translation `u` [m],
+// their air spread at one pressure and refilled through the rim, and the forces: ext_force[i] of
+// each footprint particle set (zero unless open in a pocket below the ambient pressure); the
+// object's in the result.
+SuctionStep step_seal(SuctionSeal& s, const std::vector<dem::Vec3>& pos, const dem::Vec3& u, double dt, const SuctionDef& d,
                       std::vector<dem::Vec3>& ext_force);
 
 }  // namespace vpp
