@@ -25,7 +25,7 @@
 namespace vpp {
 
 struct DeviceOptions {
-    std::string out_dir;   // "" : nothing written
+    std::string out_dir;   // the output folder: required (an empty or blank one is refused, cfg::ConfigError naming --out)
     std::string from;      // a run.ckpt to resume ("" : DIR/run.ckpt when it exists, else a new run)
     bool quiet = false;
     bool overwrite = false;  // start afresh in a non-empty out_dir, replacing its files (its run.ckpt too)
