@@ -111,7 +111,8 @@ py::dict device_result(const vpp::DeviceResult& r, const vpp::DeviceDef& d) {
 }
 
 // `vppdem device FILE --out DIR`: runs (or resumes) the device; returns its result as a dict
-// (summary.json's numbers). The GIL is released while it steps.
+// (summary.json's numbers). It steps without the GIL, stoppable with Ctrl-C (run_stoppable: the
+// run stops at its next step with a checkpoint, and KeyboardInterrupt is raised).
 void def_device(py::module_& m) {
     m.def(
         "device",
@@ -126,11 +127,11 @@ void def_device(py::module_& m) {
             a.quiet = quiet;
             a.checkpoint_every = checkpoint_every;
             const vpp::DeviceCommand c = vpp::device_command(a);
-            vpp::DeviceResult r;
-            {
-                py::gil_scoped_release release;
-                r = vpp::run_device(c.device, c.options);
-            }
+            const vpp::DeviceResult r = run_stoppable(py::none(), [&](auto hook) {
+                vpp::DeviceOptions o = c.options;
+                o.stop = [hook] { return !hook(0, 0, std::string()); };  // a poll: no lock
+                return vpp::run_device(c.device, o);
+            });
             return device_result(r, c.device);
         },
         py::arg("file"), py::arg("out"), py::arg("sets") = std::vector<std::string>{}, py::arg("from_checkpoint") = "",
@@ -149,7 +150,8 @@ template <class Args> Args study_args(const std::string& study, const std::vecto
 }
 
 // `vppdem sweep`: returns the failed cases' count; progress and Ctrl-C through run_stoppable (a
-// device study's runs, one after the other, take no progress callback).
+// device study's runs, one after the other, take no progress callback; Ctrl-C stops the running
+// one with its checkpoint).
 void def_sweep(py::module_& m) {
     m.def(
         "sweep",
@@ -166,10 +168,12 @@ void def_sweep(py::module_& m) {
             a.report_only = report_only;  // vppdem sweep --report-only
             a.watched = !progress.is_none();
             const vpp::SweepCommand c = vpp::sweep_command(a);
-            if (c.device_study) {
-                py::gil_scoped_release release;
-                return vpp::run_device_study(*c.device_study, c.device_options).failed;
-            }
+            if (c.device_study)
+                return run_stoppable(py::none(), [&](auto hook) {
+                    vpp::DeviceSweepOptions o = c.device_options;
+                    o.stop = [hook] { return !hook(0, 0, std::string()); };  // a poll: no lock
+                    return vpp::run_device_study(*c.device_study, o).failed;
+                });
             return run_stoppable(progress, [&](auto hook) {
                 vpp::SweepOptions o = c.options;
                 o.progress = hook;

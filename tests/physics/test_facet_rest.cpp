@@ -16,7 +16,7 @@ using namespace dem::testing;
 namespace facet_rest_test {
 
 constexpr double kR = 0.01;
-constexpr double kYoung = 1e6;
+constexpr double kFacetYoung = 1e6;
 constexpr double kG = 9.81;
 constexpr double kA = 0.05;  // facet size [m]
 
@@ -32,10 +32,10 @@ struct RestResult {
 // drops by m g / kn and rings; local damping 0.4 removes the ringing.
 RestResult rest_on_facet(Vec3 xy, bool one_sided) {
     World w;
-    w.add_material(make_material(kYoung, 0.4));
+    w.add_material(make_material(kFacetYoung, 0.4));
     w.params.gravity = {0, 0, -kG};
     w.params.local_damping = 0.4;
-    const double m = sphere_mass(2800.0, kR), kn = kYoung * kR;
+    const double m = sphere_mass(2800.0, kR), kn = kFacetYoung * kR;
     w.params.dt = 2.0 * kPi * std::sqrt(m / kn) / 50.0;  // 50 steps per normal period
     Facet f;
     f.vertices = {Vec3{-kA, 0, 0}, Vec3{kA, 0, 0}, Vec3{0, kA, 0}};
@@ -59,7 +59,7 @@ RestResult rest_on_facet(Vec3 xy, bool one_sided) {
 
 void check_rest(const std::string& name, Vec3 xy, int expected_region, bool one_sided = false) {
     const RestResult r = rest_on_facet(xy, one_sided);
-    const double m = sphere_mass(2800.0, kR), kn = kYoung * kR;
+    const double m = sphere_mass(2800.0, kR), kn = kFacetYoung * kR;
     EXPECT_EQ(r.region, expected_region);
     // Facet reaction: the sphere pushes down with m g. Tolerance 0.5%: after 60 periods with
     // local damping 0.4 (amplitude x ~0.43 per period) the ringing is gone to machine level.

@@ -1,9 +1,13 @@
 # vppdem.device(): the `vppdem device` command from Python (issue 47, docs/devices.md), on the
 # tiny gripper of the C++ device tests (tests/data/devices/tiny_gripper.toml, ~7 s of CPU).
+import csv
 import json
 import math
 import os
+import signal
 import subprocess
+import threading
+import time
 
 import pytest
 
@@ -95,3 +99,61 @@ def test_a_device_study_runs_through_vppdem_study(tmp_path, gripper):
     status, printed = run_report("device", out)
     assert status == 0, printed
     assert "| `dp50` | 1 | " in (out / "device_report.md").read_text()
+
+
+# Ctrl-C (issue 61): a device run, alone or as a study's case, stops at its next step with a
+# checkpoint and raises KeyboardInterrupt; the same call resumes it. A fill that cannot end
+# before 100 s of simulated time (hours of CPU) is interrupted by SIGINT after 1 s of wall clock.
+ENDLESS = ["output.vtk=false", "stages.fill_time=100", "stages.fill_min_time=100"]
+
+
+def _interrupted(call):
+    """call() with SIGINT sent to this process 1 s in: the KeyboardInterrupt it raises, and the
+    seconds it took (generous bounds below: without the stop it would take hours)."""
+    timer = threading.Timer(1.0, os.kill, (os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    try:
+        with pytest.raises(KeyboardInterrupt) as e:
+            call()
+    finally:
+        timer.cancel()
+    return e, time.monotonic() - start
+
+
+def _simulated_time(folder):
+    with open(folder / "summary.json") as f:
+        return json.load(f)["time"]
+
+
+def test_ctrl_c_stops_a_device_run_with_a_checkpoint_that_the_same_call_resumes(tmp_path):
+    out = tmp_path / "run"
+    _, seconds = _interrupted(lambda: vppdem.device(TINY, out, sets=ENDLESS))
+    assert seconds < 60
+    assert (out / "run.ckpt").exists()
+    with open(out / "summary.json") as f:
+        first = json.load(f)
+    assert first["stage"] == "fill" and first["time"] > 0.0
+    # The same call resumes from the checkpoint (its simulated time goes on from there).
+    _, seconds = _interrupted(lambda: vppdem.device(TINY, out, sets=ENDLESS))
+    assert seconds < 60
+    assert _simulated_time(out) > first["time"]
+
+
+def test_ctrl_c_stops_a_device_study_leaving_its_run_resumable(tmp_path):
+    study = tmp_path / "study.toml"
+    sets = "".join(f'"{k}" = {v}\n' for k, v in (s.split("=") for s in ENDLESS))
+    study.write_text(f"device = {json.dumps(TINY)}\n[set]\n{sets}[cases.a]\n[cases.b]\n")
+    s = vppdem.Study(study, tmp_path / "out")
+    _, seconds = _interrupted(s.run)
+    assert seconds < 60
+    a = tmp_path / "out" / "a"
+    assert (a / "run.ckpt").exists() and not (a / "FAILED").exists()  # stopped, not failed
+    with open(tmp_path / "out" / "summary.csv") as f:
+        rows = {r["case"]: r for r in csv.DictReader(f)}
+    assert rows["a"]["status"] == "not run" and "run.ckpt resumes it" in rows["a"]["message"]
+    assert rows["b"]["status"] == "not run" and not (tmp_path / "out" / "b").exists()
+    # Run again, the study resumes the stopped run from its checkpoint.
+    first = _simulated_time(a)
+    _interrupted(s.run)
+    assert _simulated_time(a) > first

@@ -48,7 +48,8 @@ def device(device_file, out, sets=None, settings=None, from_checkpoint=None, ove
     sets: ["key=value", ...] or `settings` (a dict), as the command's --set. Returns summary.json's
     numbers as a dict (holding_force [N], volume_change [-], cycle_stiffness [N/m], ...).
     Bad keys and values raise vppdem.ConfigError, a bad mesh RuntimeError, before anything is
-    written."""
+    written. Ctrl-C stops the run at its next step with a checkpoint in `out` and raises
+    KeyboardInterrupt; the same call resumes it."""
     extra = _study_sets(sets, settings)
     if not float(checkpoint_every) > 0.0 or not math.isfinite(float(checkpoint_every)):
         raise ValueError(f"checkpoint_every = {checkpoint_every!r}: must be a finite number of seconds > 0")

@@ -7,7 +7,9 @@
 
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "dem/io/folder_lock.h"
 #include "dem/world/world.h"
@@ -20,18 +22,17 @@ class DeviceRecorder {
 public:
     explicit DeviceRecorder(const std::string& out_dir) : out_(out_dir) {}
 
-    // Whether the run writes files at all (an out_dir was given).
-    bool writes() const { return !out_.empty(); }
     // The folder's run.ckpt: what the same command into the same folder resumes.
     std::filesystem::path run_checkpoint() const { return out_ / "run.ckpt"; }
 
-    // Takes the folder's lock (held until the run ends; nothing without an out_dir). A run that resumes the folder's own
+    // Takes the folder's lock (held until the run ends). A run that resumes the folder's own
     // run.ckpt (`resumed_from`) lists this build in build.json; any other run starts afresh: in
-    // an empty folder or, with `overwrite`, in any; otherwise it refuses (cfg::ConfigError
-    // naming --out).
-    void open(const std::string& resumed_from, bool overwrite);
+    // an empty folder, in one that holds only what a run killed before its first checkpoint
+    // leaves (holds_only_a_killed_run; its stale files removed, `log` told) or, with
+    // `overwrite`, in any; otherwise it refuses (cfg::ConfigError naming --out and a file there).
+    void open(const std::string& resumed_from, bool overwrite, const std::function<void(const std::string&)>& log);
 
-    // The checkpoint clock: true, and restarted, when the run writes files and `every` seconds [s] of wall clock have
+    // The checkpoint clock: true, and restarted, when `every` seconds [s] of wall clock have
     // passed since the last checkpoint (or the run's start).
     bool checkpoint_due(double every);
     // run.ckpt: the World and the state's blob; the membrane's pressure fans follow from the
@@ -48,5 +49,13 @@ private:
     dem::FolderLock lock_;  // out_'s, while the run lives (one writer per folder)
     std::chrono::steady_clock::time_point last_ckpt_ = std::chrono::steady_clock::now();
 };
+
+// Whether folder `dir` holds nothing but what a device run killed before its first checkpoint
+// leaves (docs/devices.md, "Stages"): its lock file, build.json, VTK frames (vtk/frame_*,
+// vtk/stage_*, whole or partly written) and a partial checkpoint (run.ckpt.part); an empty
+// folder does too. `stale` gets the frames and the partial checkpoint, which a new run there
+// clears; `other` the first entry that is none of these.
+bool holds_only_a_killed_run(const std::filesystem::path& dir, std::vector<std::filesystem::path>& stale,
+                             std::filesystem::path& other);
 
 }  // namespace vpp::device_detail

@@ -11,6 +11,7 @@
 //   device/records.h/.cpp         the rows of tools.csv, air.csv and energy.csv as the run steps
 //   device/recorder.h/.cpp        the output folder and every file written into it
 //   device/result.h/.cpp          DeviceResult and summary.json from the scene and the state
+//   device/checks.h/.cpp          what the run was asked against what it did: warnings
 //   device/run.cpp                run_device (this file)
 #include "vpp/device/run.h"
 
@@ -77,12 +78,15 @@ void run_stages(DeviceScene& scene, DeviceState& state, StageServices& services)
 DeviceResult run_device(const DeviceDef& d, const DeviceOptions& o) {
     using namespace device_detail;
     const auto start = std::chrono::steady_clock::now();
+    // A device run always writes its folder: an empty one would run to the end and keep
+    // nothing (or be the current folder); both front doors refuse it too.
+    scene::require_output_path(o.out_dir, "--out");
     DeviceScene scene(d);  // a device file at fault is refused here, before anything is written
     DeviceRecorder recorder(o.out_dir);
     StageServices services(o, recorder);
     const std::string from = scene::resume_checkpoint(o.out_dir, o.from, o.overwrite);
     DeviceState state = from.empty() ? fresh_state(d, scene.tools.size()) : resumed_state(scene, from, services);
-    recorder.open(from, o.overwrite);
+    recorder.open(from, o.overwrite, [&](const std::string& what) { services.log(what); });
     run_stages(scene, state, services);
     recorder.write_records(scene, state);
     DeviceResult r = device_result(scene, state);

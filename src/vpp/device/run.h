@@ -17,6 +17,7 @@
 // uninterrupted run's, bit for bit.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,7 +26,7 @@
 namespace vpp {
 
 struct DeviceOptions {
-    std::string out_dir;   // "" : nothing written
+    std::string out_dir;   // the output folder: required (an empty or blank one is refused, cfg::ConfigError naming --out)
     std::string from;      // a run.ckpt to resume ("" : DIR/run.ckpt when it exists, else a new run)
     bool quiet = false;
     bool overwrite = false;  // start afresh in a non-empty out_dir, replacing its files (its run.ckpt too)
@@ -35,6 +36,10 @@ struct DeviceOptions {
     // [s] simulated: stop at the first step boundary at or past it, with a checkpoint (< 0: never);
     // the resume tests use it to stop within a stage.
     double stop_at_time = -1.0;
+    // Polled before every step of a stage; true stops the run there as
+    // stop_at_time does (a checkpoint and the records; run_device returns the stage it stopped
+    // in). Python's Ctrl-C (src/python/runs.cpp); empty: never.
+    std::function<bool()> stop;
 };
 
 struct DeviceResult {

@@ -6,7 +6,7 @@
 namespace vpp::device_detail {
 
 bool StageServices::pause_point(DeviceScene& scene, const DeviceState& state) {
-    if (options_.stop_at_time >= 0.0 && scene.world.time >= options_.stop_at_time) {
+    if ((options_.stop_at_time >= 0.0 && scene.world.time >= options_.stop_at_time) || (options_.stop && options_.stop())) {
         checkpoint(scene, state);
         write_records(scene, state);
         stopped_ = true;

@@ -22,8 +22,8 @@ public:
 
     const DeviceOptions& options() const { return options_; }
     // Before each step within a stage: a checkpoint when one is due by the wall clock; and
-    // the stop the options ask for (stop_at_time): a checkpoint and the records, then true (the
-    // stage returns at once, the run stops: stopped()).
+    // the stop the options ask for (stop_at_time, stop): a checkpoint and the records, then true
+    // (the stage returns at once, the run stops: stopped()).
     bool pause_point(DeviceScene& scene, const DeviceState& state);
     bool stopped() const { return stopped_; }
     // run.ckpt now.

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "scene/progress.h"
+#include "vpp/device/checks.h"
 #include "vpp/device/pour.h"
 #include "vpp/device/records.h"
 #include "vpp/membrane/air.h"
@@ -17,8 +18,14 @@ using dem::Vec3;
 bool step(DeviceScene& scene, DeviceState& state, StageServices& services, DeviceStage stage, double dp_set) {
     dem::World& w = scene.world;
     bool done = true;
-    for (std::size_t k = 0; k < scene.tools.size(); ++k)
+    for (std::size_t k = 0; k < scene.tools.size(); ++k) {
+        const dem::ToolState before = state.tools[k];
         done = dem::drive_tool(w, scene.tools[k], state.tools[k], int32_t(stage)) && done;
+        if (state.tools[k].segment != before.segment) {
+            const std::string short_of = force_segment_stopped_short(w, scene.tools[k], k, before, state.tools[k], int32_t(stage));
+            if (!short_of.empty()) services.warn(state, short_of);
+        }
+    }
     if (state.sealed) membrane_air_step(w, scene.membrane, scene.grain_volume, dp_set, scene.def.air, state.gas);
     w.compute_forces();
     if (state.suction.on)  // sets the footprint's ext_force, which integrate() applies and the ledger books
@@ -106,11 +113,7 @@ void fill(DeviceScene& scene, DeviceState& state, StageServices& services) {
         }
         if (t >= def.fill_time) {
             state.report["fill_settled"] = 0.0;
-            char msg[320];
-            std::snprintf(msg, sizeof msg, "fill: the grains are not at rest after stages.fill_time = %g s (kinetic energy %.3g J; "
-                          "at rest below %.3g J, 1e-4 N m g 2r): the next stage starts on moving grains",
-                          def.fill_time, ke, 1e-4 * scale);
-            services.warn(state, msg);
+            services.warn(state, fill_not_at_rest(def, ke, 1e-4 * scale));
             break;
         }
     }

@@ -249,6 +249,11 @@ DeviceSweepResult run_device_study(const DeviceStudy& s, const DeviceSweepOption
             o.status = "not run";
             continue;
         }
+        if (opt.stop && opt.stop()) {
+            o.status = "not run";
+            o.message = "the study was stopped before it";
+            continue;
+        }
         if (!opt.quiet)
             std::fprintf(stderr, "sweep: [%zu/%zu] %s%s\n", i + 1, r.runs.size(), run.folder.c_str(),
                          fs::exists(dir / "run.ckpt") ? " (resumes its run.ckpt)" : "");
@@ -261,7 +266,13 @@ DeviceSweepResult run_device_study(const DeviceStudy& s, const DeviceSweepOption
             d.overwrite = true;  // the folder holds case.toml
             d.quiet = opt.quiet;
             d.checkpoint_every = opt.checkpoint_every;
+            d.stop = opt.stop;
             const DeviceResult res = run_device(load_device(s.device, run.overrides), d);
+            if (res.stage != "done" && opt.stop && opt.stop()) {  // stopped, not failed: it resumes
+                o.status = "not run";
+                o.message = "the study was stopped in its stage '" + res.stage + "'; its run.ckpt resumes it";
+                continue;
+            }
             if (res.stage != "done") throw std::runtime_error("the run stopped before the stage '" + res.stage + "'");
             o = outcome_of(finished_summary(dir));
             if (fs::exists(dir / "FAILED")) fs::remove(dir / "FAILED");

@@ -10,6 +10,7 @@
 // gzip) published there, each through a temporary name.
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -46,6 +47,10 @@ struct DeviceSweepOptions {
     bool report_only = false;        // run nothing: the table of what is finished in out_dir
     bool mix_builds = false;         // continue in a folder whose runs another build made
     double checkpoint_every = 60.0;  // [s] wall clock between checkpoints within a stage
+    // Polled before every step of a run and before each run; true stops the study: the running
+    // run as DeviceOptions::stop stops it (its run.ckpt resumes it), it and the runs after it
+    // "not run", the tables written. Python's Ctrl-C; empty: never.
+    std::function<bool()> stop;
 };
 
 struct DeviceSweepResult {
