@@ -179,16 +179,22 @@ void check_sizes(const DeviceDef& d, const dem::SurfaceMesh& membrane, const Dev
 
 // A tool whose closed surface holds membrane surface points: the membrane's particles would
 // start inside a rigid body (and, held whole, the fill finds no site and blamed grains.radius).
-// Up to 256 of the surface's vertices, evenly strided, are tested (winding numbers: O(points x
-// the tool's triangles)).
+// Up to 511 of the surface's vertices, evenly strided, are tested (winding numbers: O(points x
+// the tool's triangles) for the points inside the tool's bounding box).
 void check_tools(const DeviceDef& d, const dem::SurfaceMesh& membrane, const std::vector<dem::SurfaceMesh>& tools) {
     const std::size_t n = membrane.vertices.size();
     const std::size_t stride = std::max<std::size_t>(1, n / 256);
     for (std::size_t k = 0; k < d.tools.size() && k < tools.size(); ++k) {
         if (tools[k].triangles.empty()) continue;
+        // A point outside the tool's bounding box is outside the tool: the winding number only
+        // for the others (a tool away from the membrane costs nothing, whatever its facets).
+        const Vec3 lo = bbox_lo(tools[k]), hi = bbox_hi(tools[k]);
         std::size_t tested = 0, held = 0;
-        for (std::size_t i = 0; i < n; i += stride, ++tested)
-            held += dem::winding_number(tools[k], membrane.vertices[i]) > 0.5;
+        for (std::size_t i = 0; i < n; i += stride, ++tested) {
+            const Vec3& p = membrane.vertices[i];
+            const bool in_box = p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= lo.z && p.z <= hi.z;
+            held += in_box && dem::winding_number(tools[k], p) > 0.5;
+        }
         if (held == 0) continue;
         const std::string prefix = "tools[" + std::to_string(k) + "]";
         const ShapeKeys tk = shape_keys(d.tools[k].shape, prefix);
