@@ -33,6 +33,11 @@ double surface_area(const SurfaceMesh& m);
 // an open mesh (it then depends on the origin).
 double enclosed_volume(const SurfaceMesh& m);
 
+// Winding number of a closed, consistently wound mesh about the point p [-]: the triangles' solid
+// angles summed (van Oosterom and Strackee) over 4 pi; 1 inside an outward mesh, 0 outside, for
+// any shape (a test of "inside" is > 1/2). O(triangles).
+double winding_number(const SurfaceMesh& m, const Vec3& p);
+
 // Undirected edges as (lo, hi) vertex pairs, sorted and unique.
 std::vector<std::array<uint32_t, 2>> unique_edges(const SurfaceMesh& m);
 

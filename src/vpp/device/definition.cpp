@@ -14,6 +14,7 @@
 #include "scene/setting.h"
 #include "scene/shared_keys.h"
 #include "scene/time_step.h"
+#include "vpp/device/size_checks.h"
 #include "vpp/settings/choices.h"
 #include "vpp/settings/config.h"
 
@@ -340,11 +341,16 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     }
     top.finish();
 
-    // The meshes are read and checked now, so that a bad one is refused before anything is built.
+    // The meshes are read and checked now, so that a bad one is refused before anything is built;
+    // then the sizes, the foil and the tools' motion against them (vpp/device/size_checks.h), so
+    // that a device too large for the machine or a run that would never end is refused too.
     const std::string base = std::filesystem::path(path).parent_path().string();
-    device_surface(d.membrane_shape, "membrane", base);
+    const dem::SurfaceMesh membrane = device_surface(d.membrane_shape, "membrane", base);
+    std::vector<dem::SurfaceMesh> tool_surfaces(d.tools.size());
     for (std::size_t k = 0; k < d.tools.size(); ++k)
-        if (d.tools[k].shape.kind != "none") device_surface(d.tools[k].shape, "tools[" + std::to_string(k) + "]", base);
+        if (d.tools[k].shape.kind != "none")
+            tool_surfaces[k] = device_surface(d.tools[k].shape, "tools[" + std::to_string(k) + "]", base);
+    check_device_inputs(d, membrane, tool_surfaces);
     return d;
 }
 

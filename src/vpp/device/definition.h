@@ -13,8 +13,9 @@
 //   [result]     which tool the holding force is measured on
 // Every key is checked when the file is read: a bad value or an unknown key is refused with a
 // cfg::ConfigError naming the key, the value and what is allowed; a mesh with a defect
-// (dem/mesh/mesh_checks.h) is refused naming the key, the file and the defect. Nothing is built
-// or written before the file has passed (vppdem exits 2).
+// (dem/mesh/mesh_checks.h) is refused naming the key, the file and the defect; the device's size,
+// its tools, its foil and its tools' motion are checked against each other (size_checks.h).
+// Nothing is built or written before the file has passed (vppdem exits 2).
 #pragma once
 
 #include <cstdint>
@@ -122,7 +123,7 @@ struct DeviceDef {
 
 // Reads and checks a device file, with --set style overrides ("stages.underpressure=0").
 // Throws cfg::ConfigError naming the key, the value and what is allowed, or the mesh file and
-// its defect.
+// its defect; then check_device_inputs (size_checks.h).
 DeviceDef load_device(const std::string& path, const std::vector<std::string>& overrides = {});
 
 // The closed, outward surface of a shape (generated or read and checked); `key` names it in
