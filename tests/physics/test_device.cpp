@@ -907,8 +907,8 @@ TEST(DeviceInput, DevicesPastTenMillionParticlesAreRefusedNamingTheKeyAndNothing
     const std::vector<Case> cases = {
         // A 1 km bag (it grew memory until std::bad_alloc): its radius.
         {{"membrane.radius=1000"}, "config key 'membrane.radius' = 1000: the membrane would have about 1.44e+13 particles"},
-        // Membrane particles of 0.1 um on the 7 mm bag: far finer than the grains, so the spacing.
-        {{"membrane.particle_radius=1e-7"}, "config key 'membrane.particle_radius' = 1e-07: the membrane would have about"},
+        // Membrane sites 0.2 um apart on the 7 mm bag: far finer than the grains, so the spacing.
+        {{"membrane.spacing=2e-7"}, "config key 'membrane.spacing' = 2e-07: the membrane would have about 1.76e+10"},
         // Grains of 10 um in the 7 mm bag: 1.6e8 of them.
         {{"grains.radius=1e-5"}, "config key 'grains.radius' = 1e-05: the fill would place about 1."},
         // A pour of 10^7 - 1 grains with the membrane's ~700 particles.
