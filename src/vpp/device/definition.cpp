@@ -276,13 +276,16 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     d.suction.enabled = suc.boolean("enabled", false);
     d.suction.gap = suc.number("gap", d.suction.gap);
     // A film thinner than a molecule or thicker than the membrane's particles is no seal's.
-    if (!(d.suction.gap >= 1e-9 && d.suction.gap <= d.membrane.foil.particle_radius))
+    // The bounds by the membrane only where the seal is on (a foil of fine particles with the
+    // suction off is not refused for the suction's defaults).
+    const double r_f = d.suction.enabled ? d.membrane.foil.particle_radius : 1e300;
+    if (!(d.suction.gap >= 1e-9 && d.suction.gap <= r_f))
         suc.fail("gap", "must be in [1e-9, membrane.particle_radius] [m]: the air film between membrane and object where they lie together");
     d.suction.ambient = suc.number("ambient", kAtmosphericPressure);
-    if (!(d.suction.ambient > d.underpressure && d.suction.ambient <= 1e7))
+    if (!(d.suction.ambient > (d.suction.enabled ? d.underpressure : 0.0) && d.suction.ambient <= 1e7))
         suc.fail("ambient", "must be above stages.underpressure and at most 1e7 [Pa]: the surroundings' absolute pressure");
     d.suction.capture = suc.number("capture", 0.0);
-    if (!(d.suction.capture >= 0.0 && d.suction.capture <= d.membrane.foil.particle_radius))
+    if (!(d.suction.capture >= 0.0 && d.suction.capture <= r_f))
         suc.fail("capture", "must be in [0, membrane.particle_radius] [m]: how far off the object a membrane particle's surface may be and still seal");
     d.suction.viscosity = suc.number("viscosity", d.suction.viscosity);
     if (!(d.suction.viscosity > 0.0 && d.suction.viscosity <= 1.0))

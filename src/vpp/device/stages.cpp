@@ -212,7 +212,11 @@ void vacuum(DeviceScene& scene, DeviceState& state, StageServices& services) {
     const dem::World& w = scene.world;
     const double t_end = def.ramp_time + def.vacuum_hold;
     if (!state.report.count("volume_press")) state.report["volume_press"] = scene.enclosed();  // the vacuum's start
-    scene::Progress prog("vacuum", uint64_t(t_end / w.params.dt) + 1, services.options().quiet);
+    // The stage lasts the ramp and the hold, or the tools' vacuum segments where they take longer.
+    double longest = t_end - (w.time - state.at.t0);
+    for (const dem::Tool& t : scene.tools)
+        longest = std::max(longest, dem::program_duration(t, int32_t(DeviceStage::Vacuum), dem::tool_displacement(w, t, w.time)));
+    scene::Progress prog("vacuum", uint64_t(std::max(longest, 0.0) / w.params.dt) + 1, services.options().quiet);
     uint64_t n = 0;
     for (;;) {
         const double t = w.time - state.at.t0;
