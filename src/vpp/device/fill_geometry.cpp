@@ -5,6 +5,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "dem/mesh/surface_mesh.h"
+
 namespace vpp::device_detail {
 
 using dem::Vec3;
@@ -30,17 +32,7 @@ double point_triangle_distance(const Vec3& p, const Vec3& a, const Vec3& b, cons
     return norm(p - (a + ab * (vb * den) + ac * (vc * den)));
 }
 
-bool inside(const dem::SurfaceMesh& m, const Vec3& p) {
-    double omega = 0.0;
-    for (const auto& t : m.triangles) {
-        const Vec3 a = m.vertices[t[0]] - p, b = m.vertices[t[1]] - p, c = m.vertices[t[2]] - p;
-        const double la = norm(a), lb = norm(b), lc = norm(c);
-        const double num = dot(a, cross(b, c));
-        const double den = la * lb * lc + dot(a, b) * lc + dot(a, c) * lb + dot(b, c) * la;
-        omega += 2.0 * std::atan2(num, den);
-    }
-    return omega > 2.0 * std::numbers::pi;  // winding > 1/2
-}
+bool inside(const dem::SurfaceMesh& m, const Vec3& p) { return dem::winding_number(m, p) > 0.5; }
 
 bool inside_membrane(const Membrane& m, const std::vector<Vec3>& pos, const Vec3& p) {
     double omega = 0.0;
