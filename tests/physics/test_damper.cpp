@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cstdio>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -15,6 +17,9 @@
 
 #include "cli_helpers.h"
 #include "dem/io/csv.h"
+#include "vpp/damper/damper.h"
+#include "vpp/membrane/foil.h"
+#include "vpp/settings/config.h"
 
 // The file's own names, apart from the other test files' in the unity build (CMakeLists.txt).
 namespace test_damper {
@@ -754,6 +759,123 @@ TEST(OutputFolder, AnEmptyOrBlankOutIsRefusedByEveryCommand) {
         }
     EXPECT_TRUE(fs::is_empty(cwd)) << "a refused command wrote into the current folder";
     fs::remove_all(cwd.parent_path());
+}
+
+
+// ---- The damper's foil at damper.radius itself (foil.exact_radius) and what summary.json records
+// of the sample's confinement as cycling starts (start_of_cycling: cap_stress, foil_hoop_tension,
+// foil_axial_tension, diameters_across_radius, diameters_along_height), on the tests' small
+// damper, one cycle. The tensions' closed forms are FoilTension.* (test_foil.cpp); here the run
+// records them, and the other measures by their definitions.
+
+namespace damper_radius_test {
+
+const std::string kOneCycle = kSmallDamper + " --set process.cycles=1";
+
+}  // namespace damper_radius_test
+
+// The start of cycling (the paper's rule's foil): the cap's stress is its force over the grains'
+// cross-section pi r_in^2, r_in the foil's mean radius there minus r_f (the packing fraction's),
+// the sizes in grain diameters are r_in / (2 r_k) and the cap's height / (2 r_k), to 1e-12; the
+// foil's tensions are there and finite; the lattice's row and column bonds are the paper's kn,
+// 2 r_f apart.
+TEST(DamperRadius, TheStartOfCyclingRecordsWhatConfinesTheGrains) {
+    const fs::path d = scratch_path("damper_radius", "rule");
+    fs::remove_all(d);
+    const Outcome r = run("damper --out " + d.string() + " " + damper_radius_test::kOneCycle);
+    ASSERT_EQ(r.status, 0) << r.output;
+    const std::string js = slurp(d / "summary.json");
+    const double rk = json_number(js, "grains.radius"), rf = json_number(js, "foil.particle_radius");
+    const double r_foil = json_number(js, "foil_mean_radius", "start_of_cycling");
+    const double cap_z = json_number(js, "cap_height", "start_of_cycling");
+    const double force = json_number(js, "cap_force", "start_of_cycling");
+    const double r_in = r_foil - rf;
+    const double stress = json_number(js, "cap_stress", "start_of_cycling");
+    const double hoop = json_number(js, "foil_hoop_tension", "start_of_cycling");
+    const double axial = json_number(js, "foil_axial_tension", "start_of_cycling");
+    std::printf("start of cycling: cap %.4g N, %.4g kPa; foil N_theta %.4g N/m (dp R %.4g N/m), N_z %.4g N/m; %.3f "
+                "diameters across r_in, %.3f along the height\n",
+                force, 1e-3 * stress, hoop, 0.06e6 * r_foil, axial, json_number(js, "diameters_across_radius", "start_of_cycling"),
+                json_number(js, "diameters_along_height", "start_of_cycling"));
+    EXPECT_NEAR(stress, force / (std::numbers::pi * r_in * r_in), 1e-12 * std::abs(stress)) << js;
+    EXPECT_NEAR(json_number(js, "diameters_across_radius", "start_of_cycling"), r_in / (2.0 * rk), 1e-12) << js;
+    EXPECT_NEAR(json_number(js, "diameters_along_height", "start_of_cycling"), cap_z / (2.0 * rk), 1e-12) << js;
+    EXPECT_TRUE(std::isfinite(hoop)) << js;
+    EXPECT_TRUE(std::isfinite(axial)) << js;
+    const double kn = json_number(js, "bond_kn");
+    EXPECT_EQ(json_number(js, "bond_kn_hoop"), kn) << js;
+    EXPECT_EQ(json_number(js, "bond_kn_axial"), kn) << js;
+    EXPECT_NEAR(json_number(js, "foil_column_pitch"), 2.0 * rf, 1e-15) << js;
+    EXPECT_NE(js.find("\"foil.exact_radius\": false"), std::string::npos) << js;
+    fs::remove_all(d.parent_path());
+}
+
+// foil.exact_radius = true: the foil's sites on damper.radius itself (12 mm; the rule builds 11.968
+// mm), the rule's column count, the inner radius r_p - r_f, the row bonds' kn from the bar rule on
+// the chord (E_s (2 r_f)^2 / c) and the column bonds' E_s c (docs/foil.md). A geometry key: a run
+// from its sample without it is refused, naming it; a value that is no flag is refused, naming it.
+TEST(DamperRadius, ExactRadiusBuildsTheFoilAtTheDamperRadius) {
+    const fs::path d = scratch_path("damper_radius", "exact");
+    fs::remove_all(d);
+    const Outcome r = run("damper --out " + (d / "exact").string() + " " + damper_radius_test::kOneCycle + " --set foil.exact_radius=true");
+    ASSERT_EQ(r.status, 0) << r.output;
+    const std::string js = slurp(d / "exact" / "summary.json");
+    const double rf = json_number(js, "foil.particle_radius");
+    const int n = vpp::choose_columns(0.012, rf);
+    EXPECT_EQ(json_number(js, "foil_radius"), 0.012) << js;
+    EXPECT_NEAR(json_number(js, "inner_radius"), 0.012 - rf, 1e-15) << js;
+    EXPECT_EQ(json_number(js, "foil_columns"), double(n)) << js;
+    const double c = 2.0 * 0.012 * std::sin(std::numbers::pi / n);
+    const double Es = json_number(js, "particle_modulus");
+    EXPECT_NEAR(json_number(js, "foil_column_pitch"), c, 1e-15) << js;
+    EXPECT_NEAR(json_number(js, "bond_kn_hoop"), Es * 4.0 * rf * rf / c, 1e-9 * Es * rf) << js;
+    EXPECT_NEAR(json_number(js, "bond_kn_axial"), Es * c, 1e-9 * Es * rf) << js;
+    EXPECT_NE(js.find("\"foil.exact_radius\": true"), std::string::npos) << js;
+    const Outcome b = run("damper --out " + (d / "branch").string() + " --from " + (d / "exact" / "prepared.ckpt").string() +
+                          " " + damper_radius_test::kOneCycle + " --set foil.exact_radius=false");
+    EXPECT_EQ(WEXITSTATUS(b.status), 2) << b.output;
+    EXPECT_NE(b.output.find("foil.exact_radius"), std::string::npos) << b.output;
+    const Outcome bad = run("damper --out " + (d / "bad").string() + " " + damper_radius_test::kOneCycle + " --set foil.exact_radius=2");
+    EXPECT_EQ(WEXITSTATUS(bad.status), 2) << bad.output;
+    EXPECT_NE(bad.output.find("foil.exact_radius"), std::string::npos) << bad.output;
+    std::printf("%s\n", bad.output.c_str());
+    fs::remove_all(d.parent_path());
+}
+
+
+// Both of the damper's foils at the exact radius, as built (no stage run): the lattice's sites on
+// damper.radius (12 mm) to 1e-12; the mesh foil's sites on the membrane builder's 256-gon of that
+// radius (their mean distance from the axis within 1e-4 of it, the polygon's sag); without the key
+// both foils stand on the paper's rule's circle, 11.968 mm (0.27% in), beyond those tolerances.
+TEST(DamperRadius, BothFoilsStandAtTheExactRadius) {
+    for (const char* builder : {"lattice", "mesh"})
+        for (bool exact : {false, true}) {
+            const vpp::Config c = vpp::load_config(
+                "", {"damper.radius=0.012", "damper.height=0.03", "grains.volume_fraction=0.45", "simulation.threads=1",
+                     std::string("foil.builder=") + builder, std::string("foil.exact_radius=") + (exact ? "true" : "false")});
+            vpp::DamperOptions opt;
+            opt.quiet = true;
+            const vpp::Damper d(c, opt);
+            const dem::World& w = d.world();
+            double sum = 0, lo = 1e300, hi = 0;
+            std::size_t n = 0;
+            for (std::size_t i = 0; i < w.particles.size(); ++i) {
+                if (!(w.particles.flags[i] & vpp::kFoil)) continue;
+                const double r = std::hypot(w.particles.pos[i].x, w.particles.pos[i].y);
+                sum += r;
+                lo = std::min(lo, r);
+                hi = std::max(hi, r);
+                ++n;
+            }
+            const double mean = sum / double(n);
+            const double rule = c.foil.particle_radius / std::sin(std::numbers::pi / vpp::choose_columns(0.012, c.foil.particle_radius));
+            const double expected = exact ? 0.012 : rule;
+            std::printf("%s foil, exact_radius %d: %zu particles, distance from the axis %.6f mm (%.6f-%.6f), expected %.6f mm\n",
+                        builder, int(exact), n, 1e3 * mean, 1e3 * lo, 1e3 * hi, 1e3 * expected);
+            const double tol = std::string(builder) == "mesh" ? 1e-4 : 1e-12;
+            EXPECT_NEAR(mean / expected, 1.0, tol) << builder;
+            EXPECT_GT(std::abs(mean / (exact ? rule : 0.012) - 1.0), 10 * tol) << builder;
+        }
 }
 
 }  // namespace test_damper

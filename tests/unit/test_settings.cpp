@@ -203,9 +203,9 @@ TEST(Settings, RecordedKeysAreNumberedWithoutGaps) {
     for (auto list : {geometry_settings(), run_settings(), summary_inputs()}) {
         EXPECT_FALSE(list.empty());
     }
-    EXPECT_EQ(geometry_settings().size(), 16u);
+    EXPECT_EQ(geometry_settings().size(), 17u);
     EXPECT_EQ(run_settings().size(), 32u);
-    EXPECT_EQ(summary_inputs().size(), 35u);
+    EXPECT_EQ(summary_inputs().size(), 36u);
     auto positions = [](int Setting::*p) {
         std::set<int> s;
         for (const Setting& r : settings())
@@ -222,8 +222,8 @@ TEST(Settings, RecordedKeysAreNumberedWithoutGaps) {
     // What a checkpoint stores keeps its first key (older checkpoints are read by name, any order).
     EXPECT_STREQ(geometry_settings().front().key, "grains.radius");
     EXPECT_STREQ(run_settings().front().key, "grains.friction");
-    EXPECT_STREQ(summary_inputs().back().key, "foil.bond_arm");  // the newest keys come last
-    EXPECT_STREQ(geometry_settings().back().key, "foil.builder");
+    EXPECT_STREQ(summary_inputs().back().key, "foil.exact_radius");  // the newest keys come last
+    EXPECT_STREQ(geometry_settings().back().key, "foil.exact_radius");
 }
 
 TEST(Settings, TheReferenceListsEveryKey) {

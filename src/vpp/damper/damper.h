@@ -85,6 +85,10 @@ struct DamperResult {
     // The mesh foil (foil.builder = "mesh"): its vacancies and its bonds' mean kn [N/m].
     std::size_t foil_vacancies = 0;
     double foil_bond_kn_mean = 0;
+    // The lattice foil: the distance between neighbouring columns' sites [m] (its row bonds' rest
+    // length: 2 r_f, or the chord at foil.exact_radius) and the kn [N/m] of its row (hoop) and
+    // column (axial) bonds.
+    double foil_column_pitch = 0, foil_bond_kn_hoop = 0, foil_bond_kn_axial = 0;
     double inertial_number = 0;
     std::vector<CycleResult> cycles;  // with the stationarity flag (settled) of each
     std::vector<AirCycle> air;        // per cycle, when the run recorded the air (else empty)

@@ -161,6 +161,9 @@ DamperResult DamperRun::result() const {
     r.foil_columns = scene_.lattice.cols;
     r.foil_rows = scene_.lattice.rows;
     r.foil_radius = scene_.lattice.radius;
+    r.foil_column_pitch = scene_.lattice.column_pitch;
+    for (const LatticeBond& b : scene_.lattice.bonds)
+        (b.along_row ? r.foil_bond_kn_hoop : r.foil_bond_kn_axial) = world.bonds().phys[b.index].kn;
     if (scene_.mesh_foil()) {
         r.foil_vacancies = scene_.membrane.vacancies;
         double sum = 0;
@@ -321,6 +324,11 @@ std::string damper_summary_json(const DamperResult& r, const std::string& from) 
     // The mesh foil (docs/membrane.md): what it is made of; foil_columns and foil_rows are 0.
     if (c.damper.foil_builder == FoilBuilder::Mesh)
         j.str("foil_builder", "mesh").num("foil_vacancies", double(r.foil_vacancies));
+    else
+        // The lattice's row (hoop) and column (axial) bonds: both bond_kn on the paper's grid; at
+        // the exact radius (foil.exact_radius) the bar rule with the column pitch (docs/foil.md).
+        j.num("foil_column_pitch", r.foil_column_pitch).num("bond_kn_hoop", r.foil_bond_kn_hoop)
+            .num("bond_kn_axial", r.foil_bond_kn_axial);
     if (!r.air.empty()) {
         std::string air_cycles = "[";
         for (std::size_t k = 0; k < r.air.size(); ++k) {

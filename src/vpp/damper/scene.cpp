@@ -89,10 +89,12 @@ void DamperScene::build_foil() {
     world.set_bond_arm(config.foil.bond_arm);
     if (mesh_foil()) {
         // The lattice's cylinder (its ring radius and height, which the paper's rules choose
-        // from damper.radius and damper.height), built by the membrane builder: the two foils
-        // differ in their network only.
+        // from damper.radius and damper.height, or damper.radius itself with foil.exact_radius),
+        // built by the membrane builder: the two foils differ in their network only.
         const double rf = config.foil.particle_radius;
-        const double R = rf / std::sin(std::numbers::pi / choose_columns(config.damper.radius, rf));
+        const double R = config.damper.foil_exact_radius
+                             ? config.damper.radius
+                             : rf / std::sin(std::numbers::pi / choose_columns(config.damper.radius, rf));
         const double H = (choose_rows(config.damper.height, rf) - 1) * 2.0 * rf;
         const MembraneDef d = membrane_def();
         membrane = membrane_tube_sites(d, R, H, 0.0);
@@ -113,7 +115,8 @@ void DamperScene::build_foil() {
             if (!ring[i]) free_foil.push_back(i);
         return;
     }
-    lattice = build_cylinder(world, config.foil, config.damper.radius, config.damper.height);
+    lattice = build_cylinder(world, config.foil, config.damper.radius, config.damper.height, 0.0,
+                             config.damper.foil_exact_radius);
     z_top = (lattice.rows - 1) * lattice.spacing;
     top_ring = lattice.row(lattice.rows - 1);
     bottom_ring = lattice.row(0);
@@ -237,6 +240,12 @@ void DamperScene::apply_run_settings() {
         for (std::size_t k = 0; k < membrane.bonds.size(); ++k) {
             const double kn = membrane_bond_stiffness(d, membrane.bond_length[k], membrane.bond_area[k]);
             world.set_bond_stiffness(membrane.bonds[k], kn, config.foil.stiffness_ratio * kn);
+        }
+    } else if (lattice.column_pitch != lattice.spacing) {
+        // The lattice at its exact radius: row and column bonds differ (the bar rule, foil.h).
+        for (const LatticeBond& b : lattice.bonds) {
+            const double kn = lattice_bond_kn(config.foil, lattice, b);
+            world.set_bond_stiffness(b.index, kn, config.foil.stiffness_ratio * kn);
         }
     } else {
         const double kn = bond_normal_stiffness(config.foil);

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "dem/batch/batch_stepper.h"
+#include "vpp/membrane/foil_tension.h"
 #include "vpp/membrane/gas.h"
 
 namespace vpp::damper_detail::stages {
@@ -238,7 +239,11 @@ AirSample air_sample(const DamperScene& scene, const RunState& state) {
 // The sample as cycling starts (after the vacuum and the start offset): the cap's height and
 // force, the packing fraction in the foil as the vacuum has drawn it in (its mean radius over the
 // free rows; the end rings stay at the build radius), and the cap's travel on the grains since it
-// first met them in the preparation.
+// first met them in the preparation. Then what confines the grains there: the cap's mean axial
+// stress over the grains' cross-section pi r_in^2 (r_in = that mean radius - r_f, the packing
+// fraction's), the lattice foil's mean hoop and axial tensions (membrane/foil_tension.h; the mesh
+// foil has no rows to cut: not recorded), and the sample's size in grain diameters (2 r_k, the
+// number mean with a size distribution) across r_in and along the cap's height.
 void record_start_of_cycling(const DamperScene& scene, RunState& state, const Sample& first) {
     const dem::World& world = scene.world;
     const Config& config = scene.config;
@@ -256,6 +261,15 @@ void record_start_of_cycling(const DamperScene& scene, RunState& state, const Sa
     r["cycle.cap_force"] = first.grains;
     r["cycle.packing_fraction"] = scene.packing_fraction(r_foil - config.foil.particle_radius, cap_z);
     if (r.count("prepare.grain_top")) r["cycle.cap_travel"] = std::max(0.0, r.at("prepare.grain_top") - cap_z);
+    const double r_in = r_foil - config.foil.particle_radius;  // [m]
+    r["cycle.cap_stress"] = first.grains / (std::numbers::pi * r_in * r_in);
+    if (!scene.mesh_foil()) {
+        const FoilTension t = cylinder_tension(scene.lattice, world);
+        r["cycle.foil_hoop_tension"] = t.hoop;
+        r["cycle.foil_axial_tension"] = t.axial;
+    }
+    r["cycle.diameters_across_radius"] = r_in / (2.0 * config.grains.radius);
+    r["cycle.diameters_along_height"] = cap_z / (2.0 * config.grains.radius);
 }
 
 // The cap's and the top ring's knots of cycles k0 .. k1 - 1 and the end of cycle k1, from the

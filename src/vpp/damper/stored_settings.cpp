@@ -68,7 +68,7 @@ std::string show_value(const std::string& key, double v) {
     if (key == "process.waveform") word = quoted_word<Waveform>(v);
     if (word) return *word;
     if (key == "process.direction") return v == 0.0 ? "\"compression\"" : "\"extension\"";
-    if (key == "output.energy" || key == "damper.refill") return v != 0.0 ? "true" : "false";
+    if (key == "output.energy" || key == "damper.refill" || key == "foil.exact_radius") return v != 0.0 ? "true" : "false";
     if (key == "foil.bond_arm") return std::string("\"") + dem::bond_arm_name(dem::BondArm(int(v))) + "\"";
     if (key == "simulation.dt" && v == 0.0) return "\"auto\"";
     if (key == "damper.cap_friction" && v < 0.0) return "(unset: the grains' friction)";

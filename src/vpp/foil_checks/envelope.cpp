@@ -20,7 +20,7 @@ EnvelopeResult run_envelope(const Config& c, const std::string& out_dir, bool qu
     w.params.local_damping = c.simulation.local_damping;
     w.params.threads = c.simulation.threads;
     w.params.skin = c.simulation.skin;
-    FoilLattice L = build_cylinder(w, c.foil, c.damper.radius, c.damper.height);
+    FoilLattice L = build_cylinder(w, c.foil, c.damper.radius, c.damper.height, 0.0, c.damper.foil_exact_radius);
     for (int k : {0, L.rows - 1})
         for (uint32_t i : L.row(k)) w.set_fixed(i);
     w.pressure.nodes = cylinder_pressure_nodes(L);

@@ -42,14 +42,16 @@ namespace {
 
 bool vacant(int k, int c) { return (k % 2 == 1) && (c % 2 == 1); }
 
-// Places particles at the given site positions and bonds chain neighbours.
+// Places particles at the given site positions and bonds chain neighbours. The sites of
+// neighbouring columns are column_pitch [m] apart (2 r_f but on a cylinder at its exact radius).
 FoilLattice place(dem::World& w, const FoilDef& f, int rows, int cols, bool closed,
-                  const std::function<Vec3(int, int)>& site_pos) {
+                  const std::function<Vec3(int, int)>& site_pos, double column_pitch) {
     FoilLattice L;
     L.rows = rows;
     L.cols = cols;
     L.closed = closed;
     L.spacing = 2.0 * f.particle_radius;
+    L.column_pitch = column_pitch;
     L.material = add_foil_material(w, f);
     L.site.assign(std::size_t(rows) * cols, -1);
     for (int k = 0; k < rows; ++k)
@@ -68,7 +70,13 @@ FoilLattice place(dem::World& w, const FoilDef& f, int rows, int cols, bool clos
             L.particles.push_back(id);
             if (inter) L.intersections.push_back(id);
         }
+    // The square grid (every pitch 2 r_f): the paper's bonds, rest length 2 r_f. Otherwise each
+    // bond rests at its sites' distance (unstressed as built) with the bar rule's stiffness.
+    const bool square = column_pitch == L.spacing;
     const double kn = bond_normal_stiffness(f), ks = f.stiffness_ratio * kn;
+    const double kn_row = square ? kn : lattice_bond_stiffness(f, column_pitch, L.spacing);
+    const double kn_col = square ? kn : lattice_bond_stiffness(f, L.spacing, column_pitch);
+    const double rest = square ? L.spacing : -1.0;  // -1: the distance as placed
     for (int k = 0; k < rows; ++k)
         for (int c = 0; c < cols; ++c) {
             const int32_t a = L.at(k, c);
@@ -76,12 +84,18 @@ FoilLattice place(dem::World& w, const FoilDef& f, int rows, int cols, bool clos
             // Along the row (even rows are full chains); wraps around on a cylinder.
             if (k % 2 == 0 && (c + 1 < cols || closed)) {
                 const int32_t b = L.at(k, (c + 1) % cols);
-                if (b >= 0) w.add_bond(uint32_t(a), uint32_t(b), kn, ks, L.spacing);
+                if (b >= 0)
+                    L.bonds.push_back({square ? w.add_bond(uint32_t(a), uint32_t(b), kn, ks, L.spacing)
+                                              : w.add_bond(uint32_t(a), uint32_t(b), kn_row, f.stiffness_ratio * kn_row, rest),
+                                       k, c, true});
             }
             // Along the column (even columns are full chains).
             if (c % 2 == 0 && k + 1 < rows) {
                 const int32_t b = L.at(k + 1, c);
-                if (b >= 0) w.add_bond(uint32_t(a), uint32_t(b), kn, ks, L.spacing);
+                if (b >= 0)
+                    L.bonds.push_back({square ? w.add_bond(uint32_t(a), uint32_t(b), kn, ks, L.spacing)
+                                              : w.add_bond(uint32_t(a), uint32_t(b), kn_col, f.stiffness_ratio * kn_col, L.spacing),
+                                       k, c, false});
             }
         }
     return L;
@@ -92,7 +106,7 @@ FoilLattice place(dem::World& w, const FoilDef& f, int rows, int cols, bool clos
 FoilLattice build_strip(dem::World& w, const FoilDef& f, int rows, int cols) {
     if (rows < 1 || cols < 2) throw std::invalid_argument("a foil strip needs at least 1 x 2 sites");
     const double h = 2.0 * f.particle_radius;
-    return place(w, f, rows, cols, false, [h](int k, int c) { return Vec3{c * h, k * h, 0.0}; });
+    return place(w, f, rows, cols, false, [h](int k, int c) { return Vec3{c * h, k * h, 0.0}; }, h);
 }
 
 int choose_columns(double radius, double r_f) {
@@ -112,18 +126,27 @@ int choose_rows(double height, double r_f) {
     return std::max(3, 2 * int(std::lround(gaps / 2.0)) + 1);
 }
 
-FoilLattice build_cylinder(dem::World& w, const FoilDef& f, double radius, double height, double z0) {
+FoilLattice build_cylinder(dem::World& w, const FoilDef& f, double radius, double height, double z0,
+                           bool exact_radius) {
     if (!(radius > 2.0 * f.particle_radius)) throw std::invalid_argument("foil cylinder radius too small");
     const int cols = choose_columns(radius, f.particle_radius);
     const int rows = choose_rows(height, f.particle_radius);
-    const double R = f.particle_radius / std::sin(std::numbers::pi / cols);
+    // The site circle: the one of chord 2 r_f for that count, or the radius asked for.
+    const double R = exact_radius ? radius : f.particle_radius / std::sin(std::numbers::pi / cols);
     const double h = 2.0 * f.particle_radius;
+    const double pitch = exact_radius ? 2.0 * R * std::sin(std::numbers::pi / cols) : h;
     FoilLattice L = place(w, f, rows, cols, true, [&](int k, int c) {
         const double a = 2.0 * std::numbers::pi * c / cols;
         return Vec3{R * std::cos(a), R * std::sin(a), z0 + k * h};
-    });
+    }, pitch);
     L.radius = R;
     return L;
+}
+
+double lattice_bond_kn(const FoilDef& f, const FoilLattice& L, const LatticeBond& b) {
+    if (L.column_pitch == L.spacing) return bond_normal_stiffness(f);
+    return b.along_row ? lattice_bond_stiffness(f, L.column_pitch, L.spacing)
+                       : lattice_bond_stiffness(f, L.spacing, L.column_pitch);
 }
 
 std::vector<dem::PressureNode> cylinder_pressure_nodes(const FoilLattice& L) {

@@ -35,6 +35,15 @@ inline double particle_modulus(const FoilDef& f) {
 }
 // Axial bond stiffness [N/m]: a bar of modulus E_s, cross-section (2 r_f)^2, length 2 r_f.
 inline double bond_normal_stiffness(const FoilDef& f) { return 2.0 * particle_modulus(f) * f.particle_radius; }
+// The same bar rule for a lattice whose sites are `along` [m] apart in the bond's direction and
+// `across` [m] apart across it (a cylinder at its exact radius: the row bonds are the chord, not
+// 2 r_f): a bar of modulus E_s, thickness 2 r_f, width `across`, length `along`, kn = E_s 2 r_f
+// across / along. A chain then carries E_s 2 r_f across per unit strain, and the lattice keeps
+// E_f t_f per unit width in both directions whatever the two pitches (docs/foil.md). On the
+// square grid (both 2 r_f) it is bond_normal_stiffness; that path keeps its own expression.
+inline double lattice_bond_stiffness(const FoilDef& f, double along, double across) {
+    return particle_modulus(f) * 2.0 * f.particle_radius * across / along;
+}
 
 // Flags stored in World::particles.flags above the core's bits.
 enum FoilFlag : uint32_t {
@@ -48,6 +57,14 @@ constexpr uint32_t kMaskCap = 1u << 1;        // grains with caps and funnel; ne
 constexpr uint32_t kGrainMask = kMaskGrainFoil | kMaskCap;
 constexpr uint32_t kFoilMask = kMaskGrainFoil;
 
+// One bond of a lattice: its index in the World's bonds, the site (row k, column c) it starts at
+// and whether it runs along the row (to column c + 1) or along the column (to row k + 1).
+struct LatticeBond {
+    uint32_t index = 0;
+    int k = 0, c = 0;
+    bool along_row = false;
+};
+
 // A foil lattice placed in a World.
 struct FoilLattice {
     int rows = 0;                 // site rows (k)
@@ -55,10 +72,14 @@ struct FoilLattice {
     bool closed = false;          // columns wrap around (cylinder)
     double radius = 0.0;          // [m] cylinder: radius of the site circle
     double spacing = 0.0;         // [m] 2 r_f
+    // [m] distance between the sites of neighbouring columns: spacing, except on a cylinder built
+    // at its exact radius (the chord 2 R sin(pi / cols)); the row bonds' rest length.
+    double column_pitch = 0.0;
     uint32_t material = 0;
     std::vector<int32_t> site;    // (k * cols + c) -> particle index, -1 for a vacancy
     std::vector<uint32_t> particles;  // all foil particle indices
     std::vector<uint32_t> intersections;
+    std::vector<LatticeBond> bonds;   // every bond of the lattice, in the order they were added
     int32_t at(int k, int c) const { return site[std::size_t(k) * cols + c]; }
     // Particles of site row k (cylinder end rings: first and last row).
     std::vector<uint32_t> row(int k) const;
@@ -75,8 +96,18 @@ FoilLattice build_strip(dem::World& w, const FoilDef& f, int rows, int cols);
 
 // Cylinder about the z axis, base ring at z = z0. Chooses the even column count whose radius
 // r_f / sin(pi/n) is closest to `radius`, and the odd row count whose height is closest to
-// `height`, so both end rings are full rings.
-FoilLattice build_cylinder(dem::World& w, const FoilDef& f, double radius, double height, double z0 = 0.0);
+// `height`, so both end rings are full rings. The sites then lie on that circle (neighbours 2 r_f
+// apart), or with exact_radius on the circle of `radius` itself: the row bonds' rest length is
+// then the chord 2 radius sin(pi / n) (column_pitch), and every bond's stiffness follows from the
+// bar rule with the two pitches (lattice_bond_stiffness), so the foil keeps E_f t_f per unit
+// width both ways; the particles keep r_f (neighbours in a row overlap or part by the chord's
+// difference from 2 r_f: at most 1.3% of it on the paper's radii).
+FoilLattice build_cylinder(dem::World& w, const FoilDef& f, double radius, double height, double z0 = 0.0,
+                           bool exact_radius = false);
+
+// Axial stiffness [N/m] of lattice bond b of L (bond_normal_stiffness on the square grid; the bar
+// rule with L's pitches where its columns are not 2 r_f apart).
+double lattice_bond_kn(const FoilDef& f, const FoilLattice& L, const LatticeBond& b);
 
 // Even column count and odd row count that build_cylinder would choose.
 int choose_columns(double radius, double r_f);

@@ -53,6 +53,10 @@ struct DamperDef {
     double packing_target{};      // [-] 0, or in (0, 0.74)
     // The foil's builder (key foil.builder; docs/membrane.md, "A cylinder given as a mesh").
     FoilBuilder foil_builder{};
+    // The foil's sites on the circle of `radius` itself (key foil.exact_radius): the column count
+    // as ever, the row bonds the chord (vpp/membrane/foil.h build_cylinder; docs/foil.md). false:
+    // the circle of chord 2 r_f for that count, up to 1.3% off `radius` on the paper's radii.
+    bool foil_exact_radius{};
 };
 
 // dp is the atmosphere's pressure minus the pressure inside the foil: at most a perfect vacuum.

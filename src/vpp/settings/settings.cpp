@@ -254,6 +254,14 @@ const std::vector<Setting>& table() {
                                       "foil (docs/foil.md); \"mesh\" is the damper's (damper, sweep, calibrate)");
          },
          FIELD(damper.foil_builder), .legacy = 0.0},  // an older vppdem's foil was the lattice
+        {.key = "foil.exact_radius", .type = T::Boolean, .unit = "", .def = 0.0, .acts = A::Geometry, .geometry = 17,
+         .summary = 36,
+         .doc = "false: the foil's sites lie on the circle of chord 2 r_f for the even column count closest to "
+                "damper.radius (the paper's rule: 20.77 / 25.80 / 30.21 mm for 20.5 / 25.5 / 30.5 mm); true: on the "
+                "circle of damper.radius itself, the same column count, the row bonds as long as the sites' chord and "
+                "every bond's stiffness from the bar rule with the two pitches, so the foil keeps E_f t_f per unit "
+                "width both ways (docs/foil.md, \"At the exact radius\"); the lattice, the mesh foil and the envelope",
+         FLAG(damper.foil_exact_radius), .legacy = 0.0},  // an older vppdem's foil took the chord's circle
         // [damper]; radius and height are also checked against the foil (vpp/settings/config.cpp).
         {.key = "damper.radius", .type = T::Real, .unit = "m", .def = 0.0255, .check = C::Positive,
          .allowed = "must be at least 4 foil particle radii", .acts = A::Geometry, .geometry = 6, .summary = 12,
