@@ -213,6 +213,9 @@ DeviceDef load_device(const std::string& path, const std::vector<std::string>& o
     d.membrane.spacing = mem.non_negative("spacing", mem.number("spacing", 0.0));
     d.membrane.vacancies = mem.boolean("vacancies", false);
     d.membrane.stiffness_factor = positive(mem, "stiffness_factor", 1.0);
+    // A bag built stretched (a filled balloon): its tension squeezes the grains before any load.
+    d.membrane.prestrain = cfg::check_real(mem, "prestrain", mem.number("prestrain", 0.0),
+                                           {.check = cfg::Check::Range, .lo = 0.0, .hi = 0.5, .allowed = "must be in [0, 0.5] (a strain of the built membrane)"});
     // The bonds' shear springs at the bond point by default: a remeshed membrane's bonds are
     // 0.45-1.27 diameters long, and with the full radii a rigid rotation would load them
     // (docs/energy.md, "Bonds"); "radius" keeps the damper's lattice convention.
@@ -430,6 +433,8 @@ std::vector<std::pair<std::string, std::string>> device_inputs(const DeviceDef& 
     in.emplace_back("membrane.vacancies", d.membrane.vacancies ? "true" : "false");
     in.emplace_back("membrane.stiffness_factor", json_number(d.membrane.stiffness_factor));
     in.emplace_back("membrane.bond_arm", json_string(dem::bond_arm_name(d.membrane.foil.bond_arm)));
+    // Only when set: the inputs of the runs before it (their checkpoints' identity) unchanged.
+    if (d.membrane.prestrain > 0) in.emplace_back("membrane.prestrain", json_number(d.membrane.prestrain));
     in.emplace_back("air.pump_speed", json_number(d.air.line.speed));
     in.emplace_back("air.bleed_rate", json_number(d.air.line.bleed));
     in.emplace_back("air.leak_rate", json_number(d.air.line.leak));

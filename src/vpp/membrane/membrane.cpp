@@ -167,6 +167,7 @@ void check_def(const MembraneDef& d) {
     if (!(f.particle_radius > 0) || !(f.young > 0) || !(f.thickness > 0) || !(f.density > 0))
         throw std::invalid_argument("membrane: foil radius, Young modulus, thickness and density must be > 0");
     if (!(d.stiffness_factor > 0)) throw std::invalid_argument("membrane: stiffness_factor must be > 0");
+    if (!(d.prestrain >= 0 && d.prestrain < 1)) throw std::invalid_argument("membrane: prestrain must be in [0, 1)");
     if (!(d.vacancy_fraction >= 0 && d.vacancy_fraction < 0.5))
         throw std::invalid_argument("membrane: vacancy_fraction must be in [0, 0.5)");
 }
@@ -244,7 +245,10 @@ void place_membrane(dem::World& w, const MembraneDef& d, Membrane& m) {
         const double len = norm(m.sites.vertices[a] - m.sites.vertices[b]);
         const double area = edge_area[ekey(a, b)];
         const double kn = membrane_bond_stiffness(d, len, area);
-        m.bonds.push_back(w.add_bond(uint32_t(m.particle[a]), uint32_t(m.particle[b]), kn, f.stiffness_ratio * kn, len));
+        // Built stretched by the prestrain: the rest length is shorter than the site edge (kn from
+        // the built length: the network's moduli per built area, as without it).
+        m.bonds.push_back(w.add_bond(uint32_t(m.particle[a]), uint32_t(m.particle[b]), kn, f.stiffness_ratio * kn,
+                                     len / (1.0 + d.prestrain)));
         m.bond_length.push_back(len);
         m.bond_area.push_back(area);
     }

@@ -51,6 +51,10 @@ struct MembraneDef {
     // (~24% drawn) halve its biaxial stiffness (measured strain ratio 2.05 over 3 seeds,
     // docs/membrane.md), which about 2.05 restores (2.1 gives a strain ratio of 0.977).
     double stiffness_factor = 1.0;
+    // [-] every bond's rest length is its built length / (1 + prestrain): the membrane is built
+    // stretched by this strain, as a balloon filled past its rest size, so that its tension
+    // squeezes what it holds before any load (0: built at rest, the damper's foil).
+    double prestrain = 0.0;
     bool vacancies = false;         // leave out ~vacancy_fraction of the sites
     double vacancy_fraction = 0.25; // [-] the paper's 25%
     uint64_t seed = 1;              // [-] the vacancies' draw
