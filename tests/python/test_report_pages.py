@@ -334,6 +334,61 @@ def test_devices_beam_damping_resolved_down_is_not_reproduced(tmp_path):
                for r in trend(md, "Brown et al. 2010"))
 
 
+# docs/devices.md's jamming gripper (vppdem.report device gripper_jamming, report/device_jamming.py)
+
+JAMMING = {"gripper_vacuum": ["both_dp0", "both_dp25", "both_dp50", "both_dp75"],
+           "gripper_mechanisms": ["friction_dp50", "suction_dp50", "none_dp50"],
+           "gripper_mechanisms_sphere": ["all_dp50", "shape_dp50"]}
+
+
+def jamming_root(tmp_path, hold):
+    """Hand-made records of the three jamming studies (3 seeds each): hold {case: [holding force
+    per seed]} (the other cases 0.1 N); holding_ratio F / (dp A) with A = 1e-4 m^2."""
+    root = tmp_path / "root"
+    os.makedirs(root / "studies" / "devices", exist_ok=True)
+    dps = {"both_dp0": 0, "both_dp25": 25e3, "both_dp75": 75e3}
+    for study, cases in JAMMING.items():
+        (root / "studies" / "devices" / f"{study}.toml").write_text("seeds = 3\n")
+        for case in cases:
+            dp = dps.get(case, 50e3)
+            for s, hf in enumerate(hold.get(case, [0.1, 0.1, 0.1]), 1):
+                write_json(root / "docs" / "data" / "devices" / study / f"{case}_s{s}" / "summary.json",
+                           {"stage": "done", "holding_force": hf, "holding_ratio": hf / (dp * 1e-4) if dp else 0.0,
+                            "object_area": 1e-4, "suction_force_max": 0.05, "seal_area": 1e-4,
+                            "membrane_z_min": 0.001, "volume_change_vacuum": -0.03})
+    (root / "docs" / "devices.md").write_text("# Devices\n\n<!-- device_report:gripper_jamming begin -->\n"
+                                              "<!-- device_report:gripper_jamming end -->\n")
+    run_report(["device", "gripper_jamming"], env={"VPPDEM_SOURCE_DIR": str(root)})
+    return (root / "docs" / "devices.md").read_text()
+
+
+def jamming_row(md, case):
+    return [line for line in md.splitlines() if line.startswith(f"| `{case}` |")][0].split(" | ")
+
+
+def test_devices_jamming_grip_growing_with_dp_at_every_step_is_reproduced_and_proportional(tmp_path):
+    md = jamming_root(tmp_path, {"both_dp0": [0.0, 0.0, 0.0], "both_dp25": [0.24, 0.25, 0.26],
+                                 "both_dp50": [0.49, 0.50, 0.51], "both_dp75": [0.74, 0.75, 0.76],
+                                 "none_dp50": [0.0, 0.0, 0.0]})
+    assert "**Against the vacuum** (each step up resolved upwards, Welch): reproduced." in md
+    assert "**Proportional to dp**" in md and "50 kPa mean): yes." in md
+    # The holds column (7th: | case | object | mechanisms | dp | n | F | F/(dpA) | holds): an
+    # interval above 0 holds, zeros do not.
+    assert jamming_row(md, "both_dp50")[7] == "yes" and jamming_row(md, "none_dp50")[7] == "no"
+    assert "15 of 27 runs" not in md and "27 of 27 runs" in md
+
+
+def test_devices_jamming_a_step_resolved_down_is_not_reproduced_and_not_proportional(tmp_path):
+    md = jamming_root(tmp_path, {"both_dp0": [0.0, 0.0, 0.0], "both_dp25": [0.24, 0.25, 0.26],
+                                 "both_dp50": [0.49, 0.50, 0.51], "both_dp75": [0.30, 0.31, 0.32]})
+    assert "**Against the vacuum** (each step up resolved upwards, Welch): not reproduced." in md
+    assert "50 kPa mean): no." in md
+    # A step not resolved (scatter as large as the step): consistent, not established.
+    md = jamming_root(tmp_path, {"both_dp0": [0.0, 0.0, 0.0], "both_dp25": [0.1, 0.5, 0.2],
+                                 "both_dp50": [0.49, 0.50, 0.51], "both_dp75": [0.74, 0.75, 0.76]})
+    assert "resolved upwards, Welch): consistent, not established." in md
+
+
 # ---------------------------------------------------------------------------------------------
 # docs/studies.md's velocity results (vppdem.report velocity_cycles --page)
 

@@ -6,12 +6,13 @@ them), computes each case's mean and 95% Student-t interval over its seeds, draw
 docs/devices_<study>_study.png and writes the table into docs/devices.md between the markers
 <!-- device_report:<study> begin --> and <!-- ... end -->.
 
-usage: python3 -m vppdem.report device gripper|gripper_pour|beam|trends
+usage: python3 -m vppdem.report device gripper|gripper_pour|beam|trends|gripper_jamming
        python3 -m vppdem.report device FOLDER [--out DIR] [--test Welch|paired]
 
     python3 -m vppdem.report device gripper
     python3 -m vppdem.report device gripper_pour   # the pour against the gripper's dp50
     python3 -m vppdem.report device beam
+    python3 -m vppdem.report device gripper_jamming  # the gripper 25 grains across (report/device_jamming.py)
     python3 -m vppdem.report device trends         # only the trends table and the rules section
     python3 -m vppdem.report device out/my_study   # any device study's folder (study_report)
 
@@ -643,7 +644,7 @@ def trends():
 # ---------------------------------------------------------------------------------------------
 # Any device study's folder (issue 61, item 2): its cases' numbers with their intervals.
 
-SHIPPED = ("gripper", "gripper_pour", "beam", "trends")
+SHIPPED = ("gripper", "gripper_pour", "beam", "trends", "gripper_jamming")
 
 
 class StudyError(ValueError):
@@ -803,6 +804,13 @@ def main(argv=None):
         ap.error(f"--out and --test are for a study's folder, not the shipped study '{a.study}' (its report writes "
                  "docs/devices.md)")
     study = a.study
+    if study == "gripper_jamming":
+        from . import device_jamming
+        if device_jamming.report(load, replace_block, ROOT) is None:
+            print("device: gripper_jamming: no finished run in docs/data/devices/gripper_vacuum, gripper_mechanisms, "
+                  "gripper_mechanisms_sphere yet")
+            return 2
+        return 0
     if study != "trends":
         runs = load(study)
         stats = {"gripper": gripper, "gripper_pour": gripper_pour, "beam": beam}[study](runs)

@@ -1,0 +1,191 @@
+"""The jamming gripper 25 grains across and its mechanisms (issue 61; docs/devices.md, "The
+gripper's mechanisms").
+
+Reads the published records of three device studies (docs/data/devices/<study>/<case>_s<seed>/):
+gripper_vacuum (friction and suction on the cylinder at 0, 25, 50, 75 kPa), gripper_mechanisms
+(the cylinder at 50 kPa with friction alone, suction alone, neither) and gripper_mechanisms_sphere
+(a sphere at 50 kPa: all three mechanisms, the shape alone). Writes the table, the tests of the
+studies' plan (fixed in their study files before the runs) and the figure
+docs/devices_gripper_jamming_study.png, between <!-- device_report:gripper_jamming begin/end -->.
+
+    python3 -m vppdem.report device gripper_jamming
+
+The plan's rules, all vppdem.report.rules':
+  holds       a case holds where the 95% Student-t interval of its mean holding force lies above 0
+              (rules.one_sample against 0);
+  differs     two cases differ where Welch's 95% interval of the difference of their means
+              excludes 0 (rules.difference("Welch"));
+  vacuum      the holding force grows with the vacuum where each step up (0 -> 25 -> 50 -> 75 kPa)
+              is resolved upwards (rules.direction);
+  dp          proportional to dp where the 95% intervals of F / (dp A) at 25 and 75 kPa hold the
+              50 kPa mean.
+"""
+import math
+import os
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+from . import rules  # noqa: E402
+from .stats import interval  # noqa: E402
+
+STUDIES = ("gripper_vacuum", "gripper_mechanisms", "gripper_mechanisms_sphere")
+OBJECT_TOP = 0.006      # [m] both objects' top (the cylinder's end, the sphere's pole)
+OBJECT_WEIGHT = 1000 * math.pi * 0.006 ** 2 * 0.012 * 9.81  # [N] the cylinder in a plastic of 1000 kg/m^3
+
+# (study, case, label, dp [kPa], object, friction, suction)
+CASES = [
+    ("gripper_vacuum", "both_dp0", "friction + suction, no vacuum", 0, "cylinder", True, True),
+    ("gripper_vacuum", "both_dp25", "friction + suction", 25, "cylinder", True, True),
+    ("gripper_vacuum", "both_dp50", "friction + suction", 50, "cylinder", True, True),
+    ("gripper_vacuum", "both_dp75", "friction + suction", 75, "cylinder", True, True),
+    ("gripper_mechanisms", "friction_dp50", "friction alone", 50, "cylinder", True, False),
+    ("gripper_mechanisms", "suction_dp50", "suction alone", 50, "cylinder", False, True),
+    ("gripper_mechanisms", "none_dp50", "neither", 50, "cylinder", False, False),
+    ("gripper_mechanisms_sphere", "all_dp50", "friction + suction + shape", 50, "sphere", True, True),
+    ("gripper_mechanisms_sphere", "shape_dp50", "the shape alone (interlocking)", 50, "sphere", False, False),
+]
+
+
+def mean_ci(v):
+    n, m, _, h = interval([x for x in v if x is not None and math.isfinite(x)])
+    return m, h, n
+
+
+def fmt(m, h, digits=3, scale=1.0):
+    if not math.isfinite(m):
+        return "-"
+    if not math.isfinite(h):
+        return f"{m * scale:.{digits}g}"
+    return f"{m * scale:.{digits}g} ± {h * scale:.2g}"
+
+
+def values(rs, key, scale=1.0):
+    return {r["_seed"]: (r.get(key) * scale if r.get(key) is not None else None) for r in rs}
+
+
+def holds(hf):
+    """The plan's 'holds': the 95% interval of the mean above 0."""
+    d = rules.one_sample(list(hf.values()), 0.0)
+    if not d.ok:
+        return None
+    return d.d - d.h > 0
+
+
+def report(load, replace_block, root):
+    """Writes the section from the published records (load(study) -> {case: [summary]}); returns
+    {case: stats} or None while a study has no finished run."""
+    data = {s: load(s) for s in STUDIES}
+    if not any(data.values()):
+        return None
+    st, rows = {}, []
+    for study, case, label, dp, obj, fr, su in CASES:
+        rs = data[study].get(case, [])
+        hf = values(rs, "holding_force")
+        ratio = values(rs, "holding_ratio") if dp > 0 else {}
+        sm = values(rs, "suction_force_max") if su else {}
+        seal = values(rs, "seal_area", 1e6) if su else {}
+        wrap = {r["_seed"]: (OBJECT_TOP - r["membrane_z_min"]) * 1e3 for r in rs}
+        dv = values(rs, "volume_change_vacuum", 100)
+        s = {"hf": hf, "ratio": ratio, "dp": dp, "obj": obj, "n": len(rs), "holds": holds(hf) if len(rs) >= 2 else None}
+        st[case] = s
+        hold_text = {None: "-", True: "yes", False: "no"}[s["holds"]]
+        rows.append(
+            f"| `{case}` | {obj} | {label} | {dp} | {len(rs)} | **{fmt(*mean_ci(hf.values())[:2])}** | "
+            f"{fmt(*mean_ci(ratio.values())[:2]) if ratio else '-'} | {hold_text} | "
+            f"{sum(1 for v in hf.values() if v > 0)} of {len(rs)} | "
+            f"{fmt(*mean_ci(sm.values())[:2]) if sm else '-'} | {fmt(*mean_ci(seal.values())[:2]) if seal else '-'} | "
+            f"{fmt(*mean_ci(wrap.values())[:2])} | {fmt(*mean_ci(dv.values())[:2])} | "
+            f"{', '.join(f'{hf[k]:.3f}' for k in sorted(hf))} |")
+    table = ["| case | object | mechanisms | dp [kPa] | n | holding force F [N] | F / (dp A) | holds (95% above 0) | "
+             "seeds holding | suction's largest pull [N] | sealed area [mm^2] | wrap depth [mm] | "
+             "volume change in the vacuum [%] | per seed (seeds in order) [N] |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"] + rows
+
+    # The plan's differences (Welch) and the vacuum's steps.
+    def welch(a, b):  # b - a
+        return rules.difference("Welch", st[a]["hf"], st[b]["hf"])
+
+    pairs = [("both_dp0", "both_dp25", "the vacuum: 0 -> 25 kPa"), ("both_dp25", "both_dp50", "25 -> 50 kPa"),
+             ("both_dp50", "both_dp75", "50 -> 75 kPa"),
+             ("none_dp50", "friction_dp50", "friction alone - neither"),
+             ("none_dp50", "suction_dp50", "suction alone - neither"),
+             ("friction_dp50", "both_dp50", "both - friction alone (what suction adds)"),
+             ("suction_dp50", "both_dp50", "both - suction alone (what friction adds)"),
+             ("none_dp50", "shape_dp50", "sphere, shape alone - cylinder, neither (what the sphere's shape adds)"),
+             ("both_dp50", "all_dp50", "sphere - cylinder, all mechanisms on")]
+    dtable = ["| difference | n | mean ± Welch 95% [N] | resolved from 0 |", "|---|---|---|---|"]
+    diffs = {}
+    for a, b, what in pairs:
+        d = welch(a, b)
+        diffs[(a, b)] = d
+        res = rules.resolved(d)
+        dtable.append(f"| {what} (`{b}` - `{a}`) | {d.n} | {fmt(d.d if d.d is not None else math.nan, d.h if d.ok else math.nan)} | "
+                      f"{'-' if res is None else ('yes' if res == 'resolved' else 'no')} |")
+    steps = [rules.direction(diffs[(a, b)], +1) for a, b, _ in pairs[:3]]
+    vac_verdict = rules.verdict_direction(steps)
+    r25, r50, r75 = (mean_ci(st[c]["ratio"].values()) for c in ("both_dp25", "both_dp50", "both_dp75"))
+    prop = None
+    if all(n >= 2 for _, _, n in (r25, r50, r75)):
+        prop = abs(r25[0] - r50[0]) <= r25[1] and abs(r75[0] - r50[0]) <= r75[1]
+
+    # The figure: against the vacuum, and the mechanisms at 50 kPa.
+    fig, ax = plt.subplots(1, 2, figsize=(12, 4.2))
+    vac = [c for c in ("both_dp0", "both_dp25", "both_dp50", "both_dp75") if st[c]["n"]]
+    for c in vac:
+        ax[0].plot([st[c]["dp"]] * st[c]["n"], list(st[c]["hf"].values()), "o", color="0.6", ms=4)
+    if vac:
+        ms = [mean_ci(st[c]["hf"].values()) for c in vac]
+        ax[0].errorbar([st[c]["dp"] for c in vac], [m for m, _, _ in ms],
+                       yerr=[h if math.isfinite(h) else 0 for _, h, _ in ms], fmt="s-", capsize=4, color="C0",
+                       label="mean, 95% interval")
+    ax[0].set_xlabel("underpressure dp [kPa]")
+    ax[0].set_ylabel("holding force [N]")
+    ax[0].set_title("cylinder, friction + suction (press 16 N)")
+    ax[0].grid(alpha=0.3)
+    ax[0].legend(fontsize=8)
+    mech = [c for c in ("both_dp50", "friction_dp50", "suction_dp50", "none_dp50", "all_dp50", "shape_dp50")]
+    names = {"both_dp50": "cylinder\nboth", "friction_dp50": "cylinder\nfriction", "suction_dp50": "cylinder\nsuction",
+             "none_dp50": "cylinder\nneither", "all_dp50": "sphere\nall", "shape_dp50": "sphere\nshape"}
+    for k, c in enumerate(mech):
+        m, h, n = mean_ci(st[c]["hf"].values())
+        if n:
+            ax[1].bar(k, m, yerr=h if math.isfinite(h) else 0, capsize=4, color="C1" if st[c]["obj"] == "sphere" else "C0",
+                      alpha=0.6)
+            ax[1].plot([k] * n, list(st[c]["hf"].values()), "o", color="0.4", ms=4)
+    ax[1].set_xticks(range(len(mech)), [names[c] for c in mech], fontsize=8)
+    ax[1].set_ylabel("holding force [N]")
+    ax[1].set_title("the mechanisms at 50 kPa")
+    ax[1].grid(alpha=0.3, axis="y")
+    fig.tight_layout()
+    fig.savefig(os.path.join(root, "docs", "devices_gripper_jamming_study.png"), dpi=110)
+    plt.close(fig)
+
+    n_done = sum(s["n"] for s in st.values())
+    planned = sum(rules.planned_seeds(os.path.join(root, "studies", "devices", f"{c[0]}.toml")) or 0 for c in CASES)
+    areas = {}
+    for study, case, _, _, obj, _, _ in CASES:
+        for r in data[study].get(case, []):
+            areas.setdefault(obj, r.get("object_area"))
+    area_text = ", ".join(f"the {o}'s {a:.4g} m^2" for o, a in sorted(areas.items()) if a)
+    verdicts = [
+        f"- **Against the vacuum** (each step up resolved upwards, Welch): {rules.verdict_text(vac_verdict)}.",
+        "- **Proportional to dp** (the 95% intervals of F / (dp A) at 25 and 75 kPa hold the 50 kPa mean): "
+        + ({None: "open (runs pending)", True: "yes", False: "no"}[prop]) + ".",
+        f"- The cylinder's weight in a plastic of 1000 kg/m^3 is {OBJECT_WEIGHT * 1e3:.1f} mN: the default "
+        f"(`both_dp50`) holds {mean_ci(st['both_dp50']['hf'].values())[0] / OBJECT_WEIGHT:.0f} times it in the mean."
+        if st["both_dp50"]["n"] else "- The default's runs are pending.",
+    ]
+    text = "\n".join(
+        [f"Made by `scripts/device_study.sh gripper_vacuum`, `... gripper_mechanisms`, `... gripper_mechanisms_sphere` "
+         f"and `python3 -m vppdem.report device gripper_jamming` from the records in `docs/data/devices/` "
+         f"({n_done} of {planned} runs: 9 cases x seeds 1-5). Mean ± the 95% Student-t half-width over the seeds; "
+         f"A the object's cross-section normal to the pull, its facets projected ({area_text}); wrap depth: how far the "
+         "membrane's lowest particle centre reaches below the object's top at the end of the vacuum.",
+         "", *table, "", "The plan's differences (Welch's 95% interval; each case's runs have their own fills' "
+         "paths from the press on):", "", *dtable, "", *verdicts, "",
+         "![The jamming gripper's mechanisms](devices_gripper_jamming_study.png)"])
+    replace_block("gripper_jamming", text)
+    return st
