@@ -419,6 +419,7 @@ TEST(Device, BadFilesAndMeshesAreRefusedNamingTheKeyAndNothingIsWritten) {
         {good, "--set membrane.clamp_tool=arm", {"config key 'membrane.clamp_tool' = 'arm': must name one of the [[tools]]"}},
         {good, "--set membrane.shape=cube", {"config key 'membrane.shape' = 'cube': must be"}},
         {good, "--set stages.underpressure=2e5", {"config key 'stages.underpressure' = 2e+05: must be in [0, 101325)"}},
+        {good, "--set membrane.prestrain=0.6", {"config key 'membrane.prestrain' = 0.6: must be in [0, 0.5]"}},
         {bag_from("open.stl"), "", {"config key 'membrane.file' = \"open.stl\"", "open.stl", "open: "}},
         {bag_from("inverted.obj"), "", {"config key 'membrane.file' = \"inverted.obj\"", "inverted: "}},
         {bag_from("missing.stl"), "", {"config key 'membrane.file' = \"missing.stl\"", "missing.stl"}},
