@@ -301,7 +301,7 @@ def test_the_report_keeps_the_shipped_studies_and_refuses_what_is_neither(tmp_pa
     assert run_report("device", "beam")[0] == 0
     assert called == [{"study": "beam"}]
     status, out = run_report("device", tmp_path / "missing")
-    assert status == 2 and "is neither a shipped study (gripper, gripper_pour, beam, trends) nor a folder" in out
+    assert status == 2 and "is neither a shipped study (gripper, gripper_pour, beam, trends, gripper_jamming) nor a folder" in out
     status, out = run_report("device", tmp_path)
     assert status == 2 and "no finished run" in out
     status, out = run_report("device", "beam", "--out", tmp_path)
