@@ -1029,14 +1029,17 @@ TEST(DeviceInput, SpeedsStrokesAndDurationsAreRefusedOnlyPastTheirBoundsNamingTh
 }
 
 TEST(DeviceInput, ShippedDeviceFilesAndTheDeviceStudiesStillLoad) {
-    for (const char* f : {"examples/devices/gripper.toml", "examples/devices/beam.toml", "tests/data/devices/tiny_gripper.toml"})
+    for (const char* f : {"examples/devices/gripper.toml", "examples/devices/beam.toml", "examples/devices/gripper_jamming.toml",
+                          "examples/devices/gripper_jamming_sphere.toml", "tests/data/devices/tiny_gripper.toml"})
         EXPECT_EQ(refusal(kSource / f), "") << f;
     // The tests' tiny beam and tiny pour (above).
     write_file(dir() / "tiny_beam.toml", kTinyBeam);
     EXPECT_EQ(refusal(dir() / "tiny_beam.toml"), "");
     EXPECT_EQ(refusal(kSource / "tests/data/devices/tiny_gripper.toml", kPour), "");
     // Every case of the studies is loaded with its overrides (load_device_study checks them).
-    for (const char* s : {"studies/devices/gripper.toml", "studies/devices/gripper_pour.toml", "studies/devices/beam.toml"}) {
+    for (const char* s : {"studies/devices/gripper.toml", "studies/devices/gripper_pour.toml", "studies/devices/beam.toml",
+                          "studies/devices/gripper_vacuum.toml", "studies/devices/gripper_mechanisms.toml",
+                          "studies/devices/gripper_mechanisms_sphere.toml"}) {
         try {
             const vpp::DeviceStudy study = vpp::load_device_study((kSource / s).string());
             EXPECT_FALSE(study.cases.empty()) << s;
