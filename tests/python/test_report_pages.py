@@ -321,7 +321,7 @@ def test_devices_beam_damping_one_step_unresolved_is_consistent_not_established(
     # The grip's steps all 0.05 N: nothing resolved, consistent, not established; suction not measured.
     brown = trend(md, "Brown et al. 2010")
     assert any("direction: consistent, not established" in r for r in brown)
-    assert any("suction: not decidable (nothing measured): not modelled" in r for r in brown)
+    assert any("suction: not decidable (nothing measured): this study ran without it" in r for r in brown)
 
 
 def test_devices_beam_damping_resolved_down_is_not_reproduced(tmp_path):
@@ -341,7 +341,7 @@ JAMMING = {"gripper_vacuum": ["both_dp0", "both_dp25", "both_dp50", "both_dp75"]
            "gripper_mechanisms_sphere": ["all_dp50", "shape_dp50"]}
 
 
-def jamming_root(tmp_path, hold):
+def jamming_root(tmp_path, hold, report=True):
     """Hand-made records of the three jamming studies (3 seeds each): hold {case: [holding force
     per seed]} (the other cases 0.1 N); holding_ratio F / (dp A) with A = 1e-4 m^2."""
     root = tmp_path / "root"
@@ -356,6 +356,8 @@ def jamming_root(tmp_path, hold):
                            {"stage": "done", "holding_force": hf, "holding_ratio": hf / (dp * 1e-4) if dp else 0.0,
                             "object_area": 1e-4, "suction_force_max": 0.05, "seal_area": 1e-4,
                             "membrane_z_min": 0.001, "volume_change_vacuum": -0.03})
+    if not report:
+        return None
     (root / "docs" / "devices.md").write_text("# Devices\n\n<!-- device_report:gripper_jamming begin -->\n"
                                               "<!-- device_report:gripper_jamming end -->\n")
     run_report(["device", "gripper_jamming"], env={"VPPDEM_SOURCE_DIR": str(root)})
@@ -387,6 +389,21 @@ def test_devices_jamming_a_step_resolved_down_is_not_reproduced_and_not_proporti
     md = jamming_root(tmp_path, {"both_dp0": [0.0, 0.0, 0.0], "both_dp25": [0.1, 0.5, 0.2],
                                  "both_dp50": [0.49, 0.50, 0.51], "both_dp75": [0.74, 0.75, 0.76]})
     assert "resolved upwards, Welch): consistent, not established." in md
+
+
+def test_devices_jamming_trend_rows_decide_each_mechanism_by_its_difference_from_neither(tmp_path):
+    # Friction alone resolved above neither: reproduced; suction alone no different: consistent,
+    # not established; the sphere's shape alone holding nothing: interlocking not measured.
+    jamming_root(tmp_path, {"both_dp0": [0.0, 0.0, 0.0], "friction_dp50": [0.8, 0.9, 0.85],
+                            "suction_dp50": [0.001, 0.0, 0.002], "none_dp50": [0.001, 0.0, 0.001],
+                            "shape_dp50": [0.0, 0.0, 0.0]}, report=False)
+    md = device_root(tmp_path, {}, {"dp0": [30e-6, 31e-6, 29e-6], "dp25": [40e-6, 41e-6, 39e-6],
+                                    "dp50": [50e-6, 51e-6, 49e-6]})
+    row = trend(md, "Brown et al. 2010 (the gripper 25 grains across) | three mechanisms")[0]
+    assert "friction: reproduced" in row and "suction: consistent, not established" in row, row
+    assert "interlocking: not decidable (nothing measured): the bag does not wrap past the sphere's equator" in row
+    # A study without records leaves its rows out: the small gripper's rows only.
+    assert trend(md, "Brown et al. 2010 (the gripper 25 grains across) | the holding force of each mechanism")
 
 
 # ---------------------------------------------------------------------------------------------

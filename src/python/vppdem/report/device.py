@@ -543,7 +543,7 @@ def trend_rows(gr, pour, bm):
                  f"(the default grips in {above} of {len(hf['dp50'])}; paired {dN(fm)}); grains' friction off: "
                  f"{mean_text('mu_grains0_dp50')} N (the default less it, paired: {dN(fg)}; "
                  f"{rules.statement_equivalence(rules.difference('paired', hf['dp50'], hf['mu_grains0_dp50']))}); "
-                 "suction not modelled",
+                 "suction off (this study ran before it; the 25-grain gripper's rows below measure it)",
                  f"friction: {vfr}"
                  + (f" (without friction on the membrane no seed holds, so what grip there is goes through it, but "
                     f"neither difference is resolved by {len(hf['dp50'])} seeds)"
@@ -551,7 +551,7 @@ def trend_rows(gr, pour, bm):
                  + "; interlocking: "
                  + rules.label("nothing measured", f"no case removes it alone, and at the 2 N press the bag reaches "
                                f"{wm[1]:.1f} mm of the {OBJECT_TOP * 1e3:g} mm to the object's equator") + "; suction: "
-                 + rules.label("nothing measured", "not modelled")))
+                 + rules.label("nothing measured", "this study ran without it (the 25-grain gripper's rows below)")))
 
     bv = beam_values(bm)
     ks = [rules.difference(BEAM_TEST, bv[a]["k"], bv[b]["k"]) for a, b in BEAM_STEPS[:2]]
@@ -598,23 +598,29 @@ def device_rules(seeds):
                           "jitter), so they differ by the case alone"),
                ("welch", "the pour against the lattice fills (a seed's jitter acts on another lattice), and the "
                          "beam's steps in dp, the page's test since the beam study ran (a seed's cases share its "
-                         "fill there too: the paired test resolves the same steps)"),
+                         "fill there too: the paired test resolves the same steps); the 25-grain gripper's cases "
+                         "against each other (its studies' plan)"),
                ("direction", "every trend of the table 'Beside the published trends': each step of the trend "
                              "(0 -> 25 -> 50 kPa; press 1 -> 2 -> 4 N; a friction switched off against the "
                              "default) must be resolved the published way; Brown et al.'s 0.5% against the mean "
                              "volume change of the vacuum stage with its 95% Student-t interval"),
-               ("ratio", "F(25) / F(50) of the gripper's holding force"),
+               ("ratio", "F(25) / F(50) of the gripper's holding force; the 25-grain gripper's F / (dp A) at 25 "
+                         "and 75 kPa against its 50 kPa mean (proportional where both intervals hold that mean)"),
                ("equivalence", "F(25) / F(50) against the 0.5 of a force proportional to dp (the margin: 10% of "
                                "0.5), and the grains' friction switched off against the default")],
         which_w="no W here: the gripper's holding force (summary.json `holding_force`, the largest pull on the "
                 "object in the lift) and the vacuum stage's volume change; the beam's `stiffness` and "
                 "`work_per_cycle` of the second (last) of its 2 cycles, and their ratio to the peak load's work.",
-        planned="; ".join(f"{k}: {v} (`seeds` of studies/devices/{k}.toml)" for k, v in seeds.items())
+        planned="; ".join(f"{k}: {v} (`seeds` of studies/devices/{k}.toml)" for k, v in seeds.items() if v is not None)
                 + ", fixed before the runs.",
         labels=["nothing measured"],
-        fixed_before=["the cases and the seeds of the three study files (the gripper's seeds 1-5, the pour's 1-5, "
+        fixed_before=["the 25-grain gripper's three studies (gripper_vacuum, gripper_mechanisms, "
+                      "gripper_mechanisms_sphere): their cases, seeds 1-5 and every test of their rows, written in "
+                      "their study files before their runs (the design runs of seed 1 that chose the gripper came "
+                      "before the plan; none of them is a study run)",
+                      "the cases and the seeds of the three study files (the gripper's seeds 1-5, the pour's 1-5, "
                       "the beam's 1-3) before their runs: a plan, not a decision rule"],
-        fixed_after=["every test and verdict on this page: the studies ran before issue 60's rules module "
+        fixed_after=["every test and verdict of the small gripper's, the pour's and the beam's rows: those studies ran before issue 60's rules module "
                      "(vppdem.report.rules), and the rules were applied to their records after they had been "
                      "seen (the table's verdicts were hand-written before: the beam's damping 'not reproduced' "
                      "without a step resolved against the trend, the mechanisms 'partly', Götz & Pöschel "
@@ -629,6 +635,8 @@ def trends():
     if not (gr and pour and bm):
         return False
     rows = trend_rows(gr, pour, bm)
+    from . import device_jamming
+    rows += device_jamming.trend_rows(load)
     table = ["Made by `python3 -m vppdem.report device trends` (and by each study's report) from the records of "
              "the three studies; each verdict by the rules below (vppdem.report.rules), the paired and Welch "
              "differences with their 95% intervals.", "",
@@ -636,7 +644,8 @@ def trends():
     table += [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows]
     replace_block("trends", "\n".join(table))
     root = os.path.join(ROOT, "studies", "devices")
-    seeds = {k: rules.planned_seeds(os.path.join(root, f"{k}.toml")) for k in ("gripper", "gripper_pour", "beam")}
+    seeds = {k: rules.planned_seeds(os.path.join(root, f"{k}.toml"))
+             for k in ("gripper", "gripper_pour", "beam", "gripper_vacuum", "gripper_mechanisms", "gripper_mechanisms_sphere")}
     replace_block("rules", "\n".join(device_rules(seeds)))
     return True
 
@@ -810,6 +819,8 @@ def main(argv=None):
             print("device: gripper_jamming: no finished run in docs/data/devices/gripper_vacuum, gripper_mechanisms, "
                   "gripper_mechanisms_sphere yet")
             return 2
+        if not trends():
+            print("device: the trends table and the rules section wait for the records of all three studies")
         return 0
     if study != "trends":
         runs = load(study)

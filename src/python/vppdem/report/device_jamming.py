@@ -189,3 +189,64 @@ def report(load, replace_block, root):
          "![The jamming gripper's mechanisms](devices_gripper_jamming_study.png)"])
     replace_block("gripper_jamming", text)
     return st
+
+
+BROWN25 = "Brown et al. 2010 (the gripper 25 grains across)"
+
+
+def trend_rows(load):
+    """The rows of "Beside the published trends" from the three jamming studies (published, what it
+    says, the model, verdict); [] while they have no records. Every verdict by the plan's rules."""
+    data = {s: load(s) for s in STUDIES}
+    if not any(data.values()):
+        return []
+    hf = {case: values(data[study].get(case, []), "holding_force") for study, case, *_ in CASES}
+
+    def m(case):
+        mm, h, n = mean_ci(hf[case].values())
+        return "pending" if not n else (f"{mm:.3f} ± {h:.3f} N" if math.isfinite(h) else f"{mm:.3f} N")
+
+    def welch(a, b):  # b - a
+        return rules.difference("Welch", hf[a], hf[b])
+
+    def dN(d):
+        return (f"{d.d:+.3f} ± {d.h:.3f} N" if d.ok else "pending")
+
+    rows = []
+    steps = [welch("both_dp0", "both_dp25"), welch("both_dp25", "both_dp50"), welch("both_dp50", "both_dp75")]
+    vdir = rules.verdict_direction([rules.direction(d, +1) for d in steps])
+    ratio = {c: values(data["gripper_vacuum"].get(c, []), "holding_ratio") for c in ("both_dp25", "both_dp50", "both_dp75")}
+    r = {c: mean_ci(v.values()) for c, v in ratio.items()}
+    prop = (None if any(n < 2 for _, _, n in r.values()) else
+            abs(r["both_dp25"][0] - r["both_dp50"][0]) <= r["both_dp25"][1]
+            and abs(r["both_dp75"][0] - r["both_dp50"][0]) <= r["both_dp75"][1])
+    rtext = ", ".join(f"{fmt(*r[c][:2])} at {k} kPa" for c, k in (("both_dp25", 25), ("both_dp50", 50), ("both_dp75", 75)))
+    rows.append((BROWN25, "the holding force of each mechanism scales with the jammed state's strength, which is "
+                 "proportional to the pressure difference: F roughly ∝ dp",
+                 f"{m('both_dp0')} at 0 kPa, {m('both_dp25')} at 25, {m('both_dp50')} at 50, {m('both_dp75')} at 75 kPa "
+                 f"(steps, Welch: {', '.join(dN(d) for d in steps)}); F / (dp A) {rtext}",
+                 f"direction: {vdir}; proportionality: "
+                 + {None: "open (runs pending)", True: "reproduced (the intervals at 25 and 75 kPa hold the 50 kPa mean)",
+                    False: "not reproduced (an interval of F / (dp A) at 25 or 75 kPa excludes the 50 kPa mean)"}[prop]))
+    fr, su = welch("none_dp50", "friction_dp50"), welch("none_dp50", "suction_dp50")
+    sh = rules.one_sample(list(hf["shape_dp50"].values()), 0.0)
+    shape_holds = sh.ok and sh.d - sh.h > 0
+    sphere = data["gripper_mechanisms_sphere"].get("shape_dp50", [])
+    wrap = mean_ci([(OBJECT_TOP - x["membrane_z_min"]) * 1e3 for x in sphere])[0] if sphere else math.nan
+    vfr = rules.verdict_direction([rules.direction(fr, +1)])
+    vsu = rules.verdict_direction([rules.direction(su, +1)])
+    if not sh.ok:
+        vsh = "open (runs pending)"
+    elif shape_holds:
+        vsh = "reproduced (the sphere's shape alone holds: its interval above 0)"
+    else:
+        vsh = rules.label("nothing measured", f"the bag does not wrap past the sphere's equator (its lowest point "
+                                              f"{wrap:.1f} mm below the top, the equator at {OBJECT_TOP * 1e3:g} mm), "
+                                              "so no case has an undercut to interlock with")
+    rows.append((BROWN25, "three mechanisms: friction, interlocking, suction, each contributing",
+                 f"on the cylinder at 50 kPa: friction alone {m('friction_dp50')}, suction alone {m('suction_dp50')}, "
+                 f"neither {m('none_dp50')}, both {m('both_dp50')}; on the sphere: all three {m('all_dp50')}, the shape "
+                 f"alone {m('shape_dp50')}",
+                 f"friction: {vfr} (alone - neither {dN(fr)}); suction: {vsu} (alone - neither {dN(su)}); "
+                 f"interlocking: {vsh}"))
+    return rows
