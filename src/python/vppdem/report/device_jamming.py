@@ -29,7 +29,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from . import rules  # noqa: E402
-from .stats import interval  # noqa: E402
+from .device import fmt, mean_ci  # noqa: E402  (device imports this module only inside its functions)
 
 STUDIES = ("gripper_vacuum", "gripper_mechanisms", "gripper_mechanisms_sphere")
 OBJECT_TOP = 0.006      # [m] both objects' top (the cylinder's end, the sphere's pole)
@@ -47,19 +47,6 @@ CASES = [
     ("gripper_mechanisms_sphere", "all_dp50", "friction + suction + shape", 50, "sphere", True, True),
     ("gripper_mechanisms_sphere", "shape_dp50", "the shape alone (interlocking)", 50, "sphere", False, False),
 ]
-
-
-def mean_ci(v):
-    n, m, _, h = interval([x for x in v if x is not None and math.isfinite(x)])
-    return m, h, n
-
-
-def fmt(m, h, digits=3, scale=1.0):
-    if not math.isfinite(m):
-        return "-"
-    if not math.isfinite(h):
-        return f"{m * scale:.{digits}g}"
-    return f"{m * scale:.{digits}g} ± {h * scale:.2g}"
 
 
 def values(rs, key, scale=1.0):
