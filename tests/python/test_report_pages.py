@@ -369,11 +369,12 @@ def jamming_row(md, case):
 
 
 def test_devices_jamming_grip_growing_with_dp_at_every_step_is_reproduced_and_proportional(tmp_path):
-    md = jamming_root(tmp_path, {"both_dp0": [0.0, 0.0, 0.0], "both_dp25": [0.24, 0.25, 0.26],
-                                 "both_dp50": [0.49, 0.50, 0.51], "both_dp75": [0.74, 0.75, 0.76],
+    md = jamming_root(tmp_path, {"both_dp0": [0.0, 0.0, 0.0], "both_dp25": [0.249, 0.25, 0.251],
+                                 "both_dp50": [0.499, 0.50, 0.501], "both_dp75": [0.749, 0.75, 0.751],
                                  "none_dp50": [0.0, 0.0, 0.0]})
     assert "**Against the vacuum** (each step up resolved upwards, Welch): reproduced." in md
-    assert "**Proportional to dp**" in md and "50 kPa mean): yes." in md
+    # F / (dp A) the same at every dp, the ratios' intervals within +-10%: proportional.
+    assert "the ratio's 95% interval within +-10%): reproduced." in md
     # The holds column (7th: | case | object | mechanisms | dp | n | F | F/(dpA) | holds): an
     # interval above 0 holds, zeros do not.
     assert jamming_row(md, "both_dp50")[7] == "yes" and jamming_row(md, "none_dp50")[7] == "no"
@@ -384,11 +385,14 @@ def test_devices_jamming_a_step_resolved_down_is_not_reproduced_and_not_proporti
     md = jamming_root(tmp_path, {"both_dp0": [0.0, 0.0, 0.0], "both_dp25": [0.24, 0.25, 0.26],
                                  "both_dp50": [0.49, 0.50, 0.51], "both_dp75": [0.30, 0.31, 0.32]})
     assert "**Against the vacuum** (each step up resolved upwards, Welch): not reproduced." in md
-    assert "50 kPa mean): no." in md
+    # F / (dp A) at 75 kPa 0.41 times 50 kPa's, resolved beyond the margin: not proportional.
+    assert "the ratio's 95% interval within +-10%): not reproduced." in md
     # A step not resolved (scatter as large as the step): consistent, not established.
     md = jamming_root(tmp_path, {"both_dp0": [0.0, 0.0, 0.0], "both_dp25": [0.1, 0.5, 0.2],
                                  "both_dp50": [0.49, 0.50, 0.51], "both_dp75": [0.74, 0.75, 0.76]})
     assert "resolved upwards, Welch): consistent, not established." in md
+    # ... and F / (dp A) at 25 kPa scattered past the margin: proportionality not established.
+    assert "the ratio's 95% interval within +-10%): consistent, not established." in md
 
 
 def test_devices_jamming_trend_rows_decide_each_mechanism_by_its_difference_from_neither(tmp_path):
