@@ -103,7 +103,7 @@ def report(load, replace_block, root):
             f"{fmt(*mean_ci(wrap.values())[:2])} | {fmt(*mean_ci(dv.values())[:2])} | "
             f"{', '.join(f'{hf[k]:.3f}' for k in sorted(hf))} |")
     table = ["| case | object | mechanisms | dp [kPa] | n | holding force F [N] | F / (dp A) | holds (95% above 0) | "
-             "seeds holding | suction's largest pull [N] | sealed area [mm^2] | wrap depth [mm] | "
+             "seeds holding | suction's largest pull [N] | sealed area [mm^2] | membrane's lowest point below the object's top [mm] | "
              "volume change in the vacuum [%] | per seed (seeds in order) [N] |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"] + rows
 
@@ -182,8 +182,9 @@ def report(load, replace_block, root):
         [f"Made by `scripts/device_study.sh gripper_vacuum`, `... gripper_mechanisms`, `... gripper_mechanisms_sphere` "
          f"and `python3 -m vppdem.report device gripper_jamming` from the records in `docs/data/devices/` "
          f"({n_done} of {planned} runs: 9 cases x seeds 1-5). Mean ± the 95% Student-t half-width over the seeds; "
-         f"A the object's cross-section normal to the pull, its facets projected ({area_text}); wrap depth: how far the "
-         "membrane's lowest particle centre reaches below the object's top at the end of the vacuum.",
+         f"A the object's cross-section normal to the pull, its facets projected ({area_text}); the membrane's lowest "
+         "point: its lowest particle centre at the end of the vacuum, below the object's top (on the sphere the bag's skirt, "
+         "outside the object, not a wrap: the slices).",
          "", *table, "", "The plan's differences (Welch's 95% interval; each case's runs have their own fills' "
          "paths from the press on):", "", *dtable, "", *verdicts, "",
          "![The jamming gripper's mechanisms](devices_gripper_jamming_study.png)"])
@@ -227,8 +228,6 @@ def trend_rows(load):
     fr, su = welch("none_dp50", "friction_dp50"), welch("none_dp50", "suction_dp50")
     sh = rules.one_sample(list(hf["shape_dp50"].values()), 0.0)
     shape_holds = sh.ok and sh.d - sh.h > 0
-    sphere = data["gripper_mechanisms_sphere"].get("shape_dp50", [])
-    wrap = mean_ci([(OBJECT_TOP - x["membrane_z_min"]) * 1e3 for x in sphere])[0] if sphere else math.nan
     vfr = rules.verdict_direction([rules.direction(fr, +1)])
     vsu = rules.verdict_direction([rules.direction(su, +1)])
     if not sh.ok:
@@ -236,9 +235,11 @@ def trend_rows(load):
     elif shape_holds:
         vsh = "reproduced (the sphere's shape alone holds: its interval above 0)"
     else:
-        vsh = rules.label("nothing measured", f"the bag does not wrap past the sphere's equator (its lowest point "
-                                              f"{wrap:.1f} mm below the top, the equator at {OBJECT_TOP * 1e3:g} mm), "
-                                              "so no case has an undercut to interlock with")
+        above = sum(1 for v in hf["shape_dp50"].values() if v > 0)
+        vsh = rules.label("nothing measured", f"the sphere's shape alone holds {m('shape_dp50')} ({above} of "
+                                              f"{len(hf['shape_dp50'])} seeds above 0): the bag reaches the sphere "
+                                              "only down to its equator (the design runs' slices), so no case wraps an undercut "
+                                              "to interlock with")
     rows.append((BROWN25, "three mechanisms: friction, interlocking, suction, each contributing",
                  f"on the cylinder at 50 kPa: friction alone {m('friction_dp50')}, suction alone {m('suction_dp50')}, "
                  f"neither {m('none_dp50')}, both {m('both_dp50')}; on the sphere: all three {m('all_dp50')}, the shape "
