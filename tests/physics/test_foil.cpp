@@ -369,16 +369,8 @@ TEST(FoilExactRadius, TheFoilKeepsItsStiffnessPerUnitWidth) {
         for (bool hoop : {true, false}) {
             dem::World w;
             const vpp::FoilLattice L = vpp::build_cylinder(w, f, radius, 0.04, 0.0, true);
-            const double er = hoop ? eps : 0.0, ez = hoop ? 0.0 : eps;
-            for (uint32_t i : L.particles) {
-                dem::Vec3& p = w.particles.pos[i];
-                p = {p.x * (1.0 + er), p.y * (1.0 + er), p.z * (1.0 + ez)};
-            }
-            w.params.gravity = {0, 0, 0};
-            w.params.dt = 1e-7;
-            w.compute_forces();
-            const vpp::FoilTension t = vpp::cylinder_tension(L, w);
-            const double expected = Et * eps * L.cols * std::sin(std::numbers::pi / L.cols) / std::numbers::pi;
+            const vpp::FoilTension t = foil_tension_test::stretched(w, L, hoop ? eps : 0.0, hoop ? 0.0 : eps);
+            const double expected = Et * eps * foil_tension_test::polygon_factor(L.cols);
             const double got = hoop ? t.hoop : t.axial;
             std::printf("r_p %.1f mm, %s strain %g: %.9g N/m against %.9g N/m\n", 1e3 * radius, hoop ? "hoop" : "axial",
                         eps, got, expected);
