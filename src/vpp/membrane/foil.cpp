@@ -72,11 +72,9 @@ FoilLattice place(dem::World& w, const FoilDef& f, int rows, int cols, bool clos
         }
     // The square grid (every pitch 2 r_f): the paper's bonds, rest length 2 r_f. Otherwise each
     // bond rests at its sites' distance (unstressed as built) with the bar rule's stiffness.
-    const bool square = column_pitch == L.spacing;
-    const double kn = bond_normal_stiffness(f), ks = f.stiffness_ratio * kn;
-    const double kn_row = square ? kn : lattice_bond_stiffness(f, column_pitch, L.spacing);
-    const double kn_col = square ? kn : lattice_bond_stiffness(f, L.spacing, column_pitch);
-    const double rest = square ? L.spacing : -1.0;  // -1: the distance as placed
+    const double kn_row = lattice_bond_kn(f, L, LatticeBond{.along_row = true});
+    const double kn_col = lattice_bond_kn(f, L, LatticeBond{.along_row = false});
+    const double rest = column_pitch == L.spacing ? L.spacing : -1.0;  // -1: the distance as placed
     for (int k = 0; k < rows; ++k)
         for (int c = 0; c < cols; ++c) {
             const int32_t a = L.at(k, c);
@@ -85,17 +83,13 @@ FoilLattice place(dem::World& w, const FoilDef& f, int rows, int cols, bool clos
             if (k % 2 == 0 && (c + 1 < cols || closed)) {
                 const int32_t b = L.at(k, (c + 1) % cols);
                 if (b >= 0)
-                    L.bonds.push_back({square ? w.add_bond(uint32_t(a), uint32_t(b), kn, ks, L.spacing)
-                                              : w.add_bond(uint32_t(a), uint32_t(b), kn_row, f.stiffness_ratio * kn_row, rest),
-                                       k, c, true});
+                    L.bonds.push_back({w.add_bond(uint32_t(a), uint32_t(b), kn_row, f.stiffness_ratio * kn_row, rest), k, c, true});
             }
             // Along the column (even columns are full chains).
             if (c % 2 == 0 && k + 1 < rows) {
                 const int32_t b = L.at(k + 1, c);
                 if (b >= 0)
-                    L.bonds.push_back({square ? w.add_bond(uint32_t(a), uint32_t(b), kn, ks, L.spacing)
-                                              : w.add_bond(uint32_t(a), uint32_t(b), kn_col, f.stiffness_ratio * kn_col, L.spacing),
-                                       k, c, false});
+                    L.bonds.push_back({w.add_bond(uint32_t(a), uint32_t(b), kn_col, f.stiffness_ratio * kn_col, L.spacing), k, c, false});
             }
         }
     return L;
