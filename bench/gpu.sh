@@ -1,16 +1,22 @@
 #!/usr/bin/env bash
-# The batch engine on the GPU against the CPU of the same machine, in one run (issue 45,
-# docs/gpu.md): the paper's damper during cycling (a run.ckpt, the energy ledger on), timed by
-# `vppdem bench checkpoint`:
+# The batch engine on the GPU against the CPU of the same machine, in one run (issues 45, 58;
+# docs/gpu.md): the paper's damper during cycling at the studies' 0.01 m/s (a run.ckpt, the energy
+# ledger on), timed by `vppdem bench checkpoint` over 3,000 steps (so that a system's relayouts
+# come at their rate, not once inside a short window):
 #   device: batches of 1, 16, 64, 128, 256, 512 copies (system-steps/s; the batch of 1 is the
 #           one system's steps/s), --backend cuda;
 #   CPU:    World on 1 thread and on 16 threads (steps/s), and 16 separate 1-thread runs at once
 #           (system-steps/s in all).
+# Each device row has the run's own timers: the host's parts of a step (before and after the
+# forces and the motion kernels, relayouts in the first), the bus and device, the kernels, the
+# waits, the bytes, and the relayouts per 1,000 system-steps. With OLD_STATE (a run.ckpt at
+# 0.05 m/s, as runs 1-4 of docs/data/gpu/HISTORY.md timed) the batches of 1 and 256 are timed
+# again as those runs did (OLD_STEPS steps), so that a run compares with the old ones.
 # Then the projections: the paper's studies at 0.01 m/s (RUNS runs of CYCLES cycles, amplitude
 # AMPLITUDE) at the batched rate, and one cycle at 3.33e-4 m/s at the one system's rate.
 # usage: bench/gpu.sh [--cpu-only]
-# env: VPPDEM (build-device/vppdem), STATE (the damper's run.ckpt; required), DEVICE_STEPS (300),
-#      ONE_STEPS (2000), CPU_STEPS (1000), BATCHES ("1 16 64 128 256 512"), CPU_THREADS (16),
+# env: VPPDEM (build-device/vppdem), STATE (the damper's run.ckpt at 0.01 m/s; required),
+#      OLD_STATE (none), OLD_STEPS (300: runs 1-4's), DEVICE_STEPS (3000), ONE_STEPS (3000), CPU_STEPS (3000), BATCHES ("1 16 64 128 256 512"), CPU_THREADS (16),
 #      RUNS (150), CYCLES (5: the paper studies' setting), AMPLITUDE (0.01), ENERGY (--energy; empty: the ledger off),
 #      HOST_THREADS (nproc: the host threads of the device backend's bookkeeping), BACKEND (cuda;
 #      emulated: the device backend's kernels on the host, to try this script without a GPU),
@@ -21,9 +27,11 @@ set -uo pipefail
 cd "$(dirname "$0")/.."
 VPPDEM=${VPPDEM:-build-device/vppdem}
 STATE=${STATE:?"STATE: the run.ckpt of the paper damper"}
-DEVICE_STEPS=${DEVICE_STEPS:-300}
-ONE_STEPS=${ONE_STEPS:-2000}
-CPU_STEPS=${CPU_STEPS:-1000}
+OLD_STATE=${OLD_STATE:-}
+OLD_STEPS=${OLD_STEPS:-300}
+DEVICE_STEPS=${DEVICE_STEPS:-3000}
+ONE_STEPS=${ONE_STEPS:-3000}
+CPU_STEPS=${CPU_STEPS:-3000}
 BATCHES=${BATCHES:-1 16 64 128 256 512}
 CPU_THREADS=${CPU_THREADS:-16}
 RUNS=${RUNS:-150}
@@ -44,7 +52,7 @@ bench() {  # name, args...: one `vppdem bench checkpoint` line; its rate into ra
   local name=$1; shift
   local line
   # shellcheck disable=SC2086
-  line=$("$VPPDEM" bench checkpoint --state "$STATE" $ENERGY "$@" 2>&1 | tail -1)
+  line=$("$VPPDEM" bench checkpoint --state "${BENCH_STATE:-$STATE}" $ENERGY "$@" 2>&1 | tail -1)
   local r
   if [[ $line == *system_steps_per_s* ]]; then r=$(echo "$line" | field system_steps_per_s)
   else r=$(echo "$line" | field steps_per_s); fi
@@ -55,16 +63,19 @@ bench() {  # name, args...: one `vppdem bench checkpoint` line; its rate into ra
     rate[$name]=$r
     dt=$(echo "$line" | field dt)
     if [[ $line == *host_us_per_step* ]]; then
-      extra[$name]=$(printf '%.0f | %.0f | %.0f | %.1f | %.0f | %.0f' "$(echo "$line" | field host_us_per_step)" \
+      local parts
+      parts=$(echo "$line" | sed -n 's/.*"host_parts_us_per_step": \[\([^]]*\)\].*/\1/p' | tr -d ' ' | tr ',' '/')
+      extra[$name]=$(printf '%.0f | %s | %.0f | %.0f | %.1f | %.0f | %.0f | %.3g' "$(echo "$line" | field host_us_per_step)" "$parts" \
         "$(echo "$line" | field device_us_per_step)" "$(echo "$line" | field kernel_us_per_step)" "$(echo "$line" | field waits_per_step)" \
-        "$(echo "$line" | field bytes_up_per_step)" "$(echo "$line" | field bytes_down_per_step)")
+        "$(echo "$line" | field bytes_up_per_step)" "$(echo "$line" | field bytes_down_per_step)" \
+        "$(echo "$line" | field relayouts_per_1000_system_steps)")
     fi
     echo "gpu.sh: $name: $line"
   fi
   rows+=("$name")
 }
 dt=""
-echo "gpu.sh: $(date -u +%FT%TZ) on $(hostname), $(nproc) cores; STATE=$STATE"
+echo "gpu.sh: $(date -u +%FT%TZ) on $(hostname), $(nproc) cores; STATE=$STATE${OLD_STATE:+, OLD_STATE=$OLD_STATE}"
 command -v nvidia-smi > /dev/null && nvidia-smi --query-gpu=name,memory.total,clocks.max.sm --format=csv,noheader
 if [ $cpu_only = 0 ]; then
   for B in $BATCHES; do
@@ -85,6 +96,10 @@ if [ $cpu_only = 0 ]; then
       VPPDEM_CUDA_BLOCK=$T bench "device batch 1, $T threads per block" --batch 1 --backend cuda --threads "$HOST_THREADS" --steps "$ONE_STEPS"
       VPPDEM_CUDA_BLOCK=$T bench "device batch 256, $T threads per block" --batch 256 --backend cuda --threads "$HOST_THREADS" --steps "$DEVICE_STEPS"
     done
+  fi
+  if [ -n "$OLD_STATE" ]; then
+    BENCH_STATE=$OLD_STATE bench "old protocol: device batch 1" --batch 1 --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$OLD_STEPS"
+    BENCH_STATE=$OLD_STATE bench "old protocol: device batch 256" --batch 256 --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$OLD_STEPS"
   fi
 fi
 bench "CPU World, 1 thread" --threads 1 --steps "$CPU_STEPS"
@@ -109,12 +124,12 @@ rate[$name]=$sum
 rows+=("$name")
 
 echo
-echo "| run | rate | unit | host us/step | bus+device us/step | of which kernels | waits/step | bytes up/step | bytes down/step |"
-echo "|---|---|---|---|---|---|---|---|---|"
+echo "| run | rate | unit | host us/step | host parts us/step (forces before/after, motion before/after) | bus+device us/step | of which kernels | waits/step | bytes up/step | bytes down/step | relayouts per 1000 system-steps |"
+echo "|---|---|---|---|---|---|---|---|---|---|---|"
 for name in "${rows[@]}"; do
   unit="system-steps/s"
-  case $name in "device batch 1"|"device batch 1, "*|"CPU World"*) unit="steps/s";; esac
-  printf '| %s | %.0f | %s | %s |\n' "$name" "${rate[$name]}" "$unit" "${extra[$name]:-| | | | |}"
+  case $name in "device batch 1"|"device batch 1, "*|"old protocol: device batch 1"|"CPU World"*) unit="steps/s";; esac
+  printf '| %s | %.0f | %s | %s |\n' "$name" "${rate[$name]}" "$unit" "${extra[$name]:-| | | | | | |}"
 done
 echo
 if [ $cpu_only = 0 ] && [ -n "$dt" ]; then

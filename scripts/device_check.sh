@@ -6,7 +6,8 @@
 # libvppdem_cuda_ref.so, vppdem_device_tests), the shared libraries they need that are not the C
 # runtime's or CUDA's (ldd decides: libhwy, libtomlplusplus, ...), the inputs (the tests' small
 # damper after its cycle, seeds 1 and 2; the device sweep's study; a run.ckpt of the paper's
-# damper, made by a short run unless STATE names one), bench/gpu.sh and run.sh. On the GPU
+# damper at 0.01 m/s, made by a short run unless STATE names one, and one at 0.05 m/s), bench/gpu.sh
+# and run.sh. On the GPU
 # machine, DIR/run.sh runs the device tests, compute-sanitizer (memcheck, racecheck) on them and
 # bench/gpu.sh, writing DIR/device_check.log; DIR/run.sh --host-only runs what needs no GPU.
 # env: NVCC (nvcc on PATH, else /usr/local/cuda/bin/nvcc), BUILD (build-device), STATE (a run.ckpt
@@ -63,18 +64,27 @@ for seed in 1 2; do
     find "$out/inputs/s$seed" -mindepth 1 ! -name run.ckpt -delete
   fi
 done
-mkdir -p "$out/inputs/paper"
-if [ -n "${STATE:-}" ]; then
-  cp "$STATE" "$out/inputs/paper/run.ckpt"
-elif [ ! -f "$out/inputs/paper/run.ckpt" ]; then
-  # The paper's damper, prepared and one short cycle run (as bench/batch_host.sh prepares it):
-  # its run.ckpt is the damper in its cycling state (about 3.5 minutes on 2 cores).
+# The paper's damper, prepared and one short cycle run (as bench/batch_host.sh prepares it): its
+# run.ckpt is the damper in its cycling state (about 3.5 minutes on 2 cores each). inputs/paper
+# cycles at the studies' 0.01 m/s (an amplitude of 0.2 mm, so that the cycle has as many steps
+# as the old one), inputs/paper_005 at 0.05 m/s and 1 mm, the state runs 1-4 timed (bench/gpu.sh's
+# OLD_STATE).
+make_state() {  # DIR VELOCITY AMPLITUDE
+  [ -f "$out/inputs/$1/run.ckpt" ] && return
+  mkdir -p "$out/inputs/$1"
+  local tmp
   tmp=$(mktemp -d)
   "$out/vppdem" damper --out "$tmp/paper" --overwrite --no-plot --quiet \
-    --set process.cycles=1 --set process.amplitude=0.001 --set process.velocity=0.05 --set simulation.threads="$JOBS"
-  cp "$tmp/paper/run.ckpt" "$out/inputs/paper/run.ckpt"
+    --set process.cycles=1 --set process.amplitude="$3" --set process.velocity="$2" --set simulation.threads="$JOBS"
+  cp "$tmp/paper/run.ckpt" "$out/inputs/$1/run.ckpt"
   rm -rf "$tmp"
+}
+if [ -n "${STATE:-}" ]; then
+  mkdir -p "$out/inputs/paper"
+  cp "$STATE" "$out/inputs/paper/run.ckpt"
 fi
+make_state paper 0.01 0.0002
+make_state paper_005 0.05 0.001
 {
   echo "vppdem device check bundle"
   echo "made: $(date -u +%FT%TZ) on $(hostname) from $(git -C "$root" rev-parse --short HEAD 2>/dev/null || echo '?')$(git -C "$root" diff --quiet 2>/dev/null || echo ' (with uncommitted changes)')"

@@ -79,7 +79,8 @@ if [ $host_only = 1 ]; then
   step "the paper's damper on the emulated device (2 copies, 20 steps)" 120 "$here/vppdem" bench checkpoint \
     --state "$here/inputs/paper/run.ckpt" --batch 2 --backend emulated --steps 20 --energy
 else
-  step "bench/gpu.sh" 240 env VPPDEM="$here/vppdem" STATE="$here/inputs/paper/run.ckpt" "$here/bench/gpu.sh"
+  step "bench/gpu.sh" 300 env VPPDEM="$here/vppdem" STATE="$here/inputs/paper/run.ckpt" \
+    OLD_STATE="$here/inputs/paper_005/run.ckpt" "$here/bench/gpu.sh"
   cs=/usr/local/cuda/bin/compute-sanitizer
   [ -x $cs ] || cs=$(command -v compute-sanitizer || true)
   if [ -n "$cs" ]; then

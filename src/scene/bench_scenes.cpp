@@ -181,11 +181,11 @@ void batch_of_copies(dem::World& w, const BenchOptions& opt) {
                 "\"system_steps_per_s\": %.6g, \"bytes_up_per_step\": %.6g, \"bytes_down_per_step\": %.6g, "
                 "\"exchanges_per_step\": %.6g, \"host_us_per_step\": %.6g, \"device_us_per_step\": %.6g, "
                 "\"waits_per_step\": %.6g, \"kernel_us_per_step\": %.6g, \"host_parts_us_per_step\": [%.4g, %.4g, %.4g, %.4g], \"relayouts\": %llu, "
-                "\"energy\": %s, \"dt\": %.6g}\n",
+                "\"relayouts_per_1000_system_steps\": %.4g, \"energy\": %s, \"dt\": %.6g}\n",
                 opt.backend.c_str(), dev ? dev->device_name() : "host", opt.batch, w.particles.size(), opt.steps,
                 opt.threads, wall, sps, sps * opt.batch, up, down, calls, host_us, device_us, waits, kernel_us, part_us[0],
-                part_us[1], part_us[2], part_us[3], static_cast<unsigned long long>(relayouts), opt.energy ? "true" : "false",
-                w.params.dt);
+                part_us[1], part_us[2], part_us[3], static_cast<unsigned long long>(relayouts),
+                1000.0 * double(relayouts) / (double(opt.steps) * double(opt.batch)), opt.energy ? "true" : "false", w.params.dt);
     std::fflush(stdout);
 }
 
