@@ -1,10 +1,11 @@
 """The jamming gripper 25 grains across and its mechanisms (issue 61; docs/devices.md, "The
 gripper's mechanisms").
 
-Reads the published records of three device studies (docs/data/devices/<study>/<case>_s<seed>/):
+Reads the published records of four device studies (docs/data/devices/<study>/<case>_s<seed>/):
 gripper_vacuum (friction and suction on the cylinder at 0, 25, 50, 75 kPa), gripper_mechanisms
-(the cylinder at 50 kPa with friction alone, suction alone, neither) and gripper_mechanisms_sphere
-(a sphere at 50 kPa: all three mechanisms, the shape alone). Writes the table, the tests of the
+(the cylinder at 50 kPa with friction alone, suction alone, neither), gripper_mechanisms_sphere
+(a sphere at 50 kPa: all three mechanisms, the shape alone) and gripper_size (cylinders of 8 and
+16 mm diameter at 50 kPa; 12 mm is gripper_vacuum's both_dp50). Writes the table, the tests of the
 studies' plan (fixed in their study files before the runs) and the figure
 docs/devices_gripper_jamming_study.png, between <!-- device_report:gripper_jamming begin/end -->.
 
@@ -22,7 +23,10 @@ The plan's rules, all vppdem.report.rules':
               reproduces it, one beyond does not, else consistent, not established. The study files'
               plan had "the intervals at 25 and 75 kPa hold the 50 kPa mean", which calls any wide
               interval proportional; replaced after 2-3 seeds of each case had been seen (the rules
-              section says so).
+              section says so);
+  size        the holding force grows with the object's diameter where each step (8 -> 12 -> 16 mm)
+              is resolved upwards, and F / (dp A) falls with it where each step is resolved
+              downwards (rules.direction on Welch's differences).
 """
 import math
 import os
@@ -35,22 +39,26 @@ import matplotlib.pyplot as plt  # noqa: E402
 from . import rules  # noqa: E402
 from .device import fmt, mean_ci  # noqa: E402  (device imports this module only inside its functions)
 
-STUDIES = ("gripper_vacuum", "gripper_mechanisms", "gripper_mechanisms_sphere")
+STUDIES = ("gripper_vacuum", "gripper_mechanisms", "gripper_mechanisms_sphere", "gripper_size")
 OBJECT_TOP = 0.006      # [m] both objects' top (the cylinder's end, the sphere's pole)
 OBJECT_WEIGHT = 1000 * math.pi * 0.006 ** 2 * 0.012 * 9.81  # [N] the cylinder in a plastic of 1000 kg/m^3
 
 # (study, case, label, dp [kPa], object, friction, suction)
 CASES = [
-    ("gripper_vacuum", "both_dp0", "friction + suction, no vacuum", 0, "cylinder", True, True),
-    ("gripper_vacuum", "both_dp25", "friction + suction", 25, "cylinder", True, True),
-    ("gripper_vacuum", "both_dp50", "friction + suction", 50, "cylinder", True, True),
-    ("gripper_vacuum", "both_dp75", "friction + suction", 75, "cylinder", True, True),
-    ("gripper_mechanisms", "friction_dp50", "friction alone", 50, "cylinder", True, False),
-    ("gripper_mechanisms", "suction_dp50", "suction alone", 50, "cylinder", False, True),
-    ("gripper_mechanisms", "none_dp50", "neither", 50, "cylinder", False, False),
+    ("gripper_vacuum", "both_dp0", "friction + suction, no vacuum", 0, "cylinder 12 mm", True, True),
+    ("gripper_vacuum", "both_dp25", "friction + suction", 25, "cylinder 12 mm", True, True),
+    ("gripper_vacuum", "both_dp50", "friction + suction", 50, "cylinder 12 mm", True, True),
+    ("gripper_vacuum", "both_dp75", "friction + suction", 75, "cylinder 12 mm", True, True),
+    ("gripper_mechanisms", "friction_dp50", "friction alone", 50, "cylinder 12 mm", True, False),
+    ("gripper_mechanisms", "suction_dp50", "suction alone", 50, "cylinder 12 mm", False, True),
+    ("gripper_mechanisms", "none_dp50", "neither", 50, "cylinder 12 mm", False, False),
     ("gripper_mechanisms_sphere", "all_dp50", "friction + suction + shape", 50, "sphere", True, True),
     ("gripper_mechanisms_sphere", "shape_dp50", "the shape alone (interlocking)", 50, "sphere", False, False),
+    ("gripper_size", "d8_dp50", "friction + suction", 50, "cylinder 8 mm", True, True),
+    ("gripper_size", "d16_dp50", "friction + suction", 50, "cylinder 16 mm", True, True),
 ]
+# The cylinders' diameters [mm] of the size steps, smallest first (12 mm: the default's).
+SIZES = (("d8_dp50", 8), ("both_dp50", 12), ("d16_dp50", 16))
 
 
 def values(rs, key, scale=1.0):
@@ -118,7 +126,8 @@ def report(load, replace_block, root):
              ("friction_dp50", "both_dp50", "both - friction alone (what suction adds)"),
              ("suction_dp50", "both_dp50", "both - suction alone (what friction adds)"),
              ("none_dp50", "shape_dp50", "sphere, shape alone - cylinder, neither (what the sphere's shape adds)"),
-             ("both_dp50", "all_dp50", "sphere - cylinder, all mechanisms on")]
+             ("both_dp50", "all_dp50", "sphere - cylinder, all mechanisms on"),
+             ("d8_dp50", "both_dp50", "the object's size: 8 -> 12 mm"), ("both_dp50", "d16_dp50", "12 -> 16 mm")]
     dtable = ["| difference | n | mean ± Welch 95% [N] | resolved from 0 |", "|---|---|---|---|"]
     diffs = {}
     for a, b, what in pairs:
@@ -129,10 +138,17 @@ def report(load, replace_block, root):
                       f"{'-' if res is None else ('yes' if res == 'resolved' else 'no')} |")
     steps = [rules.direction(diffs[(a, b)], +1) for a, b, _ in pairs[:3]]
     vac_verdict = rules.verdict_direction(steps)
+    # The size's steps: the force up, F / (dp A) down.
+    size_pairs = list(zip(SIZES, SIZES[1:]))
+    size_f = rules.verdict_direction([rules.direction(diffs[(a, b)], +1) for (a, _), (b, _) in size_pairs])
+    size_r_d = [rules.difference("Welch", st[a]["ratio"], st[b]["ratio"]) for (a, _), (b, _) in size_pairs]
+    size_r = rules.verdict_direction([rules.direction(d, -1) for d in size_r_d])
+    size_r_text = ", ".join(f"{da} -> {db} mm {d.d:+.3f} ± {d.h:.3f}" if d.ok else f"{da} -> {db} mm pending"
+                            for ((_, da), (_, db)), d in zip(size_pairs, size_r_d))
     prop, _ = proportionality({c: st[c]["ratio"] for c in ("both_dp25", "both_dp50", "both_dp75")})
 
     # The figure: against the vacuum, and the mechanisms at 50 kPa.
-    fig, ax = plt.subplots(1, 2, figsize=(12, 4.2))
+    fig, ax = plt.subplots(1, 3, figsize=(17, 4.2))
     vac = [c for c in ("both_dp0", "both_dp25", "both_dp50", "both_dp75") if st[c]["n"]]
     for c in vac:
         ax[0].plot([st[c]["dp"]] * st[c]["n"], list(st[c]["hf"].values()), "o", color="0.6", ms=4)
@@ -159,6 +175,26 @@ def report(load, replace_block, root):
     ax[1].set_ylabel("holding force [N]")
     ax[1].set_title("the mechanisms at 50 kPa")
     ax[1].grid(alpha=0.3, axis="y")
+    sizes = [(c, d) for c, d in SIZES if st[c]["n"]]
+    for c, d in sizes:
+        ax[2].plot([d] * st[c]["n"], list(st[c]["hf"].values()), "o", color="0.6", ms=4)
+    if sizes:
+        ms = [mean_ci(st[c]["hf"].values()) for c, _ in sizes]
+        ax[2].errorbar([d for _, d in sizes], [m for m, _, _ in ms], yerr=[h if math.isfinite(h) else 0 for _, h, _ in ms],
+                       fmt="s-", capsize=4, color="C0", label="F, mean and 95% interval")
+        rs = [mean_ci(st[c]["ratio"].values()) for c, _ in sizes]
+        twin = ax[2].twinx()
+        twin.errorbar([d + 0.25 for _, d in sizes], [m for m, _, _ in rs],  # beside F's bars yerr=[h if math.isfinite(h) else 0 for _, h, _ in rs],
+                      fmt="^--", capsize=4, color="C3", label="F / (dp A)")
+        twin.set_ylabel("F / (dp A) [-]", color="C3")
+        twin.set_ylim(bottom=0)
+        ax[2].legend(loc="upper left", fontsize=8)
+        twin.legend(loc="upper right", fontsize=8)
+    ax[2].set_xlabel("the cylinder's diameter [mm]")
+    ax[2].set_ylabel("holding force [N]")
+    ax[2].set_ylim(bottom=0)
+    ax[2].set_title("against the object's size (50 kPa)")
+    ax[2].grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(os.path.join(root, "docs", "devices_gripper_jamming_study.png"), dpi=110)
     plt.close(fig)
@@ -177,11 +213,14 @@ def report(load, replace_block, root):
         f"- The cylinder's weight in a plastic of 1000 kg/m^3 is {OBJECT_WEIGHT * 1e3:.1f} mN: the default "
         f"(`both_dp50`) holds {mean_ci(st['both_dp50']['hf'].values())[0] / OBJECT_WEIGHT:.0f} times it in the mean."
         if st["both_dp50"]["n"] else "- The default's runs are pending.",
+        f"- **Against the object's size** (each step 8 -> 12 -> 16 mm resolved upwards, Welch): "
+        f"{rules.verdict_text(size_f)}. **F / (dp A) against the size** (each step resolved downwards, Welch: "
+        f"{size_r_text}): {rules.verdict_text(size_r)}.",
     ]
     text = "\n".join(
-        [f"Made by `scripts/device_study.sh gripper_vacuum`, `... gripper_mechanisms`, `... gripper_mechanisms_sphere` "
-         f"and `python3 -m vppdem.report device gripper_jamming` from the records in `docs/data/devices/` "
-         f"({n_done} of {planned} runs: 9 cases x seeds 1-5). Mean ± the 95% Student-t half-width over the seeds; "
+        [f"Made by `scripts/device_study.sh gripper_vacuum`, `... gripper_mechanisms`, `... gripper_mechanisms_sphere`, "
+         f"`... gripper_size` and `python3 -m vppdem.report device gripper_jamming` from the records in `docs/data/devices/` "
+         f"({n_done} of {planned} runs: {len(CASES)} cases x seeds 1-5). Mean ± the 95% Student-t half-width over the seeds; "
          f"A the object's cross-section normal to the pull, its facets projected ({area_text}); the membrane's lowest "
          "point: its lowest particle centre at the end of the vacuum, below the object's top (on the sphere the bag's skirt, "
          "outside the object, not a wrap: the slices).",
