@@ -407,10 +407,11 @@ def beam(runs):
         ax[k].grid(alpha=0.3)
     fig.tight_layout()
     fig.savefig(os.path.join(ROOT, "docs", "devices_beam_study.png"), dpi=110)
+    seeds = rules.planned_seeds(os.path.join(ROOT, "studies", "devices", "beam.toml")) or 3
     text = "\n".join(
         [f"Made by `scripts/device_study.sh beam` and `python3 -m vppdem.report device beam` from the "
-         f"records in `docs/data/devices/beam/` ({n_done} of {3 * len(BEAM_CASES)} runs: {len(BEAM_CASES)} "
-         f"underpressures x seeds 1-3). The second (last) of the 2 cycles; mean ± the 95% Student-t half-width over the seeds. "
+         f"records in `docs/data/devices/beam/` ({n_done} of {seeds * len(BEAM_CASES)} runs: {len(BEAM_CASES)} "
+         f"underpressures x seeds 1-{seeds}). The second (last) of the 2 cycles; mean ± the 95% Student-t half-width over the seeds. "
          f"W / (P_max a / 2): the loop's work over the peak load's work at the amplitude a (1: a rectangle).",
          "", *table, "", f"The steps in dp (independent samples, {BEAM_TEST}'s t; resolved: 0 outside the 95% "
          "interval, vppdem.report.rules):", "", *steps, "", "![The beam study](devices_beam_study.png)"])
