@@ -191,6 +191,11 @@ TEST(Batch, LockstepRunsJoinAndLeaveAndKeepEachWorldsBits) {
         runs.emplace_back([&, s] {
             if (s == 3) std::this_thread::sleep_for(std::chrono::milliseconds(20));  // joins late
             for (int k = 0; k < steps[s]; ++k) {
+                // Run 0 waits at its step 100 until another run waits to join (or has joined), so
+                // that the runs overlap however the threads are scheduled (on a loaded machine the
+                // others' threads could start after run 0 had ended).
+                if (s == 0 && k == 100)
+                    while (stepper.joining() == 0 && stepper.most_systems() < 2) std::this_thread::yield();
                 stepper.compute_forces(mine[s]);
                 stepper.integrate(mine[s]);
                 if (s == 2 && k + 1 == steps[s]) {
