@@ -179,9 +179,11 @@ TEST(DeviceStudy, CasesTableHoldsTheMeanAndTheStudentIntervalOverTheSeeds) {
                                        "\nseeds = 3\n[cases.a]\n\"stages.underpressure\" = 50000\n"
                                        "[cases.b]\n\"stages.underpressure\" = 0\n");
     const fs::path out = dir / "out";
+    // holding_ratio F / (dp A) with A = 1e-4 m^2 at 50 kPa (case a only: b has no vacuum).
     auto run = [&](const std::string& folder, double hf, double dv) {
+        const std::string ratio = folder[0] == 'a' ? ", \"holding_ratio\": " + std::to_string(hf / 5.0) : "";
         write_file(out / folder / "summary.json", "{\"stage\": \"done\", \"holding_force\": " + std::to_string(hf) +
-                                                       ", \"volume_change\": " + std::to_string(dv) + "}\n");
+                                                       ", \"volume_change\": " + std::to_string(dv) + ratio + "}\n");
     };
     run("a_s1", 1.0, -0.1);
     run("a_s2", 2.0, -0.1);
@@ -221,6 +223,10 @@ TEST(DeviceStudy, CasesTableHoldsTheMeanAndTheStudentIntervalOverTheSeeds) {
     EXPECT_NEAR(num("a", "volume_change_mean"), -0.1, 1e-12);
     EXPECT_NEAR(num("a", "volume_change_ci95"), 0.0, 1e-12);
     EXPECT_EQ(rows["a"]["folders"], "a_s1;a_s2;a_s3");
+    // The gripper's F / (dp A): 0.2, 0.4, 0.6 (mean 0.4, sd 0.2); b's runs have none.
+    EXPECT_NEAR(num("a", "holding_ratio_mean"), 0.4, 1e-6);
+    EXPECT_NEAR(num("a", "holding_ratio_ci95"), t2 * 0.2 / std::sqrt(3.0), 1e-6);
+    EXPECT_EQ(rows["b"]["holding_ratio_n"], "0");
     EXPECT_EQ(rows["b"]["seeds"], "3");
     EXPECT_EQ(rows["b"]["ok"], "2");
     EXPECT_EQ(rows["b"]["holding_force_n"], "2");

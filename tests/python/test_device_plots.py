@@ -157,7 +157,8 @@ def test_the_command_draws_a_device_run_and_names_a_bad_record(tmp_path, capsys)
 
 # ---- a device study ----------------------------------------------------------------------------
 NUMBERS = ["holding_force", "press_force", "underpressure", "volume_change", "volume_change_vacuum", "packing_seal",
-           "packing_vacuum", "grains", "stiffness", "work_per_cycle", "peak_force", "energy_residual", "energy_scale"]
+           "packing_vacuum", "grains", "stiffness", "work_per_cycle", "peak_force", "energy_residual", "energy_scale",
+           "holding_ratio", "object_area", "suction_force_max", "seal_area"]
 # Case a: holding force 1, 2, 3 N over seeds 1-3 (mean 2, sd 1, half width t_2 / sqrt 3); case b:
 # 2, 3, 4 N (b - a: +1 in every seed); case c: seed 1 only, seed 2 failed. grains 570 in every run.
 RUNS = [("a", 1, 1.0, -0.10), ("b", 1, 2.0, -0.20), ("c", 1, 5.0, -0.3), ("a", 2, 2.0, -0.12), ("b", 2, 3.0, -0.22),

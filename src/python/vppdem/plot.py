@@ -589,6 +589,10 @@ DEVICE_NUMBERS = {
     "peak_force": ("peak force", "N", 1.0),
     "energy_residual": ("energy ledger's residual", "mJ", 1e3),
     "energy_scale": ("energy ledger's scale", "mJ", 1e3),
+    "holding_ratio": ("holding force / (dp x the object's cross-section)", "", 1.0),
+    "object_area": ("the object's cross-section", "mm^2", 1e6),
+    "suction_force_max": ("suction's largest pull", "N", 1.0),
+    "seal_area": ("sealed area", "mm^2", 1e6),
 }
 
 

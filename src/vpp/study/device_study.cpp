@@ -185,7 +185,10 @@ void check_folders(const fs::path& out, const DeviceSweepResult& r, bool mix_bui
 const std::vector<std::string>& device_study_numbers() {
     static const std::vector<std::string> k = {
         "holding_force", "press_force", "underpressure", "volume_change", "volume_change_vacuum", "packing_seal",
-        "packing_vacuum", "grains", "stiffness", "work_per_cycle", "peak_force", "energy_residual", "energy_scale"};
+        "packing_vacuum", "grains", "stiffness", "work_per_cycle", "peak_force", "energy_residual", "energy_scale",
+        // Added after the first columns (issue 61), so that a reader by position keeps them: the
+        // gripper's F / (dp A) (Brown et al.'s measure), the object's cross-section and the seal.
+        "holding_ratio", "object_area", "suction_force_max", "seal_area"};
     return k;
 }
 
