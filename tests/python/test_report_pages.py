@@ -5,6 +5,7 @@
 # an interval within the margin "reproduced", one beyond it "not reproduced"; a single run its
 # label. And rules.label() and rules.section(), the rules section every page states. Seconds each.
 import json
+import math
 import os
 import subprocess
 
@@ -516,3 +517,43 @@ def test_membrane_zero_inside_an_interval_past_the_margin_is_consistent_not_esta
 def test_membrane_a_difference_beyond_the_margin_is_not_reproduced(tmp_path):
     report, _ = membrane_page(tmp_path, [540.0, 545.0, 550.0, 535.0, 548.0], [800.0, 810.0, 805.0, 795.0, 802.0])
     assert "is therefore **not reproduced**: the interval lies wholly beyond the margin." in report
+
+
+# ---------------------------------------------------------------------------------------------
+# docs/paper_comparison.md's events and creep (vppdem.report.mechanisms; issue 60, item 3)
+
+
+def mechanism_runs(tmp_path, share):
+    """Hand-made cycles.csv of the mechanisms study: share(lam, seed) the events' share of every
+    channel in cycles 2-3 (cycle 1 at 0: it must not count), seeds 1-3."""
+    folder = tmp_path / "mechanisms"
+    for lam in (0.1, 0.2, 0.4):
+        for seed in (1, 2, 3):
+            x = share(lam, seed)
+            d = folder / f"process.local-damping={lam:g}_simulation.seed={seed}"
+            os.makedirs(d, exist_ok=True)
+            rows = ["cycle,friction_dissipation,damping_dissipation,viscous_dissipation,friction_in_events,"
+                    "damping_in_events,viscous_in_events,event_fraction",
+                    "1,1.0,1.0,0,0,0,0,0"]
+            rows += [f"{c},2.0,1.0,0,{2.0 * x},{1.0 * x},0,0.1" for c in (2, 3)]
+            (d / "cycles.csv").write_text("\n".join(rows) + "\n")
+    return str(folder)
+
+
+def test_mechanisms_the_events_share_decides_c33_by_its_interval_against_one_half(tmp_path):
+    from vppdem.report import mechanisms
+    # Above 0.5 at every lambda, the share rising as 0.1 ln lambda: reproduced, slope +0.100.
+    runs = mechanisms.load(mechanism_runs(tmp_path / "a", lambda lam, s: 0.8 + 0.1 * math.log(lam) + 0.001 * s))
+    v, text, rows = mechanisms.analyse(runs, planned=3)
+    assert v == "reproduced", text
+    assert "events' share of the dissipation +0.100 ± 0.000" in text and "(9 of 9 runs)" in text
+    assert rows[2].startswith("| 0.1 | 3 | 0.572 ± ")  # 0.8 + 0.1 ln 0.1 + 0.002
+    # Below 0.5 at one lambda: contradicted.
+    runs = mechanisms.load(mechanism_runs(tmp_path / "b", lambda lam, s: 0.3 if lam == 0.4 else 0.7 + 0.01 * s))
+    assert mechanisms.analyse(runs, planned=3)[0] == "contradicted"
+    # Scattered across 0.5 at one lambda: consistent, not established.
+    runs = mechanisms.load(mechanism_runs(tmp_path / "c", lambda lam, s: [0.2, 0.9, 0.6][s - 1] if lam == 0.2 else 0.7))
+    assert mechanisms.analyse(runs, planned=3)[0] == "consistent, not established"
+    # A lambda with one run: open.
+    runs = {k: v for k, v in runs.items() if not (k[0] == 0.1 and k[1] > 1)}
+    assert mechanisms.analyse(runs, planned=3)[0] == "open (runs pending)"
