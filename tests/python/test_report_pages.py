@@ -557,3 +557,21 @@ def test_mechanisms_the_events_share_decides_c33_by_its_interval_against_one_hal
     # A lambda with one run: open.
     runs = {k: v for k, v in runs.items() if not (k[0] == 0.1 and k[1] > 1)}
     assert mechanisms.analyse(runs, planned=3)[0] == "open (runs pending)"
+
+
+def test_mechanisms_the_shares_against_the_loading_speed_take_lambda_02_as_001_m_s(tmp_path):
+    from vppdem.report import mechanisms
+    # The events' share 0.6 + 0.05 ln(v / 0.01): lambda 0.2's runs are the 0.01 m/s point.
+    lam = mechanisms.load(mechanism_runs(tmp_path / "l", lambda lam, s: 0.6 + 0.001 * s))
+    folder = tmp_path / "v"
+    for v in (0.005, 0.02):
+        for seed in (1, 2, 3):
+            x = 0.6 + 0.05 * math.log(v / 0.01) + 0.001 * seed
+            d = folder / f"process.velocity={v:g}_simulation.seed={seed}"
+            os.makedirs(d, exist_ok=True)
+            (d / "cycles.csv").write_text(
+                "cycle,friction_dissipation,damping_dissipation,viscous_dissipation,friction_in_events,damping_in_events,"
+                "viscous_in_events,event_fraction\n" + "".join(f"{c},2.0,1.0,0,{2 * x},{x},0,0.1\n" for c in (1, 2, 3)))
+    text, rows = mechanisms.velocity(lam, mechanisms.load(str(folder), "process.velocity"), planned=3)
+    assert "events' share of the dissipation +0.050 ± 0.000" in text and "(6 of 6 runs" in text, text
+    assert [r.split(" | ")[1] for r in rows[2:]] == ["3", "3", "3"]

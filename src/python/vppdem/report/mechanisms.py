@@ -15,7 +15,8 @@ The plan's tests, each by vppdem.report.rules:
             the seeds), contradicted where it lies below 0.5 at one lambda, else consistent, not
             established; open while a lambda has fewer than 2 runs;
   slopes    per seed the least-squares slope of each share against ln lambda, their mean with its 95%
-            interval (the lambdas of a seed cycle one sample: paired).
+            interval (the lambdas of a seed cycle one sample: paired); the same against ln v over
+            mechanisms_velocity.toml's 0.005 and 0.02 m/s and this study's lambda 0.2 (0.01 m/s).
 """
 import csv
 import math
@@ -64,20 +65,60 @@ def run_shares(cycles_csv):
             "time": s["event_fraction"] / len(CYCLES)}
 
 
-def load(folder):
-    """{(lambda, seed): shares} of the study's published runs."""
+def load(folder, key="process.local-damping"):
+    """{(the case's value of key, seed): shares} of a study's published runs (the mechanisms study:
+    lambda; the velocity study, key "process.velocity": the loading speed)."""
     runs = {}
     if not os.path.isdir(folder):
         return runs
     for d in sorted(os.listdir(folder)):
         k = case_keys(d)
-        lam, seed = k.get("process.local-damping"), k.get("simulation.seed")
-        if lam is None or seed is None:
+        x, seed = k.get(key), k.get("simulation.seed")
+        if x is None or seed is None:
             continue
         sh = run_shares(os.path.join(folder, d, "cycles.csv"))
         if sh is not None:
-            runs[(float(lam), int(seed))] = sh
+            runs[(float(x), int(seed))] = sh
     return runs
+
+
+def table(runs, levels, name):
+    """The table's lines: per level (name's column) the runs and each share's mean ± 95% over the seeds."""
+    rows = [f"| {name} | runs | " + " | ".join(label for _, label in SHARES) + " |",
+            "|---|---|" + "---|" * len(SHARES)]
+    for x in levels:
+        shs = [sh for (l, _), sh in sorted(runs.items()) if l == x]
+        cells = []
+        for key, _ in SHARES:
+            n, m, _, h = rules.interval([sh[key] for sh in shs])
+            cells.append("-" if not n else (f"{m:.3f} ± {h:.3f}" if n >= 2 and math.isfinite(h) else f"{m:.3f}"))
+        rows.append(f"| {x:g} | {len(shs)} | " + " | ".join(cells) + " |")
+    return rows
+
+
+def slopes(runs, levels, what):
+    """Each share's least-squares slope against ln(level) per seed that has every level, the mean
+    with its 95% interval over those seeds (paired): text."""
+    seeds = sorted({s for (_, s) in runs if all((x, s) in runs for x in levels)})
+    out = []
+    for key, label in SHARES[:3]:
+        ss = [slope([math.log(x) for x in levels], [runs[(x, s)][key] for x in levels]) for s in seeds]
+        d = rules.one_sample(ss, 0.0)
+        out.append(f"{label} {d.d:+.3f} ± {d.h:.3f}" if d.ok else f"{label} pending")
+    return f"slopes against ln {what} (paired over {len(seeds)} seeds): " + ", ".join(out)
+
+
+VELOCITIES = (0.005, 0.01, 0.02)  # [m/s] 0.01: the mechanisms study's lambda 0.2 runs
+
+
+def velocity(lam_runs, vel_runs, planned=5):
+    """(text, table lines) of the shares against the loading speed: mechanisms_velocity.toml's
+    0.005 and 0.02 m/s with the mechanisms study's lambda 0.2 runs as 0.01 m/s."""
+    runs = dict(vel_runs)
+    runs.update({(0.01, s): sh for (lam, s), sh in lam_runs.items() if lam == 0.2})
+    done = sum(1 for (x, _) in vel_runs if x in VELOCITIES)
+    return (slopes(runs, VELOCITIES, "v") + f" ({done} of {planned * 2} runs of mechanisms_velocity)",
+            table(runs, VELOCITIES, "v [m/s]"))
 
 
 def slope(xs, ys):
@@ -90,23 +131,11 @@ def slope(xs, ys):
 def analyse(runs, planned=5):
     """(C33's verdict, its text, the table's lines) from load()'s runs; `planned` the study's seeds."""
     by_lam = {lam: [sh for (l, _), sh in sorted(runs.items()) if l == lam] for lam in LAMBDAS}
-    rows = ["| lambda | runs | " + " | ".join(label for _, label in SHARES) + " |",
-            "|---|---|" + "---|" * len(SHARES)]
+    rows = table(runs, LAMBDAS, "lambda")
     outcomes = []
     for lam in LAMBDAS:
-        cells = []
-        for key, _ in SHARES:
-            n, m, _, h = rules.interval([sh[key] for sh in by_lam[lam]])
-            cells.append("-" if not n else (f"{m:.3f} ± {h:.3f}" if n >= 2 and math.isfinite(h) else f"{m:.3f}"))
-        rows.append(f"| {lam:g} | {len(by_lam[lam])} | " + " | ".join(cells) + " |")
         d = rules.one_sample([sh["total"] for sh in by_lam[lam]], 0.5)
         outcomes.append(None if not d.ok else ("above" if d.d - d.h > 0 else "below" if d.d + d.h < 0 else "unresolved"))
-    seeds = sorted({s for (_, s) in runs if all((lam, s) in runs for lam in LAMBDAS)})
-    slope_text = []
-    for key, label in SHARES[:3]:
-        ss = [slope([math.log(lam) for lam in LAMBDAS], [runs[(lam, s)][key] for lam in LAMBDAS]) for s in seeds]
-        d = rules.one_sample(ss, 0.0)
-        slope_text.append(f"{label} {d.d:+.3f} ± {d.h:.3f}" if d.ok else f"{label} pending")
     done = sum(len(v) for v in by_lam.values())
     if None in outcomes:
         verdict = "open (runs pending)"
@@ -120,7 +149,6 @@ def analyse(runs, planned=5):
             f"kinetic energy) at lambda " + " / ".join(f"{lam:g}" for lam in LAMBDAS) + ": "
             + "; ".join({None: "pending", "above": "above 0.5", "below": "below 0.5",
                          "unresolved": "not resolved from 0.5"}[o] for o in outcomes)
-            + " (95% over the seeds); slopes against ln lambda "
-            "(paired over " + f"{len(seeds)} seeds): " + ", ".join(slope_text)
+            + " (95% over the seeds); " + slopes(runs, LAMBDAS, "lambda")
             + f" ({done} of {planned * len(LAMBDAS)} runs)")
     return verdict, text, rows

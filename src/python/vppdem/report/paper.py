@@ -1701,7 +1701,10 @@ def claims_mechanism(P):
             "rearrangements (it hardly follows lambda), as the paper says. The split into events decides it")
     # Issue 60, item 3: the split into rearrangement events and creep (studies/paper/mechanisms.toml's
     # plan) decides C33 once every lambda has its runs; until then the ledger's reading above stands.
-    mv, mt, P.mech_lines = mechanisms.analyse(mechanisms.load(os.path.join(P.raw, "mechanisms")), MECHANISMS_SEEDS)
+    lam_runs = mechanisms.load(os.path.join(P.raw, "mechanisms"))
+    mv, mt, P.mech_lines = mechanisms.analyse(lam_runs, MECHANISMS_SEEDS)
+    P.mech_v_text, P.mech_v_lines = mechanisms.velocity(
+        lam_runs, mechanisms.load(os.path.join(P.raw, "mechanisms_velocity"), "process.velocity"), MECHANISMS_SEEDS)
     c33 += "; the split into events and creep (section 'Events and creep'): " + mt
     if not mv.startswith("open"):
         c33v = mv + ": " + mt
@@ -2018,7 +2021,10 @@ def events_lines(P):
             "docs/energy.md, 'Events and creep'). C33 is reproduced where the events' share of the dissipation "
             "lies above 0.5 at every lambda (95% over the seeds), contradicted where it lies below 0.5 at one. "
             "Made by `python3 -m vppdem.report paper` (report/mechanisms.py) from the records the study publishes "
-            "into its folder `mechanisms` of `docs/data/paper/` as its runs end.", ""] + P.mech_lines + [""]
+            "into its folder `mechanisms` of `docs/data/paper/` as its runs end.", ""] + P.mech_lines + [
+            "", "Against the loading speed (`studies/paper/mechanisms_velocity.toml`: lambda 0.2 at 0.005 and "
+            "0.02 m/s from the same samples; 0.01 m/s is the lambda 0.2 row above), C30's question: "
+            + P.mech_v_text + ".", ""] + P.mech_v_lines + [""]
 
 
 def stationary_lines(P):
