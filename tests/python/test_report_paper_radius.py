@@ -59,8 +59,8 @@ def test_paper_report_decides_the_radius_at_equal_packing(tmp_path):
     assert ", radius_packing 0 of 30." in pg  # 'Runs finished'
     assert "- Runs finished: 0 of 30 (pending)." in sec, sec
     assert "the differences and the answer: pending (no run finished)." in sec, sec
-    assert "; at equal packing (section 'Radius at equal packing'): pending (0 of 30) |" in c28, c28
-    assert "; at equal packing (section 'Radius at equal packing'): pending (0 of 30) |" in c26, c26
+    assert "; at equal packing (section 'Radius at equal packing'): pending (0 of 30); with the foil at r_p: pending (section 'Radius with the foil at r_p') |" in c28, c28
+    assert "; at equal packing (section 'Radius at equal packing'): pending (0 of 30); with the foil at r_p: pending (section 'Radius with the foil at r_p') |" in c26, c26
     # Seeds 1-3 of every case: shown, provisional; the claims still pending.
     packing_runs(1, 3)
     sec, c26, c28, c29, pg = page()
@@ -69,8 +69,8 @@ def test_paper_report_decides_the_radius_at_equal_packing(tmp_path):
             "1430 +- 25 (n 3 of 5) / 1590 +- 25 (n 3 of 5) / 1270 +- 25 (n 3 of 5)") in sec, sec
     assert ("- Provisional (18 of 30 runs): Does W still peak at 25.5 mm at equal packing? In part: at 1 "
             "of 2 dp") in sec, sec
-    assert "pending (18 of 30) |" in c28, c28
-    assert "pending (18 of 30) |" in c26, c26
+    assert "pending (18 of 30); with the foil at r_p: pending (section 'Radius with the foil at r_p') |" in c28, c28
+    assert "pending (18 of 30); with the foil at r_p: pending (section 'Radius with the foil at r_p') |" in c26, c26
     # All 30: decided.
     packing_runs(4, 5)
     s, c26, c28, c29, pg = page()
@@ -119,3 +119,47 @@ def test_paper_report_decides_the_radius_at_equal_packing(tmp_path):
             "section 'Stationary W'] |") in c28, c28
     assert "W peaks at 25.5 mm, resolved, at 0 of 2 dp (0.02 MPa: unresolved, 0.06 MPa: unresolved; " in sec, sec
     assert "on each run's stationary W" not in c26, c26  # the loop energy: no W_stat
+
+
+# The radius with the foil at r_p (issue 60, item 4; radius_exact_section, studies/paper/radius_exact.toml's
+# plan): 3 radii x 2 dp x 8 seeds, each run settled at W + 10 (s - 4.5). W falls with the radius at both
+# dp (900 / 800 / 400 and 1700 / 1600 / 900 J/m2: every difference resolved, Welch): C28 reproduced.
+# The loop energy W pi r_p^2 (1.19 / 1.63 / 1.17 J at 0.02 MPa) falls from 25.5 to 30.5 mm, resolved
+# against C26's rise: C26 not reproduced. Before every run is in: provisional, the claims pending.
+def test_radius_exact_section_decides_c28_and_c26_on_the_runs_at_r_p(tmp_path):
+    import json
+    import types
+
+    from vppdem.report import paper
+
+    raw = tmp_path / "paper"
+    folder = raw / "radius_exact"
+    W = {0.0205: (900, 1700), 0.0255: (800, 1600), 0.0305: (400, 900)}
+    P = types.SimpleNamespace(raw=str(raw))
+    lines, v, complete = paper.radius_exact_section(P)
+    assert "- Runs finished: 0 of 48 (pending)." in lines and not complete
+    assert v["C28"][0] == "open (runs pending)"
+    rows = ["case,damper.radius,process.underpressure,simulation.seed,W,W_settled,settled_cycles,status"]
+    for r, (w2, w6) in W.items():
+        for dp, w in ((20000, w2), (60000, w6)):
+            for s in range(1, 9):
+                x = w + 10 * (s - 4.5)
+                case = f"damper.radius={r:g}_process.underpressure={dp}_simulation.seed={s}"
+                write_cycles(str(folder / case), [float(x)] * 5)
+                (folder / case / "summary.json").write_text(json.dumps(
+                    {"start_of_cycling": {"packing_fraction": 0.63 + 0.001 * s, "cap_stress": 2.0e5}}))
+                rows.append(f"{case},{r:g},{dp},{s},{x},{x},4,ok")
+    (folder / "summary.csv").write_text("\n".join(rows[:20]) + "\n")
+    lines, v, complete = paper.radius_exact_section(P)
+    assert "- Runs finished: 19 of 48 (the rest pending; what follows is provisional)." in lines, lines
+    assert not complete
+    (folder / "summary.csv").write_text("\n".join(rows) + "\n")
+    lines, v, complete = paper.radius_exact_section(P)
+    text = "\n".join(lines)
+    assert complete and "- Runs finished: 48 of 48." in lines, text
+    assert v["C28"][0] == "reproduced", v
+    assert v["C26"][0] == "not reproduced", v
+    assert "0.02 MPa 30.5 - 25.5 mm -0.47 +- " in v["C26"][1] and "[against]" in v["C26"][1], v
+    assert ("- 0.02 MPa, r_p 20.5 / 25.5 / 30.5 mm: W [J/m2] 900 +- 20 / 800 +- 20 / 400 +- 20; E [J] 1.19 +- 0.03 / "
+            "1.63 +- 0.04 / 1.17 +- 0.06; recorded (no rule decides on them): packing at the start of cycling "
+            "0.635 +- 0.002 / 0.635 +- 0.002 / 0.635 +- 0.002; cap stress [kPa] 200 +- 0 / 200 +- 0 / 200 +- 0.") in lines, text

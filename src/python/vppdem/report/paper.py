@@ -1228,6 +1228,95 @@ def timestep_plan_runs(raw):
     return out
 
 
+# The radius trend with the foil at r_p (issue 60, item 4; studies/paper/radius_exact.toml, its plan
+# fixed before its runs): each radius's foil at its nominal radius, one packing target, 8 seeds.
+RE = "radius_exact"
+RE_PLAN = {"radii": (0.0205, 0.0255, 0.0305), "dps": (0.02e6, 0.06e6), "seeds": 8, "ref": 0.0255,
+           # claim: (quantity, {radius: the sign the claim gives radius - 25.5 mm})
+           "want": {"C28": ("W", {0.0205: +1, 0.0305: -1}), "C26": ("E", {0.0205: -1, 0.0305: +1})}}
+# What the plan records for the explanation, decided on by no rule (summary.json start_of_cycling).
+RE_RECORDED = (("packing_fraction", "packing at the start of cycling", 1.0, 3),
+               ("cap_stress", "cap stress [kPa]", 1e-3, 0),
+               ("foil_hoop_tension", "foil hoop tension [N/m]", 1.0, 0))
+
+
+def radius_exact_runs(raw):
+    """{(r_p, dp): {seed: {"W": stationary W, "E": W pi r_p^2, recorded keys...}}} of the published runs
+    of DATA/radius_exact (summary.csv, each run's cycles.csv and summary.json), the stationary W by the
+    page's rule (run_stationary); a run with neither W_settled nor W_inf is left out."""
+    out = {}
+    folder = os.path.join(raw, RE)
+    for r in read_csv(os.path.join(folder, "summary.csv")):
+        if r.get("status") != "ok":
+            continue
+        rp, dp = fnum(r.get("damper.radius")), fnum(r.get("process.underpressure"))
+        w = [fnum(x.get("W")) for x in read_csv(os.path.join(folder, r["case"], "cycles.csv"))]
+        v, _, how = run_stationary(r, w)
+        if how == LAST_CYCLE or rp is None or dp is None or v is None:
+            continue
+        rec = {"W": v, "E": v * math.pi * rp * rp}
+        sj = os.path.join(folder, r["case"], "summary.json")
+        if os.path.exists(sj):
+            with open(sj) as f:
+                start = json.load(f).get("start_of_cycling") or {}
+            for key, *_ in RE_RECORDED:
+                if isinstance(start.get(key), (int, float)):
+                    rec[key] = float(start[key])
+        out.setdefault((rp, dp), {})[int(float(r[SEED]))] = rec
+    return out
+
+
+def radius_exact_section(P):
+    """The section 'Radius with the foil at r_p (C26, C28, C29)': per dp each radius's stationary W and
+    loop energy, the Welch differences against 25.5 mm, each claim's direction by the plan, and what the
+    plan records for the explanation. Returns (lines, {claim: (verdict, evidence)}, complete)."""
+    plan = RE_PLAN
+    runs = radius_exact_runs(P.raw)
+    radii, dps, seeds, ref = plan["radii"], plan["dps"], plan["seeds"], plan["ref"]
+    total = len(radii) * len(dps) * seeds
+    done = sum(len(v) for v in runs.values())
+    complete = done >= total
+    lines = ["The plan of `studies/paper/radius_exact.toml`, fixed before its runs: every foil at its nominal "
+             "radius (`foil.exact_radius = true`), every sample prepared to one packing of its nominal interior "
+             "(`damper.packing_target = 0.62`), r_p 20.5 / 25.5 / 30.5 mm x dp 0.02 / 0.06 MPa, 8 seeds, 5 cycles of "
+             "10 mm at 0.01 m/s, dt_safety 0.3. Each run's stationary W (rule 'Which W'); per dp Welch's 95% "
+             "interval of W(20.5) - W(25.5) and W(30.5) - W(25.5). C28 (a wider damper has lower W) reproduced "
+             "where all four go its way, resolved; not reproduced where one is resolved against it. C26 the same on "
+             "the loop energy E = W pi r_p^2, C29 takes C28's verdict. Published into the study's folder of "
+             "`docs/data/paper/` as its runs end.", "",
+             f"- Runs finished: {done} of {total}" + ("." if complete else " (the rest pending; what follows is "
+                                                      "provisional)." if done else " (pending).")]
+    outs = {c: [] for c in plan["want"]}
+    ev = {c: [] for c in plan["want"]}
+    for dp in dps:
+        cells = []
+        for c, (q, want) in plan["want"].items():
+            vals = {r: {s: x[q] for s, x in runs.get((r, dp), {}).items()} for r in radii}
+            for r, sign in want.items():
+                d = stats.welch(vals[ref], vals[r])
+                o = rules.direction(d, sign)
+                outs[c].append(o)
+                ev[c].append(f"{dp / 1e6:g} MPa {r * 1e3:g} - 25.5 mm {d.text(2 if q == 'E' else 0)}"
+                             + (f" [{o}]" if o else ""))
+            digits = 2 if q == "E" else 0
+            cells.append(f"{'W [J/m2]' if q == 'W' else 'E [J]'} " + " / ".join(
+                mean_text(vals[r], seeds, digits) for r in radii))
+        rec = []
+        for key, label, scale, digits in RE_RECORDED:
+            v = {r: {s: x[key] * scale for s, x in runs.get((r, dp), {}).items() if key in x} for r in radii}
+            if any(v.values()):
+                rec.append(f"{label} " + " / ".join(mean_text(v[r], seeds, digits) for r in radii))
+        lines.append(f"- {dp / 1e6:g} MPa, r_p 20.5 / 25.5 / 30.5 mm: " + "; ".join(cells)
+                     + ("; recorded (no rule decides on them): " + "; ".join(rec) if rec else "") + ".")
+    verdicts = {}
+    for c in plan["want"]:
+        v = rules.verdict_direction(outs[c])
+        verdicts[c] = (v, "; ".join(ev[c]))
+        lines.append(f"- {c} with the foil at r_p" + ("" if complete else f" (provisional: {done} of {total} runs)")
+                     + f": {v} ({'; '.join(ev[c])}).")
+    return lines, verdicts, complete
+
+
 def timestep_plan_section(P):
     """The section 'Time step decided by intervals': each seed's stationary W at the plan's levels, each
     level's paired bias against the reference, the rule's level (rules.within_margin_level) and the
@@ -1663,6 +1752,17 @@ def claims_radius(P):
     c28_lead = rc["C28 at equal packing"][0] if rp_done and "C28 at equal packing" in rc else P.J["C28"][0]
     c29v = ("open (runs pending)" if c28_lead.startswith("open") else
             f"{c28_lead} (as C28{', at equal packing' if rp_done else ''})")
+    # Issue 60, item 4: the runs with every foil at r_p decide C26, C28 and C29 once all are in (their
+    # plan); the verdicts above stand beside them, and until then they stand alone.
+    P.re_lines, re_v, re_complete = radius_exact_section(P)
+    if re_complete:
+        where = "with the foil at r_p (section 'Radius with the foil at r_p')"
+        c26v = f"{re_v['C26'][0]} {where}: {re_v['C26'][1]}. Before: {c26v}"
+        c28v = f"{re_v['C28'][0]} {where}: {re_v['C28'][1]}. Before: {c28v}"
+        c29v = f"{re_v['C28'][0]} (as C28 {where})"
+    else:
+        c28v += "; with the foil at r_p: pending (section 'Radius with the foil at r_p')"
+        c26v += "; with the foil at r_p: pending (section 'Radius with the foil at r_p')"
     return {"C26": (c26, c26v), "C28": (c28, c28v), "C29": ("follows C28 where it holds", c29v)}
 
 
@@ -2056,6 +2156,7 @@ def packing_lines(P):
              "packing fraction is the sample's after the preparation (summary.json 'preparation').", ""]
     lines += pk_lines
     lines += ["", "## Radius at equal packing (C26, C28)", ""] + P.rp_lines
+    lines += ["", "## Radius with the foil at r_p (C26, C28, C29)", ""] + P.re_lines
     if pk_fig:
         P.figs.append((pk_fig, "C28: W of the radius study against the samples' packing fraction, per dp, one intercept "
                                "per radius and a common slope"))
