@@ -524,19 +524,23 @@ def test_membrane_a_difference_beyond_the_margin_is_not_reproduced(tmp_path):
 
 
 def mechanism_runs(tmp_path, share):
-    """Hand-made cycles.csv of the mechanisms study: share(lam, seed) the events' share of every
-    channel in cycles 2-3 (cycle 1 at 0: it must not count), seeds 1-3."""
+    """Hand-made records of the mechanisms study as the sweep publishes them (summary.csv, each case's
+    cycles.csv): share(lam, seed) the events' share of every channel in cycles 2-3 (cycle 1 at 0: it
+    must not count), seeds 1-3."""
     folder = tmp_path / "mechanisms"
+    table = ["process.local_damping,simulation.seed,status,case"]
     for lam in (0.1, 0.2, 0.4):
         for seed in (1, 2, 3):
             x = share(lam, seed)
             d = folder / f"process.local-damping={lam:g}_simulation.seed={seed}"
+            table.append(f"{lam:g},{seed},ok,{d.name}")
             os.makedirs(d, exist_ok=True)
             rows = ["cycle,friction_dissipation,damping_dissipation,viscous_dissipation,friction_in_events,"
                     "damping_in_events,viscous_in_events,event_fraction",
                     "1,1.0,1.0,0,0,0,0,0"]
             rows += [f"{c},2.0,1.0,0,{2.0 * x},{1.0 * x},0,0.1" for c in (2, 3)]
             (d / "cycles.csv").write_text("\n".join(rows) + "\n")
+    (folder / "summary.csv").write_text("\n".join(table) + "\n")
     return str(folder)
 
 
@@ -564,14 +568,17 @@ def test_mechanisms_the_shares_against_the_loading_speed_take_lambda_02_as_001_m
     # The events' share 0.6 + 0.05 ln(v / 0.01): lambda 0.2's runs are the 0.01 m/s point.
     lam = mechanisms.load(mechanism_runs(tmp_path / "l", lambda lam, s: 0.6 + 0.001 * s))
     folder = tmp_path / "v"
+    table = ["process.velocity,simulation.seed,status,case"]
     for v in (0.005, 0.02):
         for seed in (1, 2, 3):
             x = 0.6 + 0.05 * math.log(v / 0.01) + 0.001 * seed
             d = folder / f"process.velocity={v:g}_simulation.seed={seed}"
+            table.append(f"{v:g},{seed},ok,{d.name}")
             os.makedirs(d, exist_ok=True)
             (d / "cycles.csv").write_text(
                 "cycle,friction_dissipation,damping_dissipation,viscous_dissipation,friction_in_events,damping_in_events,"
                 "viscous_in_events,event_fraction\n" + "".join(f"{c},2.0,1.0,0,{2 * x},{x},0,0.1\n" for c in (1, 2, 3)))
+    (folder / "summary.csv").write_text("\n".join(table) + "\n")
     text, rows = mechanisms.velocity(lam, mechanisms.load(str(folder), "process.velocity"), planned=3)
     assert "events' share of the dissipation +0.050 ± 0.000" in text and "(6 of 6 runs" in text, text
     assert [r.split(" | ")[1] for r in rows[2:]] == ["3", "3", "3"]
