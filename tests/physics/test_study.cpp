@@ -1078,7 +1078,8 @@ TEST_F(Study, TheBatchBackendWritesTheCpuBackendsFiles) {
     const std::string two = "\"process.cycles\" = 2\n";
     set.replace(set.find(two), two.size(), "\"process.cycles\" = 1\n");
     const fs::path study = scratch("backend.toml"), cpu = scratch("backend_cpu"), batch = scratch("backend_batch");
-    write_file(study, set + "[grid]\n\"process.underpressure\" = [0.04e6, 0.06e6, 0.08e6]\n");
+    const std::string grid = "[grid]\n\"process.underpressure\" = [0.04e6, 0.06e6, 0.08e6]\n";
+    write_file(study, set + grid);
     const Outcome a = run("sweep " + study.string() + " --out " + cpu.string() + " --jobs 1 --no-plot");
     ASSERT_EQ(a.status, 0) << a.output;
     // The batch sweeps take the CPU sweep's samples (samples_from), so that their two workers
@@ -1087,7 +1088,7 @@ TEST_F(Study, TheBatchBackendWritesTheCpuBackendsFiles) {
     // once"). Two cases sharing the batch is still a matter of the threads' timing, so a sweep
     // where they did not is run again into a new folder (at most 3 times).
     const fs::path from_cpu = scratch("backend_from_cpu.toml");
-    write_file(from_cpu, "samples_from = \"" + cpu.string() + "\"\n" + set + "[grid]\n\"process.underpressure\" = [0.04e6, 0.06e6, 0.08e6]\n");
+    write_file(from_cpu, "samples_from = \"" + cpu.string() + "\"\n" + set + grid);
     const auto shared_sweep = [&](const std::string& env, const fs::path& out, const std::string& backend) {
         Outcome o;
         for (int attempt = 0; attempt < 3; ++attempt) {
