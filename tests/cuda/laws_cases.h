@@ -38,6 +38,12 @@ struct LawResult {
     dem::Vec3 fp_force, fp_t1, fp_t2, fp_fs, fp_prev, sp_force;  // its particle pairs
     dem::Vec3 wp_force, wp_t2, wp_point, wp_fs, wf_force, wf_t2, wf_point, wf_fs;  // its wall pairs (plane, facet)
     double fp_energy[4], wp_energy[4], adv_energy[11];  // their energy terms (elastic, slip, release, viscous)
+    // The serial parts of a step that the device runs in chunks (issue 58): a motion's
+    // displacement and mean velocity (sampled, constant), a prescribed particle's placement, the
+    // rebuild rules (as doubles: no padding in the comparison), the clock, the ledger's booking.
+    dem::Vec3 mot_d, mot_v, mot_dc, mot_vc, place_pos, place_vel;
+    double reach_pair, reach_wall, max_disp, rules, clock_time, clock_steps, bw_back, bw_fwd;
+    double ledger_first[21], ledger_next[21];
 };
 
 // Built by the host compiler into a shared library of its own whose inline functions stay

@@ -9,7 +9,11 @@
 #include "dem/clumps/rigid_rotation.h"
 #include "dem/contact/linear_law.h"
 #include "dem/core/hd.h"
+#include "dem/core/ledger_step.h"
 #include "dem/core/pressure.h"
+#include "dem/detect/rebuild_rule.h"
+#include "dem/integrate/step_clock.h"
+#include "dem/walls/motion.h"
 #include "dem/integrate/leapfrog.h"
 #include "laws_cases.h"
 
@@ -116,6 +120,47 @@ VPPDEM_HD inline LawResult evaluate(const LawCase& c) {
     r.wf_t2 = qo.torque2;
     r.wf_point = qo.point;
     r.wf_fs = ffs;
+    // A motion of five samples 2 dt apart, read between them, and a constant one.
+    dem::DisplacementSample h[5];
+    for (int k = 0; k < 5; ++k) h[k] = {c.dt * (2.0 * k + 1.0), c.p1 * double(k) + c.fs * double(k * k)};
+    const dem::MotionView m{c.v, h, 5}, mc{c.v, nullptr, 0};
+    r.mot_d = dem::motion_displacement(m, c.dt * 4.3);
+    r.mot_v = dem::motion_mean_velocity(m, c.dt * 2.7, c.dt * 6.9);
+    r.mot_dc = dem::motion_displacement(mc, c.dt * 4.3);
+    r.mot_vc = dem::motion_mean_velocity(mc, c.dt * 2.7, c.dt * 6.9);
+    const dem::Placement pl = dem::placement_after_step(m, c.p2, c.dt * 3.1, c.dt);
+    r.place_pos = pl.pos;
+    r.place_vel = pl.vel;
+    const double moved = c.overlap * 10.0, wall_move = c.rest * 0.05, skin = c.rest * 0.5;
+    const dem::Reaches reach = dem::touch_reaches(moved, wall_move, skin);
+    r.reach_pair = reach.pair;
+    r.reach_wall = reach.wall;
+    r.max_disp = dem::max_disp_after(c.overlap * c.overlap, 1e-9 * c.rest);
+    r.rules = double(dem::particles_past_skin(moved, skin)) + 2.0 * double(dem::walls_past_skin(moved, wall_move, skin)) +
+              4.0 * double(dem::stores_need_compaction(uint64_t(c.kn) % 4096, uint64_t(c.kn) % 10000));
+    dem::StepClock clock{c.dt * 7.0, c.dt * 1.0000001, 3};
+    double t = c.dt * 7.0 + 2.0 * c.dt * 1.0000001;
+    uint64_t steps = 5;
+    clock.advance(t, steps, c.dt);
+    clock.advance(t, steps, c.dt);
+    r.clock_time = t;
+    r.clock_steps = double(steps);
+    double back = c.overlap * c.kn, fwd = -back;
+    dem::ledger::add_boundary_work(back, fwd, c.f, c.v, c.vrel, 0.5 * c.dt);
+    r.bw_back = back;
+    r.bw_fwd = fwd;
+    const double bk[5] = {c.f.x, c.f.y, c.f.z, c.t.x, c.t.y}, fw[5] = {c.v.x, c.v.y, c.v.z, c.w.x, c.w.y};
+    const double cs[4] = {c.L.x, c.L.y, c.L.z, c.kn * 1e-9};
+    dem::EnergyLedger L;
+    for (double* out : {r.ledger_first, r.ledger_next}) {
+        dem::ledger::book_step(L, bk, fw, cs, c.mu, c.cn, c.spin, c.inv_mass * 1e-4, c.dt * 9.0);
+        const double v[21] = {L.boundary_work, L.pressure_work, L.gravity_work, L.external_work, L.friction_slip,
+                              L.shear_release, L.damping_dissipation, L.viscous_dissipation, L.kinetic,
+                              L.elastic_contacts, L.elastic_bonds, L.stored0, L.time, L.t0, L.pending_boundary,
+                              L.pending_pressure, L.pending_gravity, L.pending_external, L.pending_damping,
+                              L.pending_viscous, double(L.steps)};
+        for (int k = 0; k < 21; ++k) out[k] = v[k];
+    }
     return r;
 }
 

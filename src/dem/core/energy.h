@@ -51,12 +51,12 @@ struct EnergyLedger {
     double pending_damping = 0, pending_viscous = 0;
     uint64_t steps = 0;  // steps accounted since t0; 0: not started (the next step sets t0)
 
-    double friction_dissipation() const { return friction_slip + shear_release; }
-    double input_work() const { return boundary_work + pressure_work + gravity_work + external_work; }
-    double stored() const { return kinetic + elastic_contacts + elastic_bonds; }
-    double dissipation() const { return friction_dissipation() + damping_dissipation + viscous_dissipation; }
+    VPPDEM_HD double friction_dissipation() const { return friction_slip + shear_release; }
+    VPPDEM_HD double input_work() const { return boundary_work + pressure_work + gravity_work + external_work; }
+    VPPDEM_HD double stored() const { return kinetic + elastic_contacts + elastic_bonds; }
+    VPPDEM_HD double dissipation() const { return friction_dissipation() + damping_dissipation + viscous_dissipation; }
     // input - (stored - stored0) - dissipated: zero for an exact balance.
-    double residual() const { return input_work() - (stored() - stored0) - dissipation(); }
+    VPPDEM_HD double residual() const { return input_work() - (stored() - stored0) - dissipation(); }
 };
 
 // Per-contact energy terms of one compute_forces(), written by the contact kernel into the

@@ -9,6 +9,7 @@
 
 #include "dem/core/parallel.h"
 #include "dem/detect/geometry.h"
+#include "dem/detect/rebuild_rule.h"
 
 namespace dem {
 
@@ -125,17 +126,17 @@ void keep_reference(BroadPhase& b, const Particles& p, const std::vector<Plane>&
 bool BroadPhase::needs_rebuild(std::size_t n, const std::vector<Plane>& planes, const std::vector<Facet>& facets,
                                double time) {
     if (dirty || ref_pos.size() != n) return true;
-    if (2.0 * max_disp > skin) return true;
+    if (particles_past_skin(max_disp, skin)) return true;
     double move = 0.0;
     for (std::size_t k = 0; k < planes.size(); ++k)
         move = std::max(move, norm(planes[k].motion.displacement(time) - wall_ref_disp[k]));
     for (std::size_t k = 0; k < facets.size(); ++k)
         move = std::max(move, norm(facets[k].motion.displacement(time) - wall_ref_disp[planes.size() + k]));
     wall_move = move;
-    return max_disp + wall_move > skin;
+    return walls_past_skin(max_disp, wall_move, skin);
 }
 
-void BroadPhase::record_moves(double max_d2) { max_disp = std::sqrt(max_d2) + ref_round; }
+void BroadPhase::record_moves(double max_d2) { max_disp = max_disp_after(max_d2, ref_round); }
 
 void BroadPhase::rebuild(const Scene& s, CandidateList& pp, CandidateList& pw) {
     const std::vector<Plane>& planes = *s.planes;

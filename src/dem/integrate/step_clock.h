@@ -5,6 +5,8 @@
 
 #include <cstdint>
 
+#include "dem/core/hd.h"
+
 namespace dem {
 
 struct StepClock {
@@ -12,8 +14,8 @@ struct StepClock {
     double dt_of_base = -1.0;  // [s] the dt since the base (negative: none yet)
     uint64_t step_base = 0;
 
-    // One step of dt: advances steps and time.
-    void advance(double& time, uint64_t& steps, double dt) {
+    // One step of dt: advances steps and time (World's clock and the batch engine's device's).
+    VPPDEM_HD void advance(double& time, uint64_t& steps, double dt) {
         if (dt != dt_of_base || time != time_base + double(steps - step_base) * dt_of_base) {
             time_base = time;
             step_base = steps;

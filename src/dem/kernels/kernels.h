@@ -18,6 +18,7 @@
 
 #include "dem/bonds/bond_list.h"
 #include "dem/contact/active_contacts.h"
+#include "dem/core/ledger_step.h"
 #include "dem/core/particles.h"
 #include "dem/core/vec3.h"
 #include "dem/walls/wall.h"
@@ -29,11 +30,13 @@ inline constexpr int64_t kBlock = 64;  // entries per block (a multiple of 8)
 inline int64_t block_count(std::size_t n) { return (int64_t(n) + kBlock - 1) / kBlock; }
 
 // Particle energy terms summed per block by advance(): the work of each force over the back
-// and forward half steps, and the kinetic energy (docs/energy.md).
-enum ParticleTerm { kBoundary, kPressure, kGravity, kExternal, kDamping, kTerms };
-inline constexpr int kParticleSums = 2 * kTerms + 1;  // back[kTerms], fwd[kTerms], kinetic
-// Contact energy terms summed per block by the pair kernels.
-enum PairSum { kElastic, kSlip, kRelease, kViscous, kPairSums };
+// and forward half steps, and the kinetic energy; contact energy terms summed per block by the
+// pair kernels (docs/energy.md; their indices are the ledger's, dem/core/ledger_step.h).
+using ledger::ParticleTerm;
+using enum ledger::ParticleTerm;
+using ledger::kParticleSums;
+using ledger::PairSum;
+using enum ledger::PairSum;
 
 // The state the pair kernels read of each particle, packed into one cache line so that a
 // vector of pairs loads its particles with a few row loads and a transpose instead of one

@@ -31,7 +31,6 @@ void EnergyBook::account(const Step& st) {
     const ContactSet& c = *st.contacts;
     const double dt = st.dt, h = 0.5 * dt, time = st.time, t_n = st.t_n;
     EnergyLedger& L = ledger;
-    const bool first = L.steps == 0;
 
     // Walls translate: their work is the force on the particles times the wall's displacement.
     // The forward half uses the velocity the next step's move_walls() will compute.
@@ -51,10 +50,9 @@ void EnergyBook::account(const Step& st) {
         }
     back[kernels::kBoundary] += prescribed[0];
     fwd[kernels::kBoundary] += prescribed[1];
-    for (std::size_t w = 0; w < nw; ++w) {
-        back[kernels::kBoundary] -= dot(st.walls->force[w], st.walls->velocity[w]) * h;
-        fwd[kernels::kBoundary] -= dot(st.walls->force[w], v_next[w]) * h;
-    }
+    for (std::size_t w = 0; w < nw; ++w)
+        ledger::add_boundary_work(back[kernels::kBoundary], fwd[kernels::kBoundary], st.walls->force[w],
+                                  st.walls->velocity[w], v_next[w], h);
     double cs[kernels::kPairSums] = {};
     for (const std::vector<double>* blocks : {&fric, &smooth, &walls})
         for (std::size_t b = 0; b < blocks->size(); b += kernels::kPairSums)
@@ -89,31 +87,7 @@ void EnergyBook::account(const Step& st) {
     const double release = cs[kernels::kRelease] + st.contacts->dropped_shear_energy;
     st.contacts->dropped_shear_energy = 0;
 
-    if (!first) {  // the back halves and the kernels' terms belong to [t_n - dt, t_n]
-        L.boundary_work += L.pending_boundary + back[kernels::kBoundary];
-        L.pressure_work += L.pending_pressure + back[kernels::kPressure];
-        L.gravity_work += L.pending_gravity + back[kernels::kGravity];
-        L.external_work += L.pending_external + back[kernels::kExternal];
-        L.damping_dissipation += L.pending_damping + back[kernels::kDamping];
-        L.viscous_dissipation += L.pending_viscous + cs[kernels::kViscous];
-        L.friction_slip += cs[kernels::kSlip];
-        L.shear_release += release;
-    }
-    L.pending_boundary = fwd[kernels::kBoundary];
-    L.pending_pressure = fwd[kernels::kPressure];
-    L.pending_gravity = fwd[kernels::kGravity];
-    L.pending_external = fwd[kernels::kExternal];
-    L.pending_damping = fwd[kernels::kDamping];
-    L.pending_viscous = visc_fwd;
-    L.kinetic = kinetic;
-    L.elastic_contacts = cs[kernels::kElastic];
-    L.elastic_bonds = elastic_b;
-    L.time = t_n;
-    if (first) {
-        L.t0 = t_n;
-        L.stored0 = L.stored();
-    }
-    ++L.steps;
+    ledger::book_step(L, back, fwd, cs, elastic_b, visc_fwd, release, kinetic, t_n);
 }
 
 }  // namespace dem

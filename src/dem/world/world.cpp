@@ -289,7 +289,7 @@ void World::update_candidates() {
         // The work moves with the particles (grains settle, contacts gather at the bottom): the
         // slabs are balanced again on the new candidates and contacts.
         work_.invalidate();
-    } else if (physics_dirty_ || contacts_.holes > contacts_.store_slots() / 4 + 256) {
+    } else if (physics_dirty_ || stores_need_compaction(contacts_.holes, contacts_.store_slots())) {
         // Where contacts come and go much faster than rebuilds happen (a collapsing column),
         // the holes of opened contacts are also dropped once they are a quarter of the slots,
         // so the kernels do not sweep mostly empty stores.
@@ -567,9 +567,8 @@ double World::advance_clumps(bool track) {
 }
 
 std::pair<Vec3, Vec3> World::prescribed_next(uint32_t i) const {
-    const Motion& m = motions[particles.motion[i]];
-    const double t1 = time + params.dt;
-    return {particles.ref_pos[i] + m.displacement(t1), m.mean_velocity(time, t1)};
+    const Placement at = placement_after_step(motions[particles.motion[i]].view(), particles.ref_pos[i], time, params.dt);
+    return {at.pos, at.vel};
 }
 
 double World::follow_motions(bool track, const Vec3* pressure) {
@@ -587,10 +586,8 @@ double World::follow_motions(bool track, const Vec3* pressure) {
         if (track) {
             // Work done by the prescribed particle on the others: minus the force they exert
             // on it (contacts and bonds, not the pressure it carries) times its displacement.
-            const double h = 0.5 * params.dt;
             const Vec3 fint = p.force[i] - (pressure ? pressure[i] : pressure_forces_.force[i]);
-            book_.prescribed[0] -= dot(fint, v0) * h;
-            book_.prescribed[1] -= dot(fint, p.vel[i]) * h;
+            ledger::add_boundary_work(book_.prescribed[0], book_.prescribed[1], fint, v0, p.vel[i], 0.5 * params.dt);
         }
     }
     packed_valid_ = packed;
@@ -637,9 +634,8 @@ void World::engine_end_forces(const Vec3* force, const Vec3* torque) {
 }
 
 std::pair<float, float> World::engine_reach() const {
-    // The margin covers the rounding of the gaps and of the moves.
-    const double margin = 1e-9 * broad_.skin;
-    return {float(2.0 * broad_.max_disp + margin), float(broad_.max_disp + broad_.wall_move + margin)};
+    const Reaches r = touch_reaches(broad_.max_disp, broad_.wall_move, broad_.skin);
+    return {r.pair, r.wall};
 }
 
 void World::engine_activate() {
