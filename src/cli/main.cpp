@@ -138,6 +138,9 @@ CLI::App* add_bench(CLI::App& app, BenchArgs& a) {
     cmd->add_option("--backend", bo.backend, "--batch on: host (the host backend), cuda (the device backend on the GPU; "
                                              "a build with VPPDEM_CUDA), emulated (the device backend's kernels on the host)")
         ->check(CLI::IsMember({"host", "cuda", "emulated"}));
+    cmd->add_option("--chunk", bo.chunk, "--backend cuda or emulated: the device runs up to this many steps per launch "
+                                         "sequence, the host only laying systems out (docs/gpu.md); 0: half step by half step")
+        ->check(kNonNegative);
     cmd->add_option("--simd", bo.simd, "Run the kernels on this SIMD target only (default: the best here)");
     return cmd;
 }

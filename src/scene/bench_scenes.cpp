@@ -149,8 +149,10 @@ void batch_of_copies(dem::World& w, const BenchOptions& opt) {
     std::unique_ptr<dem::batch::DeviceBatch> dev;
     if (opt.backend == "cuda") dev = std::make_unique<dem::batch::DeviceBatch>(dem::batch::dev::cuda_device(), opt.threads);
     if (opt.backend == "emulated") dev = std::make_unique<dem::batch::DeviceBatch>(dem::batch::dev::emulated_device(), opt.threads);
+    if (opt.chunk > 0 && !dev) throw std::invalid_argument("--chunk " + std::to_string(opt.chunk) + ": chunks are the device backend's (--backend cuda or emulated)");
     const auto steps = [&](uint64_t n) {
-        if (dev) dev->step(b, n);
+        if (dev && opt.chunk > 0) dev->run(b, n, opt.chunk);
+        else if (dev) dev->step(b, n);
         else dem::batch::step_host(b, opt.threads, n);
     };
     if (dev) dev->load(b);
@@ -161,6 +163,7 @@ void batch_of_copies(dem::World& w, const BenchOptions& opt) {
     double part0[4] = {0, 0, 0, 0};
     if (dev) std::copy(dev->host_part_seconds(), dev->host_part_seconds() + 4, part0);
     const uint64_t relayouts0 = dev ? dev->relayouts() : 0, waits0 = dev ? dev->waits() : 0;
+    const uint64_t chunks0 = dev ? dev->chunks() : 0;
     const auto t0 = std::chrono::steady_clock::now();
     steps(uint64_t(opt.steps));
     const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -181,11 +184,12 @@ void batch_of_copies(dem::World& w, const BenchOptions& opt) {
                 "\"system_steps_per_s\": %.6g, \"bytes_up_per_step\": %.6g, \"bytes_down_per_step\": %.6g, "
                 "\"exchanges_per_step\": %.6g, \"host_us_per_step\": %.6g, \"device_us_per_step\": %.6g, "
                 "\"waits_per_step\": %.6g, \"kernel_us_per_step\": %.6g, \"host_parts_us_per_step\": [%.4g, %.4g, %.4g, %.4g], \"relayouts\": %llu, "
-                "\"relayouts_per_1000_system_steps\": %.4g, \"energy\": %s, \"dt\": %.6g}\n",
+                "\"relayouts_per_1000_system_steps\": %.4g, \"chunk\": %d, \"chunks\": %llu, \"energy\": %s, \"dt\": %.6g}\n",
                 opt.backend.c_str(), dev ? dev->device_name() : "host", opt.batch, w.particles.size(), opt.steps,
                 opt.threads, wall, sps, sps * opt.batch, up, down, calls, host_us, device_us, waits, kernel_us, part_us[0],
                 part_us[1], part_us[2], part_us[3], static_cast<unsigned long long>(relayouts),
-                1000.0 * double(relayouts) / (double(opt.steps) * double(opt.batch)), opt.energy ? "true" : "false", w.params.dt);
+                1000.0 * double(relayouts) / (double(opt.steps) * double(opt.batch)), opt.chunk,
+                static_cast<unsigned long long>(dev ? dev->chunks() - chunks0 : 0), opt.energy ? "true" : "false", w.params.dt);
     std::fflush(stdout);
 }
 

@@ -21,6 +21,8 @@ struct BenchOptions {
                               // batch engine's host backend, docs/gpu.md) instead of the World itself
     std::string backend = "host";  // --batch on: host (step_host), cuda (the device backend on the GPU),
                                    // emulated (the device backend's kernels on the host)
+    int chunk = 0;            // device backends: 0 steps them half step by half step (DeviceBatch::step);
+                              // K > 0 in chunks of up to K steps (DeviceBatch::run), one event at the end
 };
 
 // Runs the benchmark and prints one JSON line last (a contract read by outside tools). With

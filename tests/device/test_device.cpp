@@ -11,6 +11,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -119,6 +120,41 @@ TEST(DeviceBatch, ABatchOfOneGivesTheWorldsBitsOver10000Steps) {
         mine.step();
     }
     expect_same(ref, mine, "after the hand-back");
+}
+
+// Chunks on the GPU (DeviceBatch::run, docs/gpu.md): the device runs the steps between events,
+// World's bits for chunks of 1, 16 and 256 steps with events at odd steps, eight mixed cases.
+TEST(DeviceBatch, ChunksGiveEachCasesBitsForAnyK) {
+    SKIP_WITHOUT_DEVICE();
+    const std::vector<batch_test::Case> cases = batch_test::eight_cases();
+    const int steps = steps_or(3000);
+    std::vector<World> ref;
+    for (const batch_test::Case& c : cases) {
+        ref.push_back(load_case(sample(c.seed), c.dp, c.mu, c.energy, c.restitution));
+        for (int k = 0; k < steps; ++k) ref.back().step();
+    }
+    for (const int K : {1, 16, 256}) {
+        std::vector<World> mine;
+        for (const batch_test::Case& c : cases) mine.push_back(load_case(sample(c.seed), c.dp, c.mu, c.energy, c.restitution));
+        dem::batch::BatchSystems b;
+        for (World& w : mine) b.add(w);
+        dem::batch::DeviceBatch d(dem::batch::dev::cuda_device());
+        d.load(b);
+        std::vector<std::exception_ptr> err(cases.size());
+        std::vector<uint64_t> until(cases.size());
+        for (std::size_t q = 0; q < cases.size(); ++q) until[q] = mine[q].steps + uint64_t(steps) / 3 + 37 * q;
+        d.run(b, until, K, {}, err);
+        for (std::size_t q = 0; q < cases.size(); ++q) until[q] = ref[q].steps;
+        d.run(b, until, K, {}, err);
+        for (std::size_t q = 0; q < cases.size(); ++q) {
+            if (err[q]) std::rethrow_exception(err[q]);
+            d.pull(b, q);
+            b.store(q);
+            expect_same(ref[q], mine[q], "case " + std::to_string(q) + ", chunks of " + std::to_string(K));
+        }
+        std::printf("chunks of %d: %llu chunks, %llu layouts, %llu waits over %d steps\n", K,
+                    (unsigned long long)d.chunks(), (unsigned long long)d.relayouts(), (unsigned long long)d.waits(), steps);
+    }
 }
 
 TEST(DeviceBatch, ABatchOfEightMixedCasesGivesEachCasesBits) {

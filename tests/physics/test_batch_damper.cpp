@@ -248,4 +248,152 @@ TEST_F(BatchDamper, TheKernelsSplitAmongABlocksThreadsGiveEachCasesBits) {
     }
 }
 
+// Chunks (DeviceBatch::run, issue 58): the device runs the steps between events by itself (the
+// walls' motion, the clock, the prescribed motions, the rebuild test, the compaction rule, the
+// ledger's booking), the host only laying a system out where World would and handing it back at
+// its events. World's bits for chunks of 1, 7 and 64 steps, with events at odd steps (two of them
+// one step apart), across the rebuilds on the way; then the per-step halves on the same device,
+// and the handed-back World, step on as if nothing had happened.
+TEST_F(BatchDamper, ChunksOnTheEmulatedDeviceGiveTheWorldsBitsForAnyK) {
+    ASSERT_TRUE(ok_) << log_;
+    const std::vector<uint64_t> events = {137, 900, 901, 2300, 3000};  // steps from the start
+    World ref = load(1, 60e3, 0.3);
+    const World start = ref;
+    const uint64_t s0 = start.steps, rebuilds0 = start.rebuild_count();
+    std::vector<World> at_event;
+    for (uint64_t e : events) {
+        while (ref.steps < s0 + e) ref.step();
+        at_event.push_back(ref);
+    }
+    EXPECT_GE(ref.rebuild_count(), rebuilds0 + 2);
+    for (const int K : {1, 7, 64}) {
+        World mine = start;
+        dem::batch::BatchSystems b;
+        b.add(mine);
+        dem::batch::DeviceBatch d(dem::batch::dev::emulated_device());
+        d.load(b);
+        std::vector<std::exception_ptr> err(1);
+        for (std::size_t q = 0; q < events.size(); ++q) {
+            d.run(b, {s0 + events[q]}, K, {}, err);
+            if (err[0]) std::rethrow_exception(err[0]);
+            ASSERT_EQ(mine.steps, s0 + events[q]);
+            // What a caller reads at its event is current: the clock, the walls' reactions, the
+            // prescribed particles, the ledger (the free particles come with pull()).
+            EXPECT_EQ(mine.time, at_event[q].time) << "K = " << K << ", event " << q;
+            for (std::size_t k = 0; k < mine.wall_count(); ++k)
+                ASSERT_EQ(mine.wall_force(k), at_event[q].wall_force(k)) << "K = " << K << ", event " << q << ", wall " << k;
+            for (std::size_t i = 0; i < mine.particles.size(); ++i)
+                if (mine.particles.flags[i] & dem::kPrescribed) {
+                    ASSERT_EQ(mine.particles.pos[i], at_event[q].particles.pos[i]) << "K = " << K << ", particle " << i;
+                    ASSERT_EQ(mine.particles.force[i], at_event[q].particles.force[i]) << "K = " << K << ", particle " << i;
+                }
+            EXPECT_EQ(mine.energy().boundary_work, at_event[q].energy().boundary_work) << "K = " << K << ", event " << q;
+            if (q == 2) {  // a look at everything mid-way, as a checkpoint would
+                d.pull(b, 0);
+                b.store(0);
+                expect_same(at_event[q], mine, "chunks of " + std::to_string(K) + ", event " + std::to_string(q));
+            }
+        }
+        d.pull(b, 0);
+        b.store(0);
+        expect_same(ref, mine, "chunks of " + std::to_string(K));
+        EXPECT_GE(d.relayouts(), 2u) << K;
+        // The per-step halves on the same device go on from there, and so does the World.
+        World ref2 = ref;
+        for (int k = 0; k < 100; ++k) ref2.step();
+        d.step(b, 100);
+        d.pull(b, 0);
+        b.store(0);
+        expect_same(ref2, mine, "per-step halves after chunks of " + std::to_string(K));
+        for (int k = 0; k < 100; ++k) {
+            ref2.step();
+            mine.step();
+        }
+        expect_same(ref2, mine, "the World handed back after chunks of " + std::to_string(K));
+    }
+}
+
+// Between events the host neither waits nor copies: a chunk is one wait (its results, one copy),
+// a layout one more (the system's contacts); nothing per step. 3000 steps in chunks of up to
+// 4096: one chunk per event and per layout, whatever the number of steps between them.
+TEST_F(BatchDamper, ChunksExchangeNothingPerStepBetweenEvents) {
+    ASSERT_TRUE(ok_) << log_;
+    World mine = load(1, 60e3, 0.3);
+    dem::batch::BatchSystems b;
+    b.add(mine);
+    dem::batch::DeviceBatch d(dem::batch::dev::emulated_device());
+    d.load(b);
+    const uint64_t s0 = mine.steps;
+    std::vector<std::exception_ptr> err(1);
+    const std::vector<uint64_t> events = {1000, 3000};
+    for (uint64_t e : events) d.run(b, {s0 + e}, 4096, {}, err);
+    ASSERT_FALSE(err[0]);
+    ASSERT_EQ(mine.steps, s0 + 3000);
+    EXPECT_GE(d.relayouts(), 2u);
+    EXPECT_EQ(d.waits(), d.chunks() + d.relayouts());
+    EXPECT_LE(d.chunks(), d.relayouts() + events.size());
+    // Every copy and launch belongs to a chunk or a layout (about 30 each here: the contacts'
+    // arrays one by one), none to a step: this scene lays out every ~26 steps (pressed at
+    // 0.067 m/s); the paper's damper at 0.01 m/s every ~2,000.
+    EXPECT_LE(d.exchanges(), 40 * (d.chunks() + d.relayouts()));
+}
+
+// Eight mixed cases (the ledger on and off, normal dashpots) in chunks of 16 with events, their
+// host parts shared among 1 and 3 threads: each case's bits.
+TEST_F(BatchDamper, ChunksGiveEachOfEightCasesBits) {
+    ASSERT_TRUE(ok_) << log_;
+    std::vector<Case> cases = eight_cases();
+    const int steps = 1500;
+    std::vector<World> ref;
+    for (const Case& c : cases) {
+        ref.push_back(load(c.seed, c.dp, c.mu, c.energy, c.restitution));
+        for (int k = 0; k < steps; ++k) ref.back().step();
+    }
+    for (const int threads : {1, 3}) {
+        std::vector<World> mine;
+        for (const Case& c : cases) mine.push_back(load(c.seed, c.dp, c.mu, c.energy, c.restitution));
+        dem::batch::BatchSystems b;
+        for (World& w : mine) b.add(w);
+        dem::batch::DeviceBatch d(dem::batch::dev::emulated_device(), threads);
+        d.load(b);
+        std::vector<std::exception_ptr> err(cases.size());
+        // Each case its own events: case q stops at 100 + 37 q, then all at the end.
+        std::vector<uint64_t> until(cases.size());
+        for (std::size_t q = 0; q < cases.size(); ++q) until[q] = mine[q].steps + 100 + 37 * q;
+        d.run(b, until, 16, {}, err);
+        for (std::size_t q = 0; q < cases.size(); ++q) until[q] = mine[q].steps - (100 + 37 * q) + steps;
+        d.run(b, until, 16, {}, err);
+        for (std::size_t q = 0; q < cases.size(); ++q) {
+            if (err[q]) std::rethrow_exception(err[q]);
+            d.pull(b, q);
+            b.store(q);
+            expect_same(ref[q], mine[q], "case " + std::to_string(q) + " (chunks, " + std::to_string(threads) + " threads)");
+        }
+    }
+}
+
+// Chunks with each system's kernels split among 4 threads meeting at the barriers (a GPU block's
+// shape, the grid barriers of a chunk among them): each case's bits over 150 steps in chunks of 16.
+TEST_F(BatchDamper, ChunksSplitAmongABlocksThreadsGiveEachCasesBits) {
+    ASSERT_TRUE(ok_) << log_;
+    std::vector<Case> cases = eight_cases();
+    const int steps = 150;
+    std::vector<World> ref, mine;
+    for (const Case& c : cases) {
+        ref.push_back(load(c.seed, c.dp, c.mu, c.energy, c.restitution));
+        mine.push_back(ref.back());
+        for (int k = 0; k < steps; ++k) ref.back().step();
+    }
+    dem::batch::BatchSystems b;
+    for (World& w : mine) b.add(w);
+    dem::batch::DeviceBatch d(dem::batch::dev::emulated_device(4), 2);
+    d.load(b);
+    d.run(b, steps, 16);
+    for (std::size_t q = 0; q < cases.size(); ++q) {
+        d.pull(b, q);
+        b.store(q);
+        expect_same(ref[q], mine[q], "case " + std::to_string(q) + " (chunks, 4 threads per block)");
+    }
+}
+
 }  // namespace test_batch_damper

@@ -15,7 +15,10 @@
 
 #include "dem/batch/pair_step.h"
 #include "dem/contact/linear_law.h"
+#include "dem/core/energy.h"
 #include "dem/core/vec3.h"
+#include "dem/integrate/step_clock.h"
+#include "dem/walls/motion.h"
 
 namespace dem::batch::dev {
 
@@ -90,8 +93,47 @@ struct Outbox {
     // host puts them where account() adds them from +0 and gets its bits.
     double* ftotals = nullptr;
     double* mtotals = nullptr;
+    Vec3* pstate = nullptr;  // chunks: per prescribed particle its position and velocity after the step
 };
 inline constexpr int kForceTotals = kPairSums + 1;
+
+// ---- Chunks (DeviceBatch::run): the device steps a system on by itself, up to its next event,
+// running what World's serial parts of a step do (dem/detect/rebuild_rule.h, the motions, the
+// clock, the ledger's booking: the same functions). The host lays the system out again when it
+// stops for a rebuild or a compaction, and hands it back to its caller at its event.
+enum Stop : uint32_t {
+    kRunning = 0,
+    kEvent = 1,       // its steps reached stop_at
+    kRebuild = 2,     // the candidates must be found again (World's broad phase, on the host)
+    kCompaction = 3,  // the stores' holes are to be dropped (World's layout, on the host)
+};
+
+// A wall as its motion moves it (WallState::move): planes first, then facets (the walls' order).
+struct WallRef {
+    uint32_t plane = 1, one_sided = 0;
+    Vec3 point, normal;  // [m], [-] a plane at t = 0
+    Vec3 v0, v1, v2;     // [m] a facet at t = 0
+    MotionView motion;   // its samples in device memory
+};
+// A prescribed particle: its reference position [m] and its motion (World::prescribed_next).
+struct PrescRef {
+    Vec3 ref;
+    MotionView motion;
+};
+
+// What World's serial parts keep between two steps (World::EngineSteps, the ledger), up with a
+// chunk and down after it. In the outbox: one copy each way for all systems.
+struct Chunk {
+    double time = 0;       // [s] World::time
+    uint64_t steps = 0;    // World::steps
+    StepClock clock;       // World's clock
+    uint64_t stop_at = 0;  // the system stops when its steps reach this (its caller's next event)
+    double max_disp = 0, wall_move = 0, skin = 0, ref_round = 0;  // [m] BroadPhase's
+    double dropped = 0;    // [J] shear energy the last layout dropped (ContactSet), booked at the next step
+    EnergyLedger ledger;
+    uint32_t stop = kRunning;
+    uint32_t dashpots = 0;  // a material with restitution below 1 (the ledger's dashpot halves)
+};
 inline constexpr int kMotionTotals = kParticleSums + 1;
 inline constexpr std::size_t kTotalsFrom = 8;  // systems in the batch
 
@@ -128,7 +170,25 @@ struct SysView {
     double* pterms = nullptr;   // scratch: kParticleSums per particle
     double* bterms = nullptr;   // scratch: one per bond
     Outbox out;
+    // Chunks (null ck: the host runs the serial parts of each step). The device writes this
+    // step's reaches, walls now, their next velocities and the prescribed particles' next
+    // positions where the pointers above read them (in_w, wall_now_w, wall_vnext_w, presc_in_w).
+    Chunk* ck = nullptr;
+    const WallRef* wall_ref = nullptr;
+    const Vec3* wall_ref_disp = nullptr;  // [m] each wall's displacement at the last rebuild
+    const PrescRef* presc_ref = nullptr;
+    Vec3* presc_v0 = nullptr;             // scratch: each prescribed particle's velocity before the step
+    StepIn* in_w = nullptr;
+    WallNow* wall_now_w = nullptr;
+    Vec3* wall_vnext_w = nullptr;
+    Vec3* presc_in_w = nullptr;
 };
+
+// Whether a system's kernels skip this launch: it left the batch, its chunk stopped, or a store
+// or a list had no room (the host throws).
+VPPDEM_HD inline bool idle(const SysView& s) {
+    return !s.active || (s.ck && s.ck->stop != kRunning) || s.out.life->overflow;
+}
 
 // The concatenated arrays of all systems (BatchSystems' layout, global indices).
 struct Globals {
@@ -163,6 +223,9 @@ public:
     virtual void wait() = 0;
     virtual void forces(const Globals& g, const SysView* views, int B) = 0;
     virtual void motion(const Globals& g, const SysView* views, int B) = 0;
+    // Up to K whole steps of each system with a chunk (SysView::ck), each system stopping at its
+    // own event, rebuild or compaction (Chunk::stop); no copy and no wait between the steps.
+    virtual void chunk(const Globals& g, const SysView* views, int B, int K) = 0;
     // The kernels' own time since the device was made [s] (CUDA: events around each launch, read
     // at the copy that follows it; emulated: the launches' wall time): the rest of a half's time
     // is the bus, the launches' latency and the waits.

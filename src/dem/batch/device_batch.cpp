@@ -27,6 +27,11 @@ struct DeviceBatch::Sys {
     Buf mats, zeta, wall_mat;
     uint32_t materials = 0;
     Buf ref_pos, pterms, bterms;
+    // Chunks: [WallRef per wall | each wall's displacement at the rebuild | PrescRef per prescribed
+    // particle | their velocities before the step | the motions' samples], byte offsets o_*.
+    Buf refs;
+    std::vector<char> h_refs;
+    std::size_t o_wall_disp = 0, o_presc_ref = 0, o_presc_v0 = 0;
     std::size_t off_now = 0;  // this system's walls in the walls-now section
     // This system's parts of the outbox sections (entries of each).
     std::size_t off_reactions = 0;  // this system's walls in the reactions section
@@ -35,7 +40,7 @@ struct DeviceBatch::Sys {
     std::vector<Buf*> bufs() {
         std::vector<Buf*> v{&pp_start, &pp_other, &pp_slot, &pp_gap, &pw_start, &pw_other, &pw_slot, &pw_gap, &found_pp,
                             &found_pw, &link_start, &link_count, &link_cap, &link_ref, &mats, &zeta, &wall_mat,
-                            &ref_pos, &pterms, &bterms};
+                            &ref_pos, &pterms, &bterms, &refs};
         for (St& t : st)
             for (Buf* b : {&t.i, &t.j, &t.cand, &t.phys, &t.shear, &t.prev, &t.force, &t.torque1, &t.torque2, &t.point,
                            &t.fv, &t.terms, &t.opened, &t.dterms, &t.hole_bits})
@@ -415,7 +420,9 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
         y.sum_dashpots = msums;
         for (const Sys::St& t : y.st) msums += std::size_t(dev::blocks(int64_t(t.cap)));
     }
-    o_life_ = 0;
+    o_pstate_ = 0;
+    o_chunk_ = o_pstate_ + 2 * b.prescribed.size() * sizeof(Vec3);
+    o_life_ = o_chunk_ + sys_.size() * sizeof(dev::Chunk);
     o_presc_ = o_life_ + sys_.size() * sizeof(dev::Life);
     o_reactions_ = o_presc_ + 2 * b.prescribed.size() * sizeof(Vec3);
     o_ftot_ = o_reactions_ + reactions * sizeof(Vec3);
@@ -428,7 +435,7 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
     ensure_host(h_sec_, std::max<std::size_t>(o_end_, 8));
     layout_dirty_ = false;
     // The section moved: every system's lifecycle goes up again.
-    if (!life_.empty()) put(sec_, life_.data(), life_.size() * sizeof(dev::Life));
+    if (!life_.empty()) send(static_cast<char*>(sec_.p) + o_life_, life_.data(), life_.size() * sizeof(dev::Life));
     std::fill(life_up_.begin(), life_up_.end(), 0);
 }
 
@@ -514,6 +521,22 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     o.sum_dashpots = msums + y.sum_dashpots;
     o.ftotals = totals_ ? reinterpret_cast<double*>(sec + o_ftot_) + s * dev::kForceTotals : nullptr;
     o.mtotals = totals_ ? reinterpret_cast<double*>(sec + o_mtot_) + s * dev::kMotionTotals : nullptr;
+    if (!chunk_views_) {
+        v.ck = nullptr;
+        o.pstate = nullptr;
+        return;
+    }
+    v.ck = reinterpret_cast<dev::Chunk*>(sec + o_chunk_) + s;
+    o.pstate = reinterpret_cast<Vec3*>(sec + o_pstate_) + 2 * b.presc_first[s];
+    char* const r = static_cast<char*>(y.refs.p);
+    v.wall_ref = reinterpret_cast<const dev::WallRef*>(r);
+    v.wall_ref_disp = reinterpret_cast<const Vec3*>(r + y.o_wall_disp);
+    v.presc_ref = reinterpret_cast<const dev::PrescRef*>(r + y.o_presc_ref);
+    v.presc_v0 = reinterpret_cast<Vec3*>(r + y.o_presc_v0);
+    v.in_w = reinterpret_cast<dev::StepIn*>(in) + s;
+    v.wall_now_w = reinterpret_cast<WallNow*>(in + o_in_now_) + y.off_now;
+    v.wall_vnext_w = reinterpret_cast<Vec3*>(in + o_in_vnext_) + y.off_now;
+    v.presc_in_w = at<Vec3>(presc_in_, 2 * std::size_t(b.presc_first[s]));
 }
 
 void DeviceBatch::upload_views() {
@@ -525,6 +548,20 @@ void DeviceBatch::upload_views() {
     views_up_.assign(reinterpret_cast<const char*>(views_.data()), reinterpret_cast<const char*>(views_.data()) + bytes);
 }
 
+void DeviceBatch::layout_in(BatchSystems& b) {
+    // What goes up every step, in one copy: [StepIn per system | walls now | the walls' next
+    // velocities] (the number of walls does not change in a step).
+    const std::size_t B = b.systems();
+    std::size_t walls_n = 0;
+    for (std::size_t s = 0; s < B; ++s) {
+        sys_[s].off_now = walls_n;
+        walls_n += b.world[s]->planes.size() + b.world[s]->facets.size();
+    }
+    o_in_now_ = B * sizeof(dev::StepIn);
+    o_in_vnext_ = o_in_now_ + walls_n * sizeof(WallNow);
+    h_in_.resize(std::max<std::size_t>(o_in_vnext_ + walls_n * sizeof(Vec3), 8));
+}
+
 void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
     Lap lap{total_s_};
     const std::size_t B = b.systems();
@@ -534,16 +571,9 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
         err[s] = std::current_exception();
         views_[s].active = 0;
     };
-    // What goes up every step, in one copy: [StepIn per system | walls now | the walls' next
-    // velocities] (the number of walls does not change in a step).
-    std::size_t walls_n = 0;
-    for (std::size_t s = 0; s < B; ++s) {
-        sys_[s].off_now = walls_n;
-        walls_n += b.world[s]->planes.size() + b.world[s]->facets.size();
-    }
-    o_in_now_ = B * sizeof(dev::StepIn);
-    o_in_vnext_ = o_in_now_ + walls_n * sizeof(WallNow);
-    h_in_.resize(std::max<std::size_t>(o_in_vnext_ + walls_n * sizeof(Vec3), 8));
+    layout_in(b);
+    const std::size_t walls_n = (o_in_vnext_ - o_in_now_) / sizeof(WallNow);
+    chunk_views_ = false;
     std::vector<int> on(B, 0);
     // The walls' motion, the rebuild test and the broad phase, World's (its positions and
     // contacts from the device first when it rebuilds or compacts, all of them up again after).
@@ -745,6 +775,219 @@ void DeviceBatch::pull(BatchSystems& b, std::size_t s) {
         get(host->data() + b0, d + b0, nb * sizeof(Vec3));
     download_contacts(b, s, stage_.size() - 1, false);
     b.world[s]->engine_relink();
+}
+
+}  // namespace dem::batch
+
+namespace dem::batch {
+
+void DeviceBatch::upload_refs(BatchSystems& b, std::size_t s) {
+    const World& wd = *b.world[s];
+    Sys& y = sys_[s];
+    const std::size_t np = wd.planes.size(), nw = np + wd.facets.size();
+    const int64_t q0 = b.presc_first[s], q1 = b.presc_first[s + 1];
+    const std::size_t npr = std::size_t(q1 - q0);
+    // The motions' samples: each wall's, then each prescribed particle's motion once.
+    std::vector<const Motion*> motions;
+    std::vector<std::size_t> first;  // each motion's first sample
+    std::size_t samples = 0;
+    const auto add = [&](const Motion& m) {
+        for (std::size_t k = 0; k < motions.size(); ++k)
+            if (motions[k] == &m) return k;
+        motions.push_back(&m);
+        first.push_back(samples);
+        samples += m.history.size();
+        return motions.size() - 1;
+    };
+    std::vector<std::size_t> wall_motion(nw), presc_motion(npr);
+    for (std::size_t k = 0; k < np; ++k) wall_motion[k] = add(wd.planes[k].motion);
+    for (std::size_t k = 0; k < wd.facets.size(); ++k) wall_motion[np + k] = add(wd.facets[k].motion);
+    for (std::size_t e = 0; e < npr; ++e) {
+        const uint32_t i = b.prescribed[std::size_t(q0) + e];
+        presc_motion[e] = add(wd.motions.at(wd.particles.motion.at(i)));
+    }
+    y.o_wall_disp = nw * sizeof(dev::WallRef);
+    y.o_presc_ref = y.o_wall_disp + nw * sizeof(Vec3);
+    y.o_presc_v0 = y.o_presc_ref + npr * sizeof(dev::PrescRef);
+    const std::size_t o_samples = y.o_presc_v0 + npr * sizeof(Vec3);
+    const std::size_t bytes = o_samples + samples * sizeof(DisplacementSample);
+    ensure(y.refs, std::max<std::size_t>(bytes, 8));
+    y.h_refs.assign(std::max<std::size_t>(bytes, 8), 0);
+    char* const h = y.h_refs.data();
+    const auto* dev_samples = reinterpret_cast<const DisplacementSample*>(static_cast<char*>(y.refs.p) + o_samples);
+    auto* h_samples = reinterpret_cast<DisplacementSample*>(h + o_samples);
+    for (std::size_t k = 0; k < motions.size(); ++k)
+        std::copy(motions[k]->history.begin(), motions[k]->history.end(), h_samples + first[k]);
+    const auto view = [&](std::size_t k) {
+        const Motion& m = *motions[k];
+        return MotionView{m.velocity, m.history.empty() ? nullptr : dev_samples + first[k], uint32_t(m.history.size())};
+    };
+    const BroadPhase& bp = wd.broad_phase();
+    if (bp.wall_ref_disp.size() != nw) throw std::logic_error("batch: a system's walls changed since its rebuild");
+    auto* refs = reinterpret_cast<dev::WallRef*>(h);
+    auto* disp = reinterpret_cast<Vec3*>(h + y.o_wall_disp);
+    for (std::size_t k = 0; k < nw; ++k) {
+        dev::WallRef r;
+        r.plane = k < np;
+        if (r.plane) {
+            r.point = wd.planes[k].point;
+            r.normal = wd.planes[k].normal;
+            r.one_sided = wd.planes[k].one_sided;
+        } else {
+            const Facet& f = wd.facets[k - np];
+            r.v0 = f.vertices[0];
+            r.v1 = f.vertices[1];
+            r.v2 = f.vertices[2];
+            r.one_sided = f.one_sided;
+        }
+        r.motion = view(wall_motion[k]);
+        refs[k] = r;
+        disp[k] = bp.wall_ref_disp[k];
+    }
+    auto* presc = reinterpret_cast<dev::PrescRef*>(h + y.o_presc_ref);
+    for (std::size_t e = 0; e < npr; ++e) {
+        const uint32_t i = b.prescribed[std::size_t(q0) + e];
+        presc[e] = dev::PrescRef{wd.particles.ref_pos.at(i), view(presc_motion[e])};
+    }
+    send(y.refs.p, h, bytes);
+}
+
+void DeviceBatch::run(BatchSystems& b, const std::vector<uint64_t>& until, int K, const std::vector<bool>& skip,
+                      std::vector<std::exception_ptr>& err) {
+    const std::size_t B = b.systems();
+    if (sys_.size() != B) throw std::logic_error("batch: the device holds another layout (load first)");
+    if (until.size() != B || err.size() != B) throw std::invalid_argument("batch: run() takes one event and one error per system");
+    if (K < 1) throw std::invalid_argument("batch: a chunk of " + std::to_string(K) + " steps (at least 1)");
+    // The device books the ledger from its totals of the block sums (the host adds nothing).
+    if (!totals_) totals_ = true;
+    h_chunks_.resize(B);
+    const auto live = [&](std::size_t s) {
+        return !(s < skip.size() && skip[s]) && !err[s] && b.world[s]->steps < until[s];
+    };
+    for (;;) {
+        Lap lap{total_s_};
+        layout_in(b);
+        std::vector<int> on(B, 0);
+        // World's part first: a layout where World would make one (the device stopped there, or
+        // the caller changed the system), then the chunk's state and the motions.
+        each(B, 0, [&](std::size_t s) {
+            if (!live(s)) return;
+            try {
+                World& wd = *b.world[s];
+                Sys& y = sys_[s];
+                const bool rebuild = wd.engine_rebuild_due();
+                const bool relayout = rebuild || wd.engine_compaction_due();
+                if (relayout) {
+                    ++relayouts_;
+                    download_contacts(b, s, host_thread, rebuild);
+                    wd.engine_begin_forces();
+                    upload_contacts(b, s);
+                    if (rebuild) {
+                        const std::vector<FloatVec3>& ref = wd.broad_phase().ref_pos;
+                        if (ref.size() != std::size_t(b.first[s + 1] - b.first[s]))
+                            throw std::logic_error("batch: no rebuild positions");
+                        put(y.ref_pos, ref.data(), ref.size() * sizeof(FloatVec3));
+                    }
+                }
+                y.track = wd.params.track_energy ? 1 : 0;
+                const World::EngineSteps e = wd.engine_steps();
+                dev::Chunk& c = h_chunks_[s];
+                c = dev::Chunk{};
+                c.time = e.time;
+                c.steps = e.steps;
+                c.clock = e.clock;
+                c.stop_at = until[s];
+                c.max_disp = e.max_disp;
+                c.wall_move = e.wall_move;
+                c.skin = e.skin;
+                c.ref_round = e.ref_round;
+                c.dropped = wd.engine_contacts().dropped_shear_energy;
+                c.ledger = wd.energy();
+                for (const Material& m : wd.materials) c.dashpots |= m.restitution < 1.0;
+                upload_refs(b, s);
+                dev::StepIn in;
+                b.dp[s] = world_underpressure(wd);
+                in.dp = b.dp[s];
+                std::memcpy(h_in_.data() + s * sizeof(dev::StepIn), &in, sizeof in);
+                on[s] = 1;
+            } catch (...) {
+                err[s] = std::current_exception();
+            }
+        });
+        if (std::find(on.begin(), on.end(), 1) == on.end()) return;
+        put(in_, h_in_.data(), h_in_.size());
+        if (layout_dirty_) layout_outbox(b);
+        for (std::size_t s = 0; s < B; ++s)
+            if (life_up_[s]) put_life(s);
+        send(static_cast<char*>(sec_.p) + o_chunk_, h_chunks_.data(), B * sizeof(dev::Chunk));
+        chunk_views_ = true;
+        for (std::size_t s = 0; s < B; ++s) {
+            if (on[s]) fill_view(b, s);
+            else views_[s].active = 0;
+        }
+        upload_views();
+        dev_->chunk(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B), K);
+        ++calls_;
+        ++chunks_;
+        // Back in one copy: the prescribed particles, the chunks, the lifecycles, the prescribed
+        // particles' forces, the walls' reactions.
+        get(hs() + o_pstate_, static_cast<const char*>(sec_.p) + o_pstate_, o_ftot_ - o_pstate_);
+        each(B, 1, [&](std::size_t s) {
+            if (!on[s]) return;
+            try {
+                World& wd = *b.world[s];
+                ContactSet& c = wd.engine_contacts();
+                dev::Chunk ck;
+                std::memcpy(&ck, hs() + o_chunk_ + s * sizeof(dev::Chunk), sizeof ck);
+                dev::Life& life = life_[s];
+                std::memcpy(&life, hs() + o_life_ + s * sizeof(dev::Life), sizeof(dev::Life));
+                if (life.overflow)
+                    throw std::logic_error("batch: a store or an interaction list on the device had no room (a bug: docs/gpu.md)");
+                for (int k = 0; k < 3; ++k) resize_store(store_of(c, k), life.size[k]);
+                c.holes = std::size_t(life.holes);
+                const bool ran = ck.steps > wd.steps;
+                World::EngineSteps e = wd.engine_steps();
+                e.time = ck.time;
+                e.steps = ck.steps;
+                e.clock = ck.clock;
+                e.max_disp = ck.max_disp;
+                e.wall_move = ck.wall_move;
+                wd.engine_set_steps(e);
+                if (sys_[s].track) wd.engine_book().ledger = ck.ledger;
+                c.dropped_shear_energy = ck.dropped;
+                if (ran) {
+                    wd.engine_activate();  // the ledger's blocks sized as World's
+                    const Vec3* r = hv(o_reactions_) + sys_[s].off_reactions;
+                    wd.engine_end_forces(r, r + wd.planes.size() + wd.facets.size());
+                    const int64_t base = b.first[s];
+                    for (int64_t q = b.presc_first[s]; q < b.presc_first[s + 1]; ++q) {
+                        const uint32_t i = b.prescribed[std::size_t(q)];
+                        wd.particles.force[i] = hv(o_presc_)[2 * q];
+                        b.pressure_slot[std::size_t(base + i)] = hv(o_presc_)[2 * q + 1];
+                        wd.particles.pos[i] = hv(o_pstate_)[2 * q];
+                        wd.particles.vel[i] = hv(o_pstate_)[2 * q + 1];
+                    }
+                }
+                // The device's rules are World's (rebuild_rule.h): World must see the stop too.
+                if (ck.stop == dev::kRebuild && !wd.engine_rebuild_due())
+                    throw std::logic_error("batch: the device stopped for a rebuild that World does not make (a bug: docs/gpu.md)");
+                if (ck.stop == dev::kCompaction && !wd.engine_compaction_due())
+                    throw std::logic_error("batch: the device stopped for a compaction that World does not make (a bug: docs/gpu.md)");
+            } catch (...) {
+                err[s] = std::current_exception();
+                views_[s].active = 0;
+            }
+        });
+    }
+}
+
+void DeviceBatch::run(BatchSystems& b, uint64_t steps, int K) {
+    std::vector<uint64_t> until(b.systems());
+    for (std::size_t s = 0; s < b.systems(); ++s) until[s] = b.world[s]->steps + steps;
+    std::vector<std::exception_ptr> err(b.systems());
+    run(b, until, K, {}, err);
+    for (const auto& e : err)
+        if (e) std::rethrow_exception(e);
 }
 
 }  // namespace dem::batch

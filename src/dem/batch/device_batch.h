@@ -47,6 +47,21 @@ public:
     // `steps` whole steps of every system (the tests' and the benchmarks' loop); rethrows the
     // first system's error.
     void step(BatchSystems& b, uint64_t steps);
+    // Chunks (issue 58, docs/gpu.md): every system stepped on until its steps reach until[s] (its
+    // caller's next event), the device running up to K steps per launch sequence with no copy and
+    // no wait between them, each system stopping on its own where World would find its
+    // candidates again or lay its stores out; the host does that (one packed copy each way) and
+    // the system goes on. World's clock, moves, walls' reactions, prescribed particles and ledger
+    // are current when run() returns, and the bits are World's for any K. Systems with skip[s] are
+    // left alone; what a system's host part throws goes to err[s] (it is skipped from then on).
+    // The underpressure (World's pressure.dp) is taken at each chunk's start: an air model that
+    // changes it every step needs chunks of one step.
+    void run(BatchSystems& b, const std::vector<uint64_t>& until, int K, const std::vector<bool>& skip,
+             std::vector<std::exception_ptr>& err);
+    // `steps` more steps of every system in chunks of K (the tests' and the benchmarks' loop);
+    // rethrows the first system's error.
+    void run(BatchSystems& b, uint64_t steps, int K);
+    uint64_t chunks() const { return chunks_; }  // chunk launches since load
     // System s's state from the device into b (particles, bonds) and into its World's contact
     // stores; then b.store(s) hands it to its World.
     void pull(BatchSystems& b, std::size_t s);
@@ -97,6 +112,9 @@ private:
     // f(s) for every system s, the systems shared among the host threads.
     template <class F> void each(std::size_t B, int part, F&& f);
     void put_life(std::size_t s);  // life_[s] into the outbox's lifecycle section
+    void layout_in(BatchSystems& b);  // the sections of what goes up with the forces (in_, h_in_)
+    // System s's walls' and prescribed particles' motions up for a chunk (Sys::refs).
+    void upload_refs(BatchSystems& b, std::size_t s);
 
     std::unique_ptr<dev::Device> dev_;
     dev::Globals g_;
@@ -125,6 +143,12 @@ private:
     Buf sec_;
     Buf h_sec_;  // page-locked (Device::host_alloc): the outbox's copies run at the bus's speed
     char* hs() { return static_cast<char*>(h_sec_.p); }
+    // Chunks add two sections in front: [prescribed particles' states | Chunk per system | ...],
+    // what a chunk brings back ending where the forces' does.
+    std::size_t o_pstate_ = 0, o_chunk_ = 0;
+    std::vector<dev::Chunk> h_chunks_;
+    uint64_t chunks_ = 0;
+    bool chunk_views_ = false;  // fill_view: the views of a chunk
     std::size_t o_life_ = 0, o_presc_ = 0, o_reactions_ = 0, o_ftot_ = 0, o_fsums_ = 0, o_maxd2_ = 0, o_mtot_ = 0,
                 o_msums_ = 0, o_end_ = 0;
     // The ledger's totals formed on the device (a batch of dev::kTotalsFrom or more: the block

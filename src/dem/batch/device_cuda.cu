@@ -32,7 +32,7 @@ namespace {
 // of 4,000 particles and contacts is too small for one block to keep an SM busy: split by
 // split()). A block has 256 threads unless VPPDEM_CUDA_BLOCK names 128 or 512; the bits do
 // not depend on either.
-enum Phase { kTouch, kPlace, kPairs, kGather, kRelease, kAdvance, kDashpots, kSums, kTotals };
+enum Phase { kTouch, kPlace, kPairs, kGather, kRelease, kAdvance, kDashpots, kSums, kTotals, kBegin, kEnd };
 template <int T, int P> __global__ void __launch_bounds__(T) k_phase(Globals g, const SysView* v, int split) {
     const SysView& s = v[blockIdx.x / split];
     const int tid = int(blockIdx.x % unsigned(split)) * T + int(threadIdx.x), nt = split * T;
@@ -45,7 +45,9 @@ template <int T, int P> __global__ void __launch_bounds__(T) k_phase(Globals g, 
         case kAdvance: motion_advance(g, s, tid, nt); break;
         case kDashpots: motion_dashpots(g, s, tid, nt); break;
         case kSums: motion_sums(g, s, tid, nt); break;
-        default: motion_totals(g, s, tid, nt); break;
+        case kTotals: motion_totals(g, s, tid, nt); break;
+        case kBegin: if (tid == 0) step_begin(g, s); break;
+        default: if (tid == 0) step_end(g, s); break;
     }
 }
 int block_threads() {
@@ -162,6 +164,28 @@ public:
         phase<kSums>(g, v, B, k);
         if (size_t(B) >= kTotalsFrom) phase<kTotals>(g, v, B, 1);
         end("the motion kernels");
+    }
+
+    // A chunk: K steps' launches queued on the stream, no copy and no wait between them (a
+    // stopped system's kernels return at once).
+    void chunk(const Globals& g, const SysView* v, int B, int K) override {
+        if (B <= 0) return;
+        begin();
+        const int k = split(B);
+        for (int step = 0; step < K; ++step) {
+            phase<kBegin>(g, v, B, 1);
+            phase<kTouch>(g, v, B, k);
+            phase<kPlace>(g, v, B, 1);
+            phase<kPairs>(g, v, B, k);
+            phase<kGather>(g, v, B, k);
+            phase<kRelease>(g, v, B, k);
+            phase<kAdvance>(g, v, B, k);
+            phase<kDashpots>(g, v, B, k);
+            phase<kSums>(g, v, B, k);
+            phase<kTotals>(g, v, B, 1);
+            phase<kEnd>(g, v, B, 1);
+        }
+        end("the chunk's kernels");
     }
 
 private:

@@ -62,6 +62,9 @@ public:
     void motion(const Globals& g, const SysView* v, int B) override {
         launch(B, [&](int s, int tid, int nt) { motion_body(g, v[s], tid, nt); });
     }
+    void chunk(const Globals& g, const SysView* v, int B, int K) override {
+        launch(B, [&](int s, int tid, int nt) { chunk_body(g, v[s], tid, nt, K); });
+    }
     double kernel_seconds() override { return kernel_s_; }
 
 private:

@@ -11,11 +11,15 @@
 // block barrier), vppdem_append(uint64_t* counter) (returns the old value, atomically on a
 // device), vppdem_max_bits(uint64_t* word, double d2) (the largest non-negative double, by its
 // bits).
+#include <cstring>
+
 #include "dem/batch/bond_step.h"
 #include "dem/batch/device_api.h"
 #include "dem/batch/pair_step.h"
 #include "dem/batch/particle_step.h"
+#include "dem/core/ledger_step.h"
 #include "dem/detect/candidates.h"
+#include "dem/detect/rebuild_rule.h"
 #include "dem/contact/contact_physics.h"
 #include "dem/contact/interaction_lists.h"
 #include "dem/world/wall_state.h"
@@ -38,6 +42,17 @@ VPPDEM_HD inline int lowest_bit(uint64_t w) {
     return __ffsll(static_cast<long long>(w)) - 1;
 #else
     return __builtin_ctzll(w);
+#endif
+}
+
+// The double whose bits are b (the largest move's word).
+VPPDEM_HD inline double double_of_bits(uint64_t b) {
+#if defined(__CUDA_ARCH__)
+    return __longlong_as_double(static_cast<long long>(b));
+#else
+    double d;
+    std::memcpy(&d, &b, 8);
+    return d;
 #endif
 }
 
@@ -316,13 +331,13 @@ template <int A> VPPDEM_HD inline void block_sums(const SumArray (&arr)[A], int 
 // (and with the ledger the block sums). A system whose store or list ran out of room (overflow)
 // stops after phase 2: the host throws.
 VPPDEM_KFN inline void forces_touch(const Globals& g, const SysView& s, int tid, int nt) {
-    if (s.active) touch_body(g, s, tid, nt);
+    if (!idle(s)) touch_body(g, s, tid, nt);
 }
 VPPDEM_KFN inline void forces_place(const Globals& g, const SysView& s, int tid, int) {
-    if (s.active && tid == 0) place_found(g, s);
+    if (!idle(s) && tid == 0) place_found(g, s);
 }
 VPPDEM_KFN inline void forces_pairs(const Globals& g, const SysView& s, int tid, int nt) {
-    if (!s.active || s.out.life->overflow) return;
+    if (idle(s) || s.out.life->overflow) return;
     const double dt = s.dt;
     const bool track = s.track != 0;
     Life& L = *s.out.life;
@@ -400,7 +415,7 @@ VPPDEM_KFN inline void forces_pairs(const Globals& g, const SysView& s, int tid,
 }
 VPPDEM_KFN inline void forces_gather(const Globals& g, const SysView& s, int tid, int nt) {
     const Life& L = *s.out.life;
-    if (!s.active || L.overflow) return;
+    if (idle(s) || L.overflow) return;
     const bool track = s.track != 0;
     const uint32_t size[3] = {L.size[0], L.size[1], L.size[2]};
     const Store& wl = s.walls;
@@ -441,7 +456,7 @@ VPPDEM_KFN inline void forces_gather(const Globals& g, const SysView& s, int tid
 }
 VPPDEM_KFN inline void forces_release(const Globals& g, const SysView& s, int tid, int nt) {
     Life& L = *s.out.life;
-    if (!s.active || L.overflow) return;
+    if (idle(s) || L.overflow) return;
     for (int64_t q = s.presc0 + tid; q < s.presc1; q += nt) {
         const int64_t k = s.base + g.prescribed[q];
         s.out.presc[2 * (q - s.presc0)] = g.f[k];
@@ -488,7 +503,7 @@ VPPDEM_KFN inline void forces_body(const Globals& g, const SysView& s, int tid, 
 // 2. the dashpots' forward halves, which need the new velocities, a slot per thread, and 3. the
 // block sums (the particles', the dashpots').
 VPPDEM_KFN inline void motion_advance(const Globals& g, const SysView& s, int tid, int nt) {
-    if (!s.active) return;
+    if (idle(s)) return;
     const bool track = s.track != 0;
     double max_d2 = 0.0;
     for (int64_t i = tid; i < s.n; i += nt) {
@@ -528,7 +543,7 @@ VPPDEM_KFN inline void motion_advance(const Globals& g, const SysView& s, int ti
 // The dashpots' forward halves with the velocities at t + dt/2 (EnergyBook::account) into the
 // stores' scratch.
 VPPDEM_KFN inline void motion_dashpots(const Globals& g, const SysView& s, int tid, int nt) {
-    if (!s.active || !s.track) return;
+    if (idle(s) || !s.track) return;
     const Life& L = *s.out.life;
     const double h = 0.5 * s.dt;
     for (int k = 0; k < 3; ++k) {
@@ -548,7 +563,7 @@ VPPDEM_KFN inline void motion_dashpots(const Globals& g, const SysView& s, int t
     }
 }
 VPPDEM_KFN inline void motion_sums(const Globals&, const SysView& s, int tid, int nt) {
-    if (!s.active || !s.track) return;
+    if (idle(s) || !s.track) return;
     const Life& L = *s.out.life;
     double* const d = s.out.sum_dashpots;
     const SumArray arr[4] = {{s.pterms, s.n, kParticleSums, false, s.out.sum_particles},
@@ -561,7 +576,7 @@ VPPDEM_KFN inline void motion_sums(const Globals&, const SysView& s, int tid, in
 // blocks; the dashpots' forward halves taken away in turn over the three stores' blocks, negated
 // so that account(), taking the one value away from +0, gets them back).
 VPPDEM_KFN inline void motion_totals(const Globals&, const SysView& s, int tid, int nt) {
-    if (!s.active || !s.track || !s.out.mtotals) return;
+    if (idle(s) || !s.track || !s.out.mtotals) return;
     const Life& L = *s.out.life;
     for (int j = tid; j < kMotionTotals; j += nt) {
         if (j < kParticleSums) {
@@ -585,6 +600,136 @@ VPPDEM_KFN inline void motion_body(const Globals& g, const SysView& s, int tid, 
     motion_sums(g, s, tid, nt);
     VPPDEM_SYNC();
     motion_totals(g, s, tid, nt);
+}
+
+// ---- Chunks: World's serial parts of a step on the device (one thread of the system), around
+// the forces and the motion, in World::step()'s order, with World's functions.
+
+// Before the forces at t: the system stops at its event, or where World would find the candidates
+// again or lay the stores out (World::update_candidates: the host does those); otherwise the walls
+// at t (WallState::move), the touch test's reaches (World::engine_reach), with the ledger the
+// walls' next velocities (EnergyBook::next_wall_velocities), and the prescribed particles' places
+// after the step (World::prescribed_next), their velocities before it kept for the ledger.
+VPPDEM_HD inline void step_begin(const Globals& g, const SysView& s) {
+    if (idle(s)) return;
+    Chunk& c = *s.ck;
+    if (c.steps >= c.stop_at) {
+        c.stop = kEvent;
+        return;
+    }
+    if (particles_past_skin(c.max_disp, c.skin)) {
+        c.stop = kRebuild;
+        return;
+    }
+    double move = 0.0;
+    for (uint32_t k = 0; k < s.walls_n; ++k) {
+        const double d = norm(motion_displacement(s.wall_ref[k].motion, c.time) - s.wall_ref_disp[k]);
+        move = move < d ? d : move;  // std::max(move, d)
+    }
+    c.wall_move = move;
+    if (walls_past_skin(c.max_disp, move, c.skin)) {
+        c.stop = kRebuild;
+        return;
+    }
+    const Life& L = *s.out.life;
+    if (stores_need_compaction(L.holes, uint64_t(L.size[0]) + L.size[1] + L.size[2])) {
+        c.stop = kCompaction;
+        return;
+    }
+    const double t0 = c.time - s.dt;
+    StepClock next = c.clock;  // the time the step's end moves the clock to
+    double t1 = c.time;
+    uint64_t n1 = c.steps;
+    next.advance(t1, n1, s.dt);
+    for (uint32_t k = 0; k < s.walls_n; ++k) {
+        const WallRef& r = s.wall_ref[k];
+        const Vec3 d = motion_displacement(r.motion, c.time);
+        WallNow w;
+        w.plane = r.plane != 0;
+        w.one_sided = r.one_sided != 0;
+        if (w.plane) {
+            w.point = r.point + d;
+            w.normal = r.normal;
+        } else {
+            w.v0 = r.v0 + d;
+            w.v1 = r.v1 + d;
+            w.v2 = r.v2 + d;
+        }
+        w.velocity = motion_mean_velocity(r.motion, t0, c.time);
+        s.wall_now_w[k] = w;
+        if (s.track) s.wall_vnext_w[k] = motion_mean_velocity(r.motion, t1 - s.dt, t1);
+    }
+    const Reaches reach = touch_reaches(c.max_disp, move, c.skin);
+    s.in_w->pair_reach = reach.pair;
+    s.in_w->wall_reach = reach.wall;
+    for (int64_t q = s.presc0; q < s.presc1; ++q) {
+        const int64_t e = q - s.presc0, k = s.base + g.prescribed[q];
+        s.presc_v0[e] = g.v[k];
+        const PrescRef& p = s.presc_ref[e];
+        const Placement at = placement_after_step(p.motion, p.ref, c.time, s.dt);
+        s.presc_in_w[2 * e] = at.pos;
+        s.presc_in_w[2 * e + 1] = at.vel;
+    }
+}
+
+// After the motion: the prescribed particles' moves and boundary work (World::follow_motions),
+// the largest move (BroadPhase::record_moves), the clock, the ledger's booking of the step
+// (EnergyBook::account from the device's totals, as the host adds them: from +0, in its order).
+VPPDEM_HD inline void step_end(const Globals& g, const SysView& s) {
+    if (idle(s)) return;
+    Chunk& c = *s.ck;
+    double max_d2 = double_of_bits(*s.out.max_d2);
+    const bool track = s.track != 0;
+    const double h = 0.5 * s.dt;
+    double presc_max = 0.0, presc_back = 0.0, presc_fwd = 0.0;
+    for (int64_t q = s.presc0; q < s.presc1; ++q) {
+        const int64_t e = q - s.presc0, i = g.prescribed[q], k = s.base + i;
+        const FloatVec3 r = s.ref_pos[i];
+        const double d2 = norm2(g.x[k] - Vec3{r.x, r.y, r.z});
+        presc_max = presc_max < d2 ? d2 : presc_max;
+        if (track) ledger::add_boundary_work(presc_back, presc_fwd, g.f[k] - g.pressure_slot[k], s.presc_v0[e], g.v[k], h);
+        s.out.pstate[2 * e] = g.x[k];
+        s.out.pstate[2 * e + 1] = g.v[k];
+    }
+    max_d2 = max_d2 < presc_max ? presc_max : max_d2;
+    const double t_n = c.time;
+    c.max_disp = max_disp_after(max_d2, c.ref_round);
+    c.clock.advance(c.time, c.steps, s.dt);
+    if (!track) return;
+    using namespace ledger;
+    const double* mt = s.out.mtotals;
+    const double* ft = s.out.ftotals;
+    double back[kTerms], fwd[kTerms], cs[kPairSums];
+    for (int k = 0; k < kTerms; ++k) {
+        back[k] = 0.0 + mt[k];
+        fwd[k] = 0.0 + mt[kTerms + k];
+    }
+    const double kinetic = 0.0 + mt[2 * kTerms];
+    back[kBoundary] += presc_back;
+    fwd[kBoundary] += presc_fwd;
+    for (uint32_t w = 0; w < s.walls_n; ++w)
+        add_boundary_work(back[kBoundary], fwd[kBoundary], s.out.reactions[w], s.wall_now[w].velocity, s.wall_vnext[w], h);
+    for (int k = 0; k < kPairSums; ++k) cs[k] = 0.0 + ft[k];
+    const double elastic_bonds = 0.0 + ft[kPairSums];
+    const double visc_fwd = c.dashpots ? 0.0 - mt[kParticleSums] : 0.0;
+    const double release = cs[kRelease] + c.dropped;
+    c.dropped = 0.0;
+    book_step(c.ledger, back, fwd, cs, elastic_bonds, visc_fwd, release, kinetic, t_n);
+}
+
+// Up to K steps of one system (the emulated device's chunk: its threads meet at the barriers).
+VPPDEM_KFN inline void chunk_body(const Globals& g, const SysView& s, int tid, int nt, int K) {
+    for (int k = 0; k < K; ++k) {
+        if (tid == 0) step_begin(g, s);
+        VPPDEM_SYNC();
+        if (idle(s)) return;  // every thread reads the stop after the barrier
+        forces_body(g, s, tid, nt);
+        VPPDEM_SYNC();
+        motion_body(g, s, tid, nt);
+        VPPDEM_SYNC();
+        if (tid == 0) step_end(g, s);
+        VPPDEM_SYNC();
+    }
 }
 
 }  // namespace dem::batch::dev

@@ -37,6 +37,7 @@
 #include "dem/core/vec3.h"
 #include "dem/kernels/work_share.h"
 #include "dem/detect/broad_phase.h"
+#include "dem/detect/rebuild_rule.h"
 #include "dem/integrate/step_clock.h"
 #include "dem/walls/motion.h"
 #include "dem/walls/wall.h"
@@ -182,7 +183,7 @@ public:
     bool engine_rebuild_due() { return broad_.needs_rebuild(particles.size(), planes, facets, time); }
     // engine_begin_forces() will lay the contact stores out again without a rebuild (as
     // update_candidates() decides): a device engine brings their state back first.
-    bool engine_compaction_due() const { return physics_dirty_ || contacts_.holes > contacts_.store_slots() / 4 + 256; }
+    bool engine_compaction_due() const { return physics_dirty_ || stores_need_compaction(contacts_.holes, contacts_.store_slots()); }
     void engine_begin_forces();
     ContactSet& engine_contacts() { return contacts_; }
     BondList& engine_bonds() { return bonds_; }
@@ -205,6 +206,28 @@ public:
     // Prescribed particle i's position [m] and velocity [m/s] after this step, as
     // engine_follow_motions() will set them (for an engine whose ledger reads them first).
     std::pair<Vec3, Vec3> engine_prescribed_next(uint32_t i) const { return prescribed_next(i); }
+    // For an engine that runs the serial parts of the steps itself between events (the device
+    // backend's chunks, DeviceBatch::run): what they keep from step to step, taken before the
+    // engine's steps and set back after them (the ledger through engine_book()).
+    struct EngineSteps {
+        double time = 0;        // [s]
+        uint64_t steps = 0;
+        StepClock clock;
+        double max_disp = 0;    // [m] the broad phase's largest move since the rebuild
+        double wall_move = 0;   // [m] the walls' (its last rebuild test's)
+        double skin = 0;        // [m] of the last rebuild
+        double ref_round = 0;   // [m] the rounding bound of the rebuild positions
+    };
+    EngineSteps engine_steps() const {
+        return {time, steps, clock_, broad_.max_disp, broad_.wall_move, broad_.skin, broad_.ref_round};
+    }
+    void engine_set_steps(const EngineSteps& e) {
+        time = e.time;
+        steps = e.steps;
+        clock_ = e.clock;
+        broad_.max_disp = e.max_disp;
+        broad_.wall_move = e.wall_move;
+    }
     // The engine wrote the particles back: the pair kernels' packed copy is stale.
     void engine_handback() { packed_valid_ = false; }
     // An engine that keeps the contact lifecycle itself (the device backend) wrote the stores and
