@@ -7,11 +7,13 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "dem/batch/batch_stepper.h"
 #include "scene/bench_scenes.h"
 #include "scene/build_info.h"
 #include "scene/config.h"
@@ -203,14 +205,22 @@ CLI::App* add_damper(CLI::App& app, DamperCommandArgs& a) {
     cmd->add_flag_callback("--no-plot", [&a] { a.plot = false; }, "Do not draw the PNG loops at the end");
     cmd->add_flag("--profile", a.profile, "Print the time per phase of the cycling");
     cmd->add_option("--checkpoint-every", a.checkpoint_every, "[s] wall-clock time between checkpoints")->check(kPositive);
+    cmd->add_option("--backend", a.backend,
+                    "How the cycling is stepped: cpu (World, default) or cuda (the batch engine on a GPU, the steps "
+                    "between samples run by the device alone; the same bits; docs/gpu.md)")
+        ->check(CLI::IsMember({"cpu", "cuda"}));
     return cmd;
 }
 
 int run_damper(const DamperCommandArgs& a) {
     const vpp::Config c = vpp::load_config(a.config, a.sets);
+    // Before anything runs: a cuda backend this build or machine cannot give is refused (exit 2).
+    const std::unique_ptr<dem::batch::BatchStepper> device = vpp::damper_backend(a.backend);
+    vpp::DamperOptions o = vpp::damper_options(a);
+    o.batch = device.get();
     // Fewer cycles recorded than asked is a failed run (exit 1), not a refusal (2): the records
     // are written, summary.json says so under "warnings".
-    return vpp::run_damper(c, vpp::damper_options(a)).incomplete ? 1 : 0;
+    return vpp::run_damper(c, o).incomplete ? 1 : 0;
 }
 
 // vppdem device FILE --out DIR [--from CKPT]: a vacuum-packed device from a device file (docs/devices.md).

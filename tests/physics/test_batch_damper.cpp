@@ -396,4 +396,106 @@ TEST_F(BatchDamper, ChunksSplitAmongABlocksThreadsGiveEachCasesBits) {
     }
 }
 
+// BatchStepper with chunks (compute_forces(world, until, probe)): two runs, each stepping to its
+// own events (every 37 and every 53 steps, the second joining late and stepping half by half for a
+// while), a probe summing a wall's reaction and some particles' forces over each stretch as a
+// caller adding them after each step: each run's bits and each stretch's sums.
+TEST_F(BatchDamper, TheStepperInChunksGivesEachRunsBitsAndWindowSums) {
+    ASSERT_TRUE(ok_) << log_;
+    World ra = load(1, 50e3, 0.3), rb = load(2, 70e3, 0.5, false);
+    World a = ra, b = rb;
+    // Prescribed particles (the damper's top ring): a World in a batch has their forces current
+    // between its halves, as the walls' reactions.
+    std::vector<uint32_t> probe_particles;
+    for (uint32_t i = 0; i < ra.particles.size() && probe_particles.size() < 4; ++i)
+        if (ra.particles.flags[i] & dem::kPrescribed) probe_particles.push_back(i);
+    ASSERT_EQ(probe_particles.size(), 4u);
+    // The references: stepped alone, the sums formed by hand.
+    const auto reference = [&](World& w, int skip, int steps, int every, std::vector<dem::Vec3>& sums) {
+        for (int k = 0; k < skip; ++k) w.step();
+        dem::Vec3 wall, parts;
+        for (int k = 0; k < steps; ++k) {
+            w.compute_forces();
+            wall += w.wall_force(1);
+            dem::Vec3 f;
+            for (uint32_t i : probe_particles) f += w.particles.force[i];
+            parts += f;
+            if ((k + 1) % every == 0) {
+                sums.push_back(wall);
+                sums.push_back(parts);
+                wall = parts = dem::Vec3{};
+            }
+            w.integrate();
+        }
+    };
+    std::vector<dem::Vec3> sa, sb, ma, mb;
+    reference(ra, 0, 1500, 37, sa);
+    reference(rb, 100, 600, 53, sb);
+    dem::batch::BatchStepper stepper(1, dem::batch::BatchStepper::Backend::kEmulated, 64);
+    ASSERT_TRUE(stepper.chunked());
+    const auto run = [&](World& w, int skip, int steps, int every, int halves_until, std::vector<dem::Vec3>& sums) {
+        for (int k = 0; k < skip; ++k) w.step();
+        dem::batch::DeviceBatch::Probe probe;
+        probe.particles = probe_particles;
+        probe.sums.from = -1.0;
+        probe.sums.wall = 1;
+        const uint64_t s0 = w.steps;
+        int k = 0;
+        while (k < steps) {
+            // Half by half for a while (the first run's steps before halves_until), else to the
+            // stretch's last step in a chunk, then its forces half.
+            const int last = std::min(steps, (k / every + 1) * every) - 1;
+            const int to = k < halves_until ? k : last;
+            stepper.compute_forces(w, s0 + uint64_t(to), &probe);
+            // The stretch's sums so far come from the probe; this step's forces from the World.
+            probe.sums.wall_sum += w.wall_force(1);
+            dem::Vec3 f;
+            for (uint32_t i : probe_particles) f += w.particles.force[i];
+            probe.sums.particle_sum += f;
+            k = to + 1;
+            if (k % every == 0) {
+                sums.push_back(probe.sums.wall_sum);
+                sums.push_back(probe.sums.particle_sum);
+                probe.sums.wall_sum = probe.sums.particle_sum = dem::Vec3{};
+            }
+            stepper.integrate(w);
+        }
+        stepper.leave(w);
+    };
+    std::thread ta([&] { run(a, 0, 1500, 37, 300, ma); });
+    std::thread tb([&] { run(b, 100, 600, 53, 0, mb); });
+    ta.join();
+    tb.join();
+    expect_same(ra, a, "run a (stepper in chunks)");
+    expect_same(rb, b, "run b (stepper in chunks)");
+    ASSERT_EQ(ma.size(), sa.size());
+    for (std::size_t q = 0; q < sa.size(); ++q) EXPECT_EQ(ma[q], sa[q]) << "run a, stretch " << q / 2;
+    ASSERT_EQ(mb.size(), sb.size());
+    for (std::size_t q = 0; q < sb.size(); ++q) EXPECT_EQ(mb[q], sb[q]) << "run b, stretch " << q / 2;
+}
+
+// `vppdem damper --backend cuda` (issue 58, item 5) on the emulated device: one damper's cycling
+// through the device backend, its steps between samples run by the device alone, the window's
+// forces summed there: the CPU run's files byte for byte, from the same sample. Without a CUDA
+// build (and no emulation) the run is refused before anything is written (exit 2).
+TEST_F(BatchDamper, TheDamperCommandOnTheDeviceWritesTheCpuRunsFiles) {
+    ASSERT_TRUE(ok_) << log_;
+    const std::string from = (scratch("s1") / "prepared.ckpt").string();
+    const fs::path cpu = scratch("cmd_cpu"), dev = scratch("cmd_device"), refused = scratch("cmd_refused");
+    const Outcome a = run("damper --from " + from + " --out " + cpu.string() + " " + damper_args(1));
+    ASSERT_EQ(a.status, 0) << a.output;
+    const Outcome b = shell("VPPDEM_EMULATE_DEVICE=1 " + kBinary + " damper --from " + from + " --out " + dev.string() +
+                            " --backend cuda " + damper_args(1));
+    ASSERT_EQ(b.status, 0) << b.output;
+    for (const char* f : {"forces.csv", "cycles.csv", "energy.csv"}) EXPECT_EQ(slurp(cpu / f), slurp(dev / f)) << f;
+    EXPECT_FALSE(slurp(cpu / "forces.csv").empty());
+    if (!dem::batch::dev::cuda_built()) {
+        const Outcome c = shell("env -u VPPDEM_EMULATE_DEVICE " + kBinary + " damper --from " + from + " --out " +
+                                refused.string() + " --backend cuda " + damper_args(1));
+        EXPECT_EQ(WEXITSTATUS(c.status), 2) << c.output;
+        EXPECT_NE(c.output.find("--backend cuda: this vppdem was built without CUDA"), std::string::npos) << c.output;
+        EXPECT_FALSE(fs::exists(refused / "forces.csv"));
+    }
+}
+
 }  // namespace test_batch_damper

@@ -31,12 +31,20 @@ public:
     enum class Backend { kHost, kCuda, kEmulated };
     // `threads`: the host backend's threads for one launch (the systems shared among them).
     // kCuda without a CUDA build or without a device throws, saying which.
-    explicit BatchStepper(int threads = 1, Backend backend = Backend::kHost);
+    // `chunk`: a device backend's longest chunk [steps] (compute_forces with an event).
+    explicit BatchStepper(int threads = 1, Backend backend = Backend::kHost, int chunk = 256);
 
     // The halves of world's step (as World::compute_forces() and World::integrate()); each returns
-    // when every member's half is done. compute_forces() of a World not in the batch joins it.
+    // when its half is done. compute_forces() of a World not in the batch joins it.
     void compute_forces(World& world);
     void integrate(World& world);
+    // On a device backend (chunked()): the World stepped on by whole steps until its steps reach
+    // `until` (the caller's next event), in chunks that the device runs without the host
+    // (DeviceBatch::run), `probe` (may be null) summing the forces of those steps as the caller
+    // would have; then its forces half at that step, as compute_forces(world). The others step on
+    // meanwhile: each chunk runs as far as the nearest member's event (at most the chunk setting).
+    void compute_forces(World& world, uint64_t until, DeviceBatch::Probe* probe);
+    bool chunked() const { return device_ != nullptr; }
     // World's particle arrays (state and forces) and bonds made current.
     void sync(World& world);
     // Hands world back (as sync) and leaves the batch, between its steps or between the halves of
@@ -56,11 +64,21 @@ public:
     }
 
 private:
-    enum class Half { kForces, kMotion };
-    void arrive(World& world, Half half);
-    // Runs the pending half for all members (the lock held): first, before a forces half, the
-    // batch laid out again when members joined or left.
-    void run_half();
+    // What a member waits for: nothing (it runs on its own), its forces half (after whole steps
+    // up to its event), its motion half.
+    enum class Want { kNone, kForces, kMotion };
+    struct Request {
+        Want want = Want::kNone;
+        uint64_t until = 0;                   // the step of its forces half
+        DeviceBatch::Probe* probe = nullptr;  // the caller's, while it waits
+    };
+    void arrive(World& world, Want want, uint64_t until, DeviceBatch::Probe* probe);
+    // Serves the waiting members once every member waits (the lock held): first the batch laid
+    // out again when members joined or left (when none is between its halves); then the motion
+    // halves asked for, else the forces halves of the members at their events, else a chunk of
+    // the others, until some member can go on.
+    void run_round(std::unique_lock<std::mutex>& lk);
+    void lay_out();
     std::size_t index_of(const World& world) const;  // its system, or SIZE_MAX
 
     mutable std::mutex mu_;
@@ -68,12 +86,16 @@ private:
     BatchSystems batch_;
     std::vector<bool> gone_;           // per system: its World left
     std::vector<World*> joining_;      // waiting at a forces half to enter the batch
+    std::vector<Request> joining_request_;
     std::vector<std::exception_ptr> error_;  // per system: what its half threw
+    std::vector<Request> request_;     // per system
+    std::vector<char> mid_;            // per system: between its halves (its motion half next)
     std::size_t active_ = 0;           // systems not gone
-    std::size_t arrived_ = 0;          // of them, waiting for the half
-    Half half_ = Half::kForces;        // the half the batch runs next
-    uint64_t generation_ = 0;          // halves run (waiters wake when it moves on)
+    std::size_t arrived_ = 0;          // of them, waiting
     uint64_t launches_ = 0;
+    int chunk_ = 256;
+    bool in_round_ = false;            // a member serves the round (the lock let go during a chunk)
+    bool chunk_running_ = false;       // the device runs a chunk (the lock let go)
     std::size_t most_ = 0;
     int threads_;
     ThreadTeam team_;

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "dem/batch/force_probe.h"
 #include "dem/batch/pair_step.h"
 #include "dem/contact/linear_law.h"
 #include "dem/core/energy.h"
@@ -131,6 +132,7 @@ struct Chunk {
     double max_disp = 0, wall_move = 0, skin = 0, ref_round = 0;  // [m] BroadPhase's
     double dropped = 0;    // [J] shear energy the last layout dropped (ContactSet), booked at the next step
     EnergyLedger ledger;
+    ForceProbe probe;       // the caller's window (SysView::probe_particles)
     uint32_t stop = kRunning;
     uint32_t dashpots = 0;  // a material with restitution below 1 (the ledger's dashpot halves)
 };
@@ -178,6 +180,8 @@ struct SysView {
     const Vec3* wall_ref_disp = nullptr;  // [m] each wall's displacement at the last rebuild
     const PrescRef* presc_ref = nullptr;
     Vec3* presc_v0 = nullptr;             // scratch: each prescribed particle's velocity before the step
+    const uint32_t* probe_particles = nullptr;  // the probe's particles (the system's indices)
+    uint32_t probe_n = 0;
     StepIn* in_w = nullptr;
     WallNow* wall_now_w = nullptr;
     Vec3* wall_vnext_w = nullptr;

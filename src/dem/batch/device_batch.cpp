@@ -31,7 +31,7 @@ struct DeviceBatch::Sys {
     // particle | their velocities before the step | the motions' samples], byte offsets o_*.
     Buf refs;
     std::vector<char> h_refs;
-    std::size_t o_wall_disp = 0, o_presc_ref = 0, o_presc_v0 = 0;
+    std::size_t o_wall_disp = 0, o_presc_ref = 0, o_presc_v0 = 0, o_probe = 0, probe_n = 0;
     std::size_t off_now = 0;  // this system's walls in the walls-now section
     // This system's parts of the outbox sections (entries of each).
     std::size_t off_reactions = 0;  // this system's walls in the reactions section
@@ -193,6 +193,7 @@ void DeviceBatch::load(BatchSystems& b) {
     }
     sys_.resize(b.systems());
     views_.assign(b.systems(), dev::SysView{});
+    forces_views_.clear();
     life_.assign(b.systems(), dev::Life{});
     vnext_scratch_.assign(b.systems(), {});
     h_presc_.assign(2 * b.prescribed.size(), Vec3{});
@@ -432,6 +433,7 @@ void DeviceBatch::layout_outbox(BatchSystems& b) {
     o_msums_ = o_mtot_ + sys_.size() * dev::kMotionTotals * sizeof(double);
     o_end_ = o_msums_ + msums * sizeof(double);
     ensure(sec_, std::max<std::size_t>(o_end_, 8));
+    ++outbox_gen_;
     ensure_host(h_sec_, std::max<std::size_t>(o_end_, 8));
     layout_dirty_ = false;
     // The section moved: every system's lifecycle goes up again.
@@ -533,6 +535,8 @@ void DeviceBatch::fill_view(BatchSystems& b, std::size_t s) {
     v.wall_ref_disp = reinterpret_cast<const Vec3*>(r + y.o_wall_disp);
     v.presc_ref = reinterpret_cast<const dev::PrescRef*>(r + y.o_presc_ref);
     v.presc_v0 = reinterpret_cast<Vec3*>(r + y.o_presc_v0);
+    v.probe_particles = reinterpret_cast<const uint32_t*>(r + y.o_probe);
+    v.probe_n = uint32_t(y.probe_n);
     v.in_w = reinterpret_cast<dev::StepIn*>(in) + s;
     v.wall_now_w = reinterpret_cast<WallNow*>(in + o_in_now_) + y.off_now;
     v.wall_vnext_w = reinterpret_cast<Vec3*>(in + o_in_vnext_) + y.off_now;
@@ -629,6 +633,8 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
         any_track |= on[s] && sys_[s].track;
     }
     upload_views();
+    forces_views_ = views_;  // the motion half's (a chunk of other systems may come between)
+    forces_gen_ = outbox_gen_;
     // One launch: the touch test, the new contacts' slots, the forces, the reactions, the frees.
     dev_->forces(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
     ++calls_;
@@ -690,9 +696,21 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
 void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
     Lap lap{total_s_};
     const std::size_t B = b.systems();
+    if (forces_views_.size() != B) throw std::logic_error("batch: a motion half without its forces half");
+    // The forces half's systems, their views made again: a chunk of other systems in between may
+    // have laid the outbox out anew (a store grown at a relayout).
+    chunk_views_ = false;
+    for (std::size_t s = 0; s < B; ++s) {
+        if (forces_views_[s].active && !(s < skip.size() && skip[s]) && !err[s]) fill_view(b, s);
+        else views_[s].active = 0;
+    }
+    if (outbox_gen_ != forces_gen_) {
+        // The largest moves' words moved with the outbox: zero, as the forces half left them.
+        const std::vector<uint64_t> zero(B, 0);
+        send(static_cast<char*>(sec_.p) + o_maxd2_, zero.data(), B * 8);
+    }
     bool any_track = false;
     for (std::size_t s = 0; s < B; ++s) {
-        if (((s < skip.size() && skip[s]) || err[s]) && views_[s].active) views_[s].active = 0;
         any_track |= views_[s].active && views_[s].track;
     }
     // The prescribed particles where their motions put them at t + dt (World's, as
@@ -781,7 +799,7 @@ void DeviceBatch::pull(BatchSystems& b, std::size_t s) {
 
 namespace dem::batch {
 
-void DeviceBatch::upload_refs(BatchSystems& b, std::size_t s) {
+void DeviceBatch::upload_refs(BatchSystems& b, std::size_t s, const std::vector<uint32_t>* probe_particles) {
     const World& wd = *b.world[s];
     Sys& y = sys_[s];
     const std::size_t np = wd.planes.size(), nw = np + wd.facets.size();
@@ -810,7 +828,13 @@ void DeviceBatch::upload_refs(BatchSystems& b, std::size_t s) {
     y.o_presc_ref = y.o_wall_disp + nw * sizeof(Vec3);
     y.o_presc_v0 = y.o_presc_ref + npr * sizeof(dev::PrescRef);
     const std::size_t o_samples = y.o_presc_v0 + npr * sizeof(Vec3);
-    const std::size_t bytes = o_samples + samples * sizeof(DisplacementSample);
+    y.o_probe = o_samples + samples * sizeof(DisplacementSample);
+    y.probe_n = probe_particles ? probe_particles->size() : 0;
+    const std::size_t n = std::size_t(b.first[s + 1] - b.first[s]);
+    for (std::size_t k = 0; k < y.probe_n; ++k)
+        if ((*probe_particles)[k] >= n)
+            throw std::invalid_argument("batch: a probe's particle " + std::to_string((*probe_particles)[k]) + " of " + std::to_string(n));
+    const std::size_t bytes = y.o_probe + y.probe_n * 4;
     ensure(y.refs, std::max<std::size_t>(bytes, 8));
     y.h_refs.assign(std::max<std::size_t>(bytes, 8), 0);
     char* const h = y.h_refs.data();
@@ -849,14 +873,22 @@ void DeviceBatch::upload_refs(BatchSystems& b, std::size_t s) {
         const uint32_t i = b.prescribed[std::size_t(q0) + e];
         presc[e] = dev::PrescRef{wd.particles.ref_pos.at(i), view(presc_motion[e])};
     }
+    if (y.probe_n) std::copy(probe_particles->begin(), probe_particles->end(), reinterpret_cast<uint32_t*>(h + y.o_probe));
     send(y.refs.p, h, bytes);
 }
 
 void DeviceBatch::run(BatchSystems& b, const std::vector<uint64_t>& until, int K, const std::vector<bool>& skip,
-                      std::vector<std::exception_ptr>& err) {
+                      std::vector<std::exception_ptr>& err, std::vector<Probe>* probes) {
+    while (run_chunk(b, until, K, skip, err, probes)) {
+    }
+}
+
+bool DeviceBatch::run_chunk(BatchSystems& b, const std::vector<uint64_t>& until, int K, const std::vector<bool>& skip,
+                            std::vector<std::exception_ptr>& err, std::vector<Probe>* probes) {
     const std::size_t B = b.systems();
     if (sys_.size() != B) throw std::logic_error("batch: the device holds another layout (load first)");
-    if (until.size() != B || err.size() != B) throw std::invalid_argument("batch: run() takes one event and one error per system");
+    if (until.size() != B || err.size() != B || (probes && probes->size() != B))
+        throw std::invalid_argument("batch: run() takes one event, one error (and one probe) per system");
     if (K < 1) throw std::invalid_argument("batch: a chunk of " + std::to_string(K) + " steps (at least 1)");
     // The device books the ledger from its totals of the block sums (the host adds nothing).
     if (!totals_) totals_ = true;
@@ -864,7 +896,7 @@ void DeviceBatch::run(BatchSystems& b, const std::vector<uint64_t>& until, int K
     const auto live = [&](std::size_t s) {
         return !(s < skip.size() && skip[s]) && !err[s] && b.world[s]->steps < until[s];
     };
-    for (;;) {
+    {
         Lap lap{total_s_};
         layout_in(b);
         std::vector<int> on(B, 0);
@@ -904,7 +936,8 @@ void DeviceBatch::run(BatchSystems& b, const std::vector<uint64_t>& until, int K
                 c.dropped = wd.engine_contacts().dropped_shear_energy;
                 c.ledger = wd.energy();
                 for (const Material& m : wd.materials) c.dashpots |= m.restitution < 1.0;
-                upload_refs(b, s);
+                if (probes) c.probe = (*probes)[s].sums;
+                upload_refs(b, s, probes ? &(*probes)[s].particles : nullptr);
                 dev::StepIn in;
                 b.dp[s] = world_underpressure(wd);
                 in.dp = b.dp[s];
@@ -914,7 +947,7 @@ void DeviceBatch::run(BatchSystems& b, const std::vector<uint64_t>& until, int K
                 err[s] = std::current_exception();
             }
         });
-        if (std::find(on.begin(), on.end(), 1) == on.end()) return;
+        if (std::find(on.begin(), on.end(), 1) == on.end()) return false;
         put(in_, h_in_.data(), h_in_.size());
         if (layout_dirty_) layout_outbox(b);
         for (std::size_t s = 0; s < B; ++s)
@@ -955,6 +988,7 @@ void DeviceBatch::run(BatchSystems& b, const std::vector<uint64_t>& until, int K
                 wd.engine_set_steps(e);
                 if (sys_[s].track) wd.engine_book().ledger = ck.ledger;
                 c.dropped_shear_energy = ck.dropped;
+                if (probes) (*probes)[s].sums = ck.probe;
                 if (ran) {
                     wd.engine_activate();  // the ledger's blocks sized as World's
                     const Vec3* r = hv(o_reactions_) + sys_[s].off_reactions;
@@ -979,6 +1013,7 @@ void DeviceBatch::run(BatchSystems& b, const std::vector<uint64_t>& until, int K
             }
         });
     }
+    return true;
 }
 
 void DeviceBatch::run(BatchSystems& b, uint64_t steps, int K) {

@@ -24,6 +24,7 @@
 
 #include "dem/batch/batch_systems.h"
 #include "dem/batch/device_api.h"
+#include "dem/batch/force_probe.h"
 #include "dem/core/thread_team.h"
 
 namespace dem::batch {
@@ -56,8 +57,18 @@ public:
     // left alone; what a system's host part throws goes to err[s] (it is skipped from then on).
     // The underpressure (World's pressure.dp) is taken at each chunk's start: an air model that
     // changes it every step needs chunks of one step.
+    // A caller's probe of forces over the steps of a chunk (its window, force_probe.h): the sums
+    // in, summed on by the device, and out; the particles are the system's indices.
+    struct Probe {
+        ForceProbe sums;
+        std::vector<uint32_t> particles;
+    };
     void run(BatchSystems& b, const std::vector<uint64_t>& until, int K, const std::vector<bool>& skip,
-             std::vector<std::exception_ptr>& err);
+             std::vector<std::exception_ptr>& err, std::vector<Probe>* probes = nullptr);
+    // One launch sequence of run(): the layouts due, then up to K steps of each system that has
+    // not reached until[s]. Returns whether any system ran.
+    bool run_chunk(BatchSystems& b, const std::vector<uint64_t>& until, int K, const std::vector<bool>& skip,
+                   std::vector<std::exception_ptr>& err, std::vector<Probe>* probes = nullptr);
     // `steps` more steps of every system in chunks of K (the tests' and the benchmarks' loop);
     // rethrows the first system's error.
     void run(BatchSystems& b, uint64_t steps, int K);
@@ -114,13 +125,15 @@ private:
     void put_life(std::size_t s);  // life_[s] into the outbox's lifecycle section
     void layout_in(BatchSystems& b);  // the sections of what goes up with the forces (in_, h_in_)
     // System s's walls' and prescribed particles' motions up for a chunk (Sys::refs).
-    void upload_refs(BatchSystems& b, std::size_t s);
+    void upload_refs(BatchSystems& b, std::size_t s, const std::vector<uint32_t>* probe_particles);
 
     std::unique_ptr<dev::Device> dev_;
     dev::Globals g_;
     std::vector<Buf> globals_;
     std::vector<Sys> sys_;
     std::vector<dev::SysView> views_;
+    std::vector<dev::SysView> forces_views_;  // the last forces half's views (its motion half's)
+    uint64_t outbox_gen_ = 0, forces_gen_ = 0;  // layouts of the outbox so far, and at the last forces half
     Buf views_buf_;
     std::vector<char> views_up_;  // the views as they last went up
     // What goes up every forces half (in_ on the device, h_in_ staged here): [StepIn per system |

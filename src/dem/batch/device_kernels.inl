@@ -693,6 +693,9 @@ VPPDEM_HD inline void step_end(const Globals& g, const SysView& s) {
     }
     max_d2 = max_d2 < presc_max ? presc_max : max_d2;
     const double t_n = c.time;
+    // The caller's window: the forces at t_n (the walls' reactions, the gather's forces).
+    probe_step(c.probe, t_n, c.probe.wall < s.walls_n ? s.out.reactions + c.probe.wall : nullptr, g.f, s.probe_particles,
+               s.probe_n, s.base);
     c.max_disp = max_disp_after(max_d2, c.ref_round);
     c.clock.advance(c.time, c.steps, s.dt);
     if (!track) return;

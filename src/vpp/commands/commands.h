@@ -36,6 +36,7 @@ struct DamperArgs {
     bool profile = false;                                      // the time per phase of the cycling
     double checkpoint_every = DamperOptions{}.checkpoint_every;  // [s] wall clock between run.ckpt writes
     double progress_every = DamperOptions{}.progress_every;      // [s] wall clock between progress lines
+    std::string backend = "cpu";                               // cpu or cuda (vpp::damper_backend)
 };
 DamperOptions damper_options(const DamperArgs& a);
 

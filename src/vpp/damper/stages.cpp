@@ -550,13 +550,52 @@ void cycle(DamperScene& scene, RunState& state, StageServices& services, int upt
             if (b) b->leave(w);
         }
     } leave_batch{batch, world};
+    // On a device backend the device runs the steps between this loop's events by itself
+    // (chunks, docs/gpu.md): the loop asks for its next sample's step, the window's forces of the
+    // steps before it summed on the device as the loop sums them. Not with the air, which changes
+    // dp every step from the foil's volume, nor with VTK frames, which read every step's time.
+    const bool chunks = batch && batch->chunked() && !air && !(config.output.vtk_interval > 0);
+    dem::batch::DeviceBatch::Probe probe;
+    if (chunks) probe.particles = scene.top_ring;
     while (world.time < t_end - 0.5 * world.params.dt) {
         if (air) {
             if (batch) batch->sync(world);
             air_step(scene, state, config.process.underpressure);
         }
-        if (batch) batch->compute_forces(world);
-        else world.compute_forces();
+        if (chunks) {
+            const std::size_t s = state.samples.size();
+            // The step of the next sample (the first whose time reaches it), or the loop's last.
+            const double dt = world.params.dt;
+            const bool sampling = s < std::size_t(ncyc) * S;
+            const double ts = sampling ? sample_time(s) - 0.5 * dt : 0.0;
+            const dem::World::EngineSteps e = world.engine_steps();
+            dem::StepClock clock = e.clock;
+            double t = e.time;
+            uint64_t n = e.steps;
+            while (!(sampling && t >= ts)) {
+                double t1 = t;
+                uint64_t n1 = n;
+                clock.advance(t1, n1, dt);
+                if (!(t1 < t_end - 0.5 * dt)) break;  // step n is the loop's last
+                t = t1;
+                n = n1;
+            }
+            probe.sums = dem::batch::ForceProbe{};
+            probe.sums.from = s <= std::size_t(ncyc) * S ? sample_time(s) - win - 0.5 * dt : 1e300;
+            probe.sums.wall = kTopCap;
+            probe.sums.wall_sum.z = state.window_grains;
+            probe.sums.particle_sum.z = state.window_foil;
+            const uint64_t before = world.steps;
+            batch->compute_forces(world, n, &probe);
+            state.window_grains = probe.sums.wall_sum.z;
+            state.window_foil = probe.sums.particle_sum.z;
+            state.window_n += long(probe.sums.count);
+            done += world.steps - before;
+        } else if (batch) {
+            batch->compute_forces(world);
+        } else {
+            world.compute_forces();
+        }
         const std::size_t s = state.samples.size();
         bool sampled = false;
         // The window of the sample that would open the cycle after the last is kept too (it lies

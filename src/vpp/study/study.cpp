@@ -117,26 +117,46 @@ void refuse_other_builds(const fs::path& out, const std::vector<StudyCase>& case
 struct Backend {
     std::string name;       // cpu, batch or cuda
     bool emulated = false;  // cuda on the emulated device (VPPDEM_EMULATE_DEVICE=1: its kernels on the host)
+    int chunk = 256;        // the device's longest chunk [steps] (VPPDEM_CHUNK)
 };
 
-Backend choose_backend(const SweepOptions& opt) {
-    if (opt.backend != "cpu" && opt.backend != "batch" && opt.backend != "cuda")
-        throw ConfigError("--backend '" + opt.backend + "' is not one of cpu, batch, cuda");
+Backend choose_backend(const std::string& backend) {
+    if (backend != "cpu" && backend != "batch" && backend != "cuda")
+        throw ConfigError("--backend '" + backend + "' is not one of cpu, batch, cuda");
     // --backend cuda: the batch engine's device backend on the GPU. VPPDEM_EMULATE_DEVICE=1 runs it
     // on the emulated device instead (its kernels on the host: the tests' stand-in for a GPU).
     const char* emulate = std::getenv("VPPDEM_EMULATE_DEVICE");
-    const bool emulated = opt.backend == "cuda" && emulate && std::string(emulate) == "1";
-    if (opt.backend == "cuda" && !emulated && !dem::batch::dev::cuda_built())
+    const bool emulated = backend == "cuda" && emulate && std::string(emulate) == "1";
+    // VPPDEM_CHUNK=K: the device's longest chunk [steps] (docs/gpu.md; a measurement's knob).
+    int chunk = 256;
+    if (const char* c = std::getenv("VPPDEM_CHUNK"); c && *c) {
+        char* end = nullptr;
+        const long k = std::strtol(c, &end, 10);
+        if (*end || k < 1 || k > 1000000)
+            throw ConfigError(std::string("VPPDEM_CHUNK = '") + c + "': allowed a whole number of steps from 1 to 1000000");
+        chunk = int(k);
+    }
+    if (backend == "cuda" && !emulated && !dem::batch::dev::cuda_built())
         throw ConfigError("--backend cuda: this vppdem was built without CUDA. Build it with the option VPPDEM_CUDA "
                           "(cmake -S . -B build-cuda -DVPPDEM_CUDA=ON -DVPPDEM_NVCC=/usr/local/cuda/bin/nvcc, then "
-                          "cmake --build build-cuda --target vppdem; docs/gpu.md), or use --backend batch (the same "
-                          "engine on the CPU)");
-    if (opt.backend == "cuda" && !emulated) {
+                          "cmake --build build-cuda --target vppdem; docs/gpu.md), or use --backend cpu (or, for a "
+                          "sweep, batch: the same engine on the CPU)");
+    if (backend == "cuda" && !emulated) {
         const char* why = nullptr;
         if (dem::batch::dev::cuda_devices(&why) == 0)
             throw ConfigError(std::string("--backend cuda: no CUDA device (") + (why ? why : "none") + ")");
     }
-    return {opt.backend, emulated};
+    return {backend, emulated, chunk};
+}
+
+std::unique_ptr<dem::batch::BatchStepper> make_stepper(const Backend& backend, int jobs) {
+    // The batch the running cases step their cycling through (--backend batch, cuda).
+    if (backend.name == "batch") return std::make_unique<dem::batch::BatchStepper>(jobs);
+    if (backend.name == "cuda")
+        return std::make_unique<dem::batch::BatchStepper>(
+            jobs, backend.emulated ? dem::batch::BatchStepper::Backend::kEmulated : dem::batch::BatchStepper::Backend::kCuda,
+            backend.chunk);
+    return nullptr;
 }
 
 // The study folder: rank 0 takes its lock (the ranks share the folder, so one lock serves them
@@ -214,12 +234,7 @@ public:
                std::vector<std::size_t> mine, int jobs, std::map<int, fs::path> shared_samples)
         : s_(s), opt_(opt), cases_(res.cases), out_(opt.out_dir), res_(res), mine_(std::move(mine)), jobs_(jobs),
           shared_(std::move(shared_samples)) {
-        // The batch the running cases step their cycling through (--backend batch, cuda).
-        if (backend.name == "batch") batch_ = std::make_unique<dem::batch::BatchStepper>(jobs);
-        if (backend.name == "cuda")
-            batch_ = std::make_unique<dem::batch::BatchStepper>(
-                jobs, backend.emulated ? dem::batch::BatchStepper::Backend::kEmulated
-                                       : dem::batch::BatchStepper::Backend::kCuda);
+        batch_ = make_stepper(backend, jobs);
         for (std::size_t i : mine_) state_[i] = 0;
         if (!opt_.quiet)
             progress_.emplace(opt_.ranks > 1 ? "sweep rank " + std::to_string(opt_.rank) : std::string("sweep"),
@@ -483,7 +498,7 @@ SweepResult run_sweep(const Study& s, const SweepOptions& opt) {
     SweepResult res;
     res.cases = expand_study(s);  // every case's config is checked before anything runs
     if (opt.report_only) return report_sweep(s, opt, std::move(res));
-    const Backend backend = choose_backend(opt);
+    const Backend backend = choose_backend(opt.backend);
     open_study_folder(s, opt, res);
     res.outcomes.assign(res.cases.size(), CaseOutcome{});
     const std::vector<std::size_t> mine = cases_of_this_rank(res.cases, opt);
@@ -557,5 +572,11 @@ std::map<int, fs::path> find_shared_samples(const Study& s, const SweepOptions& 
     return found;
 }
 
+
+std::unique_ptr<dem::batch::BatchStepper> damper_backend(const std::string& backend) {
+    if (backend != "cpu" && backend != "cuda")
+        throw ConfigError("--backend '" + backend + "' is not one of cpu, cuda (a damper run; a sweep has batch too)");
+    return make_stepper(choose_backend(backend), 1);
+}
 
 }  // namespace vpp

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <functional>
 #include <map>
+#include <memory>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -16,6 +17,10 @@
 #include "vpp/study/file.h"
 #include "vpp/study/mpi.h"
 #include "vpp/study/records.h"
+
+namespace dem::batch {
+class BatchStepper;
+}
 
 namespace vpp {
 
@@ -83,6 +88,12 @@ struct SweepResult {
 // folder. A report only takes no lock: it writes its tables atomically and may run beside the
 // sweep.
 SweepResult run_sweep(const Study& s, const SweepOptions& opt);
+
+// `vppdem damper --backend NAME`: the batch one damper's cycling steps through, checked against
+// this build and machine (ConfigError, naming what is missing): cuda, the device backend on the
+// GPU (VPPDEM_EMULATE_DEVICE=1: the emulated device), its steps between samples run by the
+// device alone (docs/gpu.md); nullptr for cpu (the run steps its World).
+std::unique_ptr<dem::batch::BatchStepper> damper_backend(const std::string& backend);
 
 // Study::samples_from: per preparation group, the other study's prepared sample it branches from
 // (the first fitting one, folder by folder in the order given, in folder-name order; sample_misfit);
