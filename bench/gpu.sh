@@ -18,6 +18,8 @@
 # env: VPPDEM (build-device/vppdem), STATE (the damper's run.ckpt at 0.01 m/s; required),
 #      OLD_STATE (none), OLD_STEPS (300: runs 1-4's), DEVICE_STEPS (3000), ONE_STEPS (3000), CPU_STEPS (3000), BATCHES ("1 16 64 128 256 512"), CPU_THREADS (16),
 #      RUNS (150), CYCLES (5: the paper studies' setting), AMPLITUDE (0.01), ENERGY (--energy; empty: the ledger off),
+#      CHUNK (256: the chunks' steps per launch sequence), CHUNK_BATCHES ("1 16 128 256 512": the
+#      batches timed again in chunks; empty: none),
 #      HOST_THREADS (nproc: the host threads of the device backend's bookkeeping), BACKEND (cuda;
 #      emulated: the device backend's kernels on the host, to try this script without a GPU),
 #      SPLITS ("1 8": the batches of 1 and 16 again with each system in this many blocks,
@@ -40,6 +42,8 @@ AMPLITUDE=${AMPLITUDE:-0.01}
 ENERGY=${ENERGY-"--energy"}
 HOST_THREADS=${HOST_THREADS:-$(nproc)}
 BACKEND=${BACKEND:-cuda}
+CHUNK=${CHUNK:-256}
+CHUNK_BATCHES=${CHUNK_BATCHES-"1 16 128 256 512"}
 BLOCK_SIZES=${BLOCK_SIZES-"512"}
 SPLITS=${SPLITS-"1 8"}
 cpu_only=0
@@ -82,6 +86,13 @@ if [ $cpu_only = 0 ]; then
     steps=$DEVICE_STEPS
     [ "$B" = 1 ] && steps=$ONE_STEPS
     bench "device batch $B" --batch "$B" --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$steps"
+  done
+  # Chunks (DeviceBatch::run): the device runs CHUNK steps per launch sequence by itself, the
+  # host only laying out the systems that stop for a rebuild or a compaction (issue 58, item 2).
+  for B in $CHUNK_BATCHES; do
+    steps=$DEVICE_STEPS
+    [ "$B" = 1 ] && steps=$ONE_STEPS
+    bench "device batch $B, chunks of $CHUNK" --batch "$B" --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$steps" --chunk "$CHUNK"
   done
   # What the ledger costs (its block sums come back every half step).
   ENERGY="" bench "device batch 256, ledger off" --batch 256 --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$DEVICE_STEPS"
@@ -137,6 +148,11 @@ if [ $cpu_only = 0 ] && [ -n "$dt" ]; then
   # of 150 lies between them); one system: the batch of 1.
   batched=$(awk -v a="${rate[device batch 128]:-0}" -v b="${rate[device batch 256]:-0}" 'BEGIN{print (a < b ? a : b)}')
   one=${rate[device batch 1]:-0}
+  # In chunks where they ran (the protocol a study and a damper run use on the device).
+  cb=$(awk -v a="${rate[device batch 128, chunks of $CHUNK]:-0}" -v b="${rate[device batch 256, chunks of $CHUNK]:-0}" 'BEGIN{print (a < b ? a : b)}')
+  c1=${rate[device batch 1, chunks of $CHUNK]:-0}
+  awk -v x="$cb" -v y="$batched" 'BEGIN{exit !(x > y)}' && batched=$cb
+  awk -v x="$c1" -v y="$one" 'BEGIN{exit !(x > y)}' && one=$c1
   awk -v dt="$dt" -v A="$AMPLITUDE" -v n="$RUNS" -v c="$CYCLES" -v batched="$batched" -v one="$one" \
       -v cpu16="${rate[CPU $CPU_THREADS runs at once, 1 thread each]}" 'BEGIN {
     fast = c * 2 * A / 0.01 / dt          # steps of one run at 0.01 m/s (triangle: period 2A/v)
