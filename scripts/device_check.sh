@@ -8,7 +8,7 @@
 # damper after its cycle, seeds 1 and 2; the device sweep's study; a run.ckpt of the paper's
 # damper at 0.01 m/s, made by a short run unless STATE names one, and one at 0.05 m/s), bench/gpu.sh
 # and run.sh. On the GPU
-# machine, DIR/run.sh runs the device tests, compute-sanitizer (memcheck, racecheck) on them and
+# machine, DIR/run.sh runs the device tests, compute-sanitizer (memcheck, racecheck, synccheck) on them and
 # bench/gpu.sh, writing DIR/device_check.log; DIR/run.sh --host-only runs what needs no GPU.
 # env: NVCC (nvcc on PATH, else /usr/local/cuda/bin/nvcc), BUILD (build-device), STATE (a run.ckpt
 #      of the paper's damper to carry instead of making one), JOBS (nproc)

@@ -3,10 +3,10 @@
 # machine, from any folder, in under 8 minutes:
 #   1. the binaries start (ldd: every library found, beside them or in the system);
 #   2. the device tests: vppdem_cuda_tests (the laws' bits on the device), vppdem_device_tests
-#      (the batch engine: a batch of one over 10,000 steps and 8 mixed cases give World's bits, a
-#      sweep with --backend cuda writes the files of --backend cpu);
+#      (the batch engine: a batch of one over 10,000 steps and 8 mixed cases give World's bits, so
+#      do chunks of 1, 16 and 256 steps, a sweep with --backend cuda writes the files of --backend cpu);
 #   3. bench/gpu.sh: the device against the CPU of this machine;
-#   4. compute-sanitizer memcheck and racecheck on the device tests (shorter runs).
+#   4. compute-sanitizer memcheck, racecheck and synccheck on the device tests (shorter runs).
 # Each step has a time limit, cut to what is left of DEVICE_CHECK_BUDGET (460 s); a step the budget
 # cannot start is reported NOT RUN.
 # Everything goes to DIR/device_check.log, printed at the end (the steps' headers as they run). Exit status: 0 all passed, 1 a step
@@ -78,13 +78,15 @@ if [ $host_only = 1 ]; then
   step "the benchmark script parses" 10 bash -n "$here/bench/gpu.sh"
   step "the paper's damper on the emulated device (2 copies, 20 steps)" 120 "$here/vppdem" bench checkpoint \
     --state "$here/inputs/paper/run.ckpt" --batch 2 --backend emulated --steps 20 --energy
+  step "the paper's damper on the emulated device in chunks (2 copies, 20 steps, chunks of 8)" 120 "$here/vppdem" bench \
+    checkpoint --state "$here/inputs/paper/run.ckpt" --batch 2 --backend emulated --steps 20 --energy --chunk 8
 else
   step "bench/gpu.sh" 300 env VPPDEM="$here/vppdem" STATE="$here/inputs/paper/run.ckpt" \
     OLD_STATE="$here/inputs/paper_005/run.ckpt" "$here/bench/gpu.sh"
   cs=/usr/local/cuda/bin/compute-sanitizer
   [ -x $cs ] || cs=$(command -v compute-sanitizer || true)
   if [ -n "$cs" ]; then
-    for tool in memcheck racecheck; do
+    for tool in memcheck racecheck synccheck; do
       step "compute-sanitizer $tool: vppdem_cuda_tests" 120 "$cs" --tool "$tool" --error-exitcode 9 "$here/vppdem_cuda_tests" \
         --gtest_filter='*Device*'
       step "compute-sanitizer $tool: vppdem_device_tests (200 steps)" 150 env VPPDEM_DEVICE_TEST_STEPS=200 \
