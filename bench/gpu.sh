@@ -94,6 +94,12 @@ if [ $cpu_only = 0 ]; then
     [ "$B" = 1 ] && steps=$ONE_STEPS
     bench "device batch $B, chunks of $CHUNK" --batch "$B" --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$steps" --chunk "$CHUNK"
   done
+  # A batch of a block per system runs a chunk as one launch (k_chunk); the same as a launch per
+  # phase and step, for the comparison.
+  if [ "$BACKEND" = cuda ] && [ -n "$CHUNK_BATCHES" ]; then
+    VPPDEM_CUDA_CHUNK=phases bench "device batch 256, chunks of $CHUNK, a launch per phase" --batch 256 --backend cuda \
+      --threads "$HOST_THREADS" --steps "$DEVICE_STEPS" --chunk "$CHUNK"
+  fi
   # What the ledger costs (its block sums come back every half step).
   ENERGY="" bench "device batch 256, ledger off" --batch 256 --backend "$BACKEND" --threads "$HOST_THREADS" --steps "$DEVICE_STEPS"
   # Other shapes: a system in one block (VPPDEM_CUDA_SPLIT=1; by default a small batch's systems

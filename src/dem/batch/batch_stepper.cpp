@@ -8,7 +8,7 @@
 namespace dem::batch {
 
 BatchStepper::BatchStepper(int threads, Backend backend, int chunk)
-    : threads_(threads > 1 ? threads : 1), chunk_(chunk > 0 ? chunk : 1) {
+    : chunk_(chunk > 0 ? chunk : 1), threads_(threads > 1 ? threads : 1) {
     if (backend == Backend::kEmulated) device_ = std::make_unique<DeviceBatch>(dev::emulated_device(), threads_);
     if (backend == Backend::kCuda) device_ = std::make_unique<DeviceBatch>(dev::cuda_device(), threads_);
 }

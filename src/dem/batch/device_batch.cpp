@@ -552,6 +552,22 @@ void DeviceBatch::upload_views() {
     views_up_.assign(reinterpret_cast<const char*>(views_.data()), reinterpret_cast<const char*>(views_.data()) + bytes);
 }
 
+bool DeviceBatch::lay_out_if_due(BatchSystems& b, std::size_t s) {
+    World& wd = *b.world[s];
+    const bool rebuild = wd.engine_rebuild_due();
+    if (!rebuild && !wd.engine_compaction_due()) return false;
+    ++relayouts_;
+    download_contacts(b, s, host_thread, rebuild);
+    wd.engine_begin_forces();
+    upload_contacts(b, s);
+    if (rebuild) {
+        const std::vector<FloatVec3>& ref = wd.broad_phase().ref_pos;
+        if (ref.size() != std::size_t(b.first[s + 1] - b.first[s])) throw std::logic_error("batch: no rebuild positions");
+        put(sys_[s].ref_pos, ref.data(), ref.size() * sizeof(FloatVec3));
+    }
+    return true;
+}
+
 void DeviceBatch::layout_in(BatchSystems& b) {
     // What goes up every step, in one copy: [StepIn per system | walls now | the walls' next
     // velocities] (the number of walls does not change in a step).
@@ -586,20 +602,8 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
         try {
             World& wd = *b.world[s];
             Sys& y = sys_[s];
-            const int64_t base = b.first[s], n = b.first[s + 1] - base;
-            const bool rebuild = wd.engine_rebuild_due();
-            const bool relayout = rebuild || wd.engine_compaction_due();
-            if (relayout) {
-                ++relayouts_;
-                download_contacts(b, s, host_thread, rebuild);
-            }
-            wd.engine_begin_forces();
-            if (relayout) upload_contacts(b, s);
-            if (rebuild) {
-                const std::vector<FloatVec3>& ref = wd.broad_phase().ref_pos;
-                if (ref.size() != std::size_t(n)) throw std::logic_error("batch: no rebuild positions");
-                put(y.ref_pos, ref.data(), ref.size() * sizeof(FloatVec3));
-            }
+            // The walls at t, and the candidates or the stores laid out anew where World does.
+            if (!lay_out_if_due(b, s)) wd.engine_begin_forces();
             const WallState& walls = wd.wall_state();
             const std::size_t nw = wd.planes.size() + wd.facets.size();
             if (y.off_now + nw > walls_n) throw std::logic_error("batch: a system's walls changed in a step");
@@ -907,20 +911,7 @@ bool DeviceBatch::run_chunk(BatchSystems& b, const std::vector<uint64_t>& until,
             try {
                 World& wd = *b.world[s];
                 Sys& y = sys_[s];
-                const bool rebuild = wd.engine_rebuild_due();
-                const bool relayout = rebuild || wd.engine_compaction_due();
-                if (relayout) {
-                    ++relayouts_;
-                    download_contacts(b, s, host_thread, rebuild);
-                    wd.engine_begin_forces();
-                    upload_contacts(b, s);
-                    if (rebuild) {
-                        const std::vector<FloatVec3>& ref = wd.broad_phase().ref_pos;
-                        if (ref.size() != std::size_t(b.first[s + 1] - b.first[s]))
-                            throw std::logic_error("batch: no rebuild positions");
-                        put(y.ref_pos, ref.data(), ref.size() * sizeof(FloatVec3));
-                    }
-                }
+                lay_out_if_due(b, s);
                 y.track = wd.params.track_energy ? 1 : 0;
                 const World::EngineSteps e = wd.engine_steps();
                 dev::Chunk& c = h_chunks_[s];

@@ -124,6 +124,10 @@ private:
     template <class F> void each(std::size_t B, int part, F&& f);
     void put_life(std::size_t s);  // life_[s] into the outbox's lifecycle section
     void layout_in(BatchSystems& b);  // the sections of what goes up with the forces (in_, h_in_)
+    // System s laid out again where World would (a rebuild or a compaction due): its positions
+    // and contacts down, World's engine_begin_forces() (the walls at t, the layout), all up again.
+    // Returns whether it was.
+    bool lay_out_if_due(BatchSystems& b, std::size_t s);
     // System s's walls' and prescribed particles' motions up for a chunk (Sys::refs).
     void upload_refs(BatchSystems& b, std::size_t s, const std::vector<uint32_t>* probe_particles);
 

@@ -50,6 +50,11 @@ template <int T, int P> __global__ void __launch_bounds__(T) k_phase(Globals g, 
         default: if (tid == 0) step_end(g, s); break;
     }
 }
+// A chunk in one launch where each system is one block (chunk_body: its K steps with the block's
+// barriers between the phases): no launch per phase and per step.
+template <int T> __global__ void __launch_bounds__(T) k_chunk(Globals g, const SysView* v, int K) {
+    chunk_body(g, v[blockIdx.x], int(threadIdx.x), T, K);
+}
 int block_threads() {
     const char* e = std::getenv("VPPDEM_CUDA_BLOCK");
     if (!e || !*e) return 256;
@@ -86,6 +91,11 @@ public:
         check(cudaStreamCreateWithFlags(&stream_, cudaStreamNonBlocking), "cudaStreamCreate");
         threads_ = block_threads();
         split_ = split_setting();
+        if (const char* c = std::getenv("VPPDEM_CUDA_CHUNK"); c && *c) {
+            if (std::string(c) != "phases" && std::string(c) != "kernel")
+                throw std::invalid_argument(std::string("VPPDEM_CUDA_CHUNK = ") + c + ": allowed phases or kernel");
+            one_launch_ = std::string(c) == "kernel";
+        }
         sms_ = p.multiProcessorCount;
         check(cudaEventCreate(&start_), "cudaEventCreate");
         check(cudaEventCreate(&stop_), "cudaEventCreate");
@@ -172,6 +182,16 @@ public:
         if (B <= 0) return;
         begin();
         const int k = split(B);
+        // A batch that fills the multiprocessors with a block per system runs the chunk as one
+        // launch (VPPDEM_CUDA_CHUNK=phases: a launch per phase and step, for measurements).
+        if (one_launch_ && (split_ == 1 || (split_ == 0 && B >= sms_))) {
+            const dim3 grid{unsigned(B)};
+            if (threads_ == 128) k_chunk<128><<<grid, 128, 0, stream_>>>(g, v, K);
+            else if (threads_ == 512) k_chunk<512><<<grid, 512, 0, stream_>>>(g, v, K);
+            else k_chunk<256><<<grid, 256, 0, stream_>>>(g, v, K);
+            end("the chunk kernel");
+            return;
+        }
         for (int step = 0; step < K; ++step) {
             phase<kBegin>(g, v, B, 1);
             phase<kTouch>(g, v, B, k);
@@ -217,6 +237,7 @@ private:
     cudaStream_t stream_ = nullptr;
     int threads_ = 256;
     int split_ = 0;  // blocks per system (0: split()'s choice)
+    bool one_launch_ = true;  // a chunk of one block per system as one launch (k_chunk)
     int sms_ = 1;    // the device's multiprocessors
     cudaEvent_t start_ = nullptr, stop_ = nullptr;  // around the last launch
     bool timed_ = false;                           // its time not yet taken
