@@ -16,7 +16,6 @@ using namespace dem;
 
 namespace {
 
-constexpr double kPi = std::numbers::pi;
 
 Vec3 facet_normal(const Facet& f) {
     return cross(f.vertices[1] - f.vertices[0], f.vertices[2] - f.vertices[0]);
@@ -140,7 +139,7 @@ TEST(FacetSets, CylinderNormalsInwardAndOutward) {
 TEST(FacetSets, CylinderAreaEqualsPolygonalPrism) {
     const double r = 0.15, h = 0.6;
     for (int n : {3, 6, 50}) {
-        const double exact = 2.0 * n * r * std::sin(kPi / n) * h;
+        const double exact = 2.0 * n * r * std::sin(std::numbers::pi / n) * h;
         for (bool inward : {true, false}) {
             const auto fs = make_cylinder_facets({0.1, 0.2, 0.3}, r, h, n, inward);
             EXPECT_NEAR(total_area(fs), exact, 1e-12 * exact);
@@ -191,8 +190,8 @@ TEST(FacetSets, FunnelAreaEqualsPolygonalFrustum) {
     const double h = 0.3;
     for (auto [rb, rt] : {std::pair{0.05, 0.2}, std::pair{0.2, 0.05}, std::pair{0.1, 0.1}}) {
         for (int n : {3, 7, 64}) {
-            const double cn = std::cos(kPi / n);
-            const double exact = n * (rb + rt) * std::sin(kPi / n) *
+            const double cn = std::cos(std::numbers::pi / n);
+            const double exact = n * (rb + rt) * std::sin(std::numbers::pi / n) *
                                  std::sqrt(h * h + (rb - rt) * (rb - rt) * cn * cn);
             const auto fs = make_funnel_facets({0.5, 0.5, 0.0}, rb, rt, h, n);
             EXPECT_NEAR(total_area(fs), exact, 1e-12 * exact) << rb << ' ' << rt << ' ' << n;
