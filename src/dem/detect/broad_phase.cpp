@@ -15,24 +15,6 @@ namespace dem {
 
 namespace {
 
-// Concatenates per-thread lists (thread order = particle order under a static split) into
-// `out`, freeing each list as it goes.
-template <class T> void concatenate(std::vector<std::vector<T>>& parts, std::vector<T>& out) {
-    std::size_t total = 0;
-    for (const auto& v : parts) total += v.size();
-    if (parts.size() == 1) {  // one thread: its list is the result (no copy: peak memory)
-        out.swap(parts[0]);
-        std::vector<T>().swap(parts[0]);
-        return;
-    }
-    out.clear();
-    out.reserve(total);
-    for (auto& v : parts) {
-        out.insert(out.end(), v.begin(), v.end());
-        std::vector<T>().swap(v);
-    }
-}
-
 // A gap [m] as float, rounded down (the candidate filter must never overestimate it).
 float gap_down(double g) {
     float f = float(g);
@@ -153,84 +135,92 @@ void BroadPhase::rebuild(const Scene& s, CandidateList& pp, CandidateList& pw) {
 
     const FacetCells fc = facet_cells(grid, facets, facet_now, rmax + skin);
 
-    // The old lists go first (the new ones reuse the memory); the live contacts find their
-    // pairs again through the stores' (i, j). The per-thread lists get room for about as many
-    // candidates as last time (first time: 6 per particle, a dense packing's half list), so
-    // they do not grow by doubling: up to twice the memory, in the largest arrays of the step.
-    const std::size_t hint = pp.other.empty() ? 6 * n : pp.other.size() + pp.other.size() / 8;
+    // The old lists go first; the live contacts find their pairs again through the stores' (i, j).
     pp.clear();
     pw.clear();
     pp.start.assign(n + 1, 0);
     pw.start.assign(n + 1, 0);
     const int nt = std::max(1, s.threads);
-    std::vector<std::vector<uint32_t>> pp_other(nt), pw_other(nt);
-    std::vector<std::vector<float>> pp_gap(nt), pw_gap(nt);
     const uint32_t nplanes = uint32_t(planes.size());
+    // Particle i's candidates j > i, emit(j, gap) in the grid's order (not j's).
+    const auto pair_row = [&](std::size_t i, auto&& emit) {
+        const Vec3 xi = p.pos[i];
+        const double ri = p.radius[i];
+        grid.for_each_neighbour(grid.coords(xi), [&](uint32_t j) {
+            // The distance first: it rejects most of the 27 cells' particles.
+            const double reach = ri + p.radius[j] + skin;
+            const double d2 = norm2(p.pos[j] - xi);
+            if (j <= i || !(d2 < reach * reach) || !(p.mask[i] & p.mask[j])) return;
+            if (!moves(p, i) && !moves(p, j)) return;
+            if (owner && owner[i] >= 0 && owner[i] == owner[j]) return;
+            for (uint32_t b = bt.start[i]; b < bt.start[i + 1]; ++b)
+                if (bt.partner[b] == j) return;
+            emit(j, gap_down(std::sqrt(d2) - (ri + p.radius[j])));
+        });
+    };
+    // Particle i's wall candidates, emit(w, gap) in ascending w (planes, then facets).
+    const auto wall_row = [&](std::size_t i, auto&& emit) {
+        if (!moves(p, i) && !(p.flags[i] & kPrescribed)) return;  // fixed: no wall contacts
+        const Vec3 xi = p.pos[i];
+        const double ri = p.radius[i];
+        for (uint32_t w = 0; w < nplanes; ++w) {
+            if (!(planes[w].mask & p.mask[i])) continue;
+            const double sd = dot(xi - plane_point[w], planes[w].normal);
+            const double dist = planes[w].one_sided ? sd : std::abs(sd);
+            if (dist < ri + skin) emit(w, gap_down(dist - ri));
+        }
+        if (facets.empty()) return;
+        const auto c = grid.coords(xi);
+        const int64_t cell = fc.cell(c[0] / 2, c[1] / 2, c[2] / 2);
+        for (uint32_t k = fc.start[cell]; k < fc.start[cell + 1]; ++k) {
+            const uint32_t f = fc.items[k];
+            if (!(facets[f].mask & p.mask[i])) continue;
+            const double reach = ri + skin;
+            const double d2 = distance2_to_triangle(xi, facet_now[f]);
+            if (d2 < reach * reach) emit(nplanes + f, gap_down(std::sqrt(d2) - ri));
+        }
+    };
+    // Count, scan, fill: each particle's rows are counted, the counts summed into the rows' starts,
+    // then each row written in place and sorted by partner (an insertion per entry: a row holds a
+    // dozen). Threads take contiguous ranges of particles; no list is joined afterwards, and the
+    // result does not depend on the thread count.
     s.team->run(nt, [&](int tid) {
-        std::vector<std::pair<uint32_t, float>> local;
-        pp_other[tid].reserve(hint / std::size_t(thread_count()) + 64);
-        pp_gap[tid].reserve(hint / std::size_t(thread_count()) + 64);
-        // Contiguous ranges of i in thread order, so concatenating the per-thread lists in
-        // thread order gives the candidates in particle order.
         const auto [r0, r1] = thread_range(int64_t(n), tid, nt);
         for (std::size_t i = std::size_t(r0); i < std::size_t(r1); ++i) {
-            const Vec3 xi = p.pos[i];
-            const double ri = p.radius[i];
-            const auto c = grid.coords(xi);
-            local.clear();
-            grid.for_each_neighbour(c, [&](uint32_t j) {
-                // The distance first: it rejects most of the 27 cells' particles.
-                const double reach = ri + p.radius[j] + skin;
-                const double d2 = norm2(p.pos[j] - xi);
-                if (j <= i || !(d2 < reach * reach) || !(p.mask[i] & p.mask[j])) return;
-                if (!moves(p, i) && !moves(p, j)) return;
-                if (owner && owner[i] >= 0 && owner[i] == owner[j]) return;
-                for (uint32_t b = bt.start[i]; b < bt.start[i + 1]; ++b)
-                    if (bt.partner[b] == j) return;
-                local.emplace_back(j, gap_down(std::sqrt(d2) - (ri + p.radius[j])));
-            });
-            std::sort(local.begin(), local.end());
-            for (const auto& [j, g] : local) {
-                pp_other[tid].push_back(j);
-                pp_gap[tid].push_back(g);
-            }
-            pp.start[i + 1] = uint32_t(local.size());
-
-            if (!moves(p, i) && !(p.flags[i] & kPrescribed)) continue;  // fixed: no wall contacts
-            uint32_t nw = 0;
-            for (uint32_t w = 0; w < nplanes; ++w) {
-                if (!(planes[w].mask & p.mask[i])) continue;
-                const double sd = dot(xi - plane_point[w], planes[w].normal);
-                const double dist = planes[w].one_sided ? sd : std::abs(sd);
-                if (dist < ri + skin) {
-                    pw_other[tid].push_back(w);
-                    pw_gap[tid].push_back(gap_down(dist - ri));
-                    ++nw;
-                }
-            }
-            if (!facets.empty()) {
-                const int64_t cell = fc.cell(c[0] / 2, c[1] / 2, c[2] / 2);
-                for (uint32_t k = fc.start[cell]; k < fc.start[cell + 1]; ++k) {
-                    const uint32_t f = fc.items[k];
-                    if (!(facets[f].mask & p.mask[i])) continue;
-                    const double reach = ri + skin;
-                    const double d2 = distance2_to_triangle(xi, facet_now[f]);
-                    if (d2 < reach * reach) {
-                        pw_other[tid].push_back(nplanes + f);
-                        pw_gap[tid].push_back(gap_down(std::sqrt(d2) - ri));
-                        ++nw;
-                    }
-                }
-            }
+            uint32_t np = 0, nw = 0;
+            pair_row(i, [&](uint32_t, float) { ++np; });
+            wall_row(i, [&](uint32_t, float) { ++nw; });
+            pp.start[i + 1] = np;
             pw.start[i + 1] = nw;
         }
     });
-    for (CandidateList* cl : {&pp, &pw})
+    for (CandidateList* cl : {&pp, &pw}) {
         for (std::size_t i = 0; i < n; ++i) cl->start[i + 1] += cl->start[i];
-    concatenate(pp_other, pp.other);
-    concatenate(pw_other, pw.other);
-    concatenate(pp_gap, pp.gap);
-    concatenate(pw_gap, pw.gap);
+        cl->other.resize(cl->start[n]);
+        cl->gap.resize(cl->start[n]);
+    }
+    s.team->run(nt, [&](int tid) {
+        const auto [r0, r1] = thread_range(int64_t(n), tid, nt);
+        for (std::size_t i = std::size_t(r0); i < std::size_t(r1); ++i) {
+            uint32_t* const other = pp.other.data() + pp.start[i];
+            float* const gap = pp.gap.data() + pp.start[i];
+            uint32_t m = 0;
+            pair_row(i, [&](uint32_t j, float g) {
+                uint32_t e = m++;
+                for (; e > 0 && other[e - 1] > j; --e) {
+                    other[e] = other[e - 1];
+                    gap[e] = gap[e - 1];
+                }
+                other[e] = j;
+                gap[e] = g;
+            });
+            uint32_t e = pw.start[i];
+            wall_row(i, [&](uint32_t w, float g) {
+                pw.other[e] = w;
+                pw.gap[e++] = g;
+            });
+        }
+    });
     pp.slot.assign(pp.size(), kNoSlot);
     pw.slot.assign(pw.size(), kNoSlot);
 
