@@ -193,7 +193,7 @@ void DeviceBatch::load(BatchSystems& b) {
     }
     sys_.resize(b.systems());
     views_.assign(b.systems(), dev::SysView{});
-    forces_views_.clear();
+    forces_on_.clear();
     life_.assign(b.systems(), dev::Life{});
     vnext_scratch_.assign(b.systems(), {});
     h_presc_.assign(2 * b.prescribed.size(), Vec3{});
@@ -637,7 +637,10 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
         any_track |= on[s] && sys_[s].track;
     }
     upload_views();
-    forces_views_ = views_;  // the motion half's (a chunk of other systems may come between)
+    // The systems of this forces half, its motion half's (whose views are made again: a chunk of
+    // other systems may come between).
+    forces_on_.resize(B);
+    for (std::size_t s = 0; s < B; ++s) forces_on_[s] = views_[s].active != 0;
     forces_gen_ = outbox_gen_;
     // One launch: the touch test, the new contacts' slots, the forces, the reactions, the frees.
     dev_->forces(g_, static_cast<const dev::SysView*>(views_buf_.p), int(B));
@@ -700,12 +703,12 @@ void DeviceBatch::forces(BatchSystems& b, const std::vector<bool>& skip, std::ve
 void DeviceBatch::motion(BatchSystems& b, const std::vector<bool>& skip, std::vector<std::exception_ptr>& err) {
     Lap lap{total_s_};
     const std::size_t B = b.systems();
-    if (forces_views_.size() != B) throw std::logic_error("batch: a motion half without its forces half");
+    if (forces_on_.size() != B) throw std::logic_error("batch: a motion half without its forces half");
     // The forces half's systems, their views made again: a chunk of other systems in between may
     // have laid the outbox out anew (a store grown at a relayout).
     chunk_views_ = false;
     for (std::size_t s = 0; s < B; ++s) {
-        if (forces_views_[s].active && !(s < skip.size() && skip[s]) && !err[s]) fill_view(b, s);
+        if (forces_on_[s] && !(s < skip.size() && skip[s]) && !err[s]) fill_view(b, s);
         else views_[s].active = 0;
     }
     if (outbox_gen_ != forces_gen_) {
@@ -895,7 +898,7 @@ bool DeviceBatch::run_chunk(BatchSystems& b, const std::vector<uint64_t>& until,
         throw std::invalid_argument("batch: run() takes one event, one error (and one probe) per system");
     if (K < 1) throw std::invalid_argument("batch: a chunk of " + std::to_string(K) + " steps (at least 1)");
     // The device books the ledger from its totals of the block sums (the host adds nothing).
-    if (!totals_) totals_ = true;
+    totals_ = true;
     h_chunks_.resize(B);
     const auto live = [&](std::size_t s) {
         return !(s < skip.size() && skip[s]) && !err[s] && b.world[s]->steps < until[s];

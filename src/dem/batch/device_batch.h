@@ -136,7 +136,7 @@ private:
     std::vector<Buf> globals_;
     std::vector<Sys> sys_;
     std::vector<dev::SysView> views_;
-    std::vector<dev::SysView> forces_views_;  // the last forces half's views (its motion half's)
+    std::vector<char> forces_on_;  // the systems of the last forces half (its motion half's)
     uint64_t outbox_gen_ = 0, forces_gen_ = 0;  // layouts of the outbox so far, and at the last forces half
     Buf views_buf_;
     std::vector<char> views_up_;  // the views as they last went up
